@@ -1,0 +1,49 @@
+"""machdyn: kinematics and dynamics of machines — planar linkages, cams and gears.
+
+The top level exposes the everyday entry points; topics with many functions
+live in subpackages that are imported on first use (``machdyn.cams``,
+``machdyn.gears``, ...), so ``import machdyn`` stays fast.
+
+Examples
+--------
+>>> import machdyn
+>>> machdyn.mobility(4, 4)
+1
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from .errors import AssemblyError, InputError, MachdynError, ModelError, SingularityError
+from .mobility import Joint, mobility, mobility_of
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AssemblyError",
+    "InputError",
+    "Joint",
+    "MachdynError",
+    "ModelError",
+    "SingularityError",
+    "__version__",
+    "mobility",
+    "mobility_of",
+]
+
+# Subpackages and modules loaded lazily on attribute access.
+_LAZY_MODULES = frozenset(
+    {"balancing", "cams", "flywheel", "gears", "loops", "massprops", "synthesis", "units"}
+)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY_MODULES:
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module 'machdyn' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(__all__) | _LAZY_MODULES)

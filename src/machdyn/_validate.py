@@ -1,0 +1,161 @@
+"""Small argument checks shared by every module.
+
+They raise :class:`machdyn.errors.InputError` naming the field, and accept pint
+quantities (converted to ``unit`` once, at the boundary) as well as plain
+numbers or arrays.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = [
+    "as_array",
+    "choice",
+    "finite_array",
+    "finite_scalar",
+    "integer",
+    "magnitude",
+    "nonnegative",
+    "positive",
+]
+
+
+def magnitude(value: Any, unit: str | None = None, field: str = "value") -> Any:
+    """Return ``value`` as a plain number/array, converting a pint quantity.
+
+    Pint is not imported here: anything with ``.to`` and ``.magnitude`` is
+    treated as a quantity, so plain floats cost nothing.
+
+    Examples
+    --------
+    >>> magnitude(2.5)
+    2.5
+    """
+    if hasattr(value, "magnitude") and hasattr(value, "to"):
+        if unit is None:
+            return value.magnitude
+        try:
+            return value.to(unit).magnitude
+        except Exception as exc:  # pint.DimensionalityError and friends
+            raise InputError(field, f"cannot be expressed in {unit}: {exc}") from None
+    return value
+
+
+def finite_scalar(field: str, value: Any, unit: str | None = None) -> float:
+    """Return ``value`` as a finite float or raise :class:`InputError`.
+
+    Examples
+    --------
+    >>> finite_scalar("omega2", 3)
+    3.0
+    """
+    value = magnitude(value, unit, field)
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be a real number, got {value!r}") from None
+    if not np.isfinite(out):
+        raise InputError(field, f"must be finite, got {out}")
+    return out
+
+
+def positive(field: str, value: Any, unit: str | None = None) -> float:
+    """Return ``value`` as a float > 0 or raise :class:`InputError`.
+
+    Examples
+    --------
+    >>> positive("r2", 4)
+    4.0
+    >>> positive("r2", 0)
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: r2: must be positive, got 0.0
+    """
+    out = finite_scalar(field, value, unit)
+    if out <= 0.0:
+        raise InputError(field, f"must be positive, got {out}")
+    return out
+
+
+def nonnegative(field: str, value: Any, unit: str | None = None) -> float:
+    """Return ``value`` as a float >= 0 or raise :class:`InputError`."""
+    out = finite_scalar(field, value, unit)
+    if out < 0.0:
+        raise InputError(field, f"must be zero or positive, got {out}")
+    return out
+
+
+def integer(field: str, value: Any, minimum: int | None = None) -> int:
+    """Return ``value`` as an int (rejecting fractions) or raise :class:`InputError`.
+
+    Examples
+    --------
+    >>> integer("teeth", 20.0, minimum=1)
+    20
+    >>> integer("teeth", 20.5)
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: teeth: must be a whole number, got 20.5
+    """
+    try:
+        as_float = float(value)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be a whole number, got {value!r}") from None
+    if not np.isfinite(as_float) or as_float != int(as_float):
+        raise InputError(field, f"must be a whole number, got {value!r}")
+    out = int(as_float)
+    if minimum is not None and out < minimum:
+        raise InputError(field, f"must be at least {minimum}, got {out}")
+    return out
+
+
+def as_array(field: str, value: Any, unit: str | None = None) -> np.ndarray:
+    """Return ``value`` as a float64 array (any shape) or raise :class:`InputError`."""
+    value = magnitude(value, unit, field)
+    try:
+        return np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be a number or an array of numbers, got {value!r}") from None
+
+
+def finite_array(field: str, value: Any, unit: str | None = None) -> np.ndarray:
+    """Return ``value`` as a finite float64 array or raise :class:`InputError`.
+
+    Examples
+    --------
+    >>> finite_array("theta2", [0.0, float("nan")])
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: theta2: must be finite; sample 1 is nan
+    """
+    out = as_array(field, value, unit)
+    bad = ~np.isfinite(out)
+    if bad.any():
+        index = int(np.flatnonzero(bad.ravel())[0])
+        raise InputError(field, f"must be finite; sample {index} is {out.ravel()[index]}")
+    return out
+
+
+def choice(field: str, value: Any, options: Iterable[Any]) -> Any:
+    """Return ``value`` if it is one of ``options``, else raise listing them.
+
+    Examples
+    --------
+    >>> choice("form", 1, (1, 2))
+    1
+    >>> choice("form", 3, (1, 2))
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: form: must be one of 1, 2; got 3
+    """
+    options = tuple(options)
+    if value not in options:
+        listed = ", ".join(str(o) for o in options)
+        raise InputError(field, f"must be one of {listed}; got {value!r}")
+    return value

@@ -1,0 +1,52 @@
+"""The ``machdyn`` command line.
+
+Each topic lives in its own module (``fourbar.py``, ``cam.py``, ``gear.py``,
+...) exposing a function or a ``typer.Typer`` that is registered here. The CLI
+only parses, calls the library and presents; no physics lives in this package.
+
+Errors never end in a traceback: :func:`main` prints one line to stderr and
+returns a non-zero exit status (2 for usage errors, 1 for bad values).
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+
+import typer
+
+from ..errors import MachdynError
+from .app import app
+
+__all__ = ["app", "main"]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI and return its exit status (the console-script entry point)."""
+    command = typer.main.get_command(app)
+    args = list(sys.argv[1:] if argv is None else argv)
+    try:
+        command.main(args=args, prog_name="machdyn", standalone_mode=False)
+    except typer.Exit as exc:
+        return int(getattr(exc, "exit_code", 0) or 0)
+    except typer.Abort:
+        print("machdyn: aborted", file=sys.stderr)
+        return 1
+    except MachdynError as exc:
+        return _fail(str(exc), 1)
+    except Exception as exc:
+        # Usage errors of the click that typer bundles (or depends on, for older
+        # typer releases): duck-typed so either one works.
+        if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
+            return _fail(exc.format_message(), int(exc.exit_code) or 2)
+        raise
+    return 0
+
+
+def _fail(message: str, status: int) -> int:
+    print(f"machdyn: error: {' '.join(message.split())}", file=sys.stderr)
+    return status
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,26 @@
+"""The typer application and the registration of every subcommand."""
+
+from __future__ import annotations
+
+import typer
+
+app = typer.Typer(
+    name="machdyn",
+    help="Kinematics and dynamics of machines: linkages, cams and gears.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+
+@app.callback()
+def _root() -> None:
+    """Kinematics and dynamics of machines: linkages, cams and gears."""
+
+
+def _register() -> None:
+    # Imported here so that each module can import ``app`` from this one.
+    from . import fourbar  # noqa: F401
+
+
+_register()
