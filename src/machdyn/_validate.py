@@ -159,3 +159,25 @@ def choice(field: str, value: Any, options: Iterable[Any]) -> Any:
         listed = ", ".join(str(o) for o in options)
         raise InputError(field, f"must be one of {listed}; got {value!r}")
     return value
+
+
+def common_length_unit(**lengths: Any) -> tuple[dict[str, float], str | None]:
+    """Convert lengths that may be pint quantities to plain floats in one unit.
+
+    If any length carries a unit, all must: they are converted to the unit of
+    the first one, which is returned (``None`` for plain numbers).
+
+    Examples
+    --------
+    >>> common_length_unit(r1=8, r2=4)
+    ({'r1': 8.0, 'r2': 4.0}, None)
+    """
+    has_unit = {k: hasattr(v, "magnitude") and hasattr(v, "to") for k, v in lengths.items()}
+    if not any(has_unit.values()):
+        return {k: finite_scalar(k, v) for k, v in lengths.items()}, None
+    missing = [k for k, u in has_unit.items() if not u]
+    if missing:
+        raise InputError(missing[0], "give every length with a unit, or none (others carry units)")
+    first = next(iter(lengths.values()))
+    unit = str(first.units)
+    return {k: finite_scalar(k, v, unit) for k, v in lengths.items()}, unit

@@ -1,0 +1,1196 @@
+"""The four-bar linkage in closed form: positions, velocities, accelerations, jerks.
+
+Conventions of the notes (and of Norton, *Design of Machinery*, ch. 4, 6, 7):
+link 1 is the ground ``O2 O4`` along +x (``O2`` at the origin), 2 the input
+``O2 A``, 3 the coupler ``A B`` and 4 the output ``O4 B``; the loop is
+``R2 + R3 − R4 − R1 = 0``, i.e. ``a e^{jθ2} + b e^{jθ3} − c e^{jθ4} − d = 0``
+with ``a, b, c, d = R2, R3, R4, R1``. Angles are in radians, counter-clockwise
+from +x; θ3 and θ4 are reported in ``[0, 2π)`` and the fundamental angles φij
+in ``(−π, π]``, as in the notes.
+
+The functions at the top (:func:`positions`, :func:`velocities`, ...) are the
+vectorised core: they broadcast like ufuncs over any array of input angles.
+:class:`FourBar` holds the lengths and calls them.
+
+Solution method
+---------------
+Positions by the notes' "direct method": the diagonal ``O4 A`` and the law of
+cosines in triangle ``O4 A B`` give the direction of link 4, computed as unit
+vectors (no inverse trigonometric function until the angles are reported).
+Each derivative order is the same 2×2 linear system (the position Jacobian)
+solved by Cramer's rule, with the right-hand side from differentiating the loop
+(notes, "FOURBAR VELOCITY/ACCELERATION ANALYSIS"; jerk as in review lecture 3):
+
+``j b x3 e^{jθ3} − j c x4 e^{jθ4} = K``  ⇒
+``x3 = −Re(K e^{−jθ4}) / (b sin(θ3 − θ4))``,
+``x4 = −Re(K e^{−jθ3}) / (c sin(θ3 − θ4))``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from ._angles import TWO_PI, wrap_2pi, wrap_pi
+from ._validate import as_array, choice, common_length_unit, finite_array, finite_scalar
+from .classify import Classification, classify
+from .errors import AssemblyError, InputError
+
+__all__ = [
+    "STATUS_REASONS",
+    "FourBar",
+    "FourBarMotion",
+    "accelerations",
+    "jerks",
+    "positions",
+    "velocities",
+]
+
+# --------------------------------------------------------------------------------------
+# Per-sample status codes (a uint8 array in results; `.reason` turns them into text).
+OK = 0
+NOT_ASSEMBLABLE = 1
+TOGGLE = 2
+WRONG_FORM = 3
+INDETERMINATE = 4
+
+#: Human-readable reason for each status code.
+STATUS_REASONS: tuple[str, ...] = (
+    "",
+    "cannot be assembled at this input angle (outside the input link's range)",
+    "toggle: coupler and output are collinear, the velocity solution is singular",
+    "input angle belongs to the other form (circuit) of this linkage",
+    "indeterminate: joint A coincides with O4 (change point)",
+)
+
+#: Tolerance on |cos| beyond 1 accepted as a toggle rather than a failure to assemble.
+_CLOSE_TOL = 1e-12
+#: |sin(θ4 − θ3)| below this is treated as a toggle of links 3 and 4.
+_TOGGLE_TOL = 1e-9
+#: Samples are processed in chunks of this size (keeps temporaries in cache).
+_CHUNK = 1 << 14
+
+
+# --------------------------------------------------------------------------------------
+# The vectorised core, in unit vectors.
+
+
+def _unit_vectors(
+    r1: float, r2: float, r3: float, r4: float, c2: np.ndarray, s2: np.ndarray, branch: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Unit vectors of links 3 and 4 and a status array, for cos/sin of θ2.
+
+    ``branch`` = +1 puts B on the side that makes φ12 = θ4 − θ3 positive.
+    """
+    ax = r2 * c2
+    ay = r2 * s2
+    sx = ax - r1  # diagonal O4 -> A
+    sy = ay
+    dd = sx * sx + sy * sy
+    delta = np.sqrt(dd)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / delta
+        # law of cosines at O4 in triangle O4 A B
+        cg = (r4 * r4 - r3 * r3 + dd) * (inv / (2.0 * r4))
+    status = np.zeros(c2.shape, dtype=np.uint8)
+    bad = ~(np.abs(cg) <= 1.0 + _CLOSE_TOL)  # also catches NaN from delta = 0
+    status[bad] = NOT_ASSEMBLABLE
+    status[~np.isfinite(inv)] = INDETERMINATE
+    cg = np.clip(cg, -1.0, 1.0)
+    sg = np.sqrt(1.0 - cg * cg)
+    sg *= branch
+    ux = sx * inv
+    uy = sy * inv
+    # e^{jθ4} = u · e^{−j·branch·γ}
+    e4x = ux * cg + uy * sg
+    e4y = uy * cg - ux * sg
+    e3x = (r1 + r4 * e4x - ax) * (1.0 / r3)
+    e3y = (r4 * e4y - ay) * (1.0 / r3)
+    return e3x, e3y, e4x, e4y, status
+
+
+def _solve_pair(
+    b: float,
+    c: float,
+    kx: np.ndarray,
+    ky: np.ndarray,
+    e3x: np.ndarray,
+    e3y: np.ndarray,
+    e4x: np.ndarray,
+    e4y: np.ndarray,
+    s34: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Solve ``j b x3 e3 − j c x4 e4 = K`` for (x3, x4) by Cramer's rule."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x3 = -(kx * e4x + ky * e4y) / (b * s34)
+        x4 = -(kx * e3x + ky * e3y) / (c * s34)
+    return x3, x4
+
+
+def _rot(p: Any, q: Any, ex: np.ndarray, ey: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Components of ``(p + j q) e`` for a unit vector ``e``."""
+    return p * ex - q * ey, p * ey + q * ex
+
+
+def positions(
+    r1: float, r2: float, r3: float, r4: float, theta2: Any, branch: int = 1
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Coupler and output angles of a four-bar for input angles ``theta2``.
+
+    Parameters
+    ----------
+    r1, r2, r3, r4 : float
+        Ground, input, coupler and output lengths.
+    theta2 : array_like
+        Input angles, radians.
+    branch : {1, -1}
+        Sign of φ12 = θ4 − θ3 (the side of the diagonal O4A on which B lies).
+        For most classes this is the notes' form 1 (+1) or form 2 (−1); see
+        :meth:`FourBar.solve` for GRCR and GRRC.
+
+    Returns
+    -------
+    theta3, theta4 : ndarray
+        Angles in ``[0, 2π)``; NaN where the linkage cannot be assembled.
+    ok : ndarray of bool
+        False where the linkage cannot be assembled at that input.
+
+    Examples
+    --------
+    HW 6 (notes): GCRR 8-4-7-6 at θ2 = 0, form 1.
+
+    >>> th3, th4, ok = positions(8, 4, 7, 6, 0.0)
+    >>> round(float(np.degrees(th3)), 4), round(float(np.degrees(th4)), 4), bool(ok)
+    (58.8114, 93.5833, True)
+    """
+    theta2 = as_array("theta2", theta2)
+    e3x, e3y, e4x, e4y, status = _unit_vectors(
+        r1, r2, r3, r4, np.cos(theta2), np.sin(theta2), float(branch)
+    )
+    ok = status == OK
+    theta3 = np.where(ok, wrap_2pi(np.arctan2(e3y, e3x)), np.nan)
+    theta4 = np.where(ok, wrap_2pi(np.arctan2(e4y, e4x)), np.nan)
+    return theta3, theta4, ok
+
+
+def velocities(
+    r2: float, r3: float, r4: float, theta2: Any, theta3: Any, theta4: Any, omega2: Any
+) -> tuple[np.ndarray, np.ndarray]:
+    """Angular velocities ω3, ω4 (the notes' closed form).
+
+    ``ω3 = a ω2 sin(θ4 − θ2) / (b sin(θ3 − θ4))``,
+    ``ω4 = a ω2 sin(θ2 − θ3) / (c sin(θ4 − θ3))``.
+
+    Examples
+    --------
+    At θ2 = 0 joint A lies on the ground line, so I24 = A and I13 = O4, and
+    the instant centres give ω3/ω2 = ω4/ω2 = (A − O2)/(A − O4) = 4/(−4):
+
+    >>> th3, th4, _ = positions(8, 4, 7, 6, 0.0)
+    >>> w3, w4 = velocities(4, 7, 6, 0.0, th3, th4, 1.0)
+    >>> round(float(w3), 6), round(float(w4), 6)
+    (-1.0, -1.0)
+    """
+    theta2, theta3, theta4 = (np.asarray(t, dtype=float) for t in (theta2, theta3, theta4))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        omega3 = r2 * omega2 * np.sin(theta4 - theta2) / (r3 * np.sin(theta3 - theta4))
+        omega4 = r2 * omega2 * np.sin(theta2 - theta3) / (r4 * np.sin(theta4 - theta3))
+    return omega3, omega4
+
+
+def accelerations(
+    r2: float,
+    r3: float,
+    r4: float,
+    theta2: Any,
+    theta3: Any,
+    theta4: Any,
+    omega2: Any,
+    omega3: Any,
+    omega4: Any,
+    alpha2: Any,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Angular accelerations α3, α4 from the differentiated loop equation.
+
+    Solves ``a(jα2 − ω2²)e^{jθ2} + b(jα3 − ω3²)e^{jθ3} − c(jα4 − ω4²)e^{jθ4} = 0``.
+    """
+    return _derivative_from_angles(
+        r2, r3, r4, theta2, theta3, theta4, _acceleration_rhs, omega2, omega3, omega4, alpha2
+    )
+
+
+def jerks(
+    r2: float,
+    r3: float,
+    r4: float,
+    theta2: Any,
+    theta3: Any,
+    theta4: Any,
+    omega2: Any,
+    omega3: Any,
+    omega4: Any,
+    alpha2: Any,
+    alpha3: Any,
+    alpha4: Any,
+    jerk2: Any,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Angular jerks of links 3 and 4 (the notes' review lecture 3 form).
+
+    Solves ``Σ ± r (jφ − 3αω − jω³) e^{jθ} = 0`` for the jerks φ3, φ4.
+    """
+    return _derivative_from_angles(
+        r2,
+        r3,
+        r4,
+        theta2,
+        theta3,
+        theta4,
+        _jerk_rhs,
+        omega2,
+        omega3,
+        omega4,
+        alpha2,
+        alpha3,
+        alpha4,
+        jerk2,
+    )
+
+
+def _derivative_from_angles(r2, r3, r4, theta2, theta3, theta4, rhs, *rates):
+    t2, t3, t4 = (np.asarray(t, dtype=float) for t in (theta2, theta3, theta4))
+    e2x, e2y, e3x, e3y, e4x, e4y = (
+        np.cos(t2),
+        np.sin(t2),
+        np.cos(t3),
+        np.sin(t3),
+        np.cos(t4),
+        np.sin(t4),
+    )
+    s34 = e3y * e4x - e3x * e4y
+    kx, ky = rhs(r2, r3, r4, e2x, e2y, e3x, e3y, e4x, e4y, *rates)
+    return _solve_pair(r3, r4, kx, ky, e3x, e3y, e4x, e4y, s34)
+
+
+def _velocity_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, w2):
+    # K = −j a ω2 e2
+    return a * w2 * e2y, -a * w2 * e2x
+
+
+def _acceleration_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, w2, w3, w4, al2):
+    # K = −a(jα2 − ω2²) e2 + b ω3² e3 − c ω4² e4
+    px, py = _rot(-a * w2 * w2, a * al2, e2x, e2y)
+    return (
+        -px + b * w3 * w3 * e3x - c * w4 * w4 * e4x,
+        -py + b * w3 * w3 * e3y - c * w4 * w4 * e4y,
+    )
+
+
+def _jerk_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, w2, w3, w4, al2, al3, al4, j2):
+    # K = −a(jφ2 − 3α2ω2 − jω2³)e2 − b(−3α3ω3 − jω3³)e3 + c(−3α4ω4 − jω4³)e4
+    p2x, p2y = _rot(-3.0 * al2 * w2, j2 - w2**3, e2x, e2y)
+    p3x, p3y = _rot(-3.0 * al3 * w3, -(w3**3), e3x, e3y)
+    p4x, p4y = _rot(-3.0 * al4 * w4, -(w4**3), e4x, e4y)
+    return -a * p2x - b * p3x + c * p4x, -a * p2y - b * p3y + c * p4y
+
+
+# --------------------------------------------------------------------------------------
+# Results
+
+
+@dataclass(frozen=True, eq=False)
+class FourBarMotion:
+    """Kinematics of a four-bar over a set of input angles (one form).
+
+    Arrays share the broadcast shape of the inputs. Samples that could not be
+    solved have ``ok`` False, a ``reason``, and NaN in the affected arrays
+    (positions stay finite at a toggle; only the rates are undefined there).
+
+    Attributes
+    ----------
+    theta2, theta3, theta4 : ndarray
+        Link angles, radians in ``[0, 2π)`` (θ2 as given).
+    omega2, omega3, omega4 : ndarray
+        Angular velocities, rad per time unit (CCW positive).
+    alpha2, alpha3, alpha4 : ndarray
+        Angular accelerations.
+    jerk2, jerk3, jerk4 : ndarray
+        Angular jerks (the notes' φ̇ = α̇; named ``jerk`` to avoid φij).
+    A, B : ndarray of complex
+        Positions of the moving joints (crank pin and output pin).
+    coupler, coupler_velocity, coupler_acceleration, coupler_jerk : ndarray of complex or None
+        The coupler point P and its derivatives, when the linkage has one.
+    status : ndarray of uint8
+        0 where solved; otherwise an index into :data:`STATUS_REASONS`.
+    form : int
+        The form (1 or 2) these poses belong to.
+    """
+
+    theta2: np.ndarray
+    theta3: np.ndarray
+    theta4: np.ndarray
+    omega2: np.ndarray
+    omega3: np.ndarray
+    omega4: np.ndarray
+    alpha2: np.ndarray
+    alpha3: np.ndarray
+    alpha4: np.ndarray
+    jerk2: np.ndarray
+    jerk3: np.ndarray
+    jerk4: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+    coupler: np.ndarray | None
+    coupler_velocity: np.ndarray | None
+    coupler_acceleration: np.ndarray | None
+    coupler_jerk: np.ndarray | None
+    status: np.ndarray
+    form: int
+    lengths: tuple[float, float, float, float] = field(repr=False)
+
+    # -- flags -----------------------------------------------------------------
+    @property
+    def ok(self) -> np.ndarray:
+        """True where every quantity was solved."""
+        return self.status == OK
+
+    @property
+    def assembled(self) -> np.ndarray:
+        """True where the positions are valid (toggles included)."""
+        return (self.status == OK) | (self.status == TOGGLE)
+
+    @property
+    def reason(self) -> np.ndarray:
+        """Why each sample was not solved (empty string where it was)."""
+        return np.asarray(STATUS_REASONS, dtype=object)[self.status]
+
+    # -- fundamental angles (notes: "FUNDAMENTAL POSITION ANGLES") ------------------
+    @cached_property
+    def phi12(self) -> np.ndarray:
+        """φ12 = θ4 − θ3: the angle between links 3 and 4 (faces links 1 and 2)."""
+        return wrap_pi(self.theta4 - self.theta3)
+
+    @cached_property
+    def phi13(self) -> np.ndarray:
+        """φ13 = θ2 − θ4: the angle between links 2 and 4."""
+        return wrap_pi(self.theta2 - self.theta4)
+
+    @cached_property
+    def phi14(self) -> np.ndarray:
+        """φ14 = π − θ2 + θ3: the internal angle at A, between links 2 and 3."""
+        return wrap_pi(np.pi - self.theta2 + self.theta3)
+
+    @cached_property
+    def phi23(self) -> np.ndarray:
+        """φ23 = π − θ4: the internal angle at O4, between links 1 and 4."""
+        return wrap_pi(np.pi - self.theta4)
+
+    @cached_property
+    def phi24(self) -> np.ndarray:
+        """φ24 = θ3: the angle between links 1 and 3."""
+        return wrap_pi(self.theta3)
+
+    @cached_property
+    def phi34(self) -> np.ndarray:
+        """φ34 = θ2: the internal angle at O2, between links 1 and 2."""
+        return wrap_pi(self.theta2)
+
+    @cached_property
+    def mu(self) -> np.ndarray:
+        """Transmission angle μ: the acute angle between coupler and output, [0, π/2]."""
+        m = np.abs(self.phi12)
+        return np.minimum(m, np.pi - m)
+
+    # -- presentation ------------------------------------------------------------
+    def to_pandas(self, degrees: bool = False):
+        """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily).
+
+        Complex positions are split into ``_x`` and ``_y`` columns. With
+        ``degrees=True`` angles (not rates) are converted and the columns say so.
+        """
+        import pandas as pd
+
+        columns: dict[str, np.ndarray] = {}
+        angles = (
+            "theta2",
+            "theta3",
+            "theta4",
+            "phi12",
+            "phi13",
+            "phi14",
+            "phi23",
+            "phi24",
+            "phi34",
+            "mu",
+        )
+        rates = (
+            "omega2",
+            "omega3",
+            "omega4",
+            "alpha2",
+            "alpha3",
+            "alpha4",
+            "jerk2",
+            "jerk3",
+            "jerk4",
+        )
+        for name in angles:
+            value = np.ravel(getattr(self, name))
+            columns[f"{name}_deg" if degrees else name] = np.degrees(value) if degrees else value
+        for name in rates:
+            columns[name] = np.ravel(getattr(self, name))
+        points = {
+            "A": self.A,
+            "B": self.B,
+            "P": self.coupler,
+            "VP": self.coupler_velocity,
+            "AP": self.coupler_acceleration,
+            "JP": self.coupler_jerk,
+        }
+        for name, value in points.items():
+            if value is not None:
+                columns[f"{name}_x"] = np.ravel(value.real)
+                columns[f"{name}_y"] = np.ravel(value.imag)
+        columns["ok"] = np.ravel(self.ok)
+        columns["reason"] = np.ravel(self.reason)
+        return pd.DataFrame(columns)
+
+    def __len__(self) -> int:
+        return int(np.size(self.theta2))
+
+
+# --------------------------------------------------------------------------------------
+# Limits and tables
+
+
+@dataclass(frozen=True)
+class InputRange:
+    """Range of the input angle θ2 over one form's motion.
+
+    ``full_turn`` is True when link 2 is a crank; otherwise θ2 runs over
+    ``[lo, hi]`` (radians, ``lo < hi``; ``hi`` may exceed π when the range
+    contains θ2 = π).
+    """
+
+    lo: float
+    hi: float
+    full_turn: bool
+
+    def grid(self, n: int) -> np.ndarray:
+        """``n`` input angles over the range (endpoints included; a crank's 2π omitted).
+
+        A rocker's range is sampled with cosine spacing, denser toward the limits,
+        where the other links turn like the square root of the distance to the
+        toggle; the poses then come out evenly spaced.
+        """
+        if self.full_turn:
+            return np.linspace(0.0, TWO_PI, n, endpoint=False)
+        u = np.linspace(0.0, np.pi, n)
+        mid, half = 0.5 * (self.lo + self.hi), 0.5 * (self.hi - self.lo)
+        grid = mid - half * np.cos(u)
+        grid[0], grid[-1] = self.lo, self.hi
+        return grid
+
+
+@dataclass(frozen=True)
+class Toggle:
+    """A toggle position: two links collinear.
+
+    Attributes
+    ----------
+    theta2 : float
+        Input angle, radians in ``[0, 2π)``.
+    links : tuple of int
+        The collinear pair: ``(3, 4)`` is a limit of the input link (a dead
+        point when link 2 drives); ``(2, 3)`` a limit of the output link (a
+        dead point when link 4 drives).
+    kind : str
+        ``"extended"`` (end to end) or ``"folded"`` (overlapping).
+    branch : int
+        Sign of φ12 at the toggle (0 when the toggle is of links 3 and 4,
+        which joins the two branches).
+    """
+
+    theta2: float
+    links: tuple[int, int]
+    kind: str
+    branch: int
+
+
+@dataclass(frozen=True)
+class Extremum:
+    """Range of one angle over a form's motion.
+
+    The angle runs continuously from ``min`` up to ``max``. The pair is centred
+    so that its midpoint lies in ``(−π, π]``; when the range contains the
+    direction ±π one end lies beyond it (e.g. ``min`` = 146°, ``max`` = 214°).
+    ``full_turn`` is True when the angle sweeps all directions (it then has no
+    extremum; ``min``/``max`` are −π and π). ``theta2_at_min``/``_max`` are the
+    input angles where the ends occur.
+    """
+
+    name: str
+    min: float
+    max: float
+    theta2_at_min: float
+    theta2_at_max: float
+    full_turn: bool
+
+
+@dataclass(frozen=True)
+class TransmissionAngle:
+    """Minimum transmission angle μ over a form's motion and where it occurs."""
+
+    min: float
+    theta2_at_min: float
+    branch: int
+
+
+@dataclass(frozen=True)
+class CouplerCurve:
+    """Coupler-point path over one form's motion, in order of travel.
+
+    For a rocker input whose form spans two branches (GRCR, GRRC) the
+    second branch is traversed back, so the curve closes.
+    """
+
+    theta2: np.ndarray
+    branch: np.ndarray
+    points: np.ndarray
+
+    def to_pandas(self):
+        """A :class:`pandas.DataFrame` with columns ``theta2, branch, x, y``."""
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "theta2": self.theta2,
+                "branch": self.branch,
+                "x": self.points.real,
+                "y": self.points.imag,
+            }
+        )
+
+
+# --------------------------------------------------------------------------------------
+# The model
+
+
+_PHI34_FORM_CLASSES = frozenset({"GRCR", "GRRC"})
+
+
+class FourBar:
+    """A planar four-bar linkage (ground R1, input R2, coupler R3, output R4).
+
+    Parameters
+    ----------
+    r1, r2, r3, r4 : float or pint.Quantity
+        Link lengths: ground ``O2O4``, input ``O2A``, coupler ``AB``, output ``O4B``.
+        Quantities are converted to the unit of ``r1`` (see :attr:`length_unit`).
+    coupler : (p, delta), optional
+        A coupler point P at distance ``p`` from joint A and angle ``delta``
+        (radians, or a pint angle) from the line AB, counter-clockwise.
+
+    Raises
+    ------
+    InputError
+        For a non-positive or non-finite length.
+    AssemblyError
+        If the lengths cannot form a closed chain.
+
+    Examples
+    --------
+    >>> fb = FourBar(8, 4, 7, 6)           # the notes' HW 6 linkage
+    >>> fb.barker_class, fb.is_grashof, fb.cranks
+    ('GCRR', True, (2,))
+    >>> m = fb.solve(np.radians([0, 15, 30]), omega2=10.0)
+    >>> np.round(np.degrees(m.theta4), 3)
+    array([93.583, 81.759, 77.426])
+    """
+
+    def __init__(self, r1: Any, r2: Any, r3: Any, r4: Any, coupler: Any = None) -> None:
+        lengths, unit = common_length_unit(r1=r1, r2=r2, r3=r3, r4=r4)
+        for name, value in lengths.items():
+            if value <= 0.0:
+                raise InputError(name, f"must be a positive length, got {value:g}")
+        self.r1, self.r2, self.r3, self.r4 = (lengths[k] for k in ("r1", "r2", "r3", "r4"))
+        self.length_unit: str | None = unit
+        self.classification: Classification = classify(self.r1, self.r2, self.r3, self.r4)
+        if coupler is None:
+            self.coupler: tuple[float, float] | None = None
+        else:
+            try:
+                p, delta = coupler
+            except (TypeError, ValueError):
+                raise InputError("coupler", f"expected (p, delta), got {coupler!r}") from None
+            p = finite_scalar("coupler p", p, unit)
+            if p < 0.0:
+                raise InputError("coupler p", f"must be a distance >= 0, got {p:g}")
+            delta = finite_scalar("coupler delta", delta, "radian")
+            self.coupler = (p, delta)
+
+    # -- description --------------------------------------------------------------
+    def __repr__(self) -> str:
+        extra = (
+            "" if self.coupler is None else f", coupler=({self.coupler[0]:g}, {self.coupler[1]:g})"
+        )
+        return f"FourBar({self.r1:g}, {self.r2:g}, {self.r3:g}, {self.r4:g}{extra})"
+
+    @property
+    def lengths(self) -> tuple[float, float, float, float]:
+        """``(r1, r2, r3, r4)``."""
+        return (self.r1, self.r2, self.r3, self.r4)
+
+    @property
+    def barker_class(self) -> str:
+        """Barker's class code, one of the notes' 14 (``"GCCC"`` … ``"CP3X"``)."""
+        return self.classification.code
+
+    @property
+    def is_grashof(self) -> bool:
+        """Grashof condition ``s + l < p + q``."""
+        return self.classification.is_grashof
+
+    @property
+    def is_assemblable(self) -> bool:
+        """Always True for a constructed FourBar (construction checks it)."""
+        return True
+
+    @property
+    def cranks(self) -> tuple[int, ...]:
+        """Moving links that can make full turns relative to the ground."""
+        return self.classification.cranks
+
+    @property
+    def form_rule(self) -> str:
+        """Which angle's sign distinguishes form 1 from form 2 (the notes' table)."""
+        return "phi34" if self.barker_class in _PHI34_FORM_CLASSES else "phi12"
+
+    # -- kinematics ---------------------------------------------------------------
+    def _branch_and_side(self, form: int, branch: int | None) -> tuple[int, int]:
+        choice("form", form, (1, 2))
+        if self.form_rule == "phi12":
+            if branch is not None and branch != (1 if form == 1 else -1):
+                raise InputError(
+                    "branch",
+                    f"for a {self.barker_class} the form is the sign of phi12, so "
+                    f"form {form} fixes branch {1 if form == 1 else -1}; omit branch",
+                )
+            return (1 if form == 1 else -1), 0
+        branch = 1 if branch is None else choice("branch", branch, (1, -1))
+        return branch, (1 if form == 1 else -1)
+
+    def solve(
+        self,
+        theta2: Any,
+        omega2: Any = 0.0,
+        alpha2: Any = 0.0,
+        form: int = 1,
+        *,
+        jerk2: Any = 0.0,
+        branch: int | None = None,
+    ) -> FourBarMotion:
+        """Positions, velocities, accelerations and jerks for input angles ``theta2``.
+
+        Parameters
+        ----------
+        theta2 : array_like
+            Input angles, radians (any shape).
+        omega2, alpha2, jerk2 : array_like, optional
+            Input angular velocity, acceleration and jerk (broadcast against
+            ``theta2``); zero by default.
+        form : {1, 2}
+            The notes' form: the sign of φ12 (form 1: φ12 > 0), except for
+            GRCR and GRRC where it is the sign of φ34 = θ2 (the two circuits).
+        branch : {1, -1}, optional
+            Only for GRCR and GRRC: the sign of φ12 within the form (default +1).
+
+        Returns
+        -------
+        FourBarMotion
+
+        Raises
+        ------
+        AssemblyError
+            If ``theta2`` is a single angle at which the form cannot be
+            assembled. For arrays such samples are flagged instead.
+
+        Examples
+        --------
+        The review exam linkage (R1 = 75, R2 = 150, R3 = R4 = 250 mm) at θ2 = 15°:
+
+        >>> m = FourBar(75, 150, 250, 250).solve(np.radians(15), omega2=-5.0, form=2)
+        >>> round(float(np.degrees(m.theta3)), 2), round(float(np.degrees(m.theta4)), 2)
+        (128.25, 109.85)
+        """
+        theta2 = finite_array("theta2", theta2, "radian")
+        omega2 = finite_array("omega2", omega2, "radian / second")
+        alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
+        jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
+        branch_sign, side = self._branch_and_side(form, branch)
+        shape = np.broadcast_shapes(theta2.shape, omega2.shape, alpha2.shape, jerk2.shape)
+        t2, w2, a2, j2 = (
+            np.broadcast_to(x, shape).ravel() for x in (theta2, omega2, alpha2, jerk2)
+        )
+        out = _solve_flat(self, t2, w2, a2, j2, branch_sign, side)
+        if theta2.ndim == 0 and out["status"][0] in (NOT_ASSEMBLABLE, WRONG_FORM, INDETERMINATE):
+            raise AssemblyError(
+                f"{self!r}, form {form}, theta2 = {np.degrees(float(theta2)):.6g} deg: "
+                f"{STATUS_REASONS[out['status'][0]]}; {self._range_hint(form)}"
+            )
+        reshaped = {
+            k: (v.reshape(shape) if isinstance(v, np.ndarray) else v) for k, v in out.items()
+        }
+        return FourBarMotion(form=form, lengths=self.lengths, **reshaped)
+
+    def _range_hint(self, form: int) -> str:
+        rng = self.input_range(form)
+        if rng.full_turn:
+            return "link 2 is a crank"
+        return (
+            f"theta2 must lie in [{np.degrees(rng.lo):.6g}, {np.degrees(rng.hi):.6g}] deg "
+            f"for form {form}"
+        )
+
+    # -- ranges, toggles, extrema --------------------------------------------------
+    def input_range(self, form: int = 1) -> InputRange:
+        """Range of θ2 over the motion of a form (the input rocker's limits).
+
+        The limits are the toggles of links 3 and 4, where the diagonal ``O4A``
+        equals ``R3 + R4`` or ``|R3 − R4|``.
+
+        Examples
+        --------
+        >>> rng = FourBar(6, 9, 3, 8).input_range(form=1)   # GRCR: a rocker above O2O4
+        >>> print(rng.full_turn, f"{np.degrees(rng.lo):.4f} {np.degrees(rng.hi):.4f}")
+        False 31.5863 92.1226
+        """
+        choice("form", form, (1, 2))
+        a, b, c, d = self.r2, self.r3, self.r4, self.r1
+        c_lo = (a * a + d * d - (b + c) ** 2) / (2.0 * a * d)
+        c_hi = (a * a + d * d - (b - c) ** 2) / (2.0 * a * d)
+        if c_lo <= -1.0 and c_hi >= 1.0:
+            return InputRange(0.0, TWO_PI, True)
+        if c_lo > -1.0 and c_hi < 1.0:  # two disjoint ranges, one each side of the ground line
+            lo, hi = float(np.arccos(c_hi)), float(np.arccos(c_lo))
+            if self.form_rule == "phi34" and form == 2:
+                lo, hi = TWO_PI - hi, TWO_PI - lo
+            return InputRange(float(lo), float(hi), False)
+        if c_lo > -1.0:  # range contains θ2 = 0
+            half = float(np.arccos(c_lo))
+            return InputRange(-half, half, False)
+        half = float(np.arccos(c_hi))  # range contains θ2 = π
+        return InputRange(half, TWO_PI - half, False)
+
+    def toggles(self) -> tuple[Toggle, ...]:
+        """Every toggle position: links 3–4 collinear (input limits) or 2–3 (output limits).
+
+        Examples
+        --------
+        A crank-rocker's output limits are where crank and coupler align:
+
+        >>> for t in FourBar(8, 4, 7, 6).toggles():
+        ...     print(f"{np.degrees(t.theta2):8.3f}", t.links, t.kind, t.branch)
+          32.157 (2, 3) extended 1
+         140.429 (2, 3) folded -1
+         219.571 (2, 3) folded 1
+         327.843 (2, 3) extended -1
+        """
+        a, b, c, d = self.r2, self.r3, self.r4, self.r1
+        found: list[Toggle] = []
+        # links 3 and 4 collinear: |A − O4| = b + c or |b − c|
+        for kind, diag in (("extended", b + c), ("folded", abs(b - c))):
+            cos2 = (a * a + d * d - diag * diag) / (2.0 * a * d)
+            if abs(cos2) <= 1.0 + _CLOSE_TOL:
+                t = float(np.arccos(np.clip(cos2, -1.0, 1.0)))
+                for theta in sorted({t, float(wrap_2pi(-t))}):
+                    found.append(Toggle(theta, (3, 4), kind, 0))
+        # links 2 and 3 collinear: |B − O2| = a + b or |a − b|
+        for kind, e in (("extended", a + b), ("folded", abs(a - b))):
+            if e == 0.0:
+                continue
+            cos_psi = (d * d + e * e - c * c) / (2.0 * d * e)
+            if abs(cos_psi) > 1.0 + _CLOSE_TOL:
+                continue
+            psi = float(np.arccos(np.clip(cos_psi, -1.0, 1.0)))
+            for sgn in (1.0, -1.0):
+                # A lies along O2→B unless folded with b > a, when it points away
+                theta = sgn * psi + (np.pi if (kind == "folded" and b > a) else 0.0)
+                theta = float(wrap_2pi(theta))
+                for br in (1, -1):
+                    th3, _, ok = positions(d, a, b, c, theta, br)
+                    if ok and abs(np.sin(float(th3) - theta)) < 1e-7:
+                        found.append(Toggle(theta, (2, 3), kind, br))
+        unique: dict[tuple, Toggle] = {}
+        for t in found:
+            unique.setdefault((round(t.theta2, 10), t.links, t.kind, t.branch), t)
+        return tuple(sorted(unique.values(), key=lambda t: (t.links[0], t.theta2)))
+
+    def _form_samples(self, form: int, n: int) -> list[tuple[np.ndarray, int]]:
+        """(θ2 grid, branch) pieces covering the motion of a form."""
+        branch_sign, _ = self._branch_and_side(form, None)
+        rng = self.input_range(form)
+        grid = rng.grid(n)
+        if self.form_rule == "phi34":
+            return [(grid, 1), (grid[::-1], -1)]
+        return [(grid, branch_sign)]
+
+    def extrema(self, form: int = 1, n: int = 2001) -> dict[str, Extremum]:
+        """Minimum and maximum of θ3, θ4 and every φij over the motion of a form.
+
+        The motion is sampled at ``n`` input angles per branch and each
+        extremum refined by a bounded scalar search on the closed form, so the
+        result is exact to rounding, not to the sampling step.
+
+        Examples
+        --------
+        Final exam problem 2: {8, 4, 9, 6} with φ12 > 0. The minimum of φ12
+        occurs with links 1 and 2 overlapped (θ2 = 0), where
+        cos φ12 = (9² + 6² − 4²)/(2·9·6):
+
+        >>> ex = FourBar(8, 4, 9, 6).extrema(form=1)["phi12"]
+        >>> print(f"{np.degrees(ex.min):.4f} at {np.degrees(ex.theta2_at_min):.4f} deg")
+        20.7419 at 0.0000 deg
+        """
+        choice("form", form, (1, 2))
+        names = ("theta3", "theta4", "phi12", "phi13", "phi14", "phi23", "phi24", "phi34")
+        pieces = self._form_samples(form, n)
+        rng = self.input_range(form)
+        result: dict[str, Extremum] = {}
+        closed = rng.full_turn or len(pieces) > 1  # the motion is a closed cycle
+        for name in names:
+            values = [_angle_of(self, name, grid, br) for grid, br in pieces]
+            if _sweeps_all_directions(np.concatenate(values), closed):
+                result[name] = Extremum(name, -np.pi, np.pi, np.nan, np.nan, True)
+                continue
+            # Represent the range as a continuous arc centred in (−π, π]: the angle
+            # runs from min up to max, and one end may lie beyond ±π.
+            turns = np.unwrap(np.concatenate(values))
+            turns = turns[np.isfinite(turns)]
+            mid = 0.5 * (turns.min() + turns.max())
+            centre = float(wrap_pi(mid))
+            best_min: tuple[float, float] | None = None
+            best_max: tuple[float, float] | None = None
+            for (grid, br), v in zip(pieces, values, strict=True):
+                v = centre + wrap_pi(v - centre)
+                for sign in (1.0, -1.0):
+                    i = int(np.nanargmin(sign * v))
+                    t, value = _refine(self, name, grid, i, br, sign, rng, centre)
+                    if sign > 0 and (best_min is None or value < best_min[1]):
+                        best_min = (t, value)
+                    if sign < 0 and (best_max is None or value > best_max[1]):
+                        best_max = (t, value)
+            assert best_min is not None and best_max is not None
+            result[name] = Extremum(
+                name,
+                float(best_min[1]),
+                float(best_max[1]),
+                float(wrap_2pi(best_min[0])),
+                float(wrap_2pi(best_max[0])),
+                False,
+            )
+        return result
+
+    def transmission_angle(self, form: int = 1, n: int = 2001) -> TransmissionAngle:
+        """Minimum transmission angle μ over the motion of a form, and where it occurs.
+
+        Examples
+        --------
+        A crank-rocker's minimum μ is at θ2 = 0 or π (Norton sec. 4.10); here at
+        θ2 = 0, where cos φ12 = (7² + 6² − 4²)/(2·7·6):
+
+        >>> ta = FourBar(8, 4, 7, 6).transmission_angle()
+        >>> print(f"{np.degrees(ta.min):.4f} at {np.degrees(ta.theta2_at_min):.4f} deg")
+        34.7719 at 0.0000 deg
+        """
+        choice("form", form, (1, 2))
+        rng = self.input_range(form)
+        best: tuple[float, float, int] | None = None
+        for grid, br in self._form_samples(form, n):
+            values = _angle_of(self, "mu", grid, br)
+            i = int(np.argmin(values))
+            t, v = _refine(self, "mu", grid, i, br, 1.0, rng)
+            if best is None or v < best[1]:
+                best = (t, v, br)
+        assert best is not None
+        return TransmissionAngle(float(best[1]), float(wrap_2pi(best[0])), best[2])
+
+    def coupler_curve(self, form: int = 1, n: int = 721) -> CouplerCurve:
+        """The coupler point's path over the motion of a form (``n`` samples per branch).
+
+        Raises
+        ------
+        InputError
+            If the linkage was built without a coupler point.
+        """
+        if self.coupler is None:
+            raise InputError(
+                "coupler", "this FourBar has no coupler point; pass coupler=(p, delta)"
+            )
+        thetas, branches, points = [], [], []
+        for grid, br in self._form_samples(form, n):
+            th3, _, ok = positions(*self.lengths, grid, br)
+            p, delta = self.coupler
+            pts = self.r2 * np.exp(1j * grid) + p * np.exp(1j * (th3 + delta))
+            thetas.append(grid[ok])
+            branches.append(np.full(int(ok.sum()), br))
+            points.append(pts[ok])
+        return CouplerCurve(
+            np.concatenate(thetas), np.concatenate(branches), np.concatenate(points)
+        )
+
+    # -- instant centres and mechanical advantage ----------------------------------
+    def instant_centres(self, theta2: Any, form: int = 1, *, branch: int | None = None):
+        """All six instant centres; I13 and I24 by Kennedy's rule.
+
+        Returns
+        -------
+        InstantCentres
+            Keyed by pairs ``(1, 3)`` etc.; each centre is a point, or a
+            direction at infinity where its two Kennedy lines are parallel.
+
+        Examples
+        --------
+        >>> ics = FourBar(8, 4, 7, 6).instant_centres(np.radians(90))
+        >>> ics[1, 2].point
+        array(0.+0.j)
+        >>> bool(ics[2, 4].at_infinity)
+        False
+        """
+        from .centres import fourbar_centres
+
+        m = self.solve(theta2, form=form, branch=branch)
+        return fourbar_centres(self.r1, m.A, m.B, m.assembled)
+
+    def mechanical_advantage(
+        self,
+        theta2: Any,
+        r_in: float = 1.0,
+        r_out: float = 1.0,
+        form: int = 1,
+        *,
+        method: str = "power",
+        branch: int | None = None,
+    ) -> np.ndarray:
+        """Mechanical advantage ``F_out / F_in = (r_in ω2) / (r_out ω4)``.
+
+        A force ``F_in`` at radius ``r_in`` on link 2 drives a load ``F_out``
+        at radius ``r_out`` on link 4 (the notes' review lecture 2). Signed:
+        negative when link 4 turns the opposite way to link 2; infinite at a
+        toggle of links 2 and 3.
+
+        Parameters
+        ----------
+        method : {"power", "instant_centres"}
+            ``"power"``: ω4/ω2 from the velocity solution (the power identity).
+            ``"instant_centres"``: ω4/ω2 from the position of I24 on the ground
+            line, ``ω4/ω2 = I12I24 / I14I24`` (Kennedy's rule).
+
+        Examples
+        --------
+        >>> fb = FourBar(8, 4, 7, 6)
+        >>> ma_power = fb.mechanical_advantage(np.radians(60), method="power")
+        >>> ma_ic = fb.mechanical_advantage(np.radians(60), method="instant_centres")
+        >>> bool(np.isclose(ma_power, ma_ic))
+        True
+        """
+        method = choice("method", method, ("power", "instant_centres"))
+        r_in = finite_scalar("r_in", r_in, self.length_unit)
+        r_out = finite_scalar("r_out", r_out, self.length_unit)
+        if r_out == 0.0:
+            raise InputError("r_out", "must be non-zero (the output force's lever arm)")
+        if method == "power":
+            m = self.solve(theta2, omega2=1.0, form=form, branch=branch)
+            ratio = m.omega4  # ω4 / ω2 with ω2 = 1
+            valid = m.ok
+        else:
+            ics = self.instant_centres(theta2, form=form, branch=branch)
+            ratio = ics.omega_ratio(2, 4)
+            valid = ics.valid
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ma = (r_in / r_out) / ratio
+        return np.where(valid, ma, np.nan)
+
+
+# --------------------------------------------------------------------------------------
+# Internals of FourBar
+
+
+def _solve_flat(
+    fb: FourBar,
+    t2: np.ndarray,
+    w2: np.ndarray,
+    a2: np.ndarray,
+    j2: np.ndarray,
+    branch: int,
+    side: int,
+) -> dict[str, Any]:
+    """Solve flat arrays chunk by chunk; returns the FourBarMotion fields."""
+    n = t2.size
+    out = {
+        name: np.empty(n)
+        for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4")
+    }
+    A = np.empty(n, dtype=complex)
+    B = np.empty(n, dtype=complex)
+    has_p = fb.coupler is not None
+    P = {k: np.empty(n, dtype=complex) for k in ("p", "v", "a", "j")} if has_p else {}
+    status = np.empty(n, dtype=np.uint8)
+    a, b, c, d = fb.r2, fb.r3, fb.r4, fb.r1
+    if has_p:
+        p, delta = fb.coupler
+        cd, sd = np.cos(delta), np.sin(delta)
+    for lo in range(0, n, _CHUNK):
+        sl = slice(lo, min(lo + _CHUNK, n))
+        th2, om2, al2, je2 = t2[sl], w2[sl], a2[sl], j2[sl]
+        e2x, e2y = np.cos(th2), np.sin(th2)
+        e3x, e3y, e4x, e4y, st = _unit_vectors(d, a, b, c, e2x, e2y, float(branch))
+        if side:
+            st[(st == OK) & (side * e2y <= 0.0)] = WRONG_FORM
+        s34 = e3y * e4x - e3x * e4y
+        st[(st == OK) & (np.abs(s34) < _TOGGLE_TOL)] = TOGGLE
+        bad = (st != OK) & (st != TOGGLE)
+        if bad.any():
+            for arr in (e3x, e3y, e4x, e4y):
+                arr[bad] = np.nan
+        w3, w4 = _solve_pair(
+            b,
+            c,
+            *_velocity_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2),
+            e3x,
+            e3y,
+            e4x,
+            e4y,
+            s34,
+        )
+        al3, al4 = _solve_pair(
+            b,
+            c,
+            *_acceleration_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2),
+            e3x,
+            e3y,
+            e4x,
+            e4y,
+            s34,
+        )
+        je3, je4 = _solve_pair(
+            b,
+            c,
+            *_jerk_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2, al3, al4, je2),
+            e3x,
+            e3y,
+            e4x,
+            e4y,
+            s34,
+        )
+        toggled = st == TOGGLE
+        if toggled.any():
+            for arr in (w3, w4, al3, al4, je3, je4):
+                arr[toggled] = np.nan
+        out["theta3"][sl] = wrap_2pi(np.arctan2(e3y, e3x))
+        out["theta4"][sl] = wrap_2pi(np.arctan2(e4y, e4x))
+        out["omega3"][sl], out["omega4"][sl] = w3, w4
+        out["alpha3"][sl], out["alpha4"][sl] = al3, al4
+        out["jerk3"][sl], out["jerk4"][sl] = je3, je4
+        A.real[sl], A.imag[sl] = a * e2x, a * e2y
+        B.real[sl], B.imag[sl] = d + c * e4x, c * e4y
+        if has_p:
+            epx, epy = _rot(cd, sd, e3x, e3y)  # e^{j(θ3 + δ)}
+            P["p"].real[sl] = a * e2x + p * epx
+            P["p"].imag[sl] = a * e2y + p * epy
+            vx, vy = _rot(0.0, a * om2, e2x, e2y)
+            qx, qy = _rot(0.0, p * w3, epx, epy)
+            P["v"].real[sl], P["v"].imag[sl] = vx + qx, vy + qy
+            vx, vy = _rot(-a * om2 * om2, a * al2, e2x, e2y)
+            qx, qy = _rot(-p * w3 * w3, p * al3, epx, epy)
+            P["a"].real[sl], P["a"].imag[sl] = vx + qx, vy + qy
+            vx, vy = _rot(-3.0 * a * al2 * om2, a * (je2 - om2**3), e2x, e2y)
+            qx, qy = _rot(-3.0 * p * al3 * w3, p * (je3 - w3**3), epx, epy)
+            P["j"].real[sl], P["j"].imag[sl] = vx + qx, vy + qy
+        status[sl] = st
+    return {
+        "theta2": t2.copy(),
+        "omega2": w2.copy(),
+        "alpha2": a2.copy(),
+        "jerk2": j2.copy(),
+        **out,
+        "A": A,
+        "B": B,
+        "coupler": P.get("p"),
+        "coupler_velocity": P.get("v"),
+        "coupler_acceleration": P.get("a"),
+        "coupler_jerk": P.get("j"),
+        "status": status,
+    }
+
+
+def _sweeps_all_directions(values: np.ndarray, closed: bool) -> bool:
+    """True if an angle sampled along a motion turns through every direction."""
+    values = values[np.isfinite(values)]
+    if closed:  # winding number of the closed cycle
+        turns = np.unwrap(np.append(values, values[0]))
+        return abs(turns[-1] - turns[0]) > np.pi
+    return bool(np.ptp(np.unwrap(values)) >= TWO_PI - 1e-9)
+
+
+def _angle_of(fb: FourBar, name: str, theta2: np.ndarray, branch: int) -> np.ndarray:
+    """One named angle (θ3, θ4, φij, μ) along a branch, from the closed form."""
+    th3, th4, _ = positions(*fb.lengths, theta2, branch)
+    values: Mapping[str, Callable[[], np.ndarray]] = {
+        "theta3": lambda: th3,
+        "theta4": lambda: th4,
+        "phi12": lambda: wrap_pi(th4 - th3),
+        "phi13": lambda: wrap_pi(theta2 - th4),
+        "phi14": lambda: wrap_pi(np.pi - theta2 + th3),
+        "phi23": lambda: wrap_pi(np.pi - th4),
+        "phi24": lambda: wrap_pi(th3),
+        "phi34": lambda: wrap_pi(theta2),
+        "mu": lambda: np.minimum(np.abs(wrap_pi(th4 - th3)), np.pi - np.abs(wrap_pi(th4 - th3))),
+    }
+    return values[name]()
+
+
+def _refine(
+    fb: FourBar,
+    name: str,
+    grid: np.ndarray,
+    i: int,
+    branch: int,
+    sign: float,
+    rng: InputRange,
+    centre: float = 0.0,
+) -> tuple[float, float]:
+    """Refine the extremum near grid[i] by a bounded scalar search (sign +1: min).
+
+    Angles are represented continuously as ``centre + wrap(angle − centre)``.
+    """
+    from scipy.optimize import minimize_scalar
+
+    lo = grid[max(i - 1, 0)]
+    hi = grid[min(i + 1, grid.size - 1)]
+    if rng.full_turn:
+        step = TWO_PI / grid.size
+        lo, hi = grid[i] - step, grid[i] + step
+    lo, hi = min(lo, hi), max(lo, hi)
+
+    def f(t: float) -> float:
+        v = float(_angle_of(fb, name, np.array([t]), branch)[0])
+        if not np.isfinite(v):
+            return np.inf
+        return sign * (centre + float(wrap_pi(v - centre)))
+
+    best_t, best_v = float(grid[i]), f(float(grid[i]))
+    if hi > lo:
+        res = minimize_scalar(
+            f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-13, "maxiter": 200}
+        )
+        if res.fun < best_v:
+            best_t, best_v = float(res.x), float(res.fun)
+        for edge in (lo, hi):  # the bounded search never evaluates the ends
+            fe = f(edge)
+            if fe < best_v:
+                best_t, best_v = float(edge), fe
+    return best_t, sign * best_v
