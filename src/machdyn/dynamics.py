@@ -1,0 +1,648 @@
+"""Dynamic force analysis of the four-bar (Newton–Euler, the notes' matrix method).
+
+For every sample of a motion this module finds the joint forces ``F12, F32,
+F43, F14``, the driving torque ``T12`` and the shaking force and moment on the
+ground, with the masses and inertias of links 2–4, gravity, external forces at
+points on the links and external torques.
+
+Nomenclature (the notes' "FORCE ANALYSIS" section; Norton, *Design of
+Machinery*, sec. 11.4–11.8): ``F_ap`` is the force on link *p* from link *a*
+(so ``F_pa = −F_ap``); ``R_ap`` runs from the centre of mass of *p* to the
+joint between *a* and *p*; ``T12`` is the torque of the ground on link 2.
+Forces are complex numbers ``Fx + j Fy``; torques are CCW positive.
+
+Equations (Norton eq. 11.9, one link at a time)::
+
+    link 2:  F12 + F32 + ΣF2 = m2 aG2       T12 + R12×F12 + R32×F32 + ΣM2 = IG2 α2
+    link 3:  F43 − F32 + ΣF3 = m3 aG3       R43×F43 − R23×F32 + ΣM3 = IG3 α3
+    link 4:  F14 − F43 + ΣF4 = m4 aG4       R14×F14 − R34×F43 + ΣM4 = IG4 α4
+
+nine linear equations in ``F12x, F12y, F32x, F32y, F43x, F43y, F14x, F14y,
+T12`` (Norton eq. 11.10). ``ΣF`` and ``ΣM`` are the external loads (gravity,
+point forces, torques; ``load_torque4`` is the external torque on link 4).
+
+Solution method
+---------------
+The 9×9 system is solved by elimination in closed form, so a million samples
+cost a few array operations each. Taking moments of link 4 about ``O4`` and of
+link 3 about ``A`` leaves only ``F43``::
+
+    (B − A) × F43 = M3,     (B − O4) × F43 = −M4
+
+with ``M3 = IG3 α3 + (G3 − A) × m3 aG3 − (external moment on 3 about A)`` and
+``M4`` likewise about ``O4``. Writing ``u = B − A`` and ``w = B − O4``,
+``F43 = (M4 u + M3 w) / (u × w)``; the determinant ``u × w = r3 r4 sin(θ4 − θ3)``
+vanishes only at a toggle of links 3 and 4, which is flagged. The other forces
+follow from the force equations of links 3, 4 and 2, and ``T12`` from the
+moment of link 2 about ``O2``. The tests build the 9×9 matrix independently
+and compare.
+
+Shaking force and moment (Norton sec. 11.8, eq. 11.15): the shaking force is
+the sum of the forces the moving links exert on the ground,
+``Fs = F21 + F41 = −(F12 + F14)``; the shaking moment is their moment about
+``O2`` plus the reaction of the driving torque, ``Ms = T21 + R1 × F41`` with
+``T21 = −T12`` and ``R1 = O4 − O2``. Without gravity and external loads
+``Fs = −Σ m_i aG_i``, which vanishes for a force-balanced linkage.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ._validate import choice, finite_array, finite_scalar, nonnegative
+from .errors import InputError
+from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
+
+__all__ = [
+    "FORCE_REASONS",
+    "FourBarForces",
+    "LinkEquations",
+    "LinkProperties",
+    "PointLoad",
+    "fourbar_dynamics",
+    "fourbar_forces",
+    "link_equations",
+    "link_properties",
+]
+
+#: Why a sample has no force solution (indexed by the motion's status code).
+FORCE_REASONS: tuple[str, ...] = tuple(
+    (
+        "toggle: links 3 and 4 are collinear; the velocity solution and the force "
+        "system (Norton eq. 11.10) are singular"
+    )
+    if code == TOGGLE
+    else text
+    for code, text in enumerate(STATUS_REASONS)
+)
+
+_MOVING_LINKS = (2, 3, 4)
+
+
+# --------------------------------------------------------------------------------------
+# Inputs
+
+
+@dataclass(frozen=True)
+class LinkProperties:
+    """Validated mass properties of links 2, 3 and 4 of a four-bar.
+
+    Attributes
+    ----------
+    mass : tuple of float
+        ``(m2, m3, m4)``, each ≥ 0.
+    inertia : tuple of float
+        ``(IG2, IG3, IG4)``: moments of inertia about each centre of mass.
+    cg : tuple of complex
+        ``(c2, c3, c4)``: centre of mass of each link in its own frame (origin at
+        O2, A, O4; x axis toward A, B, B).
+    """
+
+    mass: tuple[float, float, float]
+    inertia: tuple[float, float, float]
+    cg: tuple[complex, complex, complex]
+
+
+def _triple(field: str, value: Any) -> tuple[Any, Any, Any]:
+    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
+        raise InputError(
+            field, f"must be a sequence of three values (links 2, 3, 4), got {value!r}"
+        )
+    items = tuple(value)
+    if len(items) != 3:
+        raise InputError(field, f"must have exactly three values (links 2, 3, 4), got {len(items)}")
+    return items  # type: ignore[return-value]
+
+
+def _complex_scalar(field: str, value: Any) -> complex:
+    try:
+        out = complex(value)
+    except (TypeError, ValueError):
+        raise InputError(
+            field, f"must be a number (complex x + jy allowed), got {value!r}"
+        ) from None
+    if not (np.isfinite(out.real) and np.isfinite(out.imag)):
+        raise InputError(field, f"must be finite, got {out}")
+    return out
+
+
+def link_properties(mass: Any, inertia: Any, cg: Any) -> LinkProperties:
+    """Check the mass properties of links 2, 3, 4 and return them as plain numbers.
+
+    A link either has a positive mass *and* a positive moment of inertia, or
+    is massless (both zero, for kinetostatics). Negative, non-finite, or
+    half-massless values are rejected.
+
+    Examples
+    --------
+    >>> link_properties((1, 2, 3), (0.1, 0.2, 0.3), (0.5, 1 + 0.5j, 2)).cg
+    ((0.5+0j), (1+0.5j), (2+0j))
+    >>> link_properties((1, 2), (0.1, 0.2, 0.3), (0, 0, 0))
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: mass: must have exactly three values (links 2, 3, 4), got 2
+    """
+    masses = _triple("mass", mass)
+    inertias = _triple("inertia", inertia)
+    cgs = _triple("cg", cg)
+    m = tuple(nonnegative(f"mass m{k}", v) for k, v in zip(_MOVING_LINKS, masses, strict=True))
+    i = tuple(
+        nonnegative(f"inertia IG{k}", v) for k, v in zip(_MOVING_LINKS, inertias, strict=True)
+    )
+    for k, mk, ik in zip(_MOVING_LINKS, m, i, strict=True):
+        if (mk == 0.0) != (ik == 0.0):
+            raise InputError(
+                f"mass m{k}" if mk == 0.0 else f"inertia IG{k}",
+                f"link {k} has m{k} = {mk:g} and IG{k} = {ik:g}: a link with mass has a "
+                "positive moment of inertia; give both positive, or both zero for a "
+                "massless link",
+            )
+    c = tuple(_complex_scalar(f"cg c{k}", v) for k, v in zip(_MOVING_LINKS, cgs, strict=True))
+    return LinkProperties(m, i, c)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class PointLoad:
+    """An external force on a moving link at a point fixed in that link.
+
+    Attributes
+    ----------
+    link : int
+        2, 3 or 4.
+    point : complex
+        Where the force acts, in the link's own frame (origin at the link's
+        first joint O2, A, O4; x axis toward its next joint A, B, B).
+    force : complex or ndarray of complex
+        The force ``Fx + j Fy`` in the ground frame, one value or one per sample.
+    """
+
+    link: int
+    point: complex
+    force: Any
+
+
+def _point_loads(external_forces: Any) -> tuple[PointLoad, ...]:
+    if isinstance(external_forces, PointLoad):
+        external_forces = (external_forces,)
+    out = []
+    for n, item in enumerate(external_forces):
+        field = f"external_forces[{n}]"
+        if isinstance(item, PointLoad):
+            link, point, force = item.link, item.point, item.force
+        else:
+            try:
+                link, point, force = item
+            except (TypeError, ValueError):
+                raise InputError(
+                    field, f"expected (link, point, force) or a PointLoad, got {item!r}"
+                ) from None
+        link = choice(f"{field} link", link, _MOVING_LINKS)
+        point = _complex_scalar(f"{field} point", point)
+        force = np.asarray(force)
+        if not np.iscomplexobj(force):
+            force = finite_array(f"{field} force", force)
+        elif not np.isfinite(force).all():
+            raise InputError(f"{field} force", "must be finite")
+        out.append(PointLoad(link, point, force.astype(complex)))
+    return tuple(out)
+
+
+def _torques(external_torques: Any) -> tuple[tuple[int, np.ndarray], ...]:
+    items = external_torques.items() if isinstance(external_torques, Mapping) else external_torques
+    out = []
+    for n, item in enumerate(items):
+        field = f"external_torques[{n}]"
+        try:
+            link, torque = item
+        except (TypeError, ValueError):
+            raise InputError(field, f"expected (link, torque), got {item!r}") from None
+        link = choice(f"{field} link", link, _MOVING_LINKS)
+        out.append((link, finite_array(f"{field} torque", torque)))
+    return tuple(out)
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The z component of ``u × v`` for planar vectors given as complex numbers."""
+    return u.real * v.imag - u.imag * v.real
+
+
+# --------------------------------------------------------------------------------------
+# Result
+
+
+@dataclass(frozen=True, eq=False)
+class FourBarForces:
+    """Joint forces, driving torque and shaking loads of a four-bar over a motion.
+
+    Attributes
+    ----------
+    T12 : ndarray
+        Driving torque of the ground on link 2 (CCW positive).
+    F12, F32, F43, F14 : ndarray of complex
+        Joint forces: ``F_ap`` acts on link *p* from link *a*.
+    shaking_force : ndarray of complex
+        ``Fs = F21 + F41``: the force of the moving links on the ground (Norton
+        eq. 11.15a).
+    shaking_moment : ndarray
+        ``Ms = T21 + R1 × F41``: their moment on the ground about O2 (Norton
+        eq. 11.15b).
+    aG2, aG3, aG4 : ndarray of complex
+        Accelerations of the centres of mass used in the equations.
+    motion : FourBarMotion
+        The kinematics the forces belong to.
+    status : ndarray of uint8
+        0 where solved; otherwise an index into :data:`FORCE_REASONS`.
+    """
+
+    T12: np.ndarray
+    F12: np.ndarray
+    F32: np.ndarray
+    F43: np.ndarray
+    F14: np.ndarray
+    shaking_force: np.ndarray
+    shaking_moment: np.ndarray
+    aG2: np.ndarray
+    aG3: np.ndarray
+    aG4: np.ndarray
+    motion: FourBarMotion
+    status: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        """True where the forces were solved."""
+        return self.status == OK
+
+    @property
+    def reason(self) -> np.ndarray:
+        """Why each sample was not solved (empty string where it was)."""
+        return np.asarray(FORCE_REASONS, dtype=object)[self.status]
+
+    @property
+    def F21(self) -> np.ndarray:
+        """Force of link 2 on the ground, ``−F12``."""
+        return -self.F12
+
+    @property
+    def F41(self) -> np.ndarray:
+        """Force of link 4 on the ground, ``−F14``."""
+        return -self.F14
+
+    def to_pandas(self):
+        """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily).
+
+        Columns: ``theta2`` (rad), ``T12``, each force as ``_x``/``_y`` and
+        magnitude ``_mag``, the shaking force and moment, ``ok`` and ``reason``.
+        """
+        import pandas as pd
+
+        columns: dict[str, np.ndarray] = {
+            "theta2": np.ravel(self.motion.theta2),
+            "T12": np.ravel(self.T12),
+        }
+        for name in ("F12", "F32", "F43", "F14", "shaking_force"):
+            value = np.ravel(getattr(self, name))
+            columns[f"{name}_x"] = value.real
+            columns[f"{name}_y"] = value.imag
+            columns[f"{name}_mag"] = np.abs(value)
+        columns["shaking_moment"] = np.ravel(self.shaking_moment)
+        columns["ok"] = np.ravel(self.ok)
+        columns["reason"] = np.ravel(self.reason)
+        return pd.DataFrame(columns)
+
+    def plot(self, ax: Any = None, degrees: bool = True):
+        """Plot ``T12`` and the joint-force magnitudes against θ2 (matplotlib, lazily)."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        x = np.ravel(self.motion.theta2)
+        x = np.degrees(x) if degrees else x
+        for name in ("F12", "F32", "F43", "F14"):
+            ax.plot(x, np.abs(np.ravel(getattr(self, name))), label=f"|{name}|")
+        ax.plot(x, np.ravel(self.T12), "k", label="T12")
+        ax.set_xlabel("θ2 [deg]" if degrees else "θ2 [rad]")
+        ax.legend()
+        return ax
+
+    def __len__(self) -> int:
+        return int(np.size(self.T12))
+
+
+# --------------------------------------------------------------------------------------
+# The solver
+
+
+def fourbar_forces(
+    fourbar: FourBar,
+    motion: FourBarMotion,
+    *,
+    mass: Sequence[float],
+    inertia: Sequence[float],
+    cg: Sequence[complex],
+    gravity: float = 0.0,
+    load_torque4: Any = 0.0,
+    external_forces: Iterable[Any] = (),
+    external_torques: Any = (),
+) -> FourBarForces:
+    """Newton–Euler forces for an already solved motion of ``fourbar``.
+
+    Same as :func:`fourbar_dynamics` (see there for the parameters), for a
+    :class:`~machdyn.fourbar.FourBarMotion` from :meth:`FourBar.solve`. Use it
+    to reuse one kinematic solution with several mass distributions or loads.
+
+    Examples
+    --------
+    >>> fb = FourBar(8, 4, 7, 6)
+    >>> motion = fb.solve(np.radians([0, 90]), omega2=10.0)
+    >>> f = fourbar_forces(fb, motion, mass=(1, 2, 3), inertia=(1, 1, 1), cg=(2, 3.5, 3))
+    >>> f.T12.shape, bool(f.ok.all())
+    ((2,), True)
+    """
+    props = link_properties(mass, inertia, cg)
+    g = nonnegative("gravity", gravity)
+    loads = _point_loads(external_forces)
+    torques = list(_torques(external_torques))
+    torques.append((4, finite_array("load_torque4", load_torque4)))
+
+    m2, m3, m4 = props.mass
+    I2, I3, I4 = props.inertia
+    c2, c3, c4 = props.cg
+    r1, r2, r3, r4 = fourbar.lengths
+
+    status = np.array(motion.status, dtype=np.uint8, copy=True)
+    A = motion.A
+    B = motion.B
+    e2 = A * (1.0 / r2)  # e^{jθ2}
+    u = B - A  # r3 e^{jθ3}
+    w = B - r1  # r4 e^{jθ4}
+    e3 = u * (1.0 / r3)
+    e4 = w * (1.0 / r4)
+    w2, w3, w4 = motion.omega2, motion.omega3, motion.omega4
+    al2, al3, al4 = motion.alpha2, motion.alpha3, motion.alpha4
+
+    # Centres of mass relative to each link's first joint, and their accelerations.
+    g2 = c2 * e2
+    g3 = c3 * e3
+    g4 = c4 * e4
+    k2 = 1j * al2 - w2 * w2
+    aG2 = g2 * k2
+    aG3 = A * k2 + g3 * (1j * al3 - w3 * w3)
+    aG4 = g4 * (1j * al4 - w4 * w4)
+
+    # External loads: net force on each link and moment about its first joint.
+    frame = {2: e2, 3: e3, 4: e4}
+    Fe: dict[int, Any] = {k: 0.0 for k in _MOVING_LINKS}
+    Me: dict[int, Any] = {k: 0.0 for k in _MOVING_LINKS}
+    if g:
+        for k, mk, gk in ((2, m2, g2), (3, m3, g3), (4, m4, g4)):
+            if mk:
+                Fe[k] = Fe[k] - 1j * (mk * g)
+                Me[k] = Me[k] - (mk * g) * gk.real  # (G − O) × (−m g j)
+    for load in loads:
+        arm = load.point * frame[load.link]  # P − (first joint), ground frame
+        Fe[load.link] = Fe[load.link] + load.force
+        Me[load.link] = Me[load.link] + _cross(arm, np.broadcast_to(load.force, np.shape(arm)))
+    for link, torque in torques:
+        if torque.ndim or torque:
+            Me[link] = Me[link] + torque
+
+    # Moments of links 3 (about A) and 4 (about O4) give F43.
+    M3 = I3 * al3 + m3 * _cross(g3, aG3) - Me[3]
+    M4 = I4 * al4 + m4 * _cross(g4, aG4) - Me[4]
+    det = _cross(u, w)  # r3 r4 sin(θ4 − θ3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        F43 = (M4 * u + M3 * w) / det
+    F32 = F43 + Fe[3] - m3 * aG3
+    F14 = m4 * aG4 + F43 - Fe[4]
+    F12 = m2 * aG2 - F32 - Fe[2]
+    T12 = I2 * al2 + m2 * _cross(g2, aG2) - _cross(A, F32) - Me[2]
+
+    singular = np.abs(det) < 1e-9 * r3 * r4
+    status[(status == OK) & singular] = TOGGLE
+    shape = np.shape(status)
+    results = [np.broadcast_to(x, shape) for x in (T12, F12, F32, F43, F14)]
+    bad = status != OK
+    if bad.any():
+        results = [np.where(bad, np.nan, x) for x in results]
+        aG2, aG3, aG4 = (np.where(bad, np.nan, x) for x in (aG2, aG3, aG4))
+    T12, F12, F32, F43, F14 = results
+    return FourBarForces(
+        T12=T12,
+        F12=F12,
+        F32=F32,
+        F43=F43,
+        F14=F14,
+        shaking_force=-(F12 + F14),
+        shaking_moment=-T12 - r1 * F14.imag,  # T21 + R1 × F41
+        aG2=aG2,
+        aG3=aG3,
+        aG4=aG4,
+        motion=motion,
+        status=status,
+    )
+
+
+def fourbar_dynamics(
+    fourbar: FourBar,
+    theta2: Any,
+    omega2: Any,
+    alpha2: Any = 0.0,
+    *,
+    mass: Sequence[float],
+    inertia: Sequence[float],
+    cg: Sequence[complex],
+    form: int = 1,
+    gravity: float = 0.0,
+    load_torque4: Any = 0.0,
+    external_forces: Iterable[Any] = (),
+    external_torques: Any = (),
+    branch: int | None = None,
+) -> FourBarForces:
+    """Joint forces and driving torque of a four-bar (Newton–Euler, Norton eq. 11.10).
+
+    Parameters
+    ----------
+    fourbar : FourBar
+        The linkage.
+    theta2, omega2, alpha2 : array_like
+        Input angle (rad), angular velocity and acceleration of link 2;
+        broadcast against each other.
+    mass : (m2, m3, m4)
+        Link masses (≥ 0; a link is massless only with zero inertia too).
+    inertia : (IG2, IG3, IG4)
+        Moments of inertia about the centres of mass.
+    cg : (c2, c3, c4)
+        Centre of mass of each link as a complex position in the link's own
+        frame: origin at its first joint (O2, A, O4), x axis toward its next
+        joint (A, B, B). E.g. ``c3 = r3 / 2`` is the middle of the coupler.
+    form : {1, 2}
+        The assembly form, as in :meth:`FourBar.solve`.
+    gravity : float
+        Acceleration of gravity ``g ≥ 0``, acting along −y.
+    load_torque4 : array_like
+        External torque on link 4 (CCW positive), e.g. ``−T`` for a resisting load.
+    external_forces : iterable of (link, point, force) or PointLoad
+        Forces on links 2–4 at points given in the link's frame; ``force`` is
+        complex, one value or one per sample.
+    external_torques : iterable of (link, torque), or a mapping link → torque
+        External torques on links 2–4.
+    branch : {1, -1}, optional
+        Only for GRCR and GRRC, as in :meth:`FourBar.solve`.
+
+    Returns
+    -------
+    FourBarForces
+        Arrays ``T12, F12, F32, F43, F14``, shaking force and moment, the motion,
+        and per-sample ``ok``/``reason`` (toggles and unassemblable inputs are
+        flagged and hold NaN).
+
+    Examples
+    --------
+    A balanced crank (centre of mass at O2) turning steadily with no load
+    needs no torque:
+
+    >>> fb = FourBar(8, 4, 7, 6)
+    >>> f = fourbar_dynamics(fb, np.radians(30), 10.0, mass=(1, 0, 0),
+    ...                      inertia=(0.5, 0, 0), cg=(0, 0, 0))
+    >>> float(f.T12), float(abs(f.F12))
+    (0.0, 0.0)
+
+    A static load torque on the output (no masses) is balanced by the input
+    torque times the velocity ratio (virtual work):
+
+    >>> f = fourbar_dynamics(fb, np.radians(30), 1.0, mass=(0, 0, 0),
+    ...                      inertia=(0, 0, 0), cg=(0, 0, 0), load_torque4=-5.0)
+    >>> bool(np.isclose(f.T12 * 1.0, 5.0 * f.motion.omega4))
+    True
+    """
+    motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
+    return fourbar_forces(
+        fourbar,
+        motion,
+        mass=mass,
+        inertia=inertia,
+        cg=cg,
+        gravity=gravity,
+        load_torque4=load_torque4,
+        external_forces=external_forces,
+        external_torques=external_torques,
+    )
+
+
+# --------------------------------------------------------------------------------------
+# One link's kinetic equations (the notes' final exam, problem 7)
+
+
+@dataclass(frozen=True)
+class LinkEquations:
+    """The three kinetic equations of one link, ``matrix @ unknowns = rhs``.
+
+    Rows: ΣFx, ΣFy, ΣM_G (about the centre of mass, CCW positive). Columns:
+    ``unknowns`` (``"F32x", "F32y", ...``).
+    """
+
+    unknowns: tuple[str, ...]
+    matrix: np.ndarray
+    rhs: np.ndarray
+
+    def residual(self, values: Sequence[float]) -> np.ndarray:
+        """``matrix @ values − rhs`` for trial values of the unknowns."""
+        return self.matrix @ np.asarray(values, dtype=float) - self.rhs
+
+    def __str__(self) -> str:
+        lines = []
+        for row, rhs in zip(self.matrix, self.rhs, strict=True):
+            terms = [
+                f"{'+' if c >= 0 else '-'} {abs(c):g}*{name}"
+                for c, name in zip(row, self.unknowns, strict=True)
+                if c != 0.0
+            ]
+            text = " ".join(terms)
+            text = text[2:] if text.startswith("+ ") else "-" + text[2:]
+            lines.append(f"{text} = {rhs:g}")
+        return "\n".join(lines)
+
+
+def link_equations(
+    mass: float,
+    inertia: float,
+    a_g: complex,
+    alpha: float,
+    joints: Mapping[str, tuple[complex, int]],
+    *,
+    forces: Iterable[tuple[complex, complex]] = (),
+    torque: float = 0.0,
+    gravity: float = 0.0,
+) -> LinkEquations:
+    """Write the kinetic equations ``Σ F = m aG`` and ``Σ M_G = IG α`` of one link.
+
+    Parameters
+    ----------
+    mass, inertia : float
+        Mass and moment of inertia about the centre of mass G.
+    a_g : complex
+        Acceleration of G.
+    alpha : float
+        Angular acceleration (CCW positive).
+    joints : mapping name → (R, sign)
+        The unknown joint forces: ``R`` is the joint's position relative to G,
+        and ``sign`` is +1 if the force named acts on this link, −1 if the link
+        feels its opposite (the notes' ``F23 = −F32``).
+    forces : iterable of (R, F)
+        Known forces ``F`` at points ``R`` relative to G.
+    torque : float
+        Known couples on the link (sum, CCW positive).
+    gravity : float
+        ``g ≥ 0`` along −y (adds the weight at G).
+
+    Examples
+    --------
+    The notes' final exam, problem 7 (α = 5 rad/s² clockwise):
+
+    >>> eq = link_equations(8, 6, -4 - 5j, -5,
+    ...                     {"F32": (-4 + 1j, -1), "F43": (1 - 6j, +1)},
+    ...                     forces=[(-1 + 1.5j, 3 - 5j)], torque=12)
+    >>> print(eq)
+    -1*F32x + 1*F43x = -35
+    -1*F32y + 1*F43y = -35
+    1*F32x + 4*F32y + 6*F43x + 1*F43y = -42.5
+    """
+    m = nonnegative("mass", mass)
+    i_g = nonnegative("inertia", inertia)
+    a_g = _complex_scalar("a_g", a_g)
+    alpha = finite_scalar("alpha", alpha)
+    torque = finite_scalar("torque", torque)
+    g = nonnegative("gravity", gravity)
+    names: list[str] = []
+    columns: list[list[float]] = []
+    for name, spec in joints.items():
+        try:
+            r, sign = spec
+        except (TypeError, ValueError):
+            raise InputError(f"joints[{name!r}]", f"expected (R, sign), got {spec!r}") from None
+        r = _complex_scalar(f"joints[{name!r}] R", r)
+        sign = choice(f"joints[{name!r}] sign", sign, (1, -1))
+        names += [f"{name}x", f"{name}y"]
+        # ΣFx, ΣFy, ΣM (R × F = Rx Fy − Ry Fx)
+        columns.append([sign, 0.0, -sign * r.imag])
+        columns.append([0.0, sign, sign * r.real])
+    fx = fy = 0.0
+    moment = torque
+    for n, item in enumerate(forces):
+        try:
+            r, f = item
+        except (TypeError, ValueError):
+            raise InputError(f"forces[{n}]", f"expected (R, F), got {item!r}") from None
+        r = _complex_scalar(f"forces[{n}] R", r)
+        f = _complex_scalar(f"forces[{n}] F", f)
+        fx += f.real
+        fy += f.imag
+        moment += r.real * f.imag - r.imag * f.real
+    fy -= m * g
+    matrix = np.array(columns, dtype=float).T.reshape(3, len(names))
+    rhs = np.array([m * a_g.real - fx, m * a_g.imag - fy, i_g * alpha - moment])
+    return LinkEquations(tuple(names), matrix, rhs)
