@@ -1,0 +1,301 @@
+"""Kinetostatics by virtual work (power), and mechanical advantage.
+
+The second notes' "Simple kinetostatic force analysis": for a mechanism with
+ideal (frictionless, time-independent) constraints the joint forces do no work,
+so the power of all *external* forces and torques vanishes,
+
+    Σ F_i · v_i + Σ T_j ω_j = 0,
+
+and the one unknown input effort follows from the velocity solution alone,
+without assembling the force matrix. Inertia enters as d'Alembert loads
+``−m aG`` at each centre of mass and ``−IG α`` on each link ("dynamic forces can
+be inserted into the virtual work equation"), which gives the dynamic input
+torque; it equals the Newton–Euler ``T12`` of :mod:`machdyn.dynamics`.
+
+Planar vectors are complex numbers ``x + j y``; a torque and an angular
+velocity, or a force and a speed along one line, are real numbers. One formula
+covers both: the power of an effort ``F`` at a rate ``v`` is ``Re(conj(F) v)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ._validate import finite_array, nonnegative
+from .dynamics import FORCE_REASONS, _point_loads, _torques, link_properties
+from .errors import InputError, SingularityError
+from .fourbar import OK, TOGGLE, FourBar, FourBarMotion
+
+__all__ = [
+    "InputTorque",
+    "fourbar_input_torque",
+    "mechanical_advantage",
+    "power",
+    "virtual_work",
+]
+
+
+def _as_complex(field: str, value: Any) -> np.ndarray:
+    try:
+        out = np.asarray(value, dtype=complex)
+    except (TypeError, ValueError):
+        raise InputError(field, f"must be a number or an array of numbers, got {value!r}") from None
+    if not np.isfinite(out).all():
+        raise InputError(field, "must be finite")
+    return out
+
+
+def power(effort: Any, rate: Any) -> np.ndarray:
+    """Power of a force at a velocity (complex ``F·v``) or of a torque at ``ω`` (real ``T ω``).
+
+    Examples
+    --------
+    >>> float(power(3 + 4j, 2 - 1j))      # 3·2 + 4·(−1)
+    2.0
+    >>> float(power(-100.0, 2.0))          # a resisting torque
+    -200.0
+    """
+    f = _as_complex("effort", effort)
+    v = _as_complex("rate", rate)
+    return f.real * v.real + f.imag * v.imag
+
+
+def _effective_rate(input_rate: Any, direction: Any) -> np.ndarray:
+    rate = _as_complex("input_rate", input_rate)
+    if direction is None:
+        if np.any(rate.imag != 0.0):
+            raise InputError(
+                "direction",
+                "the input rate is a planar velocity (complex); give the direction of "
+                "the unknown input force as a complex number, e.g. direction=1j for +y",
+            )
+        return rate.real
+    d = _as_complex("direction", direction)
+    size = np.abs(d)
+    if np.any(size == 0.0):
+        raise InputError("direction", "must be a non-zero complex number (the force's line)")
+    return power(d / size, rate)
+
+
+def virtual_work(
+    input_rate: Any,
+    loads: Iterable[tuple[Any, Any]] = (),
+    *,
+    direction: Any = None,
+) -> np.ndarray:
+    """The input effort that balances external loads: ``E·v_in + Σ F·v + Σ T·ω = 0``.
+
+    Parameters
+    ----------
+    input_rate : array_like
+        The rate of the input: ``θ̇`` of an input link (the effort is a torque),
+        ``ṙ`` of an actuator (a force along its axis), or the complex velocity
+        of the input point together with ``direction``.
+    loads : iterable of (effort, rate)
+        External loads acting *on* the mechanism and the rates of their points
+        or links: ``(F, v)`` with complex force and velocity, or ``(T, ω)``.
+        Add inertia as d'Alembert loads ``(−m aG, vG)`` and ``(−IG α, ω)``.
+    direction : complex, optional
+        Line of action of the unknown input force when ``input_rate`` is a
+        planar velocity; the result is the force component along it.
+
+    Returns
+    -------
+    ndarray
+        The input torque or force (along ``direction``) acting on the mechanism.
+
+    Raises
+    ------
+    SingularityError
+        Where the input does not move (``v_in* = 0``): a dead point, where no
+        finite input effort balances a working load.
+
+    Examples
+    --------
+    The second notes' loader (kinetostatics, example 1): 1000 kg at P with
+    ``V_P = (8.896, 108.6)`` cm/s at ``θ̇2 = 0.5`` rad/s (velocities in m/s):
+
+    >>> T12 = virtual_work(0.5, [(-1000 * 9.81j, 0.08896 + 1.086j)])
+    >>> print(f"{float(T12):.0f} N·m")
+    21307 N·m
+    """
+    rate = _effective_rate(input_rate, direction)
+    total: Any = 0.0
+    for n, item in enumerate(loads):
+        try:
+            effort, load_rate = item
+        except (TypeError, ValueError):
+            raise InputError(f"loads[{n}]", f"expected (effort, rate), got {item!r}") from None
+        total = total + power(effort, load_rate)
+    total = np.broadcast_to(total, np.broadcast_shapes(np.shape(total), rate.shape))
+    dead = np.broadcast_to(rate == 0.0, total.shape)
+    if dead.any():
+        index = int(np.flatnonzero(dead.ravel())[0])
+        raise SingularityError(
+            f"input_rate: the input does not move at sample {index} (v_in = 0, a dead point); "
+            "the loads cannot be balanced by a finite input effort"
+        )
+    return -total / rate
+
+
+def mechanical_advantage(input_rate: Any, output_rate: Any) -> np.ndarray:
+    """Ideal mechanical advantage ``F_out / F_in = v_in* / v_out*`` (the notes, kinetostatics).
+
+    ``v*`` are the velocity components along the input and output forces (or
+    the angular velocities, for ``T_out / T_in = ω_in / ω_out``). Signed; ``inf``
+    where the output is at a toggle (``v_out* = 0``).
+
+    Examples
+    --------
+    The bike suspension: shock ``ṙ2 = 75`` cm/s, axle ``V_Py = 125`` cm/s: the
+    axle force is 0.6 of the shock force.
+
+    >>> float(mechanical_advantage(75.0, 125.0))
+    0.6
+    """
+    v_in = _as_complex("input_rate", input_rate)
+    v_out = _as_complex("output_rate", output_rate)
+    if np.any(v_in.imag) or np.any(v_out.imag):
+        raise InputError(
+            "input_rate",
+            "give the velocity components along the forces (real numbers), e.g. "
+            "power(direction, velocity) for a unit direction",
+        )
+    v_in, v_out = v_in.real, v_out.real
+    if np.any((v_in == 0.0) & (v_out == 0.0)):
+        raise SingularityError("input_rate: input and output both at rest; the ratio is undefined")
+    with np.errstate(divide="ignore"):
+        return np.divide(v_in, v_out)
+
+
+# --------------------------------------------------------------------------------------
+# The four-bar's dynamic input torque by virtual work
+
+
+@dataclass(frozen=True, eq=False)
+class InputTorque:
+    """The input torque of a four-bar found by virtual work.
+
+    Attributes
+    ----------
+    T12 : ndarray
+        Torque of the ground on link 2 (CCW positive).
+    motion : FourBarMotion
+        The kinematics used.
+    status : ndarray of uint8
+        0 where solved; otherwise an index into
+        :data:`machdyn.dynamics.FORCE_REASONS`.
+    """
+
+    T12: np.ndarray
+    motion: FourBarMotion
+    status: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        """True where the torque was found."""
+        return self.status == OK
+
+    @property
+    def reason(self) -> np.ndarray:
+        """Why each sample was not solved (empty string where it was)."""
+        return np.asarray(FORCE_REASONS, dtype=object)[self.status]
+
+    def to_pandas(self):
+        """A :class:`pandas.DataFrame` with ``theta2, T12, ok, reason`` (pandas lazily)."""
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "theta2": np.ravel(self.motion.theta2),
+                "T12": np.ravel(self.T12),
+                "ok": np.ravel(self.ok),
+                "reason": np.ravel(self.reason),
+            }
+        )
+
+
+def fourbar_input_torque(
+    fourbar: FourBar,
+    theta2: Any,
+    omega2: Any = 0.0,
+    alpha2: Any = 0.0,
+    *,
+    mass: Sequence[float] = (0.0, 0.0, 0.0),
+    inertia: Sequence[float] = (0.0, 0.0, 0.0),
+    cg: Sequence[complex] = (0.0, 0.0, 0.0),
+    form: int = 1,
+    gravity: float = 0.0,
+    load_torque4: Any = 0.0,
+    external_forces: Iterable[Any] = (),
+    external_torques: Any = (),
+    branch: int | None = None,
+) -> InputTorque:
+    """Input torque ``T12`` of a four-bar by virtual work, with d'Alembert inertia loads.
+
+    Uses the *kinematic coefficients* (velocities per unit ``θ̇2``), so it also
+    works at rest (``omega2 = 0``, pure statics with gravity and loads)::
+
+        T12 = Σ (m aG − F_ext − m g)·∂rG/∂θ2 + Σ (IG α − T_ext) ∂θ/∂θ2
+              − Σ F_P·∂rP/∂θ2,
+
+    the sums over the links and their loads. Arguments as
+    :func:`machdyn.dynamics.fourbar_dynamics` (masses default to zero: the
+    kinetostatic torque).
+
+    Examples
+    --------
+    A resisting torque of 10 on the output of the notes' HW 6 crank-rocker at
+    θ2 = 60° (ω4/ω2 there is about −0.11):
+
+    >>> fb = FourBar(8, 4, 7, 6)
+    >>> vw = fourbar_input_torque(fb, np.radians(60), load_torque4=-10.0)
+    >>> m = fb.solve(np.radians(60), omega2=1.0)
+    >>> bool(np.isclose(vw.T12, 10.0 * m.omega4))
+    True
+    """
+    props = link_properties(mass, inertia, cg)
+    g = nonnegative("gravity", gravity)
+    loads = _point_loads(external_forces)
+    torques = list(_torques(external_torques))
+    load4 = finite_array("load_torque4", load_torque4)
+    motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
+    # Kinematic coefficients: the same poses at unit input speed, no acceleration.
+    unit = fourbar.solve(motion.theta2, 1.0, 0.0, form, branch=branch)
+    r1, r2, r3, r4 = fourbar.lengths
+
+    A, B = motion.A, motion.B
+    e = {2: A / r2, 3: (B - A) / r3, 4: (B - r1) / r4}
+    omega = {2: motion.omega2, 3: motion.omega3, 4: motion.omega4}
+    alpha = {2: motion.alpha2, 3: motion.alpha3, 4: motion.alpha4}
+    h = {2: 1.0, 3: unit.omega3, 4: unit.omega4}  # ∂θ/∂θ2
+    dA = 1j * A  # ∂A/∂θ2
+    accel_origin = {2: 0.0, 3: A * (1j * motion.alpha2 - motion.omega2**2), 4: 0.0}
+    rate_origin = {2: 0.0, 3: dA, 4: 0.0}
+
+    def point_rate(link: int, point: complex) -> np.ndarray:
+        """∂rP/∂θ2 of a point fixed in a link."""
+        return rate_origin[link] + 1j * h[link] * (point * e[link])
+
+    generalized = 0.0  # Σ of (applied + inertia) loads · coefficients; T12 balances it
+    for link, m, i_g, c in zip((2, 3, 4), props.mass, props.inertia, props.cg, strict=True):
+        if m:
+            a_g = accel_origin[link] + (1j * alpha[link] - omega[link] ** 2) * (c * e[link])
+            generalized = generalized + power(-m * a_g - 1j * m * g, point_rate(link, c))
+        if i_g:
+            generalized = generalized - i_g * alpha[link] * h[link]
+    for load in loads:
+        generalized = generalized + power(load.force, point_rate(load.link, load.point))
+    for link, torque in torques:
+        generalized = generalized + torque * h[link]
+    generalized = generalized + load4 * h[4]
+
+    status = np.array(motion.status, dtype=np.uint8, copy=True)
+    status[(status == OK) & ~np.isfinite(unit.omega4)] = TOGGLE
+    T12 = np.broadcast_to(-generalized, status.shape)
+    T12 = np.where(status == OK, T12, np.nan)
+    return InputTorque(T12=T12, motion=motion, status=status)
