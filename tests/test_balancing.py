@@ -232,3 +232,44 @@ def test_bad_input(call, field):
     with pytest.raises(InputError) as info:
         call()
     assert info.value.field == field
+
+
+# --- command line ----------------------------------------------------------------------
+
+
+def test_cli_bearings_problem_12_6():
+    import json
+
+    from typer.testing import CliRunner
+
+    from machdyn.cli.balance import balance_app
+
+    args = ["bearings", "--force", "5,45,-14", "--force", "2,-120,-4", "--omega", "100"]
+    args += ["--rpm", "--plane-a", "0", "--plane-b", "7", "--radius", "7.5", "--json"]
+    result = CliRunner().invoke(balance_app, args)  # 100 rpm = the notes' 10π/3 rad/s
+    assert result.exit_code == 0, result.output
+    payload = json.loads(result.output)
+    assert payload["mass"] == pytest.approx([0.0146, 0.0108], abs=5e-5)
+    assert payload["angle_deg"] == pytest.approx([221.11, 43.09], abs=0.01)
+
+
+def test_cli_rotor_and_static():
+    import json
+
+    from typer.testing import CliRunner
+
+    from machdyn.cli.balance import balance_app
+
+    runner = CliRunner()
+    args = ["rotor", "--mass", "1,1,0,1", "--mass", "1,1,180,3", "--plane-a", "0"]
+    args += ["--plane-b", "4", "--radius-a", "0.5", "--json"]
+    rotor = runner.invoke(balance_app, args)
+    payload = json.loads(rotor.output)
+    # By hand: U = +1 at z=1, −1 at z=3 → m_A R_A = −(3 − 1)/4 = −0.5, m_B R_B = +0.5.
+    assert payload["mR"] == pytest.approx([0.5, 0.5])
+    assert payload["angle_deg"] == pytest.approx([180.0, 0.0], abs=1e-9)
+    assert payload["mass"] == pytest.approx([1.0, 1.0])
+    static = runner.invoke(balance_app, ["static", "--mass", "2,3,30", "--mass", "1.5,4,160"])
+    assert static.exit_code == 0 and "275.0000" in static.output  # −(6∠30° + 6∠160°) = ·∠275°
+    bad = runner.invoke(balance_app, ["static", "--mass", "2,3"])
+    assert isinstance(bad.exception, InputError) and bad.exception.field == "--mass"

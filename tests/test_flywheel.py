@@ -276,3 +276,58 @@ def test_disc_flywheel_round_trip():
         disc_flywheel(-1.0, 7200.0, 0.05)
     with pytest.raises(InputError):
         disc_flywheel(1.0, 7200.0, 0.05, inner_radius=-0.1)
+
+
+# --- command line ----------------------------------------------------------------------
+
+
+def write_curve(path, theta_deg, torque, header="theta_deg,T12"):
+    lines = [header] if header else []
+    lines += [f"{float(a)!r},{float(b)!r}" for a, b in zip(theta_deg, torque, strict=True)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_cli_table_11_1(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from machdyn.cli.flywheel import flywheel_app
+
+    theta_deg = np.linspace(0.0, 360.0, 3601)[:-1]
+    curve = write_curve(tmp_path / "t.csv", theta_deg, table_torque(np.radians(theta_deg)))
+    args = [str(curve), "--omega-avg", "50", "--k", "0.05"]
+    result = CliRunner().invoke(flywheel_app, [*args, "--json"])
+    assert result.exit_code == 0, result.output
+    payload = json.loads(result.output)
+    assert payload["delta_E"] == pytest.approx(261.05, abs=0.01)
+    assert payload["inertia"] == pytest.approx(261.05 / (0.05 * 50**2), rel=1e-4)
+    np.testing.assert_allclose(payload["lobes"]["E"], TABLE_SUMS, atol=0.01)
+    text = CliRunner().invoke(flywheel_app, [*args, "--density", "0.28", "--thickness", "2"])
+    assert (
+        text.exit_code == 0 and "Table 11-1" in text.output and "disc_outer_radius" in text.output
+    )
+
+
+def test_cli_rpm_and_bad_files(tmp_path):
+    from typer.testing import CliRunner
+
+    from machdyn.cli.flywheel import flywheel_app, read_curve
+
+    theta_deg = np.arange(0.0, 360.0, 5.0)
+    curve = write_curve(tmp_path / "t.csv", theta_deg, 3 + np.sin(np.radians(theta_deg)), "")
+    theta, torque = read_curve(curve)
+    assert theta[1] == pytest.approx(np.radians(5.0)) and torque.size == 72
+    runner = CliRunner()
+    rpm = runner.invoke(flywheel_app, [str(curve), "--omega-avg", "60", "--rpm", "--k", "0.1"])
+    assert rpm.exit_code == 0 and "6.2832" in rpm.output  # 60 rpm = 2π rad/s
+    bad = tmp_path / "bad.csv"
+    bad.write_text("theta,T\n0,1\n10,x\n")
+    for path in (bad, tmp_path / "missing.csv"):
+        out = runner.invoke(flywheel_app, [str(path), "--omega-avg", "6", "--k", "0.1"])
+        assert isinstance(out.exception, InputError) and out.exception.field == "CSV"
+    out = runner.invoke(
+        flywheel_app, [str(curve), "--omega-avg", "6", "--k", "0.1", "--density", "1"]
+    )
+    assert isinstance(out.exception, InputError)

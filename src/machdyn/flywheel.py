@@ -109,13 +109,11 @@ class LobeTable:
             f"{'ΔArea = ΔE':>14}  {'Accum. sum E':>14}  ω at end"
         )
         lines = [header]
-        scale = float(np.max(np.abs(self.area), initial=0.0))
-        energy = np.where(np.abs(self.energy) <= 1e-9 * scale, 0.0, self.energy)  # closure
         rows = zip(
             np.degrees(self.theta_from),
             np.degrees(self.theta_to),
             self.area,
-            energy,
+            self.energy,
             self.omega_at_end,
             strict=True,
         )
@@ -382,12 +380,15 @@ def _lobe_table(
     closing = energy[-1]  # the whole-cycle integral, zero up to round-off
     ends_level = np.append(level[1:], level[0] + closing)
     area = ends_level - level
+    accumulated = np.cumsum(area)
+    scale = float(np.max(np.abs(area)))
+    accumulated[np.abs(accumulated) <= 1e-12 * scale] = 0.0  # the closing round-off
     theta_from = theta[starts]
     return LobeTable(
         theta_from=theta_from,
         theta_to=np.append(theta_from[1:], theta_from[0]),
         area=area,
-        energy=np.cumsum(area),
+        energy=accumulated,
     )
 
 
