@@ -207,6 +207,42 @@ def test_single_harmonic_property(amplitude, phase, harmonic):
     assert abs(fw.lobes.energy[-1]) <= 1e-9 * amplitude
 
 
+@given(
+    coefficients=st.lists(
+        st.tuples(st.floats(-10.0, 10.0), st.floats(-10.0, 10.0)), min_size=1, max_size=4
+    ),
+    start=st.floats(-np.pi, np.pi),
+)
+def test_fourier_torque_against_closed_form_energy(coefficients, start):
+    # T = T0 + Σ aₙ sin nθ + bₙ cos nθ integrates in closed form to
+    # E(θ) = Σ aₙ (cos nθ₀ − cos nθ)/n + bₙ (sin nθ − sin nθ₀)/n;
+    # ΔE = max E − min E on a very fine grid, with no lobes involved.
+    n = np.arange(1, len(coefficients) + 1)
+    a, b = np.array(coefficients).T
+    if np.max(np.abs(a) + np.abs(b)) < 1e-3:
+        return
+
+    def torque_of(th):
+        return 20.0 + (a * np.sin(np.outer(th, n)) + b * np.cos(np.outer(th, n))).sum(1)
+
+    def energy_of(th):
+        th = np.atleast_1d(th)
+        return (
+            a * (np.cos(n * start) - np.cos(np.outer(th, n))) / n
+            + b * (np.sin(np.outer(th, n)) - np.sin(n * start)) / n
+        ).sum(1)
+
+    theta = start + np.linspace(0.0, 2 * np.pi, 4001)[:-1]
+    fw = size_flywheel(theta, torque_of(theta), 10.0, 0.05)
+    energy = energy_of(start + np.linspace(0.0, 2 * np.pi, 200_001))
+    exact = energy.max() - energy.min()
+    assert fw.torque_avg == pytest.approx(20.0, abs=1e-9 * (1 + np.abs(a).sum() + np.abs(b).sum()))
+    assert fw.delta_e == pytest.approx(exact, rel=1e-5, abs=1e-9)
+    # ω is smallest where E is largest and largest where E is smallest (ties allowed).
+    assert energy_of(fw.theta_omega_min)[0] == pytest.approx(energy.max(), abs=1e-5 * exact)
+    assert energy_of(fw.theta_omega_max)[0] == pytest.approx(energy.min(), abs=1e-5 * exact)
+
+
 def test_four_stroke_period():
     # A 4π cycle (four-stroke engine): T = A sin(θ/2) has lobes ±4A.
     theta = np.linspace(0.0, 4 * np.pi, 4001)
