@@ -180,12 +180,15 @@ def test_static_balance_component_formulas():
     # Notes: m_b R_bx = −m1 R1x − m2 R2x, m_b R_by = −m1 R1y − m2 R2y,
     # tan θ_b = (m1 R1y + m2 R2y)/(m1 R1x + m2 R2x) (in the opposite quadrant).
     m1, r1, m2, r2 = 2.0, polar_deg(3.0, 30.0), 1.5, polar_deg(4.0, 160.0)
-    mbRb = static_balance([m1 * r1, m2 * r2])
+    fix = static_balance([m1 * r1, m2 * r2])
+    mbRb = fix.mR
     sx = m1 * r1.real + m2 * r2.real
     sy = m1 * r1.imag + m2 * r2.imag
     assert mbRb.real == pytest.approx(-sx) and mbRb.imag == pytest.approx(-sy)
     assert abs(mbRb) == pytest.approx(math.sqrt(sx**2 + sy**2))
-    assert math.tan(np.angle(mbRb)) == pytest.approx(sy / sx)
+    assert math.tan(fix.theta) == pytest.approx(sy / sx)
+    assert math.tan(math.radians(fix.angle_deg)) == pytest.approx(sy / sx)
+    assert fix.mass(2.0) == pytest.approx(math.sqrt(sx**2 + sy**2) / 2.0)
     # The centre of mass is then on the axis: no shaking force.
     assert abs(shaking_force([m1 * r1, m2 * r2, mbRb], 50.0)) < 1e-10
 
@@ -197,7 +200,7 @@ def test_batches_broadcast(rng):
     assert batch.mR_a.shape == (4,)
     one = two_plane(unbalance[2], z, 0.0, 3.0)
     assert batch.mR_b[2] == pytest.approx(one.mR_b)
-    assert static_balance(unbalance).shape == (4,)
+    assert static_balance(unbalance).mR.shape == (4,)
     assert batch.masses(2.0)[0].shape == (4,)
 
 
@@ -226,6 +229,7 @@ def test_result_object():
         (lambda: bearing_balance([1j], [1.0], 0.0, 0.0, 1.0), "omega"),
         (lambda: two_plane([1j], [1.0], 0.0, 2.0).masses(-1.0), "radius_a"),
         (lambda: shaking_force([1j], float("nan")), "omega"),
+        (lambda: static_balance([1j]).mass(0.0), "radius"),
     ],
 )
 def test_bad_input(call, field):

@@ -31,7 +31,7 @@ dynamically not (they form a couple).
 
 >>> import numpy as np
 >>> unbalance = np.array([2.0 + 0j, -2.0 + 0j])      # m·R, e.g. kg·m
->>> static_balance(unbalance)
+>>> static_balance(unbalance).mR
 0j
 >>> mR_a, mR_b = two_plane(unbalance, z=[1.0, 3.0], plane_a=0.0, plane_b=4.0)
 >>> complex(mR_a), complex(mR_b)
@@ -50,6 +50,7 @@ from ._validate import finite_array, finite_scalar, positive
 from .errors import InputError
 
 __all__ = [
+    "StaticBalance",
     "TwoPlaneBalance",
     "bearing_balance",
     "shaking_force",
@@ -59,7 +60,40 @@ __all__ = [
 ]
 
 
-def static_balance(unbalance: Any) -> Any:
+@dataclass(frozen=True)
+class StaticBalance:
+    """Correction of a single-plane balance.
+
+    Attributes
+    ----------
+    mR : complex or numpy.ndarray
+        The balancing mass-radius product ``m_b R_b`` (complex, rotor frame).
+
+    Examples
+    --------
+    >>> fix = static_balance([1j])
+    >>> fix.mR, fix.angle_deg, fix.mass(radius=0.5)
+    (-1j, 270.0, 2.0)
+    """
+
+    mR: Any
+
+    @property
+    def theta(self) -> Any:
+        """Angle of the balance mass, radians in (−π, π]."""
+        return _out(np.angle(self.mR))
+
+    @property
+    def angle_deg(self) -> Any:
+        """Angle of the balance mass, degrees in [0, 360) for reports."""
+        return _degrees(self.mR)
+
+    def mass(self, radius: float) -> Any:
+        """Balance mass ``m_b = |m_b R_b| / R_b`` at the given radius."""
+        return _out(np.abs(self.mR) / positive("radius", radius))
+
+
+def static_balance(unbalance: Any) -> StaticBalance:
     """Single-plane balance: the correction ``m_b R_b = −Σ mᵢRᵢ``.
 
     Parameters
@@ -69,20 +103,20 @@ def static_balance(unbalance: Any) -> Any:
 
     Returns
     -------
-    complex or numpy.ndarray
-        The balancing ``m_b R_b``: its magnitude is the mass-radius product to
-        add, its angle (``numpy.angle``) where to put it.
+    StaticBalance
+        ``.mR`` is the balancing ``m_b R_b``; ``.angle_deg`` says where to put
+        it, ``.mass(radius)`` how heavy it is at that radius.
 
     Examples
     --------
     The notes' two-mass case: ``m_b R_b = −(m₁R₁ + m₂R₂)``.
 
-    >>> mbRb = static_balance([3.0 + 0j, 2j])
-    >>> mbRb, round(abs(mbRb), 4), round(float(np.degrees(np.angle(mbRb))), 2)
-    ((-3-2j), 3.6056, -146.31)
+    >>> fix = static_balance([3.0 + 0j, 2j])
+    >>> fix.mR, round(abs(fix.mR), 4), round(fix.angle_deg, 2)
+    ((-3-2j), 3.6056, 213.69)
     """
     unbalance = _complex_array("unbalance", unbalance)
-    return _out(-np.sum(unbalance, axis=-1))
+    return StaticBalance(_out(-np.sum(unbalance, axis=-1)))
 
 
 def shaking_force(unbalance: Any, omega: Any) -> Any:

@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from ..balancing import TwoPlaneBalance, bearing_balance, static_balance, two_plane
@@ -80,15 +79,12 @@ def static(
     for text in mass:
         m, r, angle = parse_numbers("--mass", text, 3, "m,R,angle_deg")
         unbalance.append(m * _phasor(r, angle))
-    mbRb = complex(static_balance(unbalance))
-    rows = {
-        "mR": abs(mbRb),
-        "angle_deg": math.degrees(np.angle(mbRb)) % 360.0,
-    }
+    fix = static_balance(unbalance)
+    rows = {"mR": abs(fix.mR), "angle_deg": fix.angle_deg}
     if radius is not None:
         if radius <= 0:
             raise InputError("--radius", f"must be positive, got {radius}")
-        rows["mass"] = abs(mbRb) / radius
+        rows["mass"] = fix.mass(radius)
     if as_json:
         print(dumps(rows))
         return
