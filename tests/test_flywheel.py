@@ -234,7 +234,7 @@ def test_fourier_torque_against_closed_form_energy(coefficients, start):
 
     theta = start + np.linspace(0.0, 2 * np.pi, 4001)[:-1]
     fw = size_flywheel(theta, torque_of(theta), 10.0, 0.05)
-    energy = energy_of(start + np.linspace(0.0, 2 * np.pi, 200_001))
+    energy = energy_of(start + np.linspace(0.0, 2 * np.pi, 50_001))
     exact = energy.max() - energy.min()
     assert fw.torque_avg == pytest.approx(20.0, abs=1e-9 * (1 + np.abs(a).sum() + np.abs(b).sum()))
     assert fw.delta_e == pytest.approx(exact, rel=1e-5, abs=1e-9)
