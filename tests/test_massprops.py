@@ -157,3 +157,23 @@ def test_bad_input(make, field):
     with pytest.raises(InputError) as info:
         make()
     assert info.value.field == field
+
+
+def test_cg_motion_against_finite_differences():
+    # A coupler-like link: origin moving on a circle, link turning non-uniformly.
+    from machdyn.massprops import cg_motion
+
+    t = np.linspace(0.0, 2.0, 4001)
+    h = t[1] - t[0]
+    theta = 0.3 + 1.5 * t + 0.4 * np.sin(2 * t)
+    omega = 1.5 + 0.8 * np.cos(2 * t)
+    alpha = -1.6 * np.sin(2 * t)
+    origin = 2.0 * np.exp(1j * 3 * t)
+    v_origin = 6j * np.exp(1j * 3 * t)
+    a_origin = -18.0 * np.exp(1j * 3 * t)
+    cg = 0.7 + 0.2j
+    R, V, A = cg_motion(theta, omega, alpha, cg, origin, v_origin, a_origin)
+    np.testing.assert_allclose(R, origin + cg * np.exp(1j * theta), atol=1e-14)
+    np.testing.assert_allclose(np.gradient(R, h)[2:-2], V[2:-2], atol=1e-5)
+    np.testing.assert_allclose(np.gradient(V, h)[2:-2], A[2:-2], atol=1e-4)
+    assert R.shape == t.shape
