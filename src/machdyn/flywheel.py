@@ -325,7 +325,7 @@ def _closed_cycle(theta: Any, torque: Any, period: Any) -> tuple[np.ndarray, np.
         raise InputError(
             "theta",
             f"spans {math.degrees(span):.6g} deg, more than one cycle "
-            f"({math.degrees(period):.6g} deg); pass exactly one cycle",
+            f"({math.degrees(period):.6g} deg); pass exactly one cycle, in radians",
         )
     if span >= period - tolerance:  # the last sample closes the cycle
         theta = theta.copy()
