@@ -16,19 +16,28 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
+from .classify import barker_class, classify, is_grashof
 from .errors import AssemblyError, InputError, MachdynError, ModelError, SingularityError
+from .fourbar import FourBar
 from .mobility import Joint, mobility, mobility_of
+from .slidercrank import InvertedSliderCrank, SliderCrank
 
 __version__ = "0.1.0"
 
 __all__ = [
     "AssemblyError",
+    "FourBar",
     "InputError",
+    "InvertedSliderCrank",
     "Joint",
     "MachdynError",
     "ModelError",
     "SingularityError",
+    "SliderCrank",
     "__version__",
+    "barker_class",
+    "classify",
+    "is_grashof",
     "mobility",
     "mobility_of",
 ]

@@ -27,5 +27,5 @@ def wrap_2pi(angle: np.ndarray | float) -> np.ndarray:
     array([1.5, 0. , 0. ])
     """
     out = np.mod(np.asarray(angle, dtype=np.float64), TWO_PI)
-    # mod of a tiny negative number rounds to 2π exactly; keep the range half-open.
-    return np.where(out >= TWO_PI, 0.0, out)
+    # A tiny negative angle (rounding of 0) would land at 2π − ε: report it as 0.
+    return np.where(out >= TWO_PI - 4 * np.finfo(float).eps * TWO_PI, 0.0, out)

@@ -1,11 +1,241 @@
-"""``machdyn fourbar`` and ``machdyn demo`` (filled in by the FourBar work)."""
+"""``machdyn fourbar`` and ``machdyn demo``: classify and analyse a four-bar.
+
+Angles are printed in degrees (labelled); lengths in the user's unit.
+"""
 
 from __future__ import annotations
 
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from ..errors import InputError
+from ..fourbar import FourBar, FourBarMotion
+from ._common import dumps, parse_range_deg, print_table
 from .app import app
+
+#: The built-in demonstration linkage: the notes' HW 6 crank-rocker with a coupler point.
+DEMO = {"r1": 8.0, "r2": 4.0, "r3": 7.0, "r4": 6.0, "coupler": "5:30"}
+
+
+def _parse_coupler(text: str | None) -> tuple[float, float] | None:
+    if text is None:
+        return None
+    try:
+        p, delta = (float(x) for x in text.split(":"))
+    except ValueError:
+        raise InputError("--coupler", f"expected P:DELTA_DEG (e.g. 5:30), got {text!r}") from None
+    return p, np.radians(delta)
+
+
+def analyse(
+    r1: float,
+    r2: float,
+    r3: float,
+    r4: float,
+    theta2_deg: np.ndarray,
+    form: int,
+    omega2: float,
+    alpha2: float,
+    coupler: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """Everything the command prints, as plain data (also the ``--json`` payload)."""
+    fb = FourBar(r1, r2, r3, r4, coupler=coupler)
+    c = fb.classification
+    rng = fb.input_range(form)
+    motion = fb.solve(np.radians(theta2_deg), omega2=omega2, alpha2=alpha2, form=form)
+    extrema = fb.extrema(form)
+    mu = fb.transmission_angle(form)
+    payload: dict[str, Any] = {
+        "lengths": {"r1": r1, "r2": r2, "r3": r3, "r4": r4},
+        "class": {
+            "code": c.code,
+            "number": c.number,
+            "name": c.name,
+            "condition": c.condition,
+            "grashof": c.is_grashof,
+            "cranks": list(c.cranks),
+            "form_rule": fb.form_rule,
+        },
+        "form": form,
+        "input_range_deg": None if rng.full_turn else [np.degrees(rng.lo), np.degrees(rng.hi)],
+        "toggles": [
+            {
+                "theta2_deg": np.degrees(t.theta2),
+                "links": list(t.links),
+                "kind": t.kind,
+                "branch": t.branch,
+            }
+            for t in fb.toggles()
+        ],
+        "extrema_deg": {
+            name: None
+            if e.full_turn
+            else {
+                "min": np.degrees(e.min),
+                "max": np.degrees(e.max),
+                "theta2_at_min": np.degrees(e.theta2_at_min),
+                "theta2_at_max": np.degrees(e.theta2_at_max),
+            }
+            for name, e in extrema.items()
+        },
+        "min_transmission_angle_deg": {
+            "mu": np.degrees(mu.min),
+            "theta2": np.degrees(mu.theta2_at_min),
+        },
+        "omega2": omega2,
+        "alpha2": alpha2,
+        "kinematics": _rows(motion),
+    }
+    return payload
+
+
+def _rows(m: FourBarMotion) -> list[dict[str, Any]]:
+    rows = []
+    for k in range(len(m)):
+        row: dict[str, Any] = {
+            "theta2_deg": np.degrees(m.theta2[k]),
+            "theta3_deg": np.degrees(m.theta3[k]),
+            "theta4_deg": np.degrees(m.theta4[k]),
+            "omega3": m.omega3[k],
+            "omega4": m.omega4[k],
+            "alpha3": m.alpha3[k],
+            "alpha4": m.alpha4[k],
+            "mu_deg": np.degrees(m.mu[k]),
+            "ok": bool(m.ok[k]),
+            "reason": m.reason[k],
+        }
+        if m.coupler is not None:
+            row["P"] = complex(m.coupler[k])
+            row["AP"] = complex(m.coupler_acceleration[k])
+        rows.append(row)
+    return rows
+
+
+def _print(payload: dict[str, Any]) -> None:
+    c, L = payload["class"], payload["lengths"]
+    print(f"Four-bar R1={L['r1']:g} R2={L['r2']:g} R3={L['r3']:g} R4={L['r4']:g}")
+    cranks = ", ".join(map(str, c["cranks"])) or "none"
+    print(f"  class  {c['code']} (Barker #{c['number']}: {c['name']}), {c['condition']}")
+    print(f"  full turns relative to the ground: links {cranks}")
+    rng = payload["input_range_deg"]
+    form = payload["form"]
+    sign = "phi34 = theta2" if c["form_rule"] == "phi34" else "phi12"
+    print(f"  form   {form} ({sign} {'> 0' if form == 1 else '< 0'})")
+    if rng is None:
+        print("  input  link 2 turns fully")
+    else:
+        print(f"  input  theta2 from {rng[0]:.4f} to {rng[1]:.4f} deg (rocker)")
+    for t in payload["toggles"]:
+        print(
+            f"  toggle theta2 = {t['theta2_deg']:9.4f} deg: links {t['links'][0]} and "
+            f"{t['links'][1]} {t['kind']}" + (f" (branch {t['branch']:+d})" if t["branch"] else "")
+        )
+    mu = payload["min_transmission_angle_deg"]
+    print(f"  min transmission angle mu = {mu['mu']:.4f} deg at theta2 = {mu['theta2']:.4f} deg")
+    rows = []
+    for name, e in payload["extrema_deg"].items():
+        if e is None:
+            rows.append([name, "full turn", "", "", ""])
+        else:
+            rows.append([name, e["min"], e["theta2_at_min"], e["max"], e["theta2_at_max"]])
+    print()
+    print_table(
+        f"Limits over form {form} (degrees)",
+        ["angle", "min", "at theta2", "max", "at theta2"],
+        rows,
+    )
+    print()
+    kin = payload["kinematics"]
+    has_p = bool(kin) and "P" in kin[0]
+    cols = [
+        "theta2 deg",
+        "theta3 deg",
+        "theta4 deg",
+        "omega3",
+        "omega4",
+        "alpha3",
+        "alpha4",
+        "mu deg",
+    ]
+    if has_p:
+        cols += ["Px", "Py"]
+    table = []
+    for r in kin:
+        if not r["ok"] and np.isnan(r["theta3_deg"]):
+            table.append([r["theta2_deg"], *["-"] * (len(cols) - 1)])
+            continue
+        row = [
+            r["theta2_deg"],
+            r["theta3_deg"],
+            r["theta4_deg"],
+            r["omega3"],
+            r["omega4"],
+            r["alpha3"],
+            r["alpha4"],
+            r["mu_deg"],
+        ]
+        if has_p:
+            row += [r["P"].real, r["P"].imag]
+        table.append(row)
+    title = (
+        f"Kinematics, omega2 = {payload['omega2']:g} rad/s, "
+        f"alpha2 = {payload['alpha2']:g} rad/s^2 (omega in rad/s, alpha in rad/s^2)"
+    )
+    print_table(title, cols, table)
+    flagged = [r for r in kin if not r["ok"]]
+    for r in flagged:
+        print(f"  theta2 = {r['theta2_deg']:g} deg: {r['reason']}")
 
 
 @app.command()
-def demo() -> None:
-    """Analyse a built-in four-bar and print its class, limits and kinematics."""
-    print("machdyn demo: the four-bar analysis is being built")
+def fourbar(
+    r1: Annotated[float, typer.Argument(help="Ground link length O2O4.")],
+    r2: Annotated[float, typer.Argument(help="Input link length O2A.")],
+    r3: Annotated[float, typer.Argument(help="Coupler length AB.")],
+    r4: Annotated[float, typer.Argument(help="Output link length O4B.")],
+    theta2: Annotated[
+        str, typer.Option(help="Input angles in degrees: START:STOP:STEP or one angle.")
+    ] = "0:360:30",
+    form: Annotated[int, typer.Option(help="Form 1 or 2, as in the notes.")] = 1,
+    omega2: Annotated[float, typer.Option(help="Input angular velocity, rad/s.")] = 1.0,
+    alpha2: Annotated[float, typer.Option(help="Input angular acceleration, rad/s^2.")] = 0.0,
+    coupler: Annotated[
+        str | None, typer.Option(help="Coupler point P:DELTA_DEG (distance from A, angle from AB).")
+    ] = None,
+    json: Annotated[bool, typer.Option("--json", help="Print machine-readable JSON.")] = False,
+) -> None:
+    """Classify a four-bar and print its limits and a kinematics table."""
+    if form not in (1, 2):
+        raise InputError("--form", f"must be 1 or 2, got {form}")
+    grid = parse_range_deg(theta2)
+    payload = analyse(r1, r2, r3, r4, grid, form, omega2, alpha2, _parse_coupler(coupler))
+    if json:
+        print(dumps(payload))
+    else:
+        _print(payload)
+
+
+@app.command()
+def demo(
+    json: Annotated[bool, typer.Option("--json", help="Print machine-readable JSON.")] = False,
+) -> None:
+    """Analyse the notes' HW 6 crank-rocker (8, 4, 7, 6) with a coupler point."""
+    payload = analyse(
+        DEMO["r1"],
+        DEMO["r2"],
+        DEMO["r3"],
+        DEMO["r4"],
+        parse_range_deg("0:360:30"),
+        1,
+        10.0,
+        0.0,
+        _parse_coupler(DEMO["coupler"]),
+    )
+    if json:
+        print(dumps(payload))
+        return
+    print("machdyn demo: the notes' HW 6 four-bar, driven at omega2 = 10 rad/s\n")
+    _print(payload)
+    print("\nTry: machdyn fourbar 6 9 3 8 --theta2 40:90:10   (a GRCR, link 2 rocks)")

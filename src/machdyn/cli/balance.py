@@ -1,0 +1,140 @@
+"""``machdyn balance``: static and two-plane balance of rotors, and the wheel balancer.
+
+Masses are given as ``m,R,angle_deg[,z]`` and bearing forces as
+``F,phase_deg,z`` (angles from the rotor's zero reference line). Only parsing and
+printing happen here; the physics is :mod:`machdyn.balancing`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+import typer
+
+from ..balancing import TwoPlaneBalance, bearing_balance, static_balance, two_plane
+from ..errors import InputError
+from ._common import dumps, print_table
+
+__all__ = ["balance_app", "parse_numbers"]
+
+balance_app = typer.Typer(
+    help="Balance rotating masses (single plane, two planes, balancing machine).",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+
+def parse_numbers(field: str, text: str, count: int, names: str) -> list[float]:
+    """Parse ``count`` comma-separated numbers, naming the expected fields on error.
+
+    Examples
+    --------
+    >>> parse_numbers("--mass", "2, 0.5, 30", 3, "m,R,angle_deg")
+    [2.0, 0.5, 30.0]
+    """
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise InputError(field, f"expected {names} (numbers), got {text!r}") from None
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise InputError(field, f"expected {count} finite numbers {names}, got {text!r}")
+    return values
+
+
+def _phasor(magnitude: float, angle_deg: float) -> complex:
+    return magnitude * complex(math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
+
+
+def _report(result: TwoPlaneBalance, radius_a: float | None, radius_b: float | None, as_json: bool):
+    rows = {
+        "plane": ["A", "B"],
+        "z": [result.plane_a, result.plane_b],
+        "mR": [abs(result.mR_a), abs(result.mR_b)],
+        "angle_deg": [result.angle_a_deg, result.angle_b_deg],
+    }
+    if radius_a is not None:
+        rows["mass"] = list(result.masses(radius_a, radius_b))
+    if as_json:
+        print(dumps(rows))
+        return
+    columns = list(rows)
+    print_table("Correction masses", columns, [list(r) for r in zip(*rows.values(), strict=True)])
+
+
+@balance_app.command("static")
+def static(
+    mass: Annotated[
+        list[str], typer.Option("--mass", help="A rotating mass as m,R,angle_deg (repeat).")
+    ],
+    radius: Annotated[
+        float | None, typer.Option("--radius", help="Radius of the balance mass.")
+    ] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Single-plane balance: m_b R_b = -sum(m_i R_i)."""
+    unbalance = []
+    for text in mass:
+        m, r, angle = parse_numbers("--mass", text, 3, "m,R,angle_deg")
+        unbalance.append(m * _phasor(r, angle))
+    fix = static_balance(unbalance)
+    rows = {"mR": abs(fix.mR), "angle_deg": fix.angle_deg}
+    if radius is not None:
+        if radius <= 0:
+            raise InputError("--radius", f"must be positive, got {radius}")
+        rows["mass"] = fix.mass(radius)
+    if as_json:
+        print(dumps(rows))
+        return
+    print_table("Balance mass", list(rows), [list(rows.values())])
+
+
+@balance_app.command("rotor")
+def rotor(
+    mass: Annotated[
+        list[str], typer.Option("--mass", help="A rotating mass as m,R,angle_deg,z (repeat).")
+    ],
+    plane_a: Annotated[float, typer.Option("--plane-a", help="Axial position of plane A.")],
+    plane_b: Annotated[float, typer.Option("--plane-b", help="Axial position of plane B.")],
+    radius_a: Annotated[
+        float | None, typer.Option("--radius-a", help="Radius of the mass in plane A.")
+    ] = None,
+    radius_b: Annotated[
+        float | None, typer.Option("--radius-b", help="Radius in plane B (default: A's).")
+    ] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Two-plane dynamic balance of masses at axial positions z."""
+    unbalance, z = [], []
+    for text in mass:
+        m, r, angle, zi = parse_numbers("--mass", text, 4, "m,R,angle_deg,z")
+        unbalance.append(m * _phasor(r, angle))
+        z.append(zi)
+    _report(two_plane(unbalance, z, plane_a, plane_b), radius_a, radius_b, as_json)
+
+
+@balance_app.command("bearings")
+def bearings(
+    force: Annotated[
+        list[str],
+        typer.Option("--force", help="Peak bearing force as F,phase_deg,z (one per bearing)."),
+    ],
+    omega: Annotated[float, typer.Option("--omega", help="Test speed, rad/s (rpm with --rpm).")],
+    plane_a: Annotated[float, typer.Option("--plane-a", help="Axial position of plane A.")],
+    plane_b: Annotated[float, typer.Option("--plane-b", help="Axial position of plane B.")],
+    radius: Annotated[
+        float | None, typer.Option("--radius", help="Rim radius where the masses go.")
+    ] = None,
+    rpm: Annotated[bool, typer.Option("--rpm", help="--omega is in rev/min.")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+) -> None:
+    """Wheel balancer: bearing forces measured at omega -> masses in two planes."""
+    forces, z = [], []
+    for text in force:
+        magnitude, phase, zi = parse_numbers("--force", text, 3, "F,phase_deg,z")
+        forces.append(_phasor(magnitude, phase))
+        z.append(zi)
+    speed = omega * 2 * math.pi / 60 if rpm else omega
+    _report(bearing_balance(forces, z, speed, plane_a, plane_b), radius, None, as_json)

@@ -1,0 +1,141 @@
+"""``machdyn flywheel``: size a flywheel from a torque curve read from a CSV file.
+
+The CSV holds one cycle: a column of crank angles in degrees and a column of the
+torque T12 the linkage requires (a header line and ``#`` comments are allowed).
+Only parsing and printing happen here; the physics is :mod:`machdyn.flywheel`.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from ..errors import InputError
+from ..flywheel import disc_flywheel, size_flywheel
+from ._common import dumps, print_table
+
+__all__ = ["flywheel", "flywheel_app", "read_curve"]
+
+flywheel_app = typer.Typer(add_completion=False, pretty_exceptions_enable=False)
+
+
+def read_curve(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    r"""Read ``theta_deg, torque`` rows from a CSV file; return θ in radians and T.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     file = pathlib.Path(tmp) / "t.csv"
+    ...     _ = file.write_text("theta_deg,T12\n0,1\n90,2\n180,3\n")
+    ...     theta, torque = read_curve(file)
+    >>> theta.round(4).tolist(), torque.tolist()
+    ([0.0, 1.5708, 3.1416], [1.0, 2.0, 3.0])
+    """
+    try:
+        text = Path(path).read_text()
+    except OSError as exc:
+        raise InputError("CSV", f"cannot read {path}: {exc.strerror or exc}") from None
+    rows: list[list[float]] = []
+    first = True
+    for number, row in enumerate(csv.reader(text.splitlines()), 1):
+        cells = [c.strip() for c in row if c.strip()]
+        if not cells or cells[0].startswith("#"):
+            continue
+        is_header, first = first, False
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            if is_header:
+                continue
+            raise InputError("CSV", f"line {number} is not two numbers: {row!r}") from None
+        if len(values) != 2:
+            raise InputError(
+                "CSV", f"line {number} has {len(values)} values; expected theta_deg, torque"
+            )
+        rows.append(values)
+    if not rows:
+        raise InputError("CSV", f"{path} holds no theta_deg, torque rows")
+    data = np.array(rows)
+    return np.radians(data[:, 0]), data[:, 1]
+
+
+@flywheel_app.command()
+def flywheel(
+    curve: Annotated[
+        Path, typer.Argument(help="CSV with columns theta (deg), T12 over one cycle.")
+    ],
+    omega_avg: Annotated[
+        float, typer.Option("--omega-avg", help="Average shaft speed, rad/s (rpm with --rpm).")
+    ],
+    k: Annotated[float, typer.Option("--k", help="Coefficient of fluctuation, e.g. 0.02.")],
+    rpm: Annotated[bool, typer.Option("--rpm", help="--omega-avg is in rev/min.")] = False,
+    period_deg: Annotated[
+        float, typer.Option("--period-deg", help="Angle of one cycle, degrees.")
+    ] = 360.0,
+    density: Annotated[
+        float | None, typer.Option("--density", help="Disc material density, to size a disc.")
+    ] = None,
+    thickness: Annotated[
+        float | None, typer.Option("--thickness", help="Disc thickness, to size a disc.")
+    ] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+) -> None:
+    """Size a flywheel: lobe table (Table 11-1), ΔE, I = ΔE/(k ω²) and the achieved k."""
+    if (density is None) != (thickness is None):
+        raise InputError("--thickness", "give both --density and --thickness to size a disc")
+    theta, torque = read_curve(curve)
+    omega = omega_avg * 2 * math.pi / 60 if rpm else omega_avg
+    result = size_flywheel(theta, torque, omega, k, period=math.radians(period_deg))
+    disc = None
+    if density is not None and thickness is not None and result.inertia > 0:
+        disc = disc_flywheel(result.inertia, density, thickness)
+
+    lobes = result.lobes
+    summary = {
+        "T_avg": result.torque_avg,
+        "delta_E": result.delta_e,
+        "theta_omega_max_deg": math.degrees(result.theta_omega_max),
+        "theta_omega_min_deg": math.degrees(result.theta_omega_min),
+        "omega_avg_rad_s": result.omega_avg,
+        "k_requested": result.k,
+        "inertia": result.inertia,
+        "omega_max_rad_s": result.omega_max,
+        "omega_min_rad_s": result.omega_min,
+        "k_achieved": result.k_achieved,
+    }
+    if disc is not None:
+        summary |= {"disc_outer_radius": disc.outer_radius, "disc_mass": disc.mass}
+    if as_json:
+        lobe_rows = {
+            "theta_from_deg": np.degrees(lobes.theta_from),
+            "theta_to_deg": np.degrees(lobes.theta_to),
+            "delta_E": lobes.area,
+            "E": lobes.energy,
+            "omega_at_end": lobes.omega_at_end.tolist(),
+        }
+        print(dumps({**summary, "lobes": lobe_rows}))
+        return
+    print_table(
+        "Lobes of T12 - T_avg (Table 11-1)",
+        ["lobe", "from (deg)", "to (deg)", "dE", "accum. E", "omega at end"],
+        [
+            [i + 1, a, b, d, e, m]
+            for i, (a, b, d, e, m) in enumerate(
+                zip(
+                    np.degrees(lobes.theta_from),
+                    np.degrees(lobes.theta_to),
+                    lobes.area,
+                    lobes.energy,
+                    lobes.omega_at_end,
+                    strict=True,
+                )
+            )
+        ],
+    )
+    print_table("Flywheel", ["quantity", "value"], [[name, v] for name, v in summary.items()])

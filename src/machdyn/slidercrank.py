@@ -1,0 +1,493 @@
+"""Slider-crank linkages in closed form: the offset slider-crank and its inversion.
+
+:class:`SliderCrank` follows the notes' loop (review lecture 3, "SLIDER-CRANK")
+``a e^{jθ2} − b e^{jθ3} − j c − d = 0``: crank ``a = O2A`` (input θ2), coupler
+(connecting rod) ``b`` with θ3 the direction *from the slider pin B to A*, the
+slide line at offset ``c`` above ``O2`` along +x, and ``d`` the slider position
+(``B = d + j c``). Differentiating gives the notes' velocity, acceleration and
+jerk equations, each solved in closed form.
+
+:class:`InvertedSliderCrank` is Norton's inversion #3 (*Design of Machinery*,
+sec. 4.7): the crank ``O2A`` drives a block pinned at A that slides along a slot
+in link 4, which pivots at ``O4 = d`` on the ground line. The slot runs at a
+perpendicular offset ``c`` from ``O4``; ``b`` is the block's position along the
+slot (from the foot of that perpendicular), so
+``a e^{jθ2} − (b + j c) e^{jθ4} − d = 0`` and the block turns with link 4 (θ3 = θ4).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ._angles import wrap_2pi
+from ._validate import choice, common_length_unit, finite_array, finite_scalar
+from .centres import InstantCentres, at_infinity, finite, intersect, line_through
+from .errors import AssemblyError, InputError
+
+__all__ = ["InvertedSliderCrank", "InvertedSliderCrankMotion", "SliderCrank", "SliderCrankMotion"]
+
+OK, NOT_ASSEMBLABLE, TOGGLE = 0, 1, 2
+REASONS = (
+    "",
+    "cannot be assembled at this input angle (outside the crank's range)",
+    "toggle: the velocity solution is singular here",
+)
+_CLOSE_TOL = 1e-12
+_TOGGLE_TOL = 1e-9
+
+
+def _rates(theta: np.ndarray, w: np.ndarray, al: np.ndarray, je: np.ndarray):
+    """Derivatives of e^{jθ} up to the third: jω e, (jα − ω²) e, (jφ − 3αω − jω³) e."""
+    e = np.exp(1j * theta)
+    return e, 1j * w * e, (1j * al - w * w) * e, (1j * je - 3 * al * w - 1j * w**3) * e
+
+
+def _broadcast(theta2, omega2, alpha2, jerk2):
+    theta2 = finite_array("theta2", theta2, "radian")
+    omega2 = finite_array("omega2", omega2, "radian / second")
+    alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
+    jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
+    shape = np.broadcast_shapes(theta2.shape, omega2.shape, alpha2.shape, jerk2.shape)
+    out = [np.broadcast_to(x, shape).astype(float) for x in (theta2, omega2, alpha2, jerk2)]
+    return theta2.ndim == 0, out
+
+
+@dataclass(frozen=True, eq=False)
+class SliderCrankMotion:
+    """Kinematics of a slider-crank over a set of input angles.
+
+    Attributes
+    ----------
+    theta2, theta3 : ndarray
+        Crank angle (as given) and connecting-rod angle (B→A), radians; θ3 in ``[0, 2π)``.
+    omega2, omega3, alpha2, alpha3, jerk2, jerk3 : ndarray
+        Angular rates of crank and rod.
+    d, d_dot, d_ddot, d_dddot : ndarray
+        Slider position along the slide line and its time derivatives.
+    A, B : ndarray of complex
+        Crank pin and slider pin positions.
+    coupler, coupler_velocity, coupler_acceleration : ndarray of complex or None
+        A point on the rod, when defined.
+    status : ndarray of uint8
+        0 where solved; otherwise an index into ``REASONS``.
+    """
+
+    theta2: np.ndarray
+    theta3: np.ndarray
+    omega2: np.ndarray
+    omega3: np.ndarray
+    alpha2: np.ndarray
+    alpha3: np.ndarray
+    jerk2: np.ndarray
+    jerk3: np.ndarray
+    d: np.ndarray
+    d_dot: np.ndarray
+    d_ddot: np.ndarray
+    d_dddot: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+    coupler: np.ndarray | None
+    coupler_velocity: np.ndarray | None
+    coupler_acceleration: np.ndarray | None
+    status: np.ndarray
+    form: int
+    offset: float = field(repr=False)
+
+    @property
+    def ok(self) -> np.ndarray:
+        """True where every quantity was solved."""
+        return self.status == OK
+
+    @property
+    def assembled(self) -> np.ndarray:
+        """True where the positions are valid (toggles included)."""
+        return self.status != NOT_ASSEMBLABLE
+
+    @property
+    def reason(self) -> np.ndarray:
+        """Why each sample was not solved (empty string where it was)."""
+        return np.asarray(REASONS, dtype=object)[self.status]
+
+    def to_pandas(self):
+        """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily)."""
+        import pandas as pd
+
+        names = (
+            "theta2",
+            "theta3",
+            "omega2",
+            "omega3",
+            "alpha2",
+            "alpha3",
+            "jerk2",
+            "jerk3",
+            "d",
+            "d_dot",
+            "d_ddot",
+            "d_dddot",
+        )
+        cols = {n: np.ravel(getattr(self, n)) for n in names}
+        cols["ok"] = np.ravel(self.ok)
+        cols["reason"] = np.ravel(self.reason)
+        return pd.DataFrame(cols)
+
+
+class SliderCrank:
+    """An offset slider-crank (the notes' loop ``a e^{jθ2} − b e^{jθ3} − j c − d = 0``).
+
+    Parameters
+    ----------
+    crank : float
+        Crank length ``a = O2A``.
+    coupler : float
+        Connecting-rod length ``b = AB``.
+    offset : float, optional
+        Offset ``c`` of the slide line above O2 (negative below).
+    point : (p, delta), optional
+        A point on the rod at distance ``p`` from A, at angle ``delta`` from the
+        line A→B (counter-clockwise).
+
+    Examples
+    --------
+    >>> sc = SliderCrank(crank=2.0, coupler=6.0)
+    >>> m = sc.solve(np.radians([0, 90, 180]), omega2=10.0)
+    >>> np.round(m.d, 6)
+    array([8.      , 5.656854, 4.      ])
+    >>> np.round(m.d_dot, 6)       # at θ2 = 90°: ḋ = −a ω2 (the rod's ω3 is zero)
+    array([ -0.,  -20., 0.])
+    """
+
+    def __init__(self, crank: Any, coupler: Any, offset: Any = 0.0, point: Any = None) -> None:
+        values, unit = common_length_unit(crank=crank, coupler=coupler, offset=offset)
+        for name in ("crank", "coupler"):
+            if values[name] <= 0.0:
+                raise InputError(name, f"must be a positive length, got {values[name]:g}")
+        self.a, self.b, self.c = values["crank"], values["coupler"], values["offset"]
+        self.length_unit = unit
+        if abs(self.c) >= self.a + self.b:
+            raise AssemblyError(
+                f"offset {self.c:g} is out of reach: |offset| must be less than "
+                f"crank + coupler = {self.a + self.b:g}"
+            )
+        if point is None:
+            self.point = None
+        else:
+            try:
+                p, delta = point
+            except (TypeError, ValueError):
+                raise InputError("point", f"expected (p, delta), got {point!r}") from None
+            self.point = (
+                finite_scalar("point p", p, unit),
+                finite_scalar("point delta", delta, "radian"),
+            )
+
+    def __repr__(self) -> str:
+        return f"SliderCrank(crank={self.a:g}, coupler={self.b:g}, offset={self.c:g})"
+
+    @property
+    def crank_rotates(self) -> bool:
+        """True if the crank can make full turns (``a + |c| < b``)."""
+        return self.a + abs(self.c) < self.b
+
+    def input_range(self) -> tuple[float, float] | None:
+        """θ2 limits ``(lo, hi)`` of a rocking crank; None when it turns fully.
+
+        The limits are where the rod stands perpendicular to the slide,
+        ``a sin θ2 − c = ±b``. This is the range around θ2 = 0; its mirror image
+        ``(π − hi, π − lo)`` around θ2 = π is the crank's other range.
+
+        Examples
+        --------
+        >>> lo, hi = SliderCrank(3.0, 2.0).input_range()
+        >>> print(f"{np.degrees(lo):.4f} {np.degrees(hi):.4f}")
+        -41.8103 41.8103
+        """
+        if self.crank_rotates:
+            return None
+        lo = np.arcsin(np.clip((self.c - self.b) / self.a, -1, 1))
+        hi = np.arcsin(np.clip((self.c + self.b) / self.a, -1, 1))
+        return float(lo), float(hi)
+
+    def stroke(self, form: int = 1) -> tuple[float, float]:
+        """Extreme slider positions ``(d_min, d_max)`` of a form (crank and rod aligned).
+
+        Examples
+        --------
+        >>> SliderCrank(2.0, 6.0).stroke()
+        (4.0, 8.0)
+        """
+        choice("form", form, (1, 2))
+        if not self.crank_rotates:
+            raise InputError("form", "the stroke is defined for a full-turning crank (a + |c| < b)")
+        s = 1.0 if form == 1 else -1.0
+        far = s * np.sqrt((self.a + self.b) ** 2 - self.c**2)
+        near = s * np.sqrt((self.b - self.a) ** 2 - self.c**2)
+        return float(min(far, near)), float(max(far, near))
+
+    def solve(
+        self,
+        theta2: Any,
+        omega2: Any = 0.0,
+        alpha2: Any = 0.0,
+        form: int = 1,
+        *,
+        jerk2: Any = 0.0,
+    ) -> SliderCrankMotion:
+        """Positions, velocities, accelerations and jerks for crank angles ``theta2``.
+
+        Parameters
+        ----------
+        form : {1, 2}
+            1: slider on the +x side of A (θ3 in (π/2, 3π/2); Norton's second
+            solution θ3 = arcsin(·) + π); 2: slider on the −x side.
+
+        Raises
+        ------
+        AssemblyError
+            If ``theta2`` is a single angle the rod cannot reach (arrays are flagged).
+        """
+        choice("form", form, (1, 2))
+        scalar, (t2, w2, a2, j2) = _broadcast(theta2, omega2, alpha2, jerk2)
+        a, b, c = self.a, self.b, self.c
+        e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
+        s3 = (a * e2.imag - c) / b
+        status = np.where(np.abs(s3) <= 1.0 + _CLOSE_TOL, OK, NOT_ASSEMBLABLE).astype(np.uint8)
+        if scalar and status.item() != OK:
+            raise AssemblyError(
+                f"{self!r}: theta2 = {np.degrees(float(t2)):.6g} deg cannot be assembled; "
+                f"the crank rocks between {np.degrees(self.input_range()[0]):.6g} and "
+                f"{np.degrees(self.input_range()[1]):.6g} deg"
+            )
+        s3 = np.clip(s3, -1.0, 1.0)
+        c3 = np.sqrt(1.0 - s3 * s3) * (-1.0 if form == 1 else 1.0)
+        status[(status == OK) & (np.abs(c3) < _TOGGLE_TOL)] = TOGGLE
+        bad = status == NOT_ASSEMBLABLE
+        c3 = np.where(bad, np.nan, c3)
+        e3 = c3 + 1j * s3
+        d = a * e2.real - b * c3
+
+        def solve_pair(K):
+            # −j b x3 e3 − x_d = K  →  x3 = −Im K / (b cos θ3),  x_d = b x3 sin θ3 − Re K
+            x3 = -K.imag / (b * e3.real)
+            return x3, b * x3 * e3.imag - K.real
+
+        with np.errstate(divide="ignore", invalid="ignore"):  # flagged samples only
+            w3, dd = solve_pair(-a * v2)
+            al3, ddd = solve_pair(-a * acc2 - b * w3 * w3 * e3)
+            je3, dddd = solve_pair(-a * jer2 + b * (-3 * al3 * w3 - 1j * w3**3) * e3)
+        toggled = status == TOGGLE
+        w3, dd, al3, ddd, je3, dddd = (
+            np.where(toggled, np.nan, x) for x in (w3, dd, al3, ddd, je3, dddd)
+        )
+        A = a * e2
+        B = d + 1j * c
+        P = VP = AP = None
+        if self.point is not None:
+            p, delta = self.point
+            ep = -e3 * np.exp(1j * delta)  # direction A→B is θ3 + π
+            P = A + p * ep
+            VP = a * v2 + 1j * w3 * p * ep
+            AP = a * acc2 + (1j * al3 - w3 * w3) * p * ep
+        return SliderCrankMotion(
+            theta2=t2,
+            theta3=wrap_2pi(np.angle(e3)),
+            omega2=w2,
+            omega3=w3,
+            alpha2=a2,
+            alpha3=al3,
+            jerk2=j2,
+            jerk3=je3,
+            d=d,
+            d_dot=dd,
+            d_ddot=ddd,
+            d_dddot=dddd,
+            A=A,
+            B=B,
+            coupler=P,
+            coupler_velocity=VP,
+            coupler_acceleration=AP,
+            status=status,
+            form=form,
+            offset=c,
+        )
+
+    def instant_centres(self, theta2: Any, form: int = 1) -> InstantCentres:
+        """The six instant centres (1 ground, 2 crank, 3 rod, 4 slider).
+
+        I14 is at infinity, normal to the slide (the notes: "I.C. of two bodies in
+        sliding contact is located at ∞ along the normal to the plane of slip").
+        """
+        m = self.solve(theta2, form=form)
+        shape = np.shape(m.A)
+        I12 = finite(np.zeros(shape, dtype=complex))
+        I23 = finite(m.A)
+        I34 = finite(m.B)
+        I14 = at_infinity(np.full(shape, 1j))
+        I13 = intersect(line_through(I12, I23), line_through(I14, I34))
+        I24 = intersect(line_through(I12, I14), line_through(I23, I34))
+        return InstantCentres(
+            {(1, 2): I12, (2, 3): I23, (3, 4): I34, (1, 4): I14, (1, 3): I13, (2, 4): I24},
+            m.assembled,
+        )
+
+    def mechanical_advantage(
+        self, theta2: Any, r_in: float = 1.0, form: int = 1, *, method: str = "power"
+    ) -> np.ndarray:
+        """Force on the slider per force ``F_in`` at radius ``r_in`` on the crank.
+
+        ``MA = r_in ω2 / ḋ`` (power identity). With ``method="instant_centres"``
+        the slider speed is ``ω2 × I24`` (I24 moves with the slider), so
+        ``ḋ = −ω2 · Im(I24)``.
+        """
+        method = choice("method", method, ("power", "instant_centres"))
+        r_in = finite_scalar("r_in", r_in, self.length_unit)
+        if method == "power":
+            m = self.solve(theta2, omega2=1.0, form=form)
+            speed, valid = m.d_dot, m.ok
+        else:
+            ics = self.instant_centres(theta2, form=form)
+            speed, valid = -ics[2, 4].point.imag, ics.valid & ~ics[2, 4].at_infinity
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(valid, r_in / speed, np.nan)
+
+
+@dataclass(frozen=True, eq=False)
+class InvertedSliderCrankMotion:
+    """Kinematics of an inverted slider-crank.
+
+    ``theta4`` (= θ3, the block turns with link 4), ``b`` (the block's position
+    along the slot) and their derivatives; ``A`` the crank pin.
+    """
+
+    theta2: np.ndarray
+    theta4: np.ndarray
+    omega2: np.ndarray
+    omega4: np.ndarray
+    alpha2: np.ndarray
+    alpha4: np.ndarray
+    jerk2: np.ndarray
+    jerk4: np.ndarray
+    b: np.ndarray
+    b_dot: np.ndarray
+    b_ddot: np.ndarray
+    b_dddot: np.ndarray
+    A: np.ndarray
+    status: np.ndarray
+    form: int
+
+    @property
+    def theta3(self) -> np.ndarray:
+        """The block's angle: equal to θ4."""
+        return self.theta4
+
+    @property
+    def ok(self) -> np.ndarray:
+        """True where every quantity was solved."""
+        return self.status == OK
+
+    @property
+    def reason(self) -> np.ndarray:
+        """Why each sample was not solved (empty string where it was)."""
+        return np.asarray(REASONS, dtype=object)[self.status]
+
+
+class InvertedSliderCrank:
+    """Norton's inverted slider-crank (inversion #3): a block on the crank slides in link 4.
+
+    Parameters
+    ----------
+    crank : float
+        ``a = O2A``.
+    ground : float
+        ``d = O2O4`` (O4 on +x).
+    offset : float, optional
+        Perpendicular distance ``c`` from O4 to the slot's line (0: the slot
+        passes through O4).
+
+    Examples
+    --------
+    A quick-return shaper: crank 2, pivots 4 apart; at θ2 = 90° the slot points
+    at A = (0, 2), so θ4 = atan2(2, −4):
+
+    >>> m = InvertedSliderCrank(2.0, 4.0).solve(np.radians(90))
+    >>> print(f"{np.degrees(m.theta4):.4f} {m.b:.6f}")
+    153.4349 4.472136
+    """
+
+    def __init__(self, crank: Any, ground: Any, offset: Any = 0.0) -> None:
+        values, unit = common_length_unit(crank=crank, ground=ground, offset=offset)
+        for name in ("crank", "ground"):
+            if values[name] <= 0.0:
+                raise InputError(name, f"must be a positive length, got {values[name]:g}")
+        self.a, self.d, self.c = values["crank"], values["ground"], values["offset"]
+        self.length_unit = unit
+
+    def __repr__(self) -> str:
+        return f"InvertedSliderCrank(crank={self.a:g}, ground={self.d:g}, offset={self.c:g})"
+
+    def solve(
+        self,
+        theta2: Any,
+        omega2: Any = 0.0,
+        alpha2: Any = 0.0,
+        form: int = 1,
+        *,
+        jerk2: Any = 0.0,
+    ) -> InvertedSliderCrankMotion:
+        """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
+        choice("form", form, (1, 2))
+        scalar, (t2, w2, a2, j2) = _broadcast(theta2, omega2, alpha2, jerk2)
+        a, d, c = self.a, self.d, self.c
+        e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
+        S = a * e2 - d
+        b2 = np.abs(S) ** 2 - c * c
+        status = np.where(b2 >= -_CLOSE_TOL * (a + d) ** 2, OK, NOT_ASSEMBLABLE).astype(np.uint8)
+        if scalar and status.item() != OK:
+            raise AssemblyError(
+                f"{self!r}: theta2 = {np.degrees(float(t2)):.6g} deg cannot be assembled "
+                f"(A comes closer to O4 than the slot offset {abs(c):g})"
+            )
+        b = np.sqrt(np.clip(b2, 0.0, None)) * (1.0 if form == 1 else -1.0)
+        status[(status == OK) & (np.abs(b) < _TOGGLE_TOL * (a + d))] = TOGGLE
+        b = np.where(status == NOT_ASSEMBLABLE, np.nan, b)
+        Z = b + 1j * c
+        with np.errstate(divide="ignore", invalid="ignore"):
+            E = S / Z  # e^{jθ4}
+
+            def solve_pair(R):
+                # b⁽ⁿ⁾ + j Z θ4⁽ⁿ⁾ = R  →  θ4⁽ⁿ⁾ = Im R / b,  b⁽ⁿ⁾ = Re R + c θ4⁽ⁿ⁾
+                x = R.imag / b
+                return x, R.real + c * x
+
+            w4, bd = solve_pair(a * v2 / E)
+            al4, bdd = solve_pair(a * acc2 / E - 2j * bd * w4 + Z * w4 * w4)
+            je4, bddd = solve_pair(
+                a * jer2 / E
+                - 3j * bdd * w4
+                - 3 * bd * (1j * al4 - w4 * w4)
+                - Z * (-3 * al4 * w4 - 1j * w4**3)
+            )
+        toggled = status == TOGGLE
+        w4, bd, al4, bdd, je4, bddd = (
+            np.where(toggled, np.nan, x) for x in (w4, bd, al4, bdd, je4, bddd)
+        )
+        return InvertedSliderCrankMotion(
+            theta2=t2,
+            theta4=wrap_2pi(np.angle(E)),
+            omega2=w2,
+            omega4=w4,
+            alpha2=a2,
+            alpha4=al4,
+            jerk2=j2,
+            jerk4=je4,
+            b=b,
+            b_dot=bd,
+            b_ddot=bdd,
+            b_dddot=bddd,
+            A=a * e2,
+            status=status,
+            form=form,
+        )
