@@ -59,14 +59,18 @@ from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
 
 __all__ = [
     "FORCE_REASONS",
+    "SLIDER_REASONS",
     "FourBarForces",
     "LinkEquations",
     "LinkProperties",
     "PointLoad",
+    "SliderCrankForces",
     "fourbar_dynamics",
     "fourbar_forces",
     "link_equations",
     "link_properties",
+    "slidercrank_dynamics",
+    "slidercrank_forces",
 ]
 
 #: Why a sample has no force solution (indexed by the motion's status code).
@@ -646,3 +650,330 @@ def link_equations(
     matrix = np.array(columns, dtype=float).T.reshape(3, len(names))
     rhs = np.array([m * a_g.real - fx, m * a_g.imag - fy, i_g * alpha - moment])
     return LinkEquations(tuple(names), matrix, rhs)
+
+
+# --------------------------------------------------------------------------------------
+# The slider-crank (Norton sec. 11.6), with slider friction
+
+#: Per-sample reasons of a slider-crank force solution (motion codes 0–2, then these).
+SLIDER_REASONS: tuple[str, ...] = (
+    "",
+    "cannot be assembled at this input angle (outside the crank's range)",
+    "toggle: the rod is perpendicular to the slide; the velocity solution and the "
+    "force system are singular",
+    "Coulomb friction: no unique normal force consistent with the sign of the "
+    "friction (the slider wedges or jams)",
+    "Coulomb friction indeterminate: the slider is at rest and not accelerating (stiction)",
+)
+_SC_JAM = 3
+_SC_STICK = 4
+
+_FRICTION_MODELS = ("smooth", "coulomb", "viscous")
+
+
+@dataclass(frozen=True, eq=False)
+class SliderCrankForces:
+    """Joint forces and driving torque of a slider-crank over a motion.
+
+    Attributes
+    ----------
+    T12 : ndarray
+        Driving torque of the ground on the crank (CCW positive).
+    F12, F32, F43 : ndarray of complex
+        Pin forces: ``F_ap`` acts on link *p* from link *a* (2 crank, 3 rod,
+        4 slider).
+    F14 : ndarray of complex
+        Force of the guide (ground) on the slider: ``F14.imag`` is the normal
+        force ``N``, ``F14.real`` the friction force along the slide.
+    shaking_force : ndarray of complex
+        ``F21 + F41``, the force of the moving links on the ground.
+    shaking_moment : ndarray
+        ``T21 + rB × F41`` about O2, with the guide force taken at the slider
+        pin B (Norton's assumption that the slider's forces are concurrent).
+    motion : SliderCrankMotion
+        The kinematics used.
+    status : ndarray of uint8
+        0 where solved; otherwise an index into :data:`SLIDER_REASONS`.
+    friction : str
+        The friction model used.
+    """
+
+    T12: np.ndarray
+    F12: np.ndarray
+    F32: np.ndarray
+    F43: np.ndarray
+    F14: np.ndarray
+    shaking_force: np.ndarray
+    shaking_moment: np.ndarray
+    motion: Any
+    status: np.ndarray
+    friction: str
+
+    @property
+    def ok(self) -> np.ndarray:
+        """True where the forces were solved."""
+        return self.status == OK
+
+    @property
+    def reason(self) -> np.ndarray:
+        """Why each sample was not solved (empty string where it was)."""
+        return np.asarray(SLIDER_REASONS, dtype=object)[self.status]
+
+    @property
+    def N(self) -> np.ndarray:
+        """Normal force of the guide on the slider (+y positive)."""
+        return self.F14.imag
+
+    def normal_reversals(self) -> np.ndarray:
+        """Indices ``i`` (of the flattened samples) where ``N`` changes sign between i and i+1.
+
+        With Coulomb friction the friction force jumps there, and the slider
+        knocks from one side of its guide to the other (piston slap).
+        """
+        n = np.ravel(self.N)
+        s = np.sign(n)
+        valid = np.isfinite(n[:-1]) & np.isfinite(n[1:])
+        return np.flatnonzero(valid & (s[:-1] * s[1:] < 0))
+
+    def to_pandas(self):
+        """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily)."""
+        import pandas as pd
+
+        columns: dict[str, np.ndarray] = {
+            "theta2": np.ravel(self.motion.theta2),
+            "T12": np.ravel(self.T12),
+        }
+        for name in ("F12", "F32", "F43", "F14", "shaking_force"):
+            value = np.ravel(getattr(self, name))
+            columns[f"{name}_x"] = value.real
+            columns[f"{name}_y"] = value.imag
+            columns[f"{name}_mag"] = np.abs(value)
+        columns["shaking_moment"] = np.ravel(self.shaking_moment)
+        columns["ok"] = np.ravel(self.ok)
+        columns["reason"] = np.ravel(self.reason)
+        return pd.DataFrame(columns)
+
+    def __len__(self) -> int:
+        return int(np.size(self.T12))
+
+
+def slidercrank_forces(
+    slidercrank: Any,
+    motion: Any,
+    *,
+    mass: Sequence[float],
+    inertia: Sequence[float],
+    cg: Sequence[complex],
+    gravity: float = 0.0,
+    load_force4: Any = 0.0,
+    friction: str = "smooth",
+    mu: float = 0.0,
+    beta: float = 0.0,
+    external_forces: Iterable[Any] = (),
+    external_torques: Any = (),
+) -> SliderCrankForces:
+    """Newton–Euler forces for a solved motion of a slider-crank.
+
+    See :func:`slidercrank_dynamics` for the parameters.
+
+    Examples
+    --------
+    >>> from machdyn.slidercrank import SliderCrank
+    >>> sc = SliderCrank(2.0, 6.0)
+    >>> motion = sc.solve(np.radians([30, 60]), omega2=50.0)
+    >>> f = slidercrank_forces(sc, motion, mass=(1, 1, 2), inertia=(0.1, 3), cg=(0, 3))
+    >>> bool(f.ok.all())
+    True
+    """
+    friction = choice("friction", friction, _FRICTION_MODELS)
+    masses = _triple("mass", mass)
+    inertias = tuple(_sequence("inertia", inertia, 2, "(IG2, IG3)"))
+    cgs = tuple(_sequence("cg", cg, 2, "(c2, c3)"))
+    props = link_properties(masses, (*inertias, 1.0 if masses[2] else 0.0), (*cgs, 0.0))
+    m2, m3, m4 = props.mass
+    I2, I3, _ = props.inertia
+    c2, c3, _ = props.cg
+    g = nonnegative("gravity", gravity)
+    mu = nonnegative("mu", mu)
+    beta = nonnegative("beta", beta)
+    loads = _point_loads(external_forces)
+    torques = _torques(external_torques)
+    load4 = finite_array("load_force4", load_force4)
+    a, b = slidercrank.a, slidercrank.b
+
+    status = np.array(motion.status, dtype=np.uint8, copy=True)
+    A, B = motion.A, motion.B
+    e2 = A * (1.0 / a)
+    u = B - A  # rod A → B
+    e3 = u * (1.0 / b)  # the rod's frame: x from A toward B
+    w2, w3 = motion.omega2, motion.omega3
+    al2, al3 = motion.alpha2, motion.alpha3
+    g2 = c2 * e2
+    g3 = c3 * e3
+    k2 = 1j * al2 - w2 * w2
+    aG2 = g2 * k2
+    aG3 = A * k2 + g3 * (1j * al3 - w3 * w3)
+    d_dot, d_ddot = motion.d_dot, motion.d_ddot
+
+    frame = {2: e2, 3: e3, 4: 1.0}
+    Fe: dict[int, Any] = {2: 0.0, 3: 0.0, 4: load4 + 0j}
+    Me: dict[int, Any] = {2: 0.0, 3: 0.0, 4: 0.0}
+    if g:
+        for k, mk, gk in ((2, m2, g2), (3, m3, g3)):
+            if mk:
+                Fe[k] = Fe[k] - 1j * (mk * g)
+                Me[k] = Me[k] - (mk * g) * gk.real
+        Fe[4] = Fe[4] - 1j * (m4 * g)
+    for load in loads:
+        arm = load.point * frame[load.link]
+        Fe[load.link] = Fe[load.link] + load.force
+        if load.link != 4:  # the slider does not turn: its moment goes to the guide
+            Me[load.link] = Me[load.link] + _cross(arm, np.broadcast_to(load.force, np.shape(arm)))
+    for link, torque in torques:
+        if link != 4:
+            Me[link] = Me[link] + torque
+
+    # F14 = (f0 + κ N) + j N; the slider's force equations give F43 = P0 + N (κ + j).
+    f0 = -beta * d_dot if friction == "viscous" else 0.0 * d_dot
+    P0 = (f0 - m4 * d_ddot) + Fe[4]
+    M3 = I3 * al3 + m3 * _cross(g3, aG3) - Me[3]  # rod: u × F43 = M3 (moments about A)
+
+    def normal(kappa: Any) -> np.ndarray:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (M3 - _cross(u, P0)) / (u.real - kappa * u.imag)
+
+    if friction == "coulomb" and mu:
+        slip = np.sign(d_dot)
+        slip = np.where(slip == 0.0, np.sign(d_ddot), slip)  # impending slip at rest
+        n_plus = normal(-mu * slip)  # assuming N ≥ 0
+        n_minus = normal(mu * slip)  # assuming N ≤ 0
+        fits_plus = n_plus >= 0.0
+        fits_minus = n_minus <= 0.0
+        N = np.where(fits_plus, n_plus, n_minus)
+        kappa = np.where(fits_plus, -mu * slip, mu * slip)
+        ambiguous = (fits_plus == fits_minus) & ~((n_plus == 0.0) & (n_minus == 0.0))
+        status[(status == OK) & ambiguous] = _SC_JAM
+        status[(status == OK) & (slip == 0.0)] = _SC_STICK
+    else:
+        kappa = 0.0
+        N = normal(0.0)
+    F14 = (f0 + kappa * N) + 1j * N
+    F43 = P0 + N * (kappa + 1j)
+    F32 = F43 + Fe[3] - m3 * aG3
+    F12 = m2 * aG2 - F32 - Fe[2]
+    T12 = I2 * al2 + m2 * _cross(g2, aG2) - _cross(A, F32) - Me[2]
+
+    shape = np.shape(status)
+    results = [np.broadcast_to(x, shape) for x in (T12, F12, F32, F43, F14)]
+    bad = status != OK
+    if bad.any():
+        results = [np.where(bad, np.nan, x) for x in results]
+    T12, F12, F32, F43, F14 = results
+    return SliderCrankForces(
+        T12=T12,
+        F12=F12,
+        F32=F32,
+        F43=F43,
+        F14=F14,
+        shaking_force=-(F12 + F14),
+        shaking_moment=-T12 - _cross(B, F14),
+        motion=motion,
+        status=status,
+        friction=friction,
+    )
+
+
+def _sequence(field: str, value: Any, n: int, names: str) -> tuple[Any, ...]:
+    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
+        raise InputError(field, f"must be a sequence {names}, got {value!r}")
+    items = tuple(value)
+    if len(items) != n:
+        raise InputError(field, f"must have exactly {n} values {names}, got {len(items)}")
+    return items
+
+
+def slidercrank_dynamics(
+    slidercrank: Any,
+    theta2: Any,
+    omega2: Any,
+    alpha2: Any = 0.0,
+    *,
+    mass: Sequence[float],
+    inertia: Sequence[float],
+    cg: Sequence[complex],
+    form: int = 1,
+    gravity: float = 0.0,
+    load_force4: Any = 0.0,
+    friction: str = "smooth",
+    mu: float = 0.0,
+    beta: float = 0.0,
+    external_forces: Iterable[Any] = (),
+    external_torques: Any = (),
+) -> SliderCrankForces:
+    """Joint forces and driving torque of a slider-crank (Norton sec. 11.6).
+
+    Links: 2 crank, 3 connecting rod, 4 slider on a guide along +x (the ground).
+    Unknowns ``F12, F32, F43`` (2 components each), the guide's normal force
+    ``N`` and ``T12``: the crank's and rod's three equations and the slider's
+    two force equations (its moment equation only locates ``N`` along the
+    guide and is not used: the slider's forces are taken concurrent at B).
+
+    Parameters
+    ----------
+    slidercrank : machdyn.slidercrank.SliderCrank
+    theta2, omega2, alpha2 : array_like
+        Crank angle (rad), angular velocity and acceleration.
+    mass : (m2, m3, m4)
+        Crank, rod and slider masses.
+    inertia : (IG2, IG3)
+        Crank and rod moments of inertia about their centres of mass.
+    cg : (c2, c3)
+        Centres of mass of crank (frame: origin O2, x toward A) and rod
+        (origin A, x toward B), complex.
+    form : {1, 2}
+        As in :meth:`SliderCrank.solve`.
+    gravity : float
+        ``g ≥ 0`` along −y.
+    load_force4 : array_like
+        External force on the slider along the slide (+x), e.g. the gas force
+        on a piston.
+    friction : {"smooth", "coulomb", "viscous"}
+        Friction of the guide on the slider: none; Coulomb ``F = −μ |N| sign(ḋ)``
+        (the sign of ``N`` is found by solving both cases and keeping the
+        consistent one; at rest the impending slip direction ``sign(d̈)`` is
+        used); or viscous ``F = −β ḋ``.
+    mu, beta : float
+        Coulomb coefficient and viscous damping coefficient (≥ 0).
+    external_forces, external_torques
+        As in :func:`fourbar_dynamics`; links 2 (crank), 3 (rod), 4 (slider).
+
+    Returns
+    -------
+    SliderCrankForces
+
+    Examples
+    --------
+    A static piston load ``−F`` along x needs ``T12 ω2 = −F ḋ``:
+
+    >>> from machdyn.slidercrank import SliderCrank
+    >>> sc = SliderCrank(2.0, 6.0)
+    >>> f = slidercrank_dynamics(sc, np.radians(60), 1.0, mass=(0, 0, 0),
+    ...                          inertia=(0, 0), cg=(0, 0), load_force4=-100.0)
+    >>> bool(np.isclose(f.T12, 100.0 * f.motion.d_dot))
+    True
+    """
+    motion = slidercrank.solve(theta2, omega2, alpha2, form)
+    return slidercrank_forces(
+        slidercrank,
+        motion,
+        mass=mass,
+        inertia=inertia,
+        cg=cg,
+        gravity=gravity,
+        load_force4=load_force4,
+        friction=friction,
+        mu=mu,
+        beta=beta,
+        external_forces=external_forces,
+        external_torques=external_torques,
+    )
