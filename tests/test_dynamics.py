@@ -469,3 +469,57 @@ def test_link_equations_gravity_and_bad_sign():
     np.testing.assert_allclose(eq.rhs, [0, 20, 0])
     with pytest.raises(InputError):
         link_equations(2, 1, 0, 0, {"F12": (1, 2)})
+
+
+# --------------------------------------------------------------------------------------
+# Property test: the power balance on random crank-rockers, masses and loads
+
+from hypothesis import given  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_lengths = st.tuples(*(st.floats(1.0, 10.0) for _ in range(4)))
+_positive = st.floats(0.1, 5.0)
+_coord = st.floats(-3.0, 3.0)
+
+
+@given(
+    lengths=_lengths,
+    masses=st.tuples(_positive, _positive, _positive),
+    inertias=st.tuples(_positive, _positive, _positive),
+    cgs=st.tuples(*(st.tuples(_coord, _coord) for _ in range(3))),
+    omega2=st.floats(-30.0, 30.0),
+    alpha2=st.floats(-50.0, 50.0),
+    t4=st.floats(-10.0, 10.0),
+)
+def test_power_balance_property(lengths, masses, inertias, cgs, omega2, alpha2, t4):
+    from hypothesis import assume
+
+    try:
+        fb = FourBar(*lengths)
+    except Exception:
+        assume(False)
+    assume(fb.is_grashof and 2 in fb.cranks)  # change points: see the report (fourbar.py)
+    cg = tuple(complex(x, y) for x, y in cgs)
+    case = Case(fb, masses, inertias, cg, gravity=G, t4=t4)
+    motion = fb.solve(np.linspace(0, 2 * np.pi, 37), omega2, alpha2)
+    f = case.forces(motion)
+    ok = f.ok
+    assume(ok.sum() > 10)
+    k = kinematics(fb, motion, cg)
+    rhs = sum(
+        mk * dot(k["vG"][j], k["aG"][j]) + ik * k["om"][j] * k["al"][j] + mk * G * k["vG"][j].imag
+        for j, mk, ik in zip((2, 3, 4), masses, inertias, strict=True)
+    )
+    lhs = f.T12 * motion.omega2 + t4 * motion.omega4
+    # scale: the largest power term of the sample
+    scale = np.abs(f.T12 * motion.omega2) + np.abs(rhs) + abs(t4 * motion.omega4) + 1e-300
+    assert np.all(np.abs(lhs - rhs)[ok] <= 1e-8 * np.max(scale[ok]))
+
+
+def test_plot_draws_lines():
+    fb = FourBar(8, 4, 7, 6)
+    f = fourbar_dynamics(
+        fb, np.linspace(0, 2 * np.pi, 10), 1.0, mass=(1, 1, 1), inertia=(1, 1, 1), cg=(1, 1, 1)
+    )
+    ax = f.plot()
+    assert len(ax.lines) == 5
