@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
 
 from machdyn.dynamics import (
     FORCE_REASONS,
@@ -474,8 +476,6 @@ def test_link_equations_gravity_and_bad_sign():
 # --------------------------------------------------------------------------------------
 # Property test: the power balance on random crank-rockers, masses and loads
 
-from hypothesis import given  # noqa: E402
-from hypothesis import strategies as st  # noqa: E402
 
 _lengths = st.tuples(*(st.floats(1.0, 10.0) for _ in range(4)))
 _positive = st.floats(0.1, 5.0)
@@ -492,8 +492,6 @@ _coord = st.floats(-3.0, 3.0)
     t4=st.floats(-10.0, 10.0),
 )
 def test_power_balance_property(lengths, masses, inertias, cgs, omega2, alpha2, t4):
-    from hypothesis import assume
-
     try:
         fb = FourBar(*lengths)
     except Exception:
@@ -523,3 +521,45 @@ def test_plot_draws_lines():
     )
     ax = f.plot()
     assert len(ax.lines) == 5
+
+
+def test_pint_quantities_are_converted_once():
+    """Lengths in mm, masses in g, inertia in g·cm²: results in kg·mm/s² (forces) and
+    kg·mm²/s² (torques); compare to the same linkage in plain SI numbers."""
+    pint = pytest.importorskip("pint")
+    u = pint.UnitRegistry()
+    fb_mm = FourBar(80 * u.mm, 40 * u.mm, 70 * u.mm, 60 * u.mm)
+    fb_m = FourBar(0.08, 0.04, 0.07, 0.06)
+    theta2 = np.radians([10.0, 100.0, 250.0])
+    f_mm = fourbar_dynamics(
+        fb_mm,
+        theta2,
+        20.0,
+        mass=(100 * u.g, 250 * u.g, 180 * u.g),
+        inertia=(80 * u.g * u.cm**2, 310 * u.g * u.cm**2, 140 * u.g * u.cm**2),
+        cg=(2 * u.cm, (35 + 5j) * u.mm, 0.03 * u.m),
+        gravity=9.81 * u.m / u.s**2,
+        load_torque4=-0.5 * u.N * u.m,
+    )
+    f_m = fourbar_dynamics(
+        fb_m,
+        theta2,
+        20.0,
+        mass=(0.1, 0.25, 0.18),
+        inertia=(80e-7, 310e-7, 140e-7),
+        cg=(0.02, 0.035 + 0.005j, 0.03),
+        gravity=9.81,
+        load_torque4=-0.5,
+    )
+    np.testing.assert_allclose(f_mm.F32 * 1e-3, f_m.F32, rtol=1e-12)
+    np.testing.assert_allclose(f_mm.T12 * 1e-6, f_m.T12, rtol=1e-12)
+    with pytest.raises(InputError) as err:
+        fourbar_dynamics(fb_m, 0.3, 1.0, mass=(1 * u.m, 1, 1), inertia=(1, 1, 1), cg=(0, 0, 0))
+    assert err.value.field == "mass m2"
+
+
+def test_motion_of_another_linkage_is_rejected():
+    motion = FourBar(8, 4, 7, 6).solve(0.3, 1.0)
+    with pytest.raises(InputError) as err:
+        fourbar_forces(FourBar(8, 4, 7, 5), motion, mass=(1, 1, 1), inertia=(1, 1, 1), cg=(0, 0, 0))
+    assert err.value.field == "motion"

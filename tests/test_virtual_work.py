@@ -177,3 +177,13 @@ def test_bad_input():
         mechanical_advantage(1j, 1.0)
     with pytest.raises(InputError):
         fourbar_input_torque(FourBar(8, 4, 7, 6), 0.3, mass=(1, 2), inertia=(1, 1, 1))
+
+
+def test_pint_quantities_in_si_base_units():
+    pint = pytest.importorskip("pint")
+    u = pint.UnitRegistry()
+    t12 = virtual_work(
+        0.5 * u.rad / u.s,
+        [(-1000 * u.kg * 9.81 * u.m / u.s**2 * 1j, (8.896 + 108.6j) * u.cm / u.s)],
+    )
+    assert float(t12) == pytest.approx(21307.32, rel=1e-6)  # N·m

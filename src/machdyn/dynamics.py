@@ -53,7 +53,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import choice, finite_array, finite_scalar, nonnegative
+from ._validate import choice, finite_array, finite_scalar, magnitude, nonnegative
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
 
@@ -71,6 +71,7 @@ __all__ = [
     "link_properties",
     "slidercrank_dynamics",
     "slidercrank_forces",
+    "unit_system",
 ]
 
 #: Why a sample has no force solution (indexed by the motion's status code).
@@ -122,7 +123,33 @@ def _triple(field: str, value: Any) -> tuple[Any, Any, Any]:
     return items  # type: ignore[return-value]
 
 
-def _complex_scalar(field: str, value: Any) -> complex:
+def unit_system(length_unit: str | None) -> dict[str, str]:
+    """Units that pint quantities are converted to, given the model's length unit.
+
+    The numeric API works in any consistent system; quantities are converted
+    once at the boundary to kilograms, seconds and the linkage's length unit
+    (metres if its lengths were plain numbers), and results are in the same
+    system (forces in kg·L/s², torques in kg·L²/s²).
+
+    Examples
+    --------
+    >>> unit_system("mm")["force"]
+    'kg * mm / s ** 2'
+    """
+    length = length_unit or "m"
+    return {
+        "mass": "kg",
+        "inertia": f"kg * {length} ** 2",
+        "length": length,
+        "acceleration": f"{length} / s ** 2",
+        "force": f"kg * {length} / s ** 2",
+        "torque": f"kg * {length} ** 2 / s ** 2",
+        "damping": "kg / s",
+    }
+
+
+def _complex_scalar(field: str, value: Any, unit: str | None = None) -> complex:
+    value = magnitude(value, unit, field)
     try:
         out = complex(value)
     except (TypeError, ValueError):
@@ -134,7 +161,9 @@ def _complex_scalar(field: str, value: Any) -> complex:
     return out
 
 
-def link_properties(mass: Any, inertia: Any, cg: Any) -> LinkProperties:
+def link_properties(
+    mass: Any, inertia: Any, cg: Any, length_unit: str | None = None
+) -> LinkProperties:
     """Check the mass properties of links 2, 3, 4 and return them as plain numbers.
 
     A link either has a positive mass *and* a positive moment of inertia, or
@@ -153,9 +182,14 @@ def link_properties(mass: Any, inertia: Any, cg: Any) -> LinkProperties:
     masses = _triple("mass", mass)
     inertias = _triple("inertia", inertia)
     cgs = _triple("cg", cg)
-    m = tuple(nonnegative(f"mass m{k}", v) for k, v in zip(_MOVING_LINKS, masses, strict=True))
+    units = unit_system(length_unit)
+    m = tuple(
+        nonnegative(f"mass m{k}", v, units["mass"])
+        for k, v in zip(_MOVING_LINKS, masses, strict=True)
+    )
     i = tuple(
-        nonnegative(f"inertia IG{k}", v) for k, v in zip(_MOVING_LINKS, inertias, strict=True)
+        nonnegative(f"inertia IG{k}", v, units["inertia"])
+        for k, v in zip(_MOVING_LINKS, inertias, strict=True)
     )
     for k, mk, ik in zip(_MOVING_LINKS, m, i, strict=True):
         if (mk == 0.0) != (ik == 0.0):
@@ -165,7 +199,10 @@ def link_properties(mass: Any, inertia: Any, cg: Any) -> LinkProperties:
                 "positive moment of inertia; give both positive, or both zero for a "
                 "massless link",
             )
-    c = tuple(_complex_scalar(f"cg c{k}", v) for k, v in zip(_MOVING_LINKS, cgs, strict=True))
+    c = tuple(
+        _complex_scalar(f"cg c{k}", v, units["length"])
+        for k, v in zip(_MOVING_LINKS, cgs, strict=True)
+    )
     return LinkProperties(m, i, c)  # type: ignore[arg-type]
 
 
@@ -189,7 +226,7 @@ class PointLoad:
     force: Any
 
 
-def _point_loads(external_forces: Any) -> tuple[PointLoad, ...]:
+def _point_loads(external_forces: Any, units: dict[str, str]) -> tuple[PointLoad, ...]:
     if isinstance(external_forces, PointLoad):
         external_forces = (external_forces,)
     out = []
@@ -205,8 +242,8 @@ def _point_loads(external_forces: Any) -> tuple[PointLoad, ...]:
                     field, f"expected (link, point, force) or a PointLoad, got {item!r}"
                 ) from None
         link = choice(f"{field} link", link, _MOVING_LINKS)
-        point = _complex_scalar(f"{field} point", point)
-        force = np.asarray(force)
+        point = _complex_scalar(f"{field} point", point, units["length"])
+        force = np.asarray(magnitude(force, units["force"], f"{field} force"))
         if not np.iscomplexobj(force):
             force = finite_array(f"{field} force", force)
         elif not np.isfinite(force).all():
@@ -215,7 +252,7 @@ def _point_loads(external_forces: Any) -> tuple[PointLoad, ...]:
     return tuple(out)
 
 
-def _torques(external_torques: Any) -> tuple[tuple[int, np.ndarray], ...]:
+def _torques(external_torques: Any, units: dict[str, str]) -> tuple[tuple[int, np.ndarray], ...]:
     items = external_torques.items() if isinstance(external_torques, Mapping) else external_torques
     out = []
     for n, item in enumerate(items):
@@ -225,8 +262,18 @@ def _torques(external_torques: Any) -> tuple[tuple[int, np.ndarray], ...]:
         except (TypeError, ValueError):
             raise InputError(field, f"expected (link, torque), got {item!r}") from None
         link = choice(f"{field} link", link, _MOVING_LINKS)
-        out.append((link, finite_array(f"{field} torque", torque)))
+        out.append((link, finite_array(f"{field} torque", torque, units["torque"])))
     return tuple(out)
+
+
+def _check_model(model: Any, motion: Any) -> None:
+    lengths = getattr(model, "lengths", None)
+    if lengths is not None and tuple(motion.lengths) != tuple(lengths):
+        raise InputError(
+            "motion",
+            f"was solved for lengths {tuple(motion.lengths)}, not for {model!r}; "
+            "pass the motion of this linkage",
+        )
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -366,11 +413,13 @@ def fourbar_forces(
     >>> f.T12.shape, bool(f.ok.all())
     ((2,), True)
     """
-    props = link_properties(mass, inertia, cg)
-    g = nonnegative("gravity", gravity)
-    loads = _point_loads(external_forces)
-    torques = list(_torques(external_torques))
-    torques.append((4, finite_array("load_torque4", load_torque4)))
+    _check_model(fourbar, motion)
+    units = unit_system(fourbar.length_unit)
+    props = link_properties(mass, inertia, cg, fourbar.length_unit)
+    g = nonnegative("gravity", gravity, units["acceleration"])
+    loads = _point_loads(external_forces, units)
+    torques = list(_torques(external_torques, units))
+    torques.append((4, finite_array("load_torque4", load_torque4, units["torque"])))
 
     m2, m3, m4 = props.mass
     I2, I3, I4 = props.inertia
@@ -789,16 +838,20 @@ def slidercrank_forces(
     masses = _triple("mass", mass)
     inertias = tuple(_sequence("inertia", inertia, 2, "(IG2, IG3)"))
     cgs = tuple(_sequence("cg", cg, 2, "(c2, c3)"))
-    props = link_properties(masses, (*inertias, 1.0 if masses[2] else 0.0), (*cgs, 0.0))
+    units = unit_system(slidercrank.length_unit)
+    m4 = nonnegative("mass m4", masses[2], units["mass"])
+    props = link_properties(
+        (*masses[:2], m4), (*inertias, 1.0 if m4 else 0.0), (*cgs, 0.0), slidercrank.length_unit
+    )
     m2, m3, m4 = props.mass
     I2, I3, _ = props.inertia
     c2, c3, _ = props.cg
-    g = nonnegative("gravity", gravity)
-    mu = nonnegative("mu", mu)
-    beta = nonnegative("beta", beta)
-    loads = _point_loads(external_forces)
-    torques = _torques(external_torques)
-    load4 = finite_array("load_force4", load_force4)
+    g = nonnegative("gravity", gravity, units["acceleration"])
+    mu = nonnegative("mu", mu, "")
+    beta = nonnegative("beta", beta, units["damping"])
+    loads = _point_loads(external_forces, units)
+    torques = _torques(external_torques, units)
+    load4 = finite_array("load_force4", load_force4, units["force"])
     a, b = slidercrank.a, slidercrank.b
 
     status = np.array(motion.status, dtype=np.uint8, copy=True)

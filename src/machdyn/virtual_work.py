@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from ._validate import finite_array, nonnegative
-from .dynamics import FORCE_REASONS, _point_loads, _torques, link_properties
+from .dynamics import FORCE_REASONS, _point_loads, _torques, link_properties, unit_system
 from .errors import InputError, SingularityError
 from .fourbar import OK, TOGGLE, FourBar, FourBarMotion
 
@@ -40,6 +40,8 @@ __all__ = [
 
 
 def _as_complex(field: str, value: Any) -> np.ndarray:
+    if hasattr(value, "magnitude") and hasattr(value, "to_base_units"):
+        value = value.to_base_units().magnitude  # pint: SI base units, so powers add up
     try:
         out = np.asarray(value, dtype=complex)
     except (TypeError, ValueError):
@@ -258,11 +260,12 @@ def fourbar_input_torque(
     >>> bool(np.isclose(vw.T12, 10.0 * m.omega4))
     True
     """
-    props = link_properties(mass, inertia, cg)
-    g = nonnegative("gravity", gravity)
-    loads = _point_loads(external_forces)
-    torques = list(_torques(external_torques))
-    load4 = finite_array("load_torque4", load_torque4)
+    units = unit_system(fourbar.length_unit)
+    props = link_properties(mass, inertia, cg, fourbar.length_unit)
+    g = nonnegative("gravity", gravity, units["acceleration"])
+    loads = _point_loads(external_forces, units)
+    torques = list(_torques(external_torques, units))
+    load4 = finite_array("load_torque4", load_torque4, units["torque"])
     motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
     # Kinematic coefficients: the same poses at unit input speed, no acceleration.
     unit = fourbar.solve(motion.theta2, 1.0, 0.0, form, branch=branch)
