@@ -67,6 +67,7 @@ __all__ = [
     "SliderCrankForces",
     "fourbar_dynamics",
     "fourbar_forces",
+    "from_bodies",
     "link_equations",
     "link_properties",
     "slidercrank_dynamics",
@@ -166,9 +167,10 @@ def link_properties(
 ) -> LinkProperties:
     """Check the mass properties of links 2, 3, 4 and return them as plain numbers.
 
-    A link either has a positive mass *and* a positive moment of inertia, or
-    is massless (both zero, for kinetostatics). Negative, non-finite, or
-    half-massless values are rejected.
+    Masses and inertias are ≥ 0: a link with zero mass and inertia is
+    massless (kinetostatics); a positive mass with zero inertia is a point
+    mass (Norton's lumped-mass models, :func:`machdyn.massprops.point_mass`).
+    Negative or non-finite values, and an inertia without mass, are rejected.
 
     Examples
     --------
@@ -192,18 +194,43 @@ def link_properties(
         for k, v in zip(_MOVING_LINKS, inertias, strict=True)
     )
     for k, mk, ik in zip(_MOVING_LINKS, m, i, strict=True):
-        if (mk == 0.0) != (ik == 0.0):
+        if mk == 0.0 and ik != 0.0:
             raise InputError(
-                f"mass m{k}" if mk == 0.0 else f"inertia IG{k}",
-                f"link {k} has m{k} = {mk:g} and IG{k} = {ik:g}: a link with mass has a "
-                "positive moment of inertia; give both positive, or both zero for a "
-                "massless link",
+                f"mass m{k}",
+                f"link {k} has no mass but IG{k} = {ik:g}; give its mass (> 0), or "
+                f"IG{k} = 0 for a massless link",
             )
     c = tuple(
         _complex_scalar(f"cg c{k}", v, units["length"])
         for k, v in zip(_MOVING_LINKS, cgs, strict=True)
     )
     return LinkProperties(m, i, c)  # type: ignore[arg-type]
+
+
+def from_bodies(*bodies: Any) -> dict[str, tuple[Any, ...]]:
+    """``mass=, inertia=, cg=`` keyword arguments from one body per moving link.
+
+    Each body has ``.mass``, ``.cg`` (complex, in the link's frame) and
+    ``.inertia`` (about the centre of mass), e.g. a
+    :class:`machdyn.massprops.MassProperties`.
+
+    Examples
+    --------
+    >>> from machdyn.massprops import rod
+    >>> kw = from_bodies(rod(1.0, 4.0), rod(2.0, 7.0), rod(1.5, 6.0))
+    >>> kw["cg"]
+    ((2+0j), (3.5+0j), (3+0j))
+    """
+    try:
+        return {
+            "mass": tuple(b.mass for b in bodies),
+            "inertia": tuple(b.inertia for b in bodies),
+            "cg": tuple(complex(b.cg) for b in bodies),
+        }
+    except AttributeError:
+        raise InputError(
+            "bodies", "each body needs .mass, .cg and .inertia (e.g. massprops.rod(...))"
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -525,7 +552,7 @@ def fourbar_dynamics(
         Input angle (rad), angular velocity and acceleration of link 2;
         broadcast against each other.
     mass : (m2, m3, m4)
-        Link masses (≥ 0; a link is massless only with zero inertia too).
+        Link masses (≥ 0; a massless link has zero inertia too).
     inertia : (IG2, IG3, IG4)
         Moments of inertia about the centres of mass.
     cg : (c2, c3, c4)
