@@ -424,6 +424,9 @@ def test_unassemblable_samples_are_flagged():
         (dict(external_forces=[(3, 1.0, float("inf"))]), "external_forces[0] force"),
         (dict(external_torques=[(1, 2.0)]), "external_torques[0] link"),
         (dict(load_torque4=float("nan")), "load_torque4"),
+        (dict(external_forces=[(3, 1.0, np.ones(4))]), "external_forces[0] force"),
+        (dict(load_torque4=np.ones(2)), "load_torque4"),
+        (dict(external_torques={3: np.ones(3)}), "external_torques[0] torque"),
     ],
 )
 def test_bad_input_names_the_field(kwargs, field):

@@ -303,6 +303,26 @@ def _check_model(model: Any, motion: Any) -> None:
         )
 
 
+def _check_sample_shapes(
+    shape: tuple[int, ...], loads: Any, torques: Any, load4: tuple[str, Any]
+) -> None:
+    """Per-sample loads must broadcast to the motion's samples, not enlarge them."""
+    named = [(f"external_forces[{n}] force", ld.force) for n, ld in enumerate(loads)]
+    named += [(f"external_torques[{n}] torque", t) for n, (_, t) in enumerate(torques)]
+    named.append(load4)
+    for field, value in named:
+        try:
+            ok = np.broadcast_shapes(np.shape(value), shape) == shape
+        except ValueError:
+            ok = False
+        if not ok:
+            raise InputError(
+                field,
+                f"has shape {np.shape(value)}; give one value or one per sample "
+                f"(the motion has shape {shape})",
+            )
+
+
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """The z component of ``u × v`` for planar vectors given as complex numbers."""
     return u.real * v.imag - u.imag * v.real
@@ -446,7 +466,9 @@ def fourbar_forces(
     g = nonnegative("gravity", gravity, units["acceleration"])
     loads = _point_loads(external_forces, units)
     torques = list(_torques(external_torques, units))
-    torques.append((4, finite_array("load_torque4", load_torque4, units["torque"])))
+    load4 = finite_array("load_torque4", load_torque4, units["torque"])
+    _check_sample_shapes(np.shape(motion.status), loads, torques, ("load_torque4", load4))
+    torques.append((4, load4))
 
     m2, m3, m4 = props.mass
     I2, I3, I4 = props.inertia
@@ -879,6 +901,7 @@ def slidercrank_forces(
     loads = _point_loads(external_forces, units)
     torques = _torques(external_torques, units)
     load4 = finite_array("load_force4", load_force4, units["force"])
+    _check_sample_shapes(np.shape(motion.status), loads, torques, ("load_force4", load4))
     a, b = slidercrank.a, slidercrank.b
 
     status = np.array(motion.status, dtype=np.uint8, copy=True)
