@@ -26,9 +26,16 @@ from typing import Any
 import numpy as np
 
 from ._validate import finite_array, nonnegative
-from .dynamics import FORCE_REASONS, _point_loads, _torques, link_properties, unit_system
+from .dynamics import (
+    FORCE_REASONS,
+    _check_sample_shapes,
+    _point_loads,
+    _torques,
+    link_properties,
+    unit_system,
+)
 from .errors import InputError, SingularityError
-from .fourbar import OK, TOGGLE, FourBar, FourBarMotion
+from .fourbar import OK, TOGGLE, FourBar, FourBarMotion, velocities
 
 __all__ = [
     "InputTorque",
@@ -267,15 +274,16 @@ def fourbar_input_torque(
     torques = list(_torques(external_torques, units))
     load4 = finite_array("load_torque4", load_torque4, units["torque"])
     motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
-    # Kinematic coefficients: the same poses at unit input speed, no acceleration.
-    unit = fourbar.solve(motion.theta2, 1.0, 0.0, form, branch=branch)
+    _check_sample_shapes(np.shape(motion.status), loads, torques, ("load_torque4", load4))
     r1, r2, r3, r4 = fourbar.lengths
+    # Kinematic coefficients ∂θ3/∂θ2, ∂θ4/∂θ2: the velocity solution at unit input speed.
+    h3, h4 = velocities(r2, r3, r4, motion.theta2, motion.theta3, motion.theta4, 1.0)
 
     A, B = motion.A, motion.B
     e = {2: A / r2, 3: (B - A) / r3, 4: (B - r1) / r4}
     omega = {2: motion.omega2, 3: motion.omega3, 4: motion.omega4}
     alpha = {2: motion.alpha2, 3: motion.alpha3, 4: motion.alpha4}
-    h = {2: 1.0, 3: unit.omega3, 4: unit.omega4}  # ∂θ/∂θ2
+    h = {2: 1.0, 3: h3, 4: h4}  # ∂θ/∂θ2
     dA = 1j * A  # ∂A/∂θ2
     accel_origin = {2: 0.0, 3: A * (1j * motion.alpha2 - motion.omega2**2), 4: 0.0}
     rate_origin = {2: 0.0, 3: dA, 4: 0.0}
@@ -298,7 +306,7 @@ def fourbar_input_torque(
     generalized = generalized + load4 * h[4]
 
     status = np.array(motion.status, dtype=np.uint8, copy=True)
-    status[(status == OK) & ~np.isfinite(unit.omega4)] = TOGGLE
+    status[(status == OK) & ~(np.isfinite(h3) & np.isfinite(h4))] = TOGGLE
     T12 = np.broadcast_to(-generalized, status.shape)
     T12 = np.where(status == OK, T12, np.nan)
     return InputTorque(T12=T12, motion=motion, status=status)
