@@ -279,6 +279,7 @@ def test_shaking_force_and_moment_are_the_ground_reactions(case):
     np.testing.assert_allclose(f.shaking_force, fs, atol=1e-11 * scale)
     np.testing.assert_allclose(f.shaking_moment, ms, atol=1e-10 * np.max(np.abs(ms)))
     np.testing.assert_allclose(f.F21 + f.F41, f.shaking_force)
+    np.testing.assert_array_equal(f.shaking_torque, -f.T12)
 
 
 def test_static_output_torque_by_velocity_ratio():

@@ -380,6 +380,11 @@ class FourBarForces:
         return np.asarray(FORCE_REASONS, dtype=object)[self.status]
 
     @property
+    def shaking_torque(self) -> np.ndarray:
+        """Norton's shaking torque ``Ts = T21 = −T12``: the reaction of the drive on the ground."""
+        return -self.T12
+
+    @property
     def F21(self) -> np.ndarray:
         """Force of link 2 on the ground, ``−F12``."""
         return -self.F12
@@ -816,6 +821,11 @@ class SliderCrankForces:
     def reason(self) -> np.ndarray:
         """Why each sample was not solved (empty string where it was)."""
         return np.asarray(SLIDER_REASONS, dtype=object)[self.status]
+
+    @property
+    def shaking_torque(self) -> np.ndarray:
+        """Norton's shaking torque ``Ts = T21 = −T12``: the reaction of the drive on the ground."""
+        return -self.T12
 
     @property
     def N(self) -> np.ndarray:
