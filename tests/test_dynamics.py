@@ -588,3 +588,18 @@ def test_motion_of_another_linkage_is_rejected():
     with pytest.raises(InputError) as err:
         fourbar_forces(FourBar(8, 4, 7, 5), motion, mass=(1, 1, 1), inertia=(1, 1, 1), cg=(0, 0, 0))
     assert err.value.field == "motion"
+
+
+def test_many_samples_in_blocks_match_single_samples():
+    """Beyond one processing block (2**14 samples) per-sample loads stay aligned."""
+    fb = FourBar(8, 4, 7, 6)
+    n = 40_000
+    theta2 = np.linspace(0, 2 * np.pi, n)
+    kw = dict(mass=(1, 2, 3), inertia=(1, 2, 3), cg=(1, 2 + 1j, 3))
+    f = fourbar_dynamics(fb, theta2, 3.0, external_forces=[(3, 1.0, np.arange(n) * 1j)], **kw)
+    pick = np.array([0, 16383, 16384, 32768, n - 1])
+    g = fourbar_dynamics(fb, theta2[pick], 3.0, external_forces=[(3, 1.0, pick * 1j)], **kw)
+    np.testing.assert_allclose(f.T12[pick], g.T12, rtol=1e-13)
+    np.testing.assert_allclose(f.F14[pick], g.F14, rtol=1e-13)
+    empty = fourbar_dynamics(fb, np.array([]), 3.0, **kw)
+    assert empty.T12.shape == (0,) and len(empty) == 0

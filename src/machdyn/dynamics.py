@@ -439,6 +439,85 @@ class FourBarForces:
 # The solver
 
 
+#: Samples are processed in blocks of this size (keeps temporaries in cache).
+_CHUNK = 1 << 14
+
+
+def _fourbar_newton_euler(
+    lengths: tuple[float, float, float, float],
+    props: LinkProperties,
+    g: float,
+    loads: list[tuple[int, complex, np.ndarray]],
+    torques: list[tuple[int, np.ndarray]],
+    A: np.ndarray,
+    B: np.ndarray,
+    w2: np.ndarray,
+    w3: np.ndarray,
+    w4: np.ndarray,
+    al2: np.ndarray,
+    al3: np.ndarray,
+    al4: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """Norton eq. 11.10 eliminated in closed form, for flat arrays of samples."""
+    m2, m3, m4 = props.mass
+    I2, I3, I4 = props.inertia
+    c2, c3, c4 = props.cg
+    r1, r2, r3, r4 = lengths
+    e2 = A * (1.0 / r2)  # e^{jθ2}
+    u = B - A  # r3 e^{jθ3}
+    w = B - r1  # r4 e^{jθ4}
+    e3 = u * (1.0 / r3)
+    e4 = w * (1.0 / r4)
+
+    # Centres of mass relative to each link's first joint, and their accelerations.
+    g2 = c2 * e2
+    g3 = c3 * e3
+    g4 = c4 * e4
+    k2 = 1j * al2 - w2 * w2
+    aG2 = g2 * k2
+    aG3 = A * k2 + g3 * (1j * al3 - w3 * w3)
+    aG4 = g4 * (1j * al4 - w4 * w4)
+
+    # External loads: net force on each link and moment about its first joint.
+    frame = {2: e2, 3: e3, 4: e4}
+    Fe: dict[int, Any] = {k: 0.0 for k in _MOVING_LINKS}
+    Me: dict[int, Any] = {k: 0.0 for k in _MOVING_LINKS}
+    if g:
+        for k, mk, gk in ((2, m2, g2), (3, m3, g3), (4, m4, g4)):
+            if mk:
+                Fe[k] = Fe[k] - 1j * (mk * g)
+                Me[k] = Me[k] - (mk * g) * gk.real  # (G − O) × (−m g j)
+    for link, point, force in loads:
+        arm = point * frame[link]  # P − (first joint), ground frame
+        Fe[link] = Fe[link] + force
+        Me[link] = Me[link] + _cross(arm, np.broadcast_to(force, np.shape(arm)))
+    for link, torque in torques:
+        if torque.ndim or torque:
+            Me[link] = Me[link] + torque
+
+    # Moments of links 3 (about A) and 4 (about O4) give F43.
+    M3 = I3 * al3 + m3 * _cross(g3, aG3) - Me[3]
+    M4 = I4 * al4 + m4 * _cross(g4, aG4) - Me[4]
+    det = _cross(u, w)  # r3 r4 sin(θ4 − θ3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        F43 = (M4 * u + M3 * w) / det
+    F32 = F43 + Fe[3] - m3 * aG3
+    F14 = m4 * aG4 + F43 - Fe[4]
+    F12 = m2 * aG2 - F32 - Fe[2]
+    T12 = I2 * al2 + m2 * _cross(g2, aG2) - _cross(A, F32) - Me[2]
+    return {
+        "T12": T12,
+        "F12": F12,
+        "F32": F32,
+        "F43": F43,
+        "F14": F14,
+        "aG2": aG2,
+        "aG3": aG3,
+        "aG4": aG4,
+        "det": det,
+    }
+
+
 def fourbar_forces(
     fourbar: FourBar,
     motion: FourBarMotion,
@@ -475,68 +554,45 @@ def fourbar_forces(
     _check_sample_shapes(np.shape(motion.status), loads, torques, ("load_torque4", load4))
     torques.append((4, load4))
 
-    m2, m3, m4 = props.mass
-    I2, I3, I4 = props.inertia
-    c2, c3, c4 = props.cg
-    r1, r2, r3, r4 = fourbar.lengths
-
+    r1 = fourbar.r1
     status = np.array(motion.status, dtype=np.uint8, copy=True)
-    A = motion.A
-    B = motion.B
-    e2 = A * (1.0 / r2)  # e^{jθ2}
-    u = B - A  # r3 e^{jθ3}
-    w = B - r1  # r4 e^{jθ4}
-    e3 = u * (1.0 / r3)
-    e4 = w * (1.0 / r4)
-    w2, w3, w4 = motion.omega2, motion.omega3, motion.omega4
-    al2, al3, al4 = motion.alpha2, motion.alpha3, motion.alpha4
+    shape = status.shape
+    n = status.size
 
-    # Centres of mass relative to each link's first joint, and their accelerations.
-    g2 = c2 * e2
-    g3 = c3 * e3
-    g4 = c4 * e4
-    k2 = 1j * al2 - w2 * w2
-    aG2 = g2 * k2
-    aG3 = A * k2 + g3 * (1j * al3 - w3 * w3)
-    aG4 = g4 * (1j * al4 - w4 * w4)
+    def flat(x: Any) -> np.ndarray:
+        x = np.asarray(x)
+        return x if x.ndim == 0 else np.broadcast_to(x, shape).ravel()
 
-    # External loads: net force on each link and moment about its first joint.
-    frame = {2: e2, 3: e3, 4: e4}
-    Fe: dict[int, Any] = {k: 0.0 for k in _MOVING_LINKS}
-    Me: dict[int, Any] = {k: 0.0 for k in _MOVING_LINKS}
-    if g:
-        for k, mk, gk in ((2, m2, g2), (3, m3, g3), (4, m4, g4)):
-            if mk:
-                Fe[k] = Fe[k] - 1j * (mk * g)
-                Me[k] = Me[k] - (mk * g) * gk.real  # (G − O) × (−m g j)
-    for load in loads:
-        arm = load.point * frame[load.link]  # P − (first joint), ground frame
-        Fe[load.link] = Fe[load.link] + load.force
-        Me[load.link] = Me[load.link] + _cross(arm, np.broadcast_to(load.force, np.shape(arm)))
-    for link, torque in torques:
-        if torque.ndim or torque:
-            Me[link] = Me[link] + torque
+    kin = [flat(x) for x in (motion.A, motion.B, motion.omega2, motion.omega3, motion.omega4)]
+    kin += [flat(x) for x in (motion.alpha2, motion.alpha3, motion.alpha4)]
+    flat_loads = [(ld.link, ld.point, flat(ld.force)) for ld in loads]
+    flat_torques = [(link, flat(t)) for link, t in torques]
+    names = ("T12", "F12", "F32", "F43", "F14", "aG2", "aG3", "aG4", "det")
+    out = {k: np.empty(n, dtype=float if k in ("T12", "det") else complex) for k in names}
+    # Chunks keep the temporaries in cache (a loop over blocks, not over samples).
+    for lo in range(0, n, _CHUNK):
+        sl = slice(lo, min(lo + _CHUNK, n))
 
-    # Moments of links 3 (about A) and 4 (about O4) give F43.
-    M3 = I3 * al3 + m3 * _cross(g3, aG3) - Me[3]
-    M4 = I4 * al4 + m4 * _cross(g4, aG4) - Me[4]
-    det = _cross(u, w)  # r3 r4 sin(θ4 − θ3)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        F43 = (M4 * u + M3 * w) / det
-    F32 = F43 + Fe[3] - m3 * aG3
-    F14 = m4 * aG4 + F43 - Fe[4]
-    F12 = m2 * aG2 - F32 - Fe[2]
-    T12 = I2 * al2 + m2 * _cross(g2, aG2) - _cross(A, F32) - Me[2]
+        def part(x: np.ndarray, sl: slice = sl) -> np.ndarray:
+            return x if x.ndim == 0 else x[sl]
 
-    singular = np.abs(det) < 1e-9 * r3 * r4
+        chunk = _fourbar_newton_euler(
+            fourbar.lengths,
+            props,
+            g,
+            [(link, point, part(f)) for link, point, f in flat_loads],
+            [(link, part(t)) for link, t in flat_torques],
+            *(part(x) for x in kin),
+        )
+        for k in names:
+            out[k][sl] = chunk[k]
+    T12, F12, F32, F43, F14, aG2, aG3, aG4, det = (out[k].reshape(shape) for k in names)
+    singular = np.abs(det) < 1e-9 * fourbar.r3 * fourbar.r4
     status[(status == OK) & singular] = TOGGLE
-    shape = np.shape(status)
-    results = [np.broadcast_to(x, shape) for x in (T12, F12, F32, F43, F14)]
     bad = status != OK
     if bad.any():
-        results = [np.where(bad, np.nan, x) for x in results]
-        aG2, aG3, aG4 = (np.where(bad, np.nan, x) for x in (aG2, aG3, aG4))
-    T12, F12, F32, F43, F14 = results
+        for arr in (T12, F12, F32, F43, F14, aG2, aG3, aG4):
+            arr[bad] = np.nan
     return FourBarForces(
         T12=T12,
         F12=F12,
@@ -1030,6 +1086,8 @@ def slidercrank_dynamics(
     ``N`` and ``T12``: the crank's and rod's three equations and the slider's
     two force equations (its moment equation only locates ``N`` along the
     guide and is not used: the slider's forces are taken concurrent at B).
+    Torques on the slider, and the moments of point loads on it, are carried
+    by the guide and do not change the other forces.
 
     Parameters
     ----------
