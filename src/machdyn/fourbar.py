@@ -37,6 +37,7 @@ import numpy as np
 
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._validate import as_array, choice, common_length_unit, finite_array, finite_scalar
+from ._parallel import for_slices
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
 
@@ -168,13 +169,35 @@ def positions(
     (58.8114, 93.5833, True)
     """
     theta2 = as_array("theta2", theta2)
-    e3x, e3y, e4x, e4y, status = _unit_vectors(
-        r1, r2, r3, r4, np.cos(theta2), np.sin(theta2), float(branch)
-    )
-    ok = status == OK
-    theta3 = np.where(ok, wrap_2pi(np.arctan2(e3y, e3x)), np.nan)
-    theta4 = np.where(ok, wrap_2pi(np.arctan2(e4y, e4x)), np.nan)
-    return theta3, theta4, ok
+    flat = theta2.ravel()
+    theta3 = np.empty(flat.shape)
+    theta4 = np.empty(flat.shape)
+    ok = np.empty(flat.shape, dtype=bool)
+
+    def kernel(part: slice) -> None:
+        for lo in range(part.start, part.stop, _CHUNK):
+            sl = slice(lo, min(lo + _CHUNK, part.stop))
+            t2 = flat[sl]
+            e3x, e3y, e4x, e4y, status = _unit_vectors(
+                r1, r2, r3, r4, np.cos(t2), np.sin(t2), float(branch)
+            )
+            good = status == OK
+            _angle_into(e3y, e3x, good, theta3[sl])
+            _angle_into(e4y, e4x, good, theta4[sl])
+            ok[sl] = good
+
+    for_slices(kernel, flat.size)
+    return theta3.reshape(theta2.shape), theta4.reshape(theta2.shape), ok.reshape(theta2.shape)
+
+
+def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray, out: np.ndarray) -> None:
+    """``out[:] = atan2(y, x)`` wrapped to [0, 2π), NaN where not ``good`` (in place)."""
+    with np.errstate(invalid="ignore"):
+        np.arctan2(y, x, out=out)
+        np.add(out, TWO_PI, out=out, where=out < 0.0)
+    out[out >= TWO_PI] = 0.0  # −ε + 2π rounds to 2π
+    if not good.all():
+        out[~good] = np.nan
 
 
 def velocities(
