@@ -166,7 +166,11 @@ def _check_bcd(b: Any, c: Any, d: Any) -> tuple[float, float, float]:
             raise InputError(name, f"SCCA fractions lie in [0, 1], got {value}")
     if abs(b + c + d - 1.0) > 1e-9:
         raise InputError("b", f"SCCA fractions must satisfy b + c + d = 1, got {b + c + d:.6g}")
-    return b, c, d
+    # Zones narrower than 1e-9 of the rise are taken as absent (their sine
+    # pieces would overflow and change nothing measurable).
+    b = 0.0 if b < 1e-9 else b
+    d = 0.0 if d < 1e-9 else d
+    return b, max(0.0, 1.0 - b - d), d
 
 
 def _scca_shape(b: float, c: float, d: float) -> Shape:
