@@ -392,8 +392,9 @@ class CamProgram:
             nxt = (k + 1) % n
             before, after = ends[k], ends[nxt]
             theta = float(self._starts[nxt])
+            # At the wrap (nxt = 0) the program must be back at level 0.
             s_before = self._levels[k] + before.s[1]
-            s_after = self._levels[nxt] + after.s[0] if nxt else after.s[0]
+            s_after = self._levels[nxt] + after.s[0]
             pairs = (
                 ("s", s_before, s_after),
                 ("v", before.v[1], after.v[0]),

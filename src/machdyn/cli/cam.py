@@ -290,9 +290,7 @@ def _sizing(kind: str, motion: cams.Motion, opts: dict[str, Any], limit: float) 
     )
 
 
-def _follower_text(
-    profile: cams.CamProfile, kind: str, fol_opts: dict[str, Any] | None = None
-) -> str:
+def _follower_text(profile: cams.CamProfile, kind: str) -> str:
     if kind == "flat":
         return f"translating flat-faced, base radius Rb = {profile.base_radius:g}"
     return (
