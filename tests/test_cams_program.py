@@ -188,3 +188,14 @@ def test_degrees_typed_by_hand_close_the_turn():
         ]
     )
     assert program.starts[-1] == pytest.approx(4 * np.pi / 3, abs=1e-12)
+
+
+def test_pint_angles_and_speed_are_converted_at_the_boundary():
+    pint = pytest.importorskip("pint")
+    ureg = pint.UnitRegistry()
+    seg = Segment("rise", 60 * ureg.degree, 1.0, "cycloidal")
+    assert seg.beta == pytest.approx(np.pi / 3)
+    timed = double_dwell("cycloidal").sample(36).in_time(100 * ureg.rpm)
+    assert timed.omega == pytest.approx(2 * np.pi * 100 / 60)
+    with pytest.raises(InputError, match="cannot be expressed in radian"):
+        Segment("rise", 60 * ureg.meter, 1.0, "cycloidal")

@@ -375,7 +375,7 @@ class CamProfile:
         face_width : float, optional
             Flat face: the width you have, checked against the least width.
         """
-        limit = positive("max_pressure_angle", max_pressure_angle)
+        limit = positive("max_pressure_angle", max_pressure_angle, "radian")
         out = []
         deg = np.degrees
         if self.rho_pitch is not None:

@@ -255,7 +255,7 @@ class MotionLaw:
         """Evaluate s, v, a, j for a rise ``h`` (negative: fall) over ``beta`` radians."""
         x = _check_x(x)
         h = finite_scalar("h", h)
-        beta = positive("beta", beta)
+        beta = positive("beta", beta, "radian")
         s, v, a, j = self.shape(x)
         return LawValues(h * s, h * v / beta, h * a / beta**2, h * j / beta**3)
 
@@ -296,7 +296,7 @@ class PolynomialLaw(MotionLaw):
         """Evaluate s, v, a, j for a net change ``h`` over ``beta`` radians."""
         x = _check_x(x)
         h = finite_scalar("h", h)
-        beta = positive("beta", beta)
+        beta = positive("beta", beta, "radian")
         c = self.coefficients(h, beta)
         polyval, polyder = np.polynomial.polynomial.polyval, np.polynomial.polynomial.polyder
         out = [polyval(x, c)]

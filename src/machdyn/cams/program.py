@@ -70,7 +70,7 @@ class Segment:
     def __post_init__(self) -> None:
         motion = choice("motion", str(self.motion).lower(), MOTIONS)
         object.__setattr__(self, "motion", motion)
-        object.__setattr__(self, "beta", positive("beta", self.beta))
+        object.__setattr__(self, "beta", positive("beta", self.beta, "radian"))
         law = self.law
         if motion == "dwell":
             law = get_law("dwell")
@@ -128,7 +128,7 @@ class Motion:
         >>> float(m.V.max()) == 2.0 * float(program.sample(8).v.max())
         True
         """
-        omega = positive("omega", omega)
+        omega = positive("omega", omega, "radian / second")
         return TimeMotion(
             t=self.theta / omega,
             theta=self.theta,

@@ -90,7 +90,7 @@ def size_roller(
     m = _as_motion(motion, n)
     rf = nonnegative("roller_radius", roller_radius)
     eps = finite_scalar("eccentricity", eccentricity)
-    limit = positive("max_pressure_angle", max_pressure_angle)
+    limit = positive("max_pressure_angle", max_pressure_angle, "radian")
     if limit >= np.pi / 2:
         raise InputError("max_pressure_angle", "must be below 90°")
     ratio = positive("rho_ratio", rho_ratio)
@@ -165,7 +165,7 @@ def size_oscillating_roller(
     rf = nonnegative("roller_radius", roller_radius)
     c = positive("pivot_distance", pivot_distance)
     arm = positive("arm_length", arm_length)
-    limit = positive("max_pressure_angle", max_pressure_angle)
+    limit = positive("max_pressure_angle", max_pressure_angle, "radian")
     ratio = positive("rho_ratio", rho_ratio)
     lo, hi = max(abs(c - arm), rf), c + arm
 

@@ -167,6 +167,7 @@ def cam(
         typer.Option(
             "--segment",
             "-s",
+            metavar="MOTION:LAW:H:BETA_DEG",
             help="rise:LAW:H:BETA_DEG, fall:LAW:H:BETA_DEG or dwell:BETA_DEG (repeat, in order)",
         ),
     ] = None,
