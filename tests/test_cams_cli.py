@@ -127,6 +127,47 @@ def test_flat_and_oscillating_followers():
     data = json.loads(osc.output)
     assert data["segments"][0]["h"] == pytest.approx(15.0)
     assert data["peaks_per_rad"]["s"] == pytest.approx(np.radians(15))
+    left = runner.invoke(
+        cam_app,
+        [
+            *segs,
+            "--follower",
+            "oscillating",
+            "--prime-radius",
+            "2",
+            "--roller-radius",
+            "0.3",
+            "--pivot-distance",
+            "4",
+            "--arm-length",
+            "3.5",
+            "--pivot-side",
+            "left",
+            "--size",
+        ],
+    )
+    assert left.exit_code == 0, left.output
+    assert "smallest cam: prime radius" in left.output
+    wrong = runner.invoke(
+        cam_app,
+        [
+            *segs,
+            "--follower",
+            "oscillating",
+            "--prime-radius",
+            "2",
+            "--roller-radius",
+            "0.3",
+            "--pivot-distance",
+            "4",
+            "--arm-length",
+            "3.5",
+            "--pivot-side",
+            "up",
+        ],
+    )
+    assert wrong.exception.field == "--pivot-side"
+    assert "right, left" in str(wrong.exception)
 
 
 def test_program_file_and_exports(tmp_path):

@@ -9,6 +9,7 @@ from machdyn import InputError, ModelError
 from machdyn.cams import (
     CamProgram,
     OscillatingRoller,
+    Segment,
     TranslatingFlatFace,
     TranslatingRoller,
     cam_profile,
@@ -111,8 +112,9 @@ def _min_distance_to_surface(cam):
     [
         TranslatingRoller(3.0, 0.6, 0.3),
         OscillatingRoller(2.0, 0.3, pivot_distance=4.0, arm_length=3.5),
+        OscillatingRoller(2.0, 0.3, pivot_distance=4.0, arm_length=3.5, pivot_side="left"),
     ],
-    ids=["translating", "oscillating"],
+    ids=["translating", "oscillating-right", "oscillating-left"],
 )
 def test_roller_on_pitch_curve_touches_surface_without_cutting(follower):
     h = 1.0 if isinstance(follower, TranslatingRoller) else deg(15)
@@ -190,25 +192,65 @@ def test_flat_face_width_rule():
     assert not narrow.passed
 
 
-def test_oscillating_follower_kinematics():
-    follower = OscillatingRoller(2.0, 0.3, pivot_distance=4.0, arm_length=3.5)
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_oscillating_follower_kinematics(side):
+    follower = OscillatingRoller(2.0, 0.3, pivot_distance=4.0, arm_length=3.5, pivot_side=side)
     prog = CamProgram.double_dwell(deg(15), deg(90), deg(90))
     cam = follower.profile(prog, n=3600)
+    pivot = 4.0 if side == "right" else -4.0
     fixed = cam.pitch * np.exp(1j * cam.theta)
-    # The roller centre stays on the arm's circle and starts on the prime circle.
-    np.testing.assert_allclose(np.abs(fixed - 4.0), 3.5, atol=1e-12)
+    # The roller centre stays on the arm's circle, starts on the prime circle, above the x axis.
+    np.testing.assert_allclose(np.abs(fixed - pivot), 3.5, atol=1e-12)
     assert abs(fixed[0]) == pytest.approx(2.0)
-    # It swings by 15° about the pivot.
-    swing = np.angle((fixed - 4.0) / (fixed[0] - 4.0))
-    assert np.degrees(-swing.min()) == pytest.approx(15.0, abs=1e-9)
+    assert fixed.imag.min() > 0
+    # It swings by 15° about the pivot, carrying the roller away from the cam centre.
+    swing = np.angle((fixed - pivot) / (fixed[0] - pivot))
+    assert np.degrees(np.abs(swing).max()) == pytest.approx(15.0, abs=1e-9)
+    assert np.all(np.abs(fixed) >= 2.0 - 1e-12)
+    high = np.argmax(cam.s)
+    assert abs(fixed[high]) > 2.0 + 0.1
     # Curvature and pressure angle against finite differences of the pitch curve.
     dz, rho_fd = _finite_difference_geometry(cam.theta, cam.pitch)
     ok = _smooth(cam.theta, prog.starts)
     np.testing.assert_allclose(1 / cam.rho_pitch[ok], 1 / rho_fd[ok], atol=1e-5)
-    motion_dir = -1j * (fixed - 4.0) / 3.5  # arm turns clockwise as s grows
+    # The roller moves square to its arm, in the sense that increases s.
+    sense = np.sign(swing[high])
+    motion_dir = 1j * sense * (fixed - pivot)
     normal = 1j * dz * np.exp(1j * cam.theta)
     phi = np.angle(normal / motion_dir)
     np.testing.assert_allclose(cam.pressure_angle, phi, atol=1e-5)
+
+
+def test_left_pivot_is_the_mirror_image_run_backwards():
+    # Reflecting x -> -x turns a right-pivot cam into a left-pivot cam turning the
+    # other way, i.e. the left cam with the program read backwards, P_rev(θ) = P(-θ).
+    program = CamProgram(
+        [
+            Segment("rise", deg(60), deg(12), "cycloidal"),
+            Segment("dwell", deg(60)),
+            Segment("fall", deg(120), deg(12), "cycloidal"),
+            Segment("dwell", deg(120)),
+        ]
+    )
+    backwards = CamProgram(
+        [
+            Segment("dwell", deg(120)),
+            Segment("rise", deg(120), deg(12), "cycloidal"),
+            Segment("dwell", deg(60)),
+            Segment("fall", deg(60), deg(12), "cycloidal"),
+        ]
+    )
+    n = 720
+    right = OscillatingRoller(2.0, 0.3, 4.0, 3.5, "right").profile(program, n)
+    left = OscillatingRoller(2.0, 0.3, 4.0, 3.5, "left").profile(backwards, n)
+    k = (n - np.arange(n)) % n  # sample of -θ
+    np.testing.assert_allclose(left.pitch, -np.conj(right.pitch[k]), atol=1e-12)
+    np.testing.assert_allclose(left.surface, -np.conj(right.surface[k]), atol=1e-12)
+    np.testing.assert_allclose(left.pressure_angle, -right.pressure_angle[k], atol=1e-12)
+    np.testing.assert_allclose(left.rho_pitch, right.rho_pitch[k], rtol=1e-9)
+    # With the same (asymmetric) program the two sides do differ.
+    same = OscillatingRoller(2.0, 0.3, 4.0, 3.5, "left").profile(program, n)
+    assert abs(same.pressure_angle_max) != pytest.approx(abs(right.pressure_angle_max), abs=1e-3)
 
 
 def test_design_checks_pressure_angle_limit():

@@ -6,9 +6,10 @@ Conventions (fixed frame, notes Fig. 8-44 / Norton §8.7):
 * a translating follower moves along the +y direction on the line
   ``x = ε`` (the eccentricity ε may be negative); its roller centre (the
   trace point) sits at ``(ε, d + s)`` with ``d = √(Rp² − ε²)``;
-* an oscillating follower pivots at ``(C, 0)``; its arm of length L carries
-  the roller centre on the prime circle (upper half-plane) when s = 0, and
-  s (an angle, radians) turns the arm clockwise, away from the cam centre.
+* an oscillating follower pivots at ``(C, 0)`` (or ``(−C, 0)``); its arm of
+  length L carries the roller centre on the prime circle (upper half-plane)
+  when s = 0, and s (an angle, radians) swings the roller away from the cam
+  centre.
 
 Cam points are given in the cam's own frame (the cam drawn at θ = 0) as
 complex numbers ``x + jy``: a fixed-frame point ``P`` seen from the cam is
@@ -34,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar, nonnegative, positive
+from .._validate import choice, finite_array, finite_scalar, nonnegative, positive
 from ..errors import InputError, ModelError
 from .program import CamProgram, Motion
 
@@ -595,9 +596,13 @@ class OscillatingRoller:
     roller_radius : float
         Rf.
     pivot_distance : float
-        C, distance from the cam centre to the arm pivot at (C, 0).
+        C, distance from the cam centre to the arm pivot.
     arm_length : float
         L, pivot to roller centre; needs ``|C − L| < Rp < C + L``.
+    pivot_side : {"right", "left"}
+        Pivot at (C, 0) or (−C, 0). The roller sits above the x axis; with the
+        cam turning counter-clockwise its surface runs from the roller towards
+        a right-hand pivot, away from a left-hand one.
 
     Examples
     --------
@@ -611,12 +616,14 @@ class OscillatingRoller:
     roller_radius: float
     pivot_distance: float
     arm_length: float
+    pivot_side: str = "right"
 
     def __post_init__(self) -> None:
         rp = positive("prime_radius", self.prime_radius)
         rf = nonnegative("roller_radius", self.roller_radius)
         c = positive("pivot_distance", self.pivot_distance)
         arm = positive("arm_length", self.arm_length)
+        side = choice("pivot_side", str(self.pivot_side).lower(), ("right", "left"))
         if rf >= rp:
             raise InputError(
                 "roller_radius", f"must be smaller than the prime radius {rp:g}, got {rf:g}"
@@ -627,10 +634,14 @@ class OscillatingRoller:
                 f"an arm of {arm:g} pivoted {c:g} from the cam centre reaches radii between "
                 f"{abs(c - arm):g} and {c + arm:g}; got {rp:g}",
             )
-        for name, value in (("prime_radius", rp), ("roller_radius", rf)):
+        for name, value in (
+            ("prime_radius", rp),
+            ("roller_radius", rf),
+            ("pivot_distance", c),
+            ("arm_length", arm),
+            ("pivot_side", side),
+        ):
             object.__setattr__(self, name, value)
-        object.__setattr__(self, "pivot_distance", c)
-        object.__setattr__(self, "arm_length", arm)
 
     @property
     def base_radius(self) -> float:
@@ -638,26 +649,37 @@ class OscillatingRoller:
         return self.prime_radius - self.roller_radius
 
     @property
+    def _sigma(self) -> float:
+        # Sense in which the arm angle grows with s (it must carry the roller outward).
+        return -1.0 if self.pivot_side == "right" else 1.0
+
+    @property
+    def pivot(self) -> complex:
+        """Pivot position (fixed frame) as x + jy."""
+        return complex(-self._sigma * self.pivot_distance, 0.0)
+
+    @property
     def gamma0(self) -> float:
         """Arm angle (radians, from +x) when s = 0 (law of cosines, roller above the x axis)."""
         c, arm, rp = self.pivot_distance, self.arm_length, self.prime_radius
-        return float(np.arccos((rp * rp - c * c - arm * arm) / (2.0 * c * arm)))
+        return float(np.arccos(-self._sigma * (rp * rp - c * c - arm * arm) / (2.0 * c * arm)))
 
     def profile(self, motion: Motion | CamProgram, n: int = 3600) -> CamProfile:
         """Cam geometry for a program (sampled at ``n`` points) or a sampled motion."""
         m = _as_motion(motion, n)
-        arm = self.arm_length
-        gamma = self.gamma0 - m.s
+        arm, sigma = self.arm_length, self._sigma
+        gamma = self.gamma0 + sigma * m.s
         if gamma.min() <= 0.0 or gamma.max() >= np.pi:
             raise ModelError(
                 "the arm swings through the line of centres; use a smaller swing or "
                 "another pivot position"
             )
         e = np.exp(1j * gamma)
-        p = self.pivot_distance + arm * e
-        dp = -1j * arm * m.v * e
-        ddp = arm * e * (-1j * m.a - m.v**2)
-        pitch, normal, phi, rho = _trace_point_geometry(m.theta, p, dp, ddp, -1j * e)
+        # Trace point p = pivot + L e^{jγ} and its θ-derivatives (γ' = σv, γ'' = σa).
+        p = self.pivot + arm * e
+        dp = 1j * sigma * arm * m.v * e
+        ddp = arm * e * (1j * sigma * m.a - m.v**2)
+        pitch, normal, phi, rho = _trace_point_geometry(m.theta, p, dp, ddp, 1j * sigma * e)
         surface = pitch - self.roller_radius * normal
         return _roller_result(
             "oscillating roller", m, pitch, surface, phi, rho, self.prime_radius, self.roller_radius

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_scalar, nonnegative, positive
+from .._validate import choice, finite_scalar, nonnegative, positive
 from ..errors import InputError, ModelError
 from .geometry import (
     DEFAULT_MAX_PRESSURE_ANGLE,
@@ -148,6 +148,7 @@ def size_oscillating_roller(
     max_pressure_angle: float = DEFAULT_MAX_PRESSURE_ANGLE,
     rho_ratio: float = 1.0,
     n: int = 3600,
+    pivot_side: str = "right",
 ) -> Sizing:
     """Smallest prime circle for an oscillating roller follower (bisection).
 
@@ -167,11 +168,12 @@ def size_oscillating_roller(
     arm = positive("arm_length", arm_length)
     limit = positive("max_pressure_angle", max_pressure_angle, "radian")
     ratio = positive("rho_ratio", rho_ratio)
+    pivot_side = choice("pivot_side", str(pivot_side).lower(), ("right", "left"))
     lo, hi = max(abs(c - arm), rf), c + arm
 
     def cam_at(rp: float) -> Any:
         try:
-            return OscillatingRoller(rp, rf, c, arm).profile(m)
+            return OscillatingRoller(rp, rf, c, arm, pivot_side).profile(m)
         except (InputError, ModelError):
             return None
 

@@ -154,9 +154,18 @@ def _build_follower(kind: str, opts: dict[str, Any]) -> Any:
         )
     if kind == "flat":
         return cams.TranslatingFlatFace(need("base_radius"), opts.get("eccentricity") or 0.0)
-    return cams.OscillatingRoller(
-        need("prime_radius"), need("roller_radius"), need("pivot_distance"), need("arm_length")
-    )
+    try:
+        return cams.OscillatingRoller(
+            need("prime_radius"),
+            need("roller_radius"),
+            need("pivot_distance"),
+            need("arm_length"),
+            opts["pivot_side"],
+        )
+    except InputError as exc:
+        if exc.field == "pivot_side":
+            raise InputError("--pivot-side", exc.message) from None
+        raise
 
 
 @cam_app.callback(invoke_without_command=True)
@@ -186,6 +195,9 @@ def cam(
     ] = None,
     arm_length: Annotated[
         float | None, typer.Option(help="pivot to roller centre (oscillating)")
+    ] = None,
+    pivot_side: Annotated[
+        str | None, typer.Option(help="right | left: rocker pivot at (+C, 0) or (-C, 0)")
     ] = None,
     rpm: Annotated[float | None, typer.Option(help="cam speed, rev/min (time units)")] = None,
     points: Annotated[int, typer.Option(help="samples over the turn")] = 3600,
@@ -238,6 +250,7 @@ def cam(
         "eccentricity": _pick(eccentricity, file_follower, "eccentricity"),
         "pivot_distance": _pick(pivot_distance, file_follower, "pivot_distance"),
         "arm_length": _pick(arm_length, file_follower, "arm_length"),
+        "pivot_side": _pick(pivot_side, file_follower, "pivot_side", "right"),
     }
     fol = _build_follower(kind, opts)
     speed = _pick(rpm, file_top, "rpm")
@@ -287,7 +300,12 @@ def _sizing(kind: str, motion: cams.Motion, opts: dict[str, Any], limit: float) 
             raise InputError("--min-rho", "is required to size a flat-faced cam")
         return cams.size_flat_face(motion, opts["min_rho"])
     return cams.size_oscillating_roller(
-        motion, opts["roller_radius"], opts["pivot_distance"], opts["arm_length"], limit
+        motion,
+        opts["roller_radius"],
+        opts["pivot_distance"],
+        opts["arm_length"],
+        limit,
+        pivot_side=opts["pivot_side"],
     )
 
 
