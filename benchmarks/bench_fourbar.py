@@ -53,13 +53,15 @@ def main() -> None:
             fn()  # warm up
             dt = best_of(fn, repeats)
             rows.append((name, n, dt, n / dt))
-    print(f"machdyn {machdyn.__version__}, numpy {np.__version__}, Python {platform.python_version()}")
+    versions = f"numpy {np.__version__}, Python {platform.python_version()}"
+    print(f"machdyn {machdyn.__version__}, {versions}")
     print(f"{platform.processor() or platform.machine()}, 1 process, 1 thread\n")
     print("| what | poses | time | poses/s |")
     print("|---|---:|---:|---:|")
     for name, n, dt, rate in rows:
         print(f"| {name} | {n:,} | {dt * 1e3:.2f} ms | {rate / 1e6:.1f} M |")
-    print(f"| cold `import machdyn` + first 3,600-pose solve | 3,600 | {cold_start() * 1e3:.0f} ms | |")
+    cold = cold_start() * 1e3
+    print(f"| cold `import machdyn` + first 3,600-pose solve | 3,600 | {cold:.0f} ms | |")
 
 
 if __name__ == "__main__":

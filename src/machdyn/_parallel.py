@@ -13,11 +13,13 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
+from itertools import pairwise
 
 #: Arrays shorter than this are processed in the calling thread.
 MIN_PARALLEL = 1 << 16
 
 _pool: ThreadPoolExecutor | None = None
+_pool_size = 0
 
 
 def threads() -> int:
@@ -37,14 +39,15 @@ def for_slices(kernel: Callable[[slice], None], n: int) -> None:
     ``kernel`` must write its results into preallocated arrays, each slice
     touching only its own elements.
     """
-    global _pool
+    global _pool, _pool_size
     workers = threads()
     if workers == 1 or n < MIN_PARALLEL:
         kernel(slice(0, n))
         return
-    if _pool is None or _pool._max_workers != workers:  # noqa: SLF001
+    if _pool is None or _pool_size != workers:
         _pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="machdyn")
+        _pool_size = workers
     bounds = [n * k // workers for k in range(workers + 1)]
-    futures = [_pool.submit(kernel, slice(lo, hi)) for lo, hi in zip(bounds, bounds[1:])]
+    futures = [_pool.submit(kernel, slice(lo, hi)) for lo, hi in pairwise(bounds)]
     for future in futures:
         future.result()

@@ -36,8 +36,8 @@ from typing import Any
 import numpy as np
 
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
-from ._validate import as_array, choice, common_length_unit, finite_array, finite_scalar
 from ._parallel import for_slices
+from ._validate import as_array, choice, common_length_unit, finite_array, finite_scalar
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
 
