@@ -190,13 +190,13 @@ def positions(
     return theta3.reshape(theta2.shape), theta4.reshape(theta2.shape), ok.reshape(theta2.shape)
 
 
-def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray, out: np.ndarray) -> None:
+def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray | None, out: np.ndarray) -> None:
     """``out[:] = atan2(y, x)`` wrapped to [0, 2π), NaN where not ``good`` (in place)."""
     with np.errstate(invalid="ignore"):
         np.arctan2(y, x, out=out)
         np.add(out, TWO_PI, out=out, where=out < 0.0)
     out[out >= TWO_PI] = 0.0  # −ε + 2π rounds to 2π
-    if not good.all():
+    if good is not None and not good.all():
         out[~good] = np.nan
 
 
@@ -1066,74 +1066,78 @@ def _solve_flat(
     if has_p:
         p, delta = fb.coupler
         cd, sd = np.cos(delta), np.sin(delta)
-    for lo in range(0, n, _CHUNK):
-        sl = slice(lo, min(lo + _CHUNK, n))
-        th2, om2, al2, je2 = t2[sl], w2[sl], a2[sl], j2[sl]
-        e2x, e2y = np.cos(th2), np.sin(th2)
-        e3x, e3y, e4x, e4y, st = _unit_vectors(d, a, b, c, e2x, e2y, float(branch))
-        if side:
-            st[(st == OK) & (side * e2y <= 0.0)] = WRONG_FORM
-        s34 = e3y * e4x - e3x * e4y
-        st[(st == OK) & (np.abs(s34) < _TOGGLE_TOL)] = TOGGLE
-        bad = (st != OK) & (st != TOGGLE)
-        if bad.any():
-            for arr in (e3x, e3y, e4x, e4y):
-                arr[bad] = np.nan
-        w3, w4 = _solve_pair(
-            b,
-            c,
-            *_velocity_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2),
-            e3x,
-            e3y,
-            e4x,
-            e4y,
-            s34,
-        )
-        al3, al4 = _solve_pair(
-            b,
-            c,
-            *_acceleration_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2),
-            e3x,
-            e3y,
-            e4x,
-            e4y,
-            s34,
-        )
-        je3, je4 = _solve_pair(
-            b,
-            c,
-            *_jerk_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2, al3, al4, je2),
-            e3x,
-            e3y,
-            e4x,
-            e4y,
-            s34,
-        )
-        toggled = st == TOGGLE
-        if toggled.any():
-            for arr in (w3, w4, al3, al4, je3, je4):
-                arr[toggled] = np.nan
-        out["theta3"][sl] = wrap_2pi(np.arctan2(e3y, e3x))
-        out["theta4"][sl] = wrap_2pi(np.arctan2(e4y, e4x))
-        out["omega3"][sl], out["omega4"][sl] = w3, w4
-        out["alpha3"][sl], out["alpha4"][sl] = al3, al4
-        out["jerk3"][sl], out["jerk4"][sl] = je3, je4
-        A.real[sl], A.imag[sl] = a * e2x, a * e2y
-        B.real[sl], B.imag[sl] = d + c * e4x, c * e4y
-        if has_p:
-            epx, epy = _rot(cd, sd, e3x, e3y)  # e^{j(θ3 + δ)}
-            P["p"].real[sl] = a * e2x + p * epx
-            P["p"].imag[sl] = a * e2y + p * epy
-            vx, vy = _rot(0.0, a * om2, e2x, e2y)
-            qx, qy = _rot(0.0, p * w3, epx, epy)
-            P["v"].real[sl], P["v"].imag[sl] = vx + qx, vy + qy
-            vx, vy = _rot(-a * om2 * om2, a * al2, e2x, e2y)
-            qx, qy = _rot(-p * w3 * w3, p * al3, epx, epy)
-            P["a"].real[sl], P["a"].imag[sl] = vx + qx, vy + qy
-            vx, vy = _rot(-3.0 * a * al2 * om2, a * (je2 - om2**3), e2x, e2y)
-            qx, qy = _rot(-3.0 * p * al3 * w3, p * (je3 - w3**3), epx, epy)
-            P["j"].real[sl], P["j"].imag[sl] = vx + qx, vy + qy
-        status[sl] = st
+
+    def kernel(part: slice) -> None:
+        for lo in range(part.start, part.stop, _CHUNK):
+            sl = slice(lo, min(lo + _CHUNK, part.stop))
+            th2, om2, al2, je2 = t2[sl], w2[sl], a2[sl], j2[sl]
+            e2x, e2y = np.cos(th2), np.sin(th2)
+            e3x, e3y, e4x, e4y, st = _unit_vectors(d, a, b, c, e2x, e2y, float(branch))
+            if side:
+                st[(st == OK) & (side * e2y <= 0.0)] = WRONG_FORM
+            s34 = e3y * e4x - e3x * e4y
+            st[(st == OK) & (np.abs(s34) < _TOGGLE_TOL)] = TOGGLE
+            bad = (st != OK) & (st != TOGGLE)
+            if bad.any():
+                for arr in (e3x, e3y, e4x, e4y):
+                    arr[bad] = np.nan
+            w3, w4 = _solve_pair(
+                b,
+                c,
+                *_velocity_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2),
+                e3x,
+                e3y,
+                e4x,
+                e4y,
+                s34,
+            )
+            al3, al4 = _solve_pair(
+                b,
+                c,
+                *_acceleration_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2),
+                e3x,
+                e3y,
+                e4x,
+                e4y,
+                s34,
+            )
+            je3, je4 = _solve_pair(
+                b,
+                c,
+                *_jerk_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2, al3, al4, je2),
+                e3x,
+                e3y,
+                e4x,
+                e4y,
+                s34,
+            )
+            toggled = st == TOGGLE
+            if toggled.any():
+                for arr in (w3, w4, al3, al4, je3, je4):
+                    arr[toggled] = np.nan
+            _angle_into(e3y, e3x, None, out["theta3"][sl])  # NaN already marks failures
+            _angle_into(e4y, e4x, None, out["theta4"][sl])
+            out["omega3"][sl], out["omega4"][sl] = w3, w4
+            out["alpha3"][sl], out["alpha4"][sl] = al3, al4
+            out["jerk3"][sl], out["jerk4"][sl] = je3, je4
+            A.real[sl], A.imag[sl] = a * e2x, a * e2y
+            B.real[sl], B.imag[sl] = d + c * e4x, c * e4y
+            if has_p:
+                epx, epy = _rot(cd, sd, e3x, e3y)  # e^{j(θ3 + δ)}
+                P["p"].real[sl] = a * e2x + p * epx
+                P["p"].imag[sl] = a * e2y + p * epy
+                vx, vy = _rot(0.0, a * om2, e2x, e2y)
+                qx, qy = _rot(0.0, p * w3, epx, epy)
+                P["v"].real[sl], P["v"].imag[sl] = vx + qx, vy + qy
+                vx, vy = _rot(-a * om2 * om2, a * al2, e2x, e2y)
+                qx, qy = _rot(-p * w3 * w3, p * al3, epx, epy)
+                P["a"].real[sl], P["a"].imag[sl] = vx + qx, vy + qy
+                vx, vy = _rot(-3.0 * a * al2 * om2, a * (je2 - om2**3), e2x, e2y)
+                qx, qy = _rot(-3.0 * p * al3 * w3, p * (je3 - w3**3), epx, epy)
+                P["j"].real[sl], P["j"].imag[sl] = vx + qx, vy + qy
+            status[sl] = st
+
+    for_slices(kernel, n)
     return {
         "theta2": t2.copy(),
         "omega2": w2.copy(),
