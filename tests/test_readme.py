@@ -15,7 +15,7 @@ def blocks(lang: str) -> list[str]:
 def test_quick_start_runs():
     (code, *_) = blocks("python")
     namespace: dict = {}
-    exec(compile(code, "README quick start", "exec"), namespace)  # noqa: S102
+    exec(compile(code, "README quick start", "exec"), namespace)
     assert namespace["fb"].barker_class == "GCRR"
 
 
