@@ -44,6 +44,9 @@ def main() -> None:
         theta2 = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
         cases = {
             "positions (machdyn.fourbar.positions)": lambda t=theta2: positions(8, 4, 7, 6, t),
+            "pos + vel + acc (FourBar.solve, order=2)": lambda t=theta2: plain.solve(
+                t, omega2=10.0, alpha2=1.0, order=2
+            ),
             "pos + vel + acc + jerk (FourBar.solve)": lambda t=theta2: plain.solve(
                 t, omega2=10.0, alpha2=1.0
             ),
