@@ -14,8 +14,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from machdyn import InputError, MachdynError
-from machdyn import gears
+from machdyn import InputError, MachdynError, gears
 from machdyn.gears import (
     Gear,
     GearPair,
@@ -64,10 +63,8 @@ def _contact_segment(rbp, rap, rbg, rag, c_op, internal=False):
     # pinion tip point lies towards T_g (external) or away from it, beyond the
     # pitch point (internal).
     gear_end = t_g[0] if side > 0 else t_g[1]
-    if internal:
-        pinion_end = t_p[0] if side > 0 else t_p[1]
-    else:
-        pinion_end = t_p[1] if side > 0 else t_p[0]
+    towards_tg = (side > 0) != internal
+    pinion_end = t_p[1] if towards_tg else t_p[0]
     return abs(pinion_end - gear_end)
 
 
@@ -216,7 +213,7 @@ def test_center_distance_change_keeps_velocity_ratio(n_p, n_g, stretch):
     )
     rp, rg = wide.operating_pitch_radii
     assert rp + rg == pytest.approx(wide.center_distance, rel=1e-12)
-    assert wide.backlash >= 0.0
+    assert wide.backlash >= -1e-12
 
 
 @pytest.mark.parametrize("phi_deg", [14.5, 20.0, 25.0])

@@ -23,7 +23,7 @@ Examples
 
 from __future__ import annotations
 
-from .geometry import SYSTEMS, Gear, base_pitch, involute, inverse_involute, tooth_thickness_at
+from .geometry import SYSTEMS, Gear, base_pitch, inverse_involute, involute, tooth_thickness_at
 from .interference import (
     max_gear_teeth,
     min_pinion_teeth,
@@ -54,8 +54,8 @@ __all__ = [
     "base_pitch",
     "contact_ratio",
     "contact_ratio_rating",
-    "involute",
     "inverse_involute",
+    "involute",
     "length_of_action",
     "max_gear_teeth",
     "min_pinion_teeth",

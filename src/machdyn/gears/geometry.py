@@ -41,8 +41,8 @@ __all__ = [
     "SYSTEMS",
     "Gear",
     "base_pitch",
-    "involute",
     "inverse_involute",
+    "involute",
     "tooth_thickness_at",
 ]
 
@@ -114,7 +114,7 @@ def inverse_involute(value: ArrayLike) -> NDArray[np.float64]:
 
 
 def base_pitch(pitch_radius: ArrayLike, teeth: ArrayLike, pressure_angle: ArrayLike) -> Any:
-    """Base pitch ``p_b = 2π r cos φ / N`` (the notes, Figure 9-9).
+    """Return the base pitch ``p_b = 2π r cos φ / N`` (the notes, Figure 9-9).
 
     By the definition of the involute it is also the distance between
     successive teeth along the common normal (the line of action).
@@ -185,7 +185,8 @@ def tooth_thickness_at(
     if np.any(radius < r_b * (1 - 1e-12)):
         raise InputError("radius", f"the involute exists only outside the base circle r_b={r_b}")
     phi_r = np.arccos(np.clip(r_b / radius, -1.0, 1.0))
-    return 2.0 * radius * (thickness / (2.0 * pitch_radius) + involute(pressure_angle) - involute(phi_r))
+    half_angle = thickness / (2.0 * pitch_radius) + involute(pressure_angle) - involute(phi_r)
+    return 2.0 * radius * half_angle
 
 
 @dataclass(frozen=True)
@@ -380,9 +381,8 @@ class Gear:
     @property
     def thickness_standard(self) -> float:
         """Pitch-circle tooth thickness before thinning: ``π m / 2 + 2 x m tan φ``."""
-        return (
-            math.pi * self.module / 2.0
-            + 2.0 * self.profile_shift * self.module * math.tan(self.pressure_angle)
+        return math.pi * self.module / 2.0 + 2.0 * self.profile_shift * self.module * math.tan(
+            self.pressure_angle
         )
 
     @property
@@ -422,7 +422,7 @@ class Gear:
         return float(self.thickness_at(max(self.addendum_radius, self.base_radius)))
 
     def summary(self) -> dict[str, Any]:
-        """The gear's dimensions as a plain dict (angles in degrees, labelled).
+        """Return the gear's dimensions as a plain dict (angles in degrees, labelled).
 
         Examples
         --------

@@ -40,6 +40,7 @@ __all__ = [
 ]
 
 _EPS = 1e-9
+_TWENTY_DEG = math.radians(20.0)
 
 
 def _sin2(pressure_angle: ArrayLike) -> np.ndarray:
@@ -69,7 +70,7 @@ def _out(value: np.ndarray) -> Any:
 
 
 def onset_gear_teeth(pinion_teeth: ArrayLike, pressure_angle: ArrayLike, k: ArrayLike = 1.0) -> Any:
-    """The notes' onset-of-interference relation, ``N_g`` as a real number.
+    """Evaluate the notes' onset-of-interference relation for ``N_g`` (a real number).
 
     ``N_g = (N_p² sin²φ − 4 k²) / (4 k − 2 N_p sin²φ)``; ``inf`` where the
     denominator is not positive (the pinion meshes even with a rack).
@@ -122,7 +123,9 @@ def max_gear_teeth(pinion_teeth: ArrayLike, pressure_angle: ArrayLike, k: ArrayL
 
 
 def min_pinion_teeth(
-    gear_teeth: ArrayLike = np.inf, pressure_angle: ArrayLike = math.radians(20.0), k: ArrayLike = 1.0
+    gear_teeth: ArrayLike = np.inf,
+    pressure_angle: ArrayLike = _TWENTY_DEG,
+    k: ArrayLike = 1.0,
 ) -> Any:
     """Fewest pinion teeth that mesh with a gear of ``N_g`` teeth without interference.
 

@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._validate import as_array, magnitude
 from ..errors import InputError
-from .geometry import Gear, involute, inverse_involute
+from .geometry import Gear, inverse_involute, involute
 
 __all__ = [
     "CONTACT_RATIO_MINIMUM",
@@ -144,11 +144,7 @@ def length_of_action(
         c_op = as_array("center_distance", center_distance)
         phi_op = operating_pressure_angle(c, c_op, phi)
     rbg, rbp = rg * np.cos(phi), rp * np.cos(phi)
-    z = (
-        np.sqrt((rp + ap) ** 2 - rbp**2)
-        + np.sqrt((rg + ag) ** 2 - rbg**2)
-        - c_op * np.sin(phi_op)
-    )
+    z = np.sqrt((rp + ap) ** 2 - rbp**2) + np.sqrt((rg + ag) ** 2 - rbg**2) - c_op * np.sin(phi_op)
     return z if np.ndim(z) else float(z)
 
 
@@ -184,7 +180,7 @@ def contact_ratio(length_of_action: ArrayLike, base_pitch: ArrayLike) -> Any:
 
 
 def contact_ratio_rating(contact_ratio: ArrayLike) -> Any:
-    """The notes' verdict on a contact ratio.
+    """Rate a contact ratio by the notes' thresholds.
 
     ``"no contact"`` (``m_p < 1``: the mesh loses contact between teeth),
     ``"unacceptable"`` (``< 1.2``), ``"acceptable"`` (``1.2 <= m_p < 1.4``),
@@ -301,7 +297,7 @@ class GearPair:
         self._check_center_distance()
 
     def with_center_distance(self, center_distance: float) -> GearPair:
-        """The same gears at another operating centre distance."""
+        """Return the same gears at another operating centre distance."""
         return GearPair(self.pinion, self.gear, center_distance)
 
     # -- centre distance and pressure angle ---------------------------------
@@ -411,7 +407,7 @@ class GearPair:
         With the pinion driving, contact begins where the gear's tip circle
         crosses the line of action.
         """
-        zp, zg, _ = self._tip_paths()
+        _, zg, _ = self._tip_paths()
         rg_op = self.operating_pitch_radii[1]
         s = math.sin(self.operating_pressure_angle)
         return rg_op * s - zg if self.internal else zg - rg_op * s
