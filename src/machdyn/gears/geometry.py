@@ -433,7 +433,7 @@ class Gear:
             "teeth": self.teeth,
             "internal": self.internal,
             "module": self.module,
-            "diametral_pitch": 1.0 / self.module,
+            "diametral_pitch": self.diametral_pitch,
             "pressure_angle_deg": math.degrees(self.pressure_angle),
             "profile_shift": self.profile_shift,
             "pitch_diameter": self.pitch_diameter,
