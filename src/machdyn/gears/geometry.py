@@ -239,8 +239,8 @@ class Gear:
     diametral_pitch: float | None = None
     pressure_angle: float = math.radians(20.0)
     system: str = "full_depth"
-    addendum_: float | None = field(default=None, repr=False)
-    dedendum_: float | None = field(default=None, repr=False)
+    given_addendum: float | None = field(default=None, repr=False)
+    given_dedendum: float | None = field(default=None, repr=False)
     profile_shift: float = 0.0
     internal: bool = False
     thickness_reduction: float = 0.0
@@ -282,8 +282,8 @@ class Gear:
         s(self, "system", choice("system", system, SYSTEMS))
         if (addendum is None) != (dedendum is None):
             raise InputError("addendum", "give both addendum and dedendum, or neither")
-        s(self, "addendum_", None if addendum is None else positive("addendum", addendum))
-        s(self, "dedendum_", None if dedendum is None else positive("dedendum", dedendum))
+        s(self, "given_addendum", None if addendum is None else positive("addendum", addendum))
+        s(self, "given_dedendum", None if dedendum is None else positive("dedendum", dedendum))
         s(self, "profile_shift", finite_scalar("profile_shift", profile_shift))
         s(self, "internal", bool(internal))
         s(self, "thickness_reduction", nonnegative("thickness_reduction", thickness_reduction))
@@ -336,13 +336,21 @@ class Gear:
     @property
     def addendum(self) -> float:
         """Addendum after profile shift, ``(k_a + x) m`` or the given value plus ``x m``."""
-        base = SYSTEMS[self.system][0] * self.module if self.addendum_ is None else self.addendum_
+        base = (
+            SYSTEMS[self.system][0] * self.module
+            if self.given_addendum is None
+            else self.given_addendum
+        )
         return base + self.profile_shift * self.module
 
     @property
     def dedendum(self) -> float:
         """Dedendum after profile shift, ``(k_d − x) m`` or the given value minus ``x m``."""
-        base = SYSTEMS[self.system][1] * self.module if self.dedendum_ is None else self.dedendum_
+        base = (
+            SYSTEMS[self.system][1] * self.module
+            if self.given_dedendum is None
+            else self.given_dedendum
+        )
         return base - self.profile_shift * self.module
 
     @property
