@@ -153,7 +153,7 @@ def tooth_thickness_at(
     """Circular tooth thickness at ``radius`` of an involute tooth.
 
     ``s_r = 2 r (s / (2 r_p) + inv φ − inv φ_r)`` with ``cos φ_r = r_b / r``
-    (Norton eq. 9.x, the standard involute relation; the same expression gives
+    (the standard involute relation, from ``inv φ = tan φ − φ``; the same expression gives
     the space width of an internal gear, whose spaces are shaped like external
     teeth).
 

@@ -149,7 +149,7 @@ def length_of_action(
 
 
 def contact_ratio(length_of_action: ArrayLike, base_pitch: ArrayLike) -> Any:
-    """Contact ratio ``m_p = Z / p_b`` (the notes; Norton eq. 9.8).
+    """Contact ratio ``m_p = Z / p_b`` (the notes, review lecture 3).
 
     Parameters
     ----------
@@ -205,7 +205,7 @@ def backlash_from_center_distance(
 ) -> Any:
     """Approximate circular backlash from a centre-distance increase, ``B ≈ 2 ΔC tan φ``.
 
-    The first-order estimate (Norton §9.4 "Backlash"); :attr:`GearPair.backlash`
+    The first-order estimate (Norton Ch. 9, "Backlash"); :attr:`GearPair.backlash`
     gives the exact value from the involute tooth thicknesses.
 
     Examples
@@ -379,7 +379,12 @@ class GearPair:
 
     @property
     def length_of_action(self) -> float:
-        """Length of action ``Z`` at the operating centre distance (Figure 9-7)."""
+        """Length of action ``Z`` at the operating centre distance (Figure 9-7).
+
+        The notes' formula assumes involute action from tip to tip; when a tip
+        interferes (:attr:`interference`), real contact would run below the
+        mate's base circle and ``Z`` (hence ``m_p``) is optimistic.
+        """
         zp, zg, c_sin = self._tip_paths()
         if self.internal:
             return zp - zg + c_sin

@@ -1,6 +1,6 @@
 """Gear trains: simple, compound, reverted, planetary; belts and chains as rolling pairs.
 
-Sign convention (Norton §9.6): the *train value* is ``m_V = ω_out / ω_in``,
+Sign convention (Norton Ch. 9, gear trains): the *train value* is ``m_V = ω_out / ω_in``,
 the product of the stage ratios, each ``−N_driver / N_driven`` for an
 external mesh and ``+N_driver / N_driven`` for an internal mesh. Belts and
 chains are rolling pairs of the same kind: an open belt or a chain keeps the
@@ -8,10 +8,10 @@ sense of rotation (``+d_1 / d_2``), a crossed belt reverses it.
 
 Planetary (epicyclic) trains are solved two independent ways:
 
-* Willis' formula (Norton eq. 9.13): with the arm's speed ``ω_A``,
+* Willis' formula (Norton Ch. 9, "formula method"): with the arm's speed ``ω_A``,
   ``(ω_L − ω_A) / (ω_F − ω_A) = R``, ``R`` the train value from the first to
   the last gear with the arm held fixed;
-* the tabular method (Norton §9.8): every member's motion is the sum of a
+* the tabular method (Norton Ch. 9): every member's motion is the sum of a
   rotation of the whole train with the arm and a rotation relative to the arm;
   two known speeds (any members, the arm included, a fixed member has speed 0)
   fix both columns.
@@ -243,7 +243,7 @@ def reverted_compound(
 
     Examples
     --------
-    An 18:1 reverted train (Norton §9.7's design problem):
+    An 18:1 reverted train (the kind of design problem Norton sets in Ch. 9):
 
     >>> t = reverted_compound(18)
     >>> t.teeth, t.ratio
