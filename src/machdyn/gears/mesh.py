@@ -297,7 +297,14 @@ class GearPair:
         self._check_center_distance()
 
     def with_center_distance(self, center_distance: float) -> GearPair:
-        """Return the same gears at another operating centre distance."""
+        """Return the same gears at another operating centre distance.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(20, module=2.0), Gear(40, module=2.0))
+        >>> round(pair.with_center_distance(60.2).backlash, 4)  # ≈ 2 ΔC tan φ = 0.1456
+        0.1479
+        """
         return GearPair(self.pinion, self.gear, center_distance)
 
     # -- centre distance and pressure angle ---------------------------------

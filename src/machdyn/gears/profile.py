@@ -86,6 +86,14 @@ class GearOutline:
         True if the generating cutter undercuts the involute.
     form_radius : float
         Radius where the involute begins (its lowest point actually cut).
+
+    Examples
+    --------
+    >>> out = gear_outline(Gear(12, module=1.0))
+    >>> out.undercut, round(out.form_radius, 3)  # undercut: the involute starts above r_b
+    (True, 5.651)
+    >>> out.to_pandas()["segment"].unique().tolist()
+    ['root', 'fillet', 'involute', 'tip']
     """
 
     x: NDArray[np.float64]
@@ -98,7 +106,13 @@ class GearOutline:
     form_radius: float
 
     def to_pandas(self) -> Any:
-        """Return the points as a DataFrame with columns ``x, y, segment``."""
+        """Return the points as a DataFrame with columns ``x, y, segment``.
+
+        Examples
+        --------
+        >>> gear_outline(Gear(20, module=1.0), points=10).to_pandas().shape
+        (880, 3)
+        """
         import pandas as pd
 
         return pd.DataFrame({"x": self.x, "y": self.y, "segment": self.segment})
@@ -127,6 +141,12 @@ class GearOutline:
 
         The y axis is flipped so that the drawing appears as in the x–y plane.
         One drawing unit is one length unit of the gear.
+
+        Examples
+        --------
+        >>> svg = gear_outline(Gear(20, module=1.0), points=10).to_svg()
+        >>> svg.startswith("<svg") and "<polygon" in svg
+        True
         """
         x, y = self.x, -self.y
         pad = 0.05 * float(np.ptp(x) + np.ptp(y)) / 2
@@ -145,7 +165,16 @@ class GearOutline:
         return svg
 
     def to_dxf(self, path: str | Path) -> Path:
-        """Write the outline as one closed LWPOLYLINE to a DXF file (needs ezdxf)."""
+        """Write the outline as one closed LWPOLYLINE to a DXF file (needs ezdxf).
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> with tempfile.TemporaryDirectory() as d:
+        ...     path = gear_outline(Gear(20, module=1.0)).to_dxf(pathlib.Path(d) / "g.dxf")
+        ...     path.stat().st_size > 0
+        True
+        """
         try:
             import ezdxf
         except ImportError:  # pragma: no cover - ezdxf is in the test extras
@@ -159,7 +188,16 @@ class GearOutline:
         return path
 
     def plot(self, ax: Any = None, **kwargs: Any) -> Any:
-        """Draw the closed outline on matplotlib axes (created if not given)."""
+        """Draw the closed outline on matplotlib axes (created if not given).
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> ax = gear_outline(Gear(20, module=1.0)).plot()
+        >>> len(ax.patches)
+        1
+        >>> plt.close("all")
+        """
         import matplotlib.pyplot as plt
 
         if ax is None:
@@ -377,6 +415,13 @@ def mesh_outlines(pair: Any, pinion_angle: float = 0.0, points: int = 40) -> tup
     -------
     (GearOutline, GearOutline)
         Pinion and gear outlines.
+
+    Examples
+    --------
+    >>> from machdyn.gears import GearPair
+    >>> pin, gear = mesh_outlines(GearPair(Gear(18, module=1.0), Gear(40, module=1.0)))
+    >>> round(float(np.mean(gear.x)), 9)  # the gear is centred at C' = 29
+    29.0
     """
     p, g, c = pair.pinion, pair.gear, pair.center_distance
     ratio = p.teeth / g.teeth
@@ -409,6 +454,15 @@ def plot_mesh(pair: Any, pinion_angle: float = 0.0, ax: Any = None, points: int 
     Returns
     -------
     matplotlib Axes
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from machdyn.gears import GearPair
+    >>> ax = plot_mesh(GearPair(Gear(18, module=1.0), Gear(40, module=1.0)))
+    >>> ax.get_title()
+    "m_p = 1.622 (good), φ' = 20.00°"
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
     from matplotlib.patches import Circle

@@ -184,6 +184,12 @@ class RevertedTrain:
         Requested ratio.
     error : float
         Relative error ``ratio / target − 1``.
+
+    Examples
+    --------
+    >>> t = RevertedTrain((18, 84, 21, 81), 18.0, 18.0, 0.0)
+    >>> t.tooth_sum, t.center_distance(2.5)
+    (102, 127.5)
     """
 
     teeth: tuple[int, int, int, int]
@@ -202,7 +208,13 @@ class RevertedTrain:
         return self.teeth[0] + self.teeth[1]
 
     def center_distance(self, module: float) -> float:
-        """Return the common centre distance ``m (N2 + N3) / 2`` for a module."""
+        """Return the common centre distance ``m (N2 + N3) / 2`` for a module.
+
+        Examples
+        --------
+        >>> RevertedTrain((18, 84, 21, 81), 18.0, 18.0, 0.0).center_distance(2.0)
+        102.0
+        """
         return positive("module", module) * self.tooth_sum / 2
 
 
@@ -356,6 +368,12 @@ class PlanetaryTable:
         Column 2: arm fixed, ``R_i (ω_F − ω_A)``.
     total : ndarray
         ``ω_i = ω_A + R_i (ω_F − ω_A)``.
+
+    Examples
+    --------
+    >>> t = PlanetaryTrain.simple(sun=40, planet=20, ring=80).table(ring=0, sun=30)
+    >>> t["arm"]
+    10.0
     """
 
     members: tuple[str, ...]
@@ -368,7 +386,14 @@ class PlanetaryTable:
         return float(self.total[self.members.index(choice("member", member, self.members))])
 
     def to_pandas(self) -> Any:
-        """Return the table as a DataFrame indexed by member."""
+        """Return the table as a DataFrame indexed by member.
+
+        Examples
+        --------
+        >>> t = PlanetaryTrain.simple(sun=40, planet=20, ring=80).table(ring=0, sun=30)
+        >>> float(t.to_pandas().loc["arm", "total"])
+        10.0
+        """
         import pandas as pd
 
         return pd.DataFrame(
@@ -479,7 +504,13 @@ class PlanetaryTrain:
         return PlanetaryTable(self.members, np.full(ratios.size, a), relative, a + relative)
 
     def speeds(self, **known: float) -> dict[str, float]:
-        """All member speeds (the arm included) from two known ones."""
+        """Return all member speeds (the arm included) from two known ones.
+
+        Examples
+        --------
+        >>> PlanetaryTrain.simple(sun=40, planet=20, ring=80).speeds(arm=1, ring=1)["sun"]
+        1.0
+        """
         table = self.table(**known)
         return {m: float(w) for m, w in zip(table.members, table.total, strict=True)}
 
