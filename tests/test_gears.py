@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from machdyn import InputError, MachdynError, gears
@@ -126,6 +126,42 @@ def test_length_of_action_matches_line_of_action_coordinates(n_p, extra, module,
     assert z == pytest.approx(expected, rel=1e-9)
     # Approach + recess = Z
     assert pair.path_of_approach + pair.path_of_recess == pytest.approx(expected, rel=1e-9)
+
+
+@given(
+    n_p=st.integers(10, 40),
+    n_g=st.integers(20, 90),
+    x_p=st.floats(0.0, 0.6),
+    x_g=st.floats(-0.4, 0.4),
+)
+def test_shifted_pair_tight_mesh_and_length_of_action(n_p, n_g, x_p, x_g):
+    try:
+        p = Gear(n_p, module=1.0, profile_shift=x_p)
+        g = Gear(n_g, module=1.0, profile_shift=x_g)
+    except InputError:  # pointed teeth: not a pair to mesh
+        assume(False)
+    pair = GearPair(p, g)
+    # Tight mesh: inv(phi') = inv(phi) + 2 tan(phi) (x_p + x_g) / (N_p + N_g)  (KHK / ISO 21771)
+    inv = math.tan(20 * DEG) - 20 * DEG + 2 * math.tan(20 * DEG) * (x_p + x_g) / (n_p + n_g)
+    phi_op = pair.operating_pressure_angle
+    assert math.tan(phi_op) - phi_op == pytest.approx(inv, rel=1e-10)
+    assert pair.backlash == pytest.approx(0.0, abs=1e-10)
+    expected = _contact_segment(
+        p.base_radius, p.addendum_radius, g.base_radius, g.addendum_radius, pair.center_distance
+    )
+    assert pair.length_of_action == pytest.approx(expected, rel=1e-9)
+
+
+def test_internal_pair_with_shifted_pinion_tight_mesh():
+    # Internal pair: inv(phi') = inv(phi) + 2 tan(phi) (x_g - x_p) / (N_g - N_p)  (KHK).
+    pair = GearPair(Gear(16, module=3.0, profile_shift=0.3), Gear(40, module=3.0, internal=True))
+    inv = math.tan(20 * DEG) - 20 * DEG + 2 * math.tan(20 * DEG) * (0 - 0.3) / (40 - 16)
+    phi_op = pair.operating_pressure_angle
+    assert math.tan(phi_op) - phi_op == pytest.approx(inv, rel=1e-10)
+    assert pair.center_distance == pytest.approx(
+        3.0 * (40 - 16) / 2 * math.cos(20 * DEG) / math.cos(phi_op)
+    )
+    assert pair.backlash == pytest.approx(0.0, abs=1e-10)
 
 
 def test_internal_pair_length_of_action_matches_coordinates():
