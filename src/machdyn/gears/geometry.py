@@ -429,6 +429,18 @@ class Gear:
         """Circular tooth thickness on the addendum circle (``<= 0``: pointed)."""
         return float(self.thickness_at(max(self.addendum_radius, self.base_radius)))
 
+    def outline(self, points: int = 60, **kwargs: Any) -> Any:
+        """Return the generated outline (see :func:`machdyn.gears.profile.gear_outline`).
+
+        Examples
+        --------
+        >>> Gear(20, module=1.0).outline(points=10).fillet
+        'trochoid'
+        """
+        from .profile import gear_outline
+
+        return gear_outline(self, points, **kwargs)
+
     def summary(self) -> dict[str, Any]:
         """Return the gear's dimensions as a plain dict (angles in degrees, labelled).
 

@@ -514,8 +514,40 @@ class GearPair:
         """True if either tip interferes (see :attr:`interference`)."""
         return any(self.interference)
 
+    def plot(self, pinion_angle: float = 0.0, ax: Any = None, points: int = 40) -> Any:
+        """Draw the pair in mesh (see :func:`machdyn.gears.profile.plot_mesh`).
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> ax = GearPair(Gear(18, module=1.0), Gear(40, module=1.0)).plot()
+        >>> plt.close("all")
+        """
+        from .profile import plot_mesh
+
+        return plot_mesh(self, pinion_angle, ax, points)
+
+    def to_pandas(self) -> Any:
+        """Return :meth:`summary` flattened into a pandas Series (``pinion.*``, ``gear.*``).
+
+        Examples
+        --------
+        >>> s = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8)).to_pandas()
+        >>> float(s["pinion.pitch_radius"]), s["contact_ratio_rating"]
+        (1.5, 'good')
+        """
+        import pandas as pd
+
+        flat: dict[str, Any] = {}
+        for key, value in self.summary().items():
+            if isinstance(value, dict):
+                flat |= {f"{key}.{k}": v for k, v in value.items()}
+            else:
+                flat[key] = value
+        return pd.Series(flat, dtype=object)
+
     def summary(self) -> dict[str, Any]:
-        """Geometry, contact and interference as a plain dict (angles in degrees).
+        """Return geometry, contact and interference as a plain dict (angles in degrees).
 
         Examples
         --------
