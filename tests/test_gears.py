@@ -363,6 +363,18 @@ def test_gear_pair_interference_flag():
     assert not GearPair(Gear(13, module=1.0), Gear(16, module=1.0)).interferes
 
 
+@pytest.mark.parametrize("n_p", [12, 16, 18, 24, 30])
+@pytest.mark.parametrize("n_g", [40, 60, 100, 160, 400])
+def test_internal_involute_interference_matches_khk_condition(n_p, n_g):
+    # KHK Gear Technical Reference (internal gears): no involute interference iff
+    # z1/z2 >= 1 - tan(alpha_a2)/tan(alpha_w), alpha_a2 = acos(d_b2/d_a2) at the ring's tip.
+    ring = Gear(n_g, module=1.0, internal=True)
+    pair = GearPair(Gear(n_p, module=1.0), ring)
+    alpha_a2 = math.acos(ring.base_radius / ring.addendum_radius)
+    ok = n_p / n_g >= 1 - math.tan(alpha_a2) / math.tan(20 * DEG)
+    assert pair.interference[0] == (not ok)
+
+
 def test_undercut_and_profile_shift():
     phi = 20 * DEG
     # No shift needed exactly at the rack limit 2/sin^2(phi) = 17.1: 17 undercut, 18 not.
