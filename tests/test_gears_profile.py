@@ -154,6 +154,11 @@ def test_too_large_tip_radius_rejected():
         gear_outline(Gear(30, module=1.0), tip_radius=1.0)
 
 
+def test_extreme_profile_shift_rejected():
+    with pytest.raises(InputError, match="profile_shift"):
+        gear_outline(Gear(60, module=1.0, profile_shift=0.95))
+
+
 def test_internal_gear_outline():
     ring = Gear(60, module=1.0, internal=True)
     out = gear_outline(ring, points=30)

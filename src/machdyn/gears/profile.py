@@ -229,6 +229,12 @@ def _flank_polar(gear: Gear, points: int, tip_radius: float | None) -> tuple[Any
     u_c = u0 + v_c * tan_phi + rho / math.cos(phi)
     if u_c > math.pi * m / 2 + 1e-12 * m:
         raise InputError("tip_radius", f"{rho:g} is too large for the cutter tooth tip")
+    if v_c - x * m <= 0.0:
+        raise InputError(
+            "profile_shift",
+            f"{x:g} lifts the cutter's tip round above the pitch circle; the rack cannot"
+            " generate this gear (use a smaller shift or tip radius)",
+        )
 
     # The rack point (u, v) sits at (r_p + x m − v) e_r(θ) + (u − r_p θ) e_t(θ) in the gear
     # frame, and the pitch point at r_p e_r(θ). Root contact at θ_0, flank tangency at θ_1.
