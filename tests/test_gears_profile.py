@@ -159,13 +159,36 @@ def test_extreme_profile_shift_rejected():
         gear_outline(Gear(60, module=1.0, profile_shift=0.95))
 
 
-def test_internal_gear_outline():
-    ring = Gear(60, module=1.0, internal=True)
-    out = gear_outline(ring, points=30)
+@pytest.mark.parametrize(("teeth", "cutter"), [(60, None), (40, 18), (120, 30), (300, 25)])
+def test_internal_gear_outline_generated_by_shaper_cutter(teeth, cutter):
+    ring = Gear(teeth, module=1.0, internal=True)
+    out = gear_outline(ring, points=400, single_tooth=True, cutter_teeth=cutter)
     r = np.hypot(out.x, out.y)
-    assert out.fillet == "none"
-    assert r.min() == pytest.approx(ring.addendum_radius)
-    assert r.max() == pytest.approx(ring.root_radius)
+    psi = np.arctan2(out.y, out.x)
+    assert out.fillet == "trochoid"
+    assert r.min() == pytest.approx(ring.addendum_radius, rel=1e-12)
+    assert r.max() == pytest.approx(ring.root_radius, rel=1e-12)
+    # The fillet ends on the ring's involute, whose tooth half-angle is
+    # pi/N - (e/(2R) + inv(phi) - inv(phi_r)).
+    fil = (out.segment == "fillet") & (psi > 0)
+    space0 = ring.space_width / (2 * ring.pitch_radius) + math.tan(20 * DEG) - 20 * DEG
+    r_top = r[fil].min()
+    phi_r = math.acos(ring.base_radius / r_top)
+    expected = math.pi / teeth - (space0 - (math.tan(phi_r) - phi_r))
+    assert psi[fil][np.argmin(r[fil])] == pytest.approx(expected, abs=2e-4 / teeth)
+    assert out.form_radius < ring.root_radius
+    # Involute and fillet join smoothly: tangents turn by less than 10 degrees per step.
+    flank = (psi > 0) & np.isin(out.segment, ["involute", "fillet"])
+    t = np.column_stack([np.diff(out.x[flank]), np.diff(out.y[flank])])
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    assert np.min(np.sum(t[1:] * t[:-1], axis=1)) > math.cos(math.radians(10))
+
+
+def test_shaper_cutter_bad_input():
+    with pytest.raises(InputError, match="cutter_teeth"):
+        gear_outline(Gear(40, module=1.0, internal=True), cutter_teeth=35)
+    with pytest.raises(InputError, match="tip_radius"):
+        gear_outline(Gear(40, module=1.0, internal=True), tip_radius=1.2)
 
 
 def _near_pitch_point(out, x_pitch, window):
