@@ -356,6 +356,17 @@ def test_onset_relation_matches_geometric_interference(phi_deg, k):
             assert _interferes_geometrically(n_p, n_g, phi, k) == (n_g > limit), (n_p, n_g)
 
 
+@given(
+    n_g=st.integers(10, 3000),
+    phi_deg=st.sampled_from([14.5, 20.0, 22.5, 25.0]),
+    k=st.sampled_from([1.0, 0.8]),
+)
+def test_min_pinion_teeth_matches_geometric_search(n_g, phi_deg, k):
+    phi = phi_deg * DEG
+    brute = next(n for n in range(3, 200) if not _interferes_geometrically(n, n_g, phi, k))
+    assert min_pinion_teeth(n_g, phi, k) == brute
+
+
 def test_gear_pair_interference_flag():
     pair = GearPair(Gear(13, module=1.0), Gear(17, module=1.0))
     assert pair.interference == (True, False)
