@@ -378,7 +378,14 @@ class GearPair:
 
     # -- contact -------------------------------------------------------------
     def _tip_paths(self) -> tuple[float, float, float]:
-        """Distances along the line of action: pinion tip, gear tip, pitch point data."""
+        """Return ``(√(r_ap² − r_bp²), √(r_ag² − r_bg²), C' sin φ')``.
+
+        The first two are the distances along the line of action from each
+        base-circle tangent point to that gear's tip circle; the last is the
+        distance between the two tangent points (external pair) — for an
+        internal pair it is the same expression, the tangent points lying on
+        the same side of the pitch point.
+        """
         p, g = self.pinion, self.gear
         zp = math.sqrt(p.addendum_radius**2 - p.base_radius**2)
         zg = math.sqrt(g.addendum_radius**2 - g.base_radius**2)
