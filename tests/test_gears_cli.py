@@ -28,6 +28,7 @@ def test_pair_final_exam_set_json():
     assert data["contact_ratio_rating"] == "good"
     assert data["interferes"] is False
     assert data["pinion"]["pitch_radius"] == pytest.approx(1.5)
+    assert data["length_unit"] == "in"
 
 
 def test_pair_table_reports_interference():

@@ -28,10 +28,11 @@ gear_app = typer.Typer(
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")]
 ModuleOpt = Annotated[
-    float | None, typer.Option("--module", "-m", help="Module m = d/N (e.g. mm per tooth).")
+    float | None, typer.Option("--module", "-m", help="Module m = d/N in mm (lengths in mm).")
 ]
 PitchOpt = Annotated[
-    float | None, typer.Option("--pd", help="Diametral pitch P_d = N/d (teeth per inch).")
+    float | None,
+    typer.Option("--pd", help="Diametral pitch P_d = N/d in teeth per inch (lengths in in)."),
 ]
 PhiOpt = Annotated[float, typer.Option("--phi", help="Pressure angle in degrees.")]
 SystemOpt = Annotated[str, typer.Option("--system", help="Tooth system: full_depth or stub.")]
@@ -122,6 +123,7 @@ def pair_cmd(
         np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, thin_p, thin_g
     )
     summary = pair.summary()
+    summary["length_unit"] = "in" if pd is not None else "mm"
     p, g = pair.pinion, pair.gear
     summary["undercut_pinion"] = bool(
         undercut(p.teeth, p.pressure_angle, p.profile_shift, p.addendum_constant)
@@ -136,7 +138,9 @@ def pair_cmd(
         return
     keys = [k for k in summary["pinion"] if k not in ("teeth", "internal")]
     rows = [[k, summary["pinion"][k], summary["gear"][k]] for k in keys]
-    print_table(f"Gears: N_p = {p.teeth}, N_g = {g.teeth}", ["", "pinion", "gear"], rows)
+    unit = summary["length_unit"]
+    title = f"Gears: N_p = {p.teeth}, N_g = {g.teeth} (lengths in {unit}, angles in degrees)"
+    print_table(title, ["", "pinion", "gear"], rows)
     mesh_keys = [
         "standard_center_distance",
         "center_distance",
