@@ -474,3 +474,18 @@ def test_toggle_is_flagged_not_silently_infinite():
     assert m.assembled[0] and not m.ok[0]
     assert "toggle" in m.reason[0]
     assert np.isnan(m.omega3[0])
+
+
+def test_order_limits_the_derivatives_computed():
+    fb = FourBar(8, 4, 7, 6, coupler=(3, 0.2))
+    full = fb.solve(np.radians([10, 50]), omega2=2.0, alpha2=1.0)
+    for order in (0, 1, 2):
+        m = fb.solve(np.radians([10, 50]), omega2=2.0, alpha2=1.0, order=order)
+        assert np.array_equal(m.theta4, full.theta4)
+        assert (m.omega4 is None) == (order < 1) and (m.coupler_velocity is None) == (order < 1)
+        assert (m.alpha4 is None) == (order < 2) and (m.jerk4 is None)
+        if order >= 1:
+            assert np.array_equal(m.omega3, full.omega3)
+        assert "theta3" in m.to_pandas().columns
+    with pytest.raises(InputError, match="order"):
+        fb.solve(0.0, order=4)

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
+from ._parallel import for_slices
 from ._validate import as_array, choice, common_length_unit, finite_array, finite_scalar
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
@@ -168,13 +169,35 @@ def positions(
     (58.8114, 93.5833, True)
     """
     theta2 = as_array("theta2", theta2)
-    e3x, e3y, e4x, e4y, status = _unit_vectors(
-        r1, r2, r3, r4, np.cos(theta2), np.sin(theta2), float(branch)
-    )
-    ok = status == OK
-    theta3 = np.where(ok, wrap_2pi(np.arctan2(e3y, e3x)), np.nan)
-    theta4 = np.where(ok, wrap_2pi(np.arctan2(e4y, e4x)), np.nan)
-    return theta3, theta4, ok
+    flat = theta2.ravel()
+    theta3 = np.empty(flat.shape)
+    theta4 = np.empty(flat.shape)
+    ok = np.empty(flat.shape, dtype=bool)
+
+    def kernel(part: slice) -> None:
+        for lo in range(part.start, part.stop, _CHUNK):
+            sl = slice(lo, min(lo + _CHUNK, part.stop))
+            t2 = flat[sl]
+            e3x, e3y, e4x, e4y, status = _unit_vectors(
+                r1, r2, r3, r4, np.cos(t2), np.sin(t2), float(branch)
+            )
+            good = status == OK
+            _angle_into(e3y, e3x, good, theta3[sl])
+            _angle_into(e4y, e4x, good, theta4[sl])
+            ok[sl] = good
+
+    for_slices(kernel, flat.size)
+    return theta3.reshape(theta2.shape), theta4.reshape(theta2.shape), ok.reshape(theta2.shape)
+
+
+def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray | None, out: np.ndarray) -> None:
+    """``out[:] = atan2(y, x)`` wrapped to [0, 2π), NaN where not ``good`` (in place)."""
+    with np.errstate(invalid="ignore"):
+        np.arctan2(y, x, out=out)
+        np.add(out, TWO_PI, out=out, where=out < 0.0)
+    out[out >= TWO_PI] = 0.0  # −ε + 2π rounds to 2π
+    if good is not None and not good.all():
+        out[~good] = np.nan
 
 
 def velocities(
@@ -314,7 +337,8 @@ class FourBarMotion:
     theta2, theta3, theta4 : ndarray
         Link angles, radians in ``[0, 2π)`` (θ2 as given).
     omega2, omega3, omega4 : ndarray
-        Angular velocities, rad per time unit (CCW positive).
+        Angular velocities, rad per time unit (CCW positive). Derivatives above
+        the ``order`` asked of :meth:`FourBar.solve` are None.
     alpha2, alpha3, alpha4 : ndarray
         Angular accelerations.
     jerk2, jerk3, jerk4 : ndarray
@@ -333,14 +357,14 @@ class FourBarMotion:
     theta3: np.ndarray
     theta4: np.ndarray
     omega2: np.ndarray
-    omega3: np.ndarray
-    omega4: np.ndarray
+    omega3: np.ndarray | None
+    omega4: np.ndarray | None
     alpha2: np.ndarray
-    alpha3: np.ndarray
-    alpha4: np.ndarray
+    alpha3: np.ndarray | None
+    alpha4: np.ndarray | None
     jerk2: np.ndarray
-    jerk3: np.ndarray
-    jerk4: np.ndarray
+    jerk3: np.ndarray | None
+    jerk4: np.ndarray | None
     A: np.ndarray
     B: np.ndarray
     coupler: np.ndarray | None
@@ -441,7 +465,8 @@ class FourBarMotion:
             value = np.ravel(getattr(self, name))
             columns[f"{name}_deg" if degrees else name] = np.degrees(value) if degrees else value
         for name in rates:
-            columns[name] = np.ravel(getattr(self, name))
+            if getattr(self, name) is not None:
+                columns[name] = np.ravel(getattr(self, name))
         points = {
             "A": self.A,
             "B": self.B,
@@ -692,6 +717,7 @@ class FourBar:
         *,
         jerk2: Any = 0.0,
         branch: int | None = None,
+        order: int = 3,
     ) -> FourBarMotion:
         """Positions, velocities, accelerations and jerks for input angles ``theta2``.
 
@@ -707,6 +733,9 @@ class FourBar:
             GRCR and GRRC where it is the sign of φ34 = θ2 (the two circuits).
         branch : {1, -1}, optional
             Only for GRCR and GRRC: the sign of φ12 within the form (default +1).
+        order : {0, 1, 2, 3}
+            Highest derivative to compute (0 positions, 1 velocities,
+            2 accelerations, 3 jerks). Quantities above it are ``None``.
 
         Returns
         -------
@@ -731,11 +760,12 @@ class FourBar:
         alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
         jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
         branch_sign, side = self._branch_and_side(form, branch)
+        order = choice("order", order, (0, 1, 2, 3))
         shape = np.broadcast_shapes(theta2.shape, omega2.shape, alpha2.shape, jerk2.shape)
         t2, w2, a2, j2 = (
             np.broadcast_to(x, shape).ravel() for x in (theta2, omega2, alpha2, jerk2)
         )
-        out = _solve_flat(self, t2, w2, a2, j2, branch_sign, side)
+        out = _solve_flat(self, t2, w2, a2, j2, branch_sign, side, order)
         if theta2.ndim == 0 and out["status"][0] in (NOT_ASSEMBLABLE, WRONG_FORM, INDETERMINATE):
             raise AssemblyError(
                 f"{self!r}, form {form}, theta2 = {np.degrees(float(theta2)):.6g} deg: "
@@ -1027,104 +1057,109 @@ def _solve_flat(
     j2: np.ndarray,
     branch: int,
     side: int,
+    order: int,
 ) -> dict[str, Any]:
-    """Solve flat arrays chunk by chunk; returns the FourBarMotion fields."""
+    """Solve flat arrays chunk by chunk (threads for large ones); the FourBarMotion fields.
+
+    ``order`` is the highest derivative computed (0 positions … 3 jerks);
+    quantities above it are returned as None.
+    """
     n = t2.size
-    out = {
-        name: np.empty(n)
-        for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4")
+    names = ["theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4"]
+    out: dict[str, np.ndarray | None] = {
+        name: (np.empty(n) if k // 2 <= order else None) for k, name in enumerate(names)
     }
-    A = np.empty(n, dtype=complex)
-    B = np.empty(n, dtype=complex)
+    joints = {"A": np.empty(n, dtype=complex), "B": np.empty(n, dtype=complex)}
     has_p = fb.coupler is not None
-    P = {k: np.empty(n, dtype=complex) for k in ("p", "v", "a", "j")} if has_p else {}
+    point_names = ("coupler", "coupler_velocity", "coupler_acceleration", "coupler_jerk")
+    points: dict[str, np.ndarray | None] = {
+        name: (np.empty(n, dtype=complex) if has_p and k <= order else None)
+        for k, name in enumerate(point_names)
+    }
     status = np.empty(n, dtype=np.uint8)
     a, b, c, d = fb.r2, fb.r3, fb.r4, fb.r1
-    if has_p:
-        p, delta = fb.coupler
-        cd, sd = np.cos(delta), np.sin(delta)
-    for lo in range(0, n, _CHUNK):
-        sl = slice(lo, min(lo + _CHUNK, n))
-        th2, om2, al2, je2 = t2[sl], w2[sl], a2[sl], j2[sl]
-        e2x, e2y = np.cos(th2), np.sin(th2)
-        e3x, e3y, e4x, e4y, st = _unit_vectors(d, a, b, c, e2x, e2y, float(branch))
-        if side:
-            st[(st == OK) & (side * e2y <= 0.0)] = WRONG_FORM
-        s34 = e3y * e4x - e3x * e4y
-        st[(st == OK) & (np.abs(s34) < _TOGGLE_TOL)] = TOGGLE
-        bad = (st != OK) & (st != TOGGLE)
-        if bad.any():
-            for arr in (e3x, e3y, e4x, e4y):
-                arr[bad] = np.nan
-        w3, w4 = _solve_pair(
-            b,
-            c,
-            *_velocity_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2),
-            e3x,
-            e3y,
-            e4x,
-            e4y,
-            s34,
-        )
-        al3, al4 = _solve_pair(
-            b,
-            c,
-            *_acceleration_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2),
-            e3x,
-            e3y,
-            e4x,
-            e4y,
-            s34,
-        )
-        je3, je4 = _solve_pair(
-            b,
-            c,
-            *_jerk_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, om2, w3, w4, al2, al3, al4, je2),
-            e3x,
-            e3y,
-            e4x,
-            e4y,
-            s34,
-        )
-        toggled = st == TOGGLE
-        if toggled.any():
-            for arr in (w3, w4, al3, al4, je3, je4):
-                arr[toggled] = np.nan
-        out["theta3"][sl] = wrap_2pi(np.arctan2(e3y, e3x))
-        out["theta4"][sl] = wrap_2pi(np.arctan2(e4y, e4x))
-        out["omega3"][sl], out["omega4"][sl] = w3, w4
-        out["alpha3"][sl], out["alpha4"][sl] = al3, al4
-        out["jerk3"][sl], out["jerk4"][sl] = je3, je4
-        A.real[sl], A.imag[sl] = a * e2x, a * e2y
-        B.real[sl], B.imag[sl] = d + c * e4x, c * e4y
-        if has_p:
-            epx, epy = _rot(cd, sd, e3x, e3y)  # e^{j(θ3 + δ)}
-            P["p"].real[sl] = a * e2x + p * epx
-            P["p"].imag[sl] = a * e2y + p * epy
-            vx, vy = _rot(0.0, a * om2, e2x, e2y)
-            qx, qy = _rot(0.0, p * w3, epx, epy)
-            P["v"].real[sl], P["v"].imag[sl] = vx + qx, vy + qy
-            vx, vy = _rot(-a * om2 * om2, a * al2, e2x, e2y)
-            qx, qy = _rot(-p * w3 * w3, p * al3, epx, epy)
-            P["a"].real[sl], P["a"].imag[sl] = vx + qx, vy + qy
-            vx, vy = _rot(-3.0 * a * al2 * om2, a * (je2 - om2**3), e2x, e2y)
-            qx, qy = _rot(-3.0 * p * al3 * w3, p * (je3 - w3**3), epx, epy)
-            P["j"].real[sl], P["j"].imag[sl] = vx + qx, vy + qy
-        status[sl] = st
-    return {
-        "theta2": t2.copy(),
-        "omega2": w2.copy(),
-        "alpha2": a2.copy(),
-        "jerk2": j2.copy(),
-        **out,
-        "A": A,
-        "B": B,
-        "coupler": P.get("p"),
-        "coupler_velocity": P.get("v"),
-        "coupler_acceleration": P.get("a"),
-        "coupler_jerk": P.get("j"),
-        "status": status,
-    }
+    p, delta = fb.coupler if has_p else (0.0, 0.0)
+    cd, sd = np.cos(delta), np.sin(delta)
+
+    arrays = {**out, **joints, **points}
+
+    def store(name: str, sl: slice, x: np.ndarray, y: np.ndarray | None = None) -> None:
+        target = arrays[name]
+        if y is None:
+            target[sl] = x
+        else:
+            target.real[sl], target.imag[sl] = x, y
+
+    def kernel(part: slice) -> None:
+        for lo in range(part.start, part.stop, _CHUNK):
+            sl = slice(lo, min(lo + _CHUNK, part.stop))
+            th2, om2, al2, je2 = t2[sl], w2[sl], a2[sl], j2[sl]
+            e2x, e2y = np.cos(th2), np.sin(th2)
+            e3x, e3y, e4x, e4y, st = _unit_vectors(d, a, b, c, e2x, e2y, float(branch))
+            if side:
+                st[(st == OK) & (side * e2y <= 0.0)] = WRONG_FORM
+            s34 = e3y * e4x - e3x * e4y
+            st[(st == OK) & (np.abs(s34) < _TOGGLE_TOL)] = TOGGLE
+            bad = (st != OK) & (st != TOGGLE)
+            if bad.any():
+                for arr in (e3x, e3y, e4x, e4y):
+                    arr[bad] = np.nan
+            status[sl] = st
+            _angle_into(e3y, e3x, None, out["theta3"][sl])  # NaN already marks failures
+            _angle_into(e4y, e4x, None, out["theta4"][sl])
+            store("A", sl, a * e2x, a * e2y)
+            store("B", sl, d + c * e4x, c * e4y)
+            if has_p:
+                epx, epy = _rot(cd, sd, e3x, e3y)  # e^{j(θ3 + δ)}
+                store("coupler", sl, a * e2x + p * epx, a * e2y + p * epy)
+            if order == 0:
+                continue
+            unit = (e3x, e3y, e4x, e4y, s34)
+            toggled = st == TOGGLE
+            rates = (e2x, e2y, e3x, e3y, e4x, e4y)
+
+            w3, w4 = _masked_pair(_velocity_rhs, a, b, c, rates, unit, toggled, om2)
+            store("omega3", sl, w3)
+            store("omega4", sl, w4)
+            if has_p:  # V_P = j a ω2 e2 + j p ω3 e_p
+                vx, vy = _rot(0.0, a * om2, e2x, e2y)
+                qx, qy = _rot(0.0, p * w3, epx, epy)
+                store("coupler_velocity", sl, vx + qx, vy + qy)
+            if order == 1:
+                continue
+            al3, al4 = _masked_pair(
+                _acceleration_rhs, a, b, c, rates, unit, toggled, om2, w3, w4, al2
+            )
+            store("alpha3", sl, al3)
+            store("alpha4", sl, al4)
+            if has_p:  # A_P = a(jα2 − ω2²) e2 + p(jα3 − ω3²) e_p
+                vx, vy = _rot(-a * om2 * om2, a * al2, e2x, e2y)
+                qx, qy = _rot(-p * w3 * w3, p * al3, epx, epy)
+                store("coupler_acceleration", sl, vx + qx, vy + qy)
+            if order == 2:
+                continue
+            je3, je4 = _masked_pair(
+                _jerk_rhs, a, b, c, rates, unit, toggled, om2, w3, w4, al2, al3, al4, je2
+            )
+            store("jerk3", sl, je3)
+            store("jerk4", sl, je4)
+            if has_p:  # J_P = a(jφ2 − 3α2ω2 − jω2³) e2 + p(jφ3 − 3α3ω3 − jω3³) e_p
+                vx, vy = _rot(-3.0 * a * al2 * om2, a * (je2 - om2**3), e2x, e2y)
+                qx, qy = _rot(-3.0 * p * al3 * w3, p * (je3 - w3**3), epx, epy)
+                store("coupler_jerk", sl, vx + qx, vy + qy)
+
+    for_slices(kernel, n)
+    inputs = {"theta2": t2.copy(), "omega2": w2.copy(), "alpha2": a2.copy(), "jerk2": j2.copy()}
+    return {**inputs, **out, **joints, **points, "status": status}
+
+
+def _masked_pair(rhs, a, b, c, rates, unit, toggled, *args):
+    """One derivative order: build the right-hand side, solve, NaN at toggles."""
+    x3, x4 = _solve_pair(b, c, *rhs(a, b, c, *rates, *args), *unit)
+    if toggled.any():
+        x3[toggled] = np.nan
+        x4[toggled] = np.nan
+    return x3, x4
 
 
 def _sweeps_all_directions(values: np.ndarray, closed: bool) -> bool:

@@ -22,10 +22,12 @@ def _register() -> None:
     # Imported here so that each module can import ``app`` from this one.
     from . import fourbar  # noqa: F401  (registers `fourbar` and `demo` on app)
     from .balance import balance_app
+    from .cam import cam_app
     from .flywheel import flywheel as flywheel_command
 
     app.command("flywheel")(flywheel_command)
     app.add_typer(balance_app, name="balance")
+    app.add_typer(cam_app, name="cam")
 
 
 _register()

@@ -1,0 +1,98 @@
+"""Export a cam profile: CSV table and DXF outline (ezdxf, imported lazily)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError, ModelError
+from .geometry import CamProfile
+
+__all__ = ["write_csv", "write_dxf"]
+
+
+def write_csv(profile: CamProfile, path: Any) -> Path:
+    """Write θ (deg), s, v, a, j, pitch and surface x/y, φ (deg), ρ and undercut as CSV.
+
+    Lengths are in the units of the program and radii; ``v, a, j`` are per
+    radian of cam angle. Empty cells mean "not defined" (no pitch curve for a
+    flat face); ``rho`` of ±inf marks an inflection.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> from machdyn.cams import CamProgram, TranslatingRoller
+    >>> cam = TranslatingRoller(3.0, 0.5).profile(
+    ...     CamProgram.double_dwell(1.0, np.pi / 3, np.pi / 3), n=36)
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     out = write_csv(cam, os.path.join(tmp, "cam.csv"))
+    ...     print(out.read_text().splitlines()[0][:29])
+    theta_deg,s,v,a,j,pitch_x,pit
+    """
+    path = Path(path)
+    columns = profile._columns()
+    names = list(columns)
+    lines = [",".join(names)]
+    table = [columns[k] for k in names]
+    for row in zip(*table, strict=True):
+        cells = []
+        for value in row:
+            if isinstance(value, np.bool_ | bool):
+                cells.append("1" if value else "0")
+            elif np.isnan(value):
+                cells.append("")
+            else:
+                cells.append(repr(float(value)))
+        lines.append(",".join(cells))
+    try:
+        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    except OSError as exc:
+        raise InputError("path", f"cannot write {path}: {exc.strerror}") from None
+    return path
+
+
+def write_dxf(profile: CamProfile, path: Any, allow_undercut: bool = False) -> Path:
+    """Write the cam outline (closed polyline) with its base/prime circles and pitch curve.
+
+    Layers: ``CAM`` (surface), ``PITCH`` (pitch curve, roller followers),
+    ``BASE_CIRCLE``, ``PRIME_CIRCLE``. An undercut cam's outline intersects
+    itself and cannot be made: it is refused unless ``allow_undercut`` is true.
+    """
+    if profile.is_undercut and not allow_undercut:
+        spans = ", ".join(
+            f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in profile.undercut_ranges()
+        )
+        raise ModelError(
+            f"the cam is undercut at θ = {spans}; its outline self-intersects. Enlarge the "
+            "prime circle (see machdyn.cams.size_roller) or pass allow_undercut=True"
+        )
+    try:
+        import ezdxf
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise ModelError("DXF output needs ezdxf: pip install 'machdyn[dxf]'") from None
+    path = Path(path)
+    doc = ezdxf.new("R2010")
+    msp = doc.modelspace()
+    for name, color in (("CAM", 7), ("PITCH", 3), ("BASE_CIRCLE", 5), ("PRIME_CIRCLE", 4)):
+        doc.layers.add(name, color=color)
+    outline = profile.surface
+    msp.add_lwpolyline(
+        np.column_stack((outline.real, outline.imag)).tolist(),
+        close=True,
+        dxfattribs={"layer": "CAM"},
+    )
+    if profile.pitch is not None:
+        msp.add_lwpolyline(
+            np.column_stack((profile.pitch.real, profile.pitch.imag)).tolist(),
+            close=True,
+            dxfattribs={"layer": "PITCH"},
+        )
+        msp.add_circle((0.0, 0.0), profile.prime_radius, dxfattribs={"layer": "PRIME_CIRCLE"})
+    msp.add_circle((0.0, 0.0), profile.base_radius, dxfattribs={"layer": "BASE_CIRCLE"})
+    try:
+        doc.saveas(path)
+    except OSError as exc:
+        raise InputError("path", f"cannot write {path}: {exc.strerror}") from None
+    return path

@@ -1,0 +1,487 @@
+"""``machdyn cam``: analyse a cam program and its radial cam from the command line.
+
+Angles are typed in degrees, lengths as plain numbers in any one unit; every
+printed quantity is labelled. The program comes from ``--segment`` options
+(``MOTION:LAW:H:BETA_DEG``, or ``dwell:BETA_DEG``) or a TOML file
+(``--program cam.toml``, see :func:`load_program_file`). No physics lives here.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from .. import cams
+from ..errors import InputError
+from ._common import dumps, print_table
+
+__all__ = ["cam_app", "load_program_file", "parse_segment"]
+
+cam_app = typer.Typer(
+    help="Cam design: svaj program, continuity, pressure angle, curvature, undercut.",
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+FOLLOWERS = ("roller", "flat", "oscillating")
+_SCCA = re.compile(r"^scca\(([^)]*)\)$", re.IGNORECASE)
+
+
+def _law(token: str, field: str) -> cams.MotionLaw:
+    match = _SCCA.match(token.strip())
+    if match:
+        parts = [p for p in re.split(r"[,\s]+", match.group(1)) if p]
+        if len(parts) != 3:
+            raise InputError(field, f"scca takes three fractions scca(b,c,d), got {token!r}")
+        b, c, d = (_number(p, field) for p in parts)
+        return cams.get_law("scca", b=b, c=c, d=d)
+    try:
+        return cams.get_law(token)
+    except InputError as exc:
+        raise InputError(field, exc.message) from None
+
+
+def _number(text: Any, field: str) -> float:
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        raise InputError(field, f"expected a number, got {text!r}") from None
+
+
+def parse_segment(text: str, oscillating: bool = False) -> cams.Segment:
+    """Parse ``rise:LAW:H:BETA_DEG``, ``fall:LAW:H:BETA_DEG`` or ``dwell:BETA_DEG``.
+
+    ``H`` is a length, or degrees for an oscillating follower. ``LAW`` is a law
+    name or ``scca(b,c,d)``.
+
+    Examples
+    --------
+    >>> seg = parse_segment("rise:cycloidal:1.5:60")
+    >>> seg.motion, seg.law.name, seg.h, round(float(np.degrees(seg.beta)), 9)
+    ('rise', 'cycloidal', 1.5, 60.0)
+    >>> parse_segment("dwell:120").motion
+    'dwell'
+    """
+    field = "--segment"
+    parts = text.split(":")
+    motion = parts[0].strip().lower()
+    if motion == "dwell":
+        if len(parts) != 2:
+            raise InputError(field, f"a dwell is dwell:BETA_DEG, got {text!r}")
+        return cams.Segment("dwell", np.radians(_number(parts[1], field)))
+    if motion not in ("rise", "fall") or len(parts) != 4:
+        raise InputError(
+            field,
+            f"expected rise:LAW:H:BETA_DEG, fall:LAW:H:BETA_DEG or dwell:BETA_DEG; got {text!r}",
+        )
+    h = _number(parts[2], field)
+    if oscillating:
+        h = float(np.radians(h))
+    return cams.Segment(motion, np.radians(_number(parts[3], field)), h, _law(parts[1], field))
+
+
+def load_program_file(path: Path) -> tuple[list[dict[str, Any]], dict[str, Any], dict[str, Any]]:
+    """Read a TOML cam file: ``[[segments]]``, optional ``[follower]`` and top-level keys.
+
+    Each segment has ``motion``, ``beta_deg`` and for a rise/fall ``law`` and
+    ``h`` (length, or ``h_deg`` for an oscillating follower), plus ``b, c, d``
+    for ``law = "scca"``. ``[follower]`` holds ``type`` and the radii (same
+    names as the options, with underscores). Top level: ``rpm``.
+    """
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError("--program", f"cannot read {path}: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("--program", f"{path} is not valid TOML: {exc}") from None
+    segments = data.pop("segments", None)
+    if not isinstance(segments, list) or not segments:
+        raise InputError("--program", f"{path} needs at least one [[segments]] table")
+    follower = data.pop("follower", {})
+    if not isinstance(follower, dict):
+        raise InputError("--program", "[follower] must be a table")
+    known = {"rpm"}
+    unknown = set(data) - known
+    if unknown:
+        raise InputError("--program", f"unknown top-level keys {sorted(unknown)}; valid: rpm")
+    return segments, follower, data
+
+
+def _segment_from_table(table: dict[str, Any], index: int, oscillating: bool) -> cams.Segment:
+    field = f"segments[{index}]"
+    allowed = {"motion", "law", "h", "h_deg", "beta_deg", "b", "c", "d"}
+    unknown = set(table) - allowed
+    if unknown:
+        raise InputError(
+            field, f"unknown keys {sorted(unknown)}; valid: {', '.join(sorted(allowed))}"
+        )
+    if "beta_deg" not in table or "motion" not in table:
+        raise InputError(field, "needs motion and beta_deg")
+    beta = np.radians(_number(table["beta_deg"], f"{field}.beta_deg"))
+    motion = str(table["motion"]).lower()
+    if motion == "dwell":
+        return cams.Segment("dwell", beta)
+    name = str(table.get("law", ""))
+    if name.lower() == "scca":
+        law = cams.get_law("scca", **{k: _number(table.get(k), f"{field}.{k}") for k in "bcd"})
+    else:
+        law = _law(name, f"{field}.law")
+    key = "h_deg" if oscillating else "h"
+    if key not in table:
+        raise InputError(field, f"a {motion} needs {key}")
+    h = _number(table[key], f"{field}.{key}")
+    return cams.Segment(motion, beta, float(np.radians(h)) if oscillating else h, law)
+
+
+def _pick(cli_value: Any, file: dict[str, Any], key: str, default: Any = None) -> Any:
+    return cli_value if cli_value is not None else file.get(key, default)
+
+
+def _build_follower(kind: str, opts: dict[str, Any]) -> Any:
+    def need(name: str) -> float:
+        if opts.get(name) is None:
+            raise InputError(f"--{name.replace('_', '-')}", f"is required for a {kind} follower")
+        return _number(opts[name], f"--{name.replace('_', '-')}")
+
+    if kind == "roller":
+        return cams.TranslatingRoller(
+            need("prime_radius"), need("roller_radius"), opts.get("eccentricity") or 0.0
+        )
+    if kind == "flat":
+        return cams.TranslatingFlatFace(need("base_radius"), opts.get("eccentricity") or 0.0)
+    try:
+        return cams.OscillatingRoller(
+            need("prime_radius"),
+            need("roller_radius"),
+            need("pivot_distance"),
+            need("arm_length"),
+            opts["pivot_side"],
+        )
+    except InputError as exc:
+        if exc.field == "pivot_side":
+            raise InputError("--pivot-side", exc.message) from None
+        raise
+
+
+@cam_app.callback(invoke_without_command=True)
+def cam(
+    ctx: typer.Context,
+    segment: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--segment",
+            "-s",
+            metavar="MOTION:LAW:H:BETA_DEG",
+            help="rise:LAW:H:BETA_DEG, fall:LAW:H:BETA_DEG or dwell:BETA_DEG (repeat, in order)",
+        ),
+    ] = None,
+    program: Annotated[
+        Path | None, typer.Option("--program", help="TOML cam file instead of --segment")
+    ] = None,
+    follower: Annotated[
+        str | None, typer.Option(help="roller | flat | oscillating (default roller)")
+    ] = None,
+    prime_radius: Annotated[float | None, typer.Option(help="prime circle radius Rp")] = None,
+    roller_radius: Annotated[float | None, typer.Option(help="roller radius Rf")] = None,
+    base_radius: Annotated[float | None, typer.Option(help="base circle Rb (flat face)")] = None,
+    eccentricity: Annotated[float | None, typer.Option(help="follower offset ε")] = None,
+    pivot_distance: Annotated[
+        float | None, typer.Option(help="cam centre to rocker pivot (oscillating)")
+    ] = None,
+    arm_length: Annotated[
+        float | None, typer.Option(help="pivot to roller centre (oscillating)")
+    ] = None,
+    pivot_side: Annotated[
+        str | None, typer.Option(help="right | left: rocker pivot at (+C, 0) or (-C, 0)")
+    ] = None,
+    rpm: Annotated[float | None, typer.Option(help="cam speed, rev/min (time units)")] = None,
+    points: Annotated[int, typer.Option(help="samples over the turn")] = 3600,
+    max_pressure_angle: Annotated[float, typer.Option(help="design limit on |φ|, degrees")] = 30.0,
+    face_width: Annotated[
+        float | None, typer.Option(help="flat face width to check (symmetric face)")
+    ] = None,
+    size: Annotated[bool, typer.Option("--size", help="also report the smallest cam")] = False,
+    min_rho: Annotated[
+        float | None, typer.Option(help="least radius of curvature wanted (flat-face --size)")
+    ] = None,
+    csv: Annotated[Path | None, typer.Option("--csv", help="write the profile table")] = None,
+    dxf: Annotated[Path | None, typer.Option("--dxf", help="write the cam outline")] = None,
+    allow_undercut: Annotated[
+        bool, typer.Option(help="write the DXF even if the cam is undercut")
+    ] = False,
+    svaj_plot: Annotated[Path | None, typer.Option(help="save svaj diagrams (PNG/SVG)")] = None,
+    profile_plot: Annotated[Path | None, typer.Option(help="save the cam drawing")] = None,
+    json: Annotated[bool, typer.Option("--json", help="print JSON instead of tables")] = False,
+    strict: Annotated[bool, typer.Option(help="exit with status 1 if a design rule fails")] = False,
+) -> None:
+    """Analyse a cam: continuity, peak svaj, pressure angle, curvature, undercut, rules."""
+    if ctx.invoked_subcommand is not None:
+        return
+    file_segments: list[dict[str, Any]] = []
+    file_follower: dict[str, Any] = {}
+    file_top: dict[str, Any] = {}
+    if program is not None:
+        if segment:
+            raise InputError("--segment", "give segments either with --segment or --program")
+        file_segments, file_follower, file_top = load_program_file(program)
+    elif not segment:
+        raise InputError("--segment", "give the program as --segment options or --program FILE")
+
+    kind = str(_pick(follower, file_follower, "type", "roller")).lower()
+    kind = {"translating": "roller", "flat-faced": "flat", "flat_face": "flat"}.get(kind, kind)
+    if kind not in FOLLOWERS:
+        raise InputError("--follower", f"must be one of {', '.join(FOLLOWERS)}; got {kind!r}")
+    oscillating = kind == "oscillating"
+    if program is not None:
+        segs = [_segment_from_table(t, i, oscillating) for i, t in enumerate(file_segments)]
+    else:
+        segs = [parse_segment(text, oscillating) for text in segment or []]
+    prog = cams.CamProgram(segs)
+
+    opts = {
+        "prime_radius": _pick(prime_radius, file_follower, "prime_radius"),
+        "roller_radius": _pick(roller_radius, file_follower, "roller_radius"),
+        "base_radius": _pick(base_radius, file_follower, "base_radius"),
+        "eccentricity": _pick(eccentricity, file_follower, "eccentricity"),
+        "pivot_distance": _pick(pivot_distance, file_follower, "pivot_distance"),
+        "arm_length": _pick(arm_length, file_follower, "arm_length"),
+        "pivot_side": _pick(pivot_side, file_follower, "pivot_side", "right"),
+    }
+    fol = _build_follower(kind, opts)
+    speed = _pick(rpm, file_top, "rpm")
+    limit = np.radians(_number(max_pressure_angle, "--max-pressure-angle"))
+
+    motion = prog.sample(points)
+    profile = fol.profile(motion)
+    continuity = prog.continuity()
+    checks = profile.checks(max_pressure_angle=limit, face_width=face_width)
+    opts["min_rho"] = min_rho
+    sizing = _sizing(kind, motion, opts, limit) if size else None
+    omega = None
+    if speed is not None:
+        omega = 2.0 * np.pi * _positive("--rpm", speed) / 60.0
+
+    payload = _payload(prog, motion, profile, continuity, checks, sizing, omega, kind)
+    if json:
+        print(dumps(payload))
+    else:
+        _print_report(prog, motion, profile, continuity, checks, sizing, omega, kind)
+
+    if csv is not None:
+        profile.to_csv(csv)
+    if dxf is not None:
+        profile.to_dxf(dxf, allow_undercut=allow_undercut)
+    if svaj_plot is not None or profile_plot is not None:
+        _save_plots(motion, profile, svaj_plot, profile_plot)
+    if strict and (not continuity.ok or not all(c.passed for c in checks)):
+        raise typer.Exit(1)
+
+
+def _positive(field: str, value: Any) -> float:
+    """Return ``value`` as a positive number or raise naming ``field``."""
+    out = _number(value, field)
+    if not out > 0.0:
+        raise InputError(field, f"must be positive, got {out:g}")
+    return out
+
+
+def _sizing(kind: str, motion: cams.Motion, opts: dict[str, Any], limit: float) -> Any:
+    if kind == "roller":
+        return cams.size_roller(
+            motion, opts["roller_radius"], opts.get("eccentricity") or 0.0, limit
+        )
+    if kind == "flat":
+        if opts.get("min_rho") is None:
+            raise InputError("--min-rho", "is required to size a flat-faced cam")
+        return cams.size_flat_face(motion, opts["min_rho"])
+    return cams.size_oscillating_roller(
+        motion,
+        opts["roller_radius"],
+        opts["pivot_distance"],
+        opts["arm_length"],
+        limit,
+        pivot_side=opts["pivot_side"],
+    )
+
+
+def _follower_text(profile: cams.CamProfile, kind: str) -> str:
+    if kind == "flat":
+        return f"translating flat-faced, base radius Rb = {profile.base_radius:g}"
+    return (
+        f"{profile.follower}, prime radius Rp = {profile.prime_radius:g}, roller radius "
+        f"Rf = {profile.roller_radius:g}, base radius Rb = {profile.base_radius:g}"
+    )
+
+
+def _segments_text(prog: cams.CamProgram, kind: str) -> list[str]:
+    out = []
+    for k, seg in enumerate(prog.segments, start=1):
+        beta = np.degrees(seg.beta)
+        if seg.motion == "dwell":
+            out.append(f"  {k}. dwell over {beta:g}°")
+        else:
+            h = f"{np.degrees(seg.h):g}°" if kind == "oscillating" else f"{seg.h:g}"
+            out.append(f"  {k}. {seg.motion} {h} over {beta:g}°, {seg.law.name}")
+    return out
+
+
+def _print_report(
+    prog: cams.CamProgram,
+    motion: cams.Motion,
+    profile: cams.CamProfile,
+    continuity: cams.ContinuityReport,
+    checks: list[cams.DesignCheck],
+    sizing: Any,
+    omega: float | None,
+    kind: str,
+) -> None:
+    deg = np.degrees
+    unit = "rad" if kind == "oscillating" else "length"
+    print("cam program (angles in degrees):")
+    for line in _segments_text(prog, kind):
+        print(line)
+    for line in continuity.lines():
+        print(line)
+    peaks = motion.peaks()
+    rows = [
+        ["s", peaks["s"], f"{unit}"],
+        ["v", peaks["v"], f"{unit}/rad"],
+        ["a", peaks["a"], f"{unit}/rad²"],
+        ["j", peaks["j"], f"{unit}/rad³"],
+    ]
+    columns = ["quantity", "peak |value|", "unit"]
+    if omega is not None:
+        timed = motion.in_time(omega).peaks()
+        for row, key, u in zip(rows, ("s", "V", "A", "J"), ("", "/s", "/s²", "/s³"), strict=True):
+            row.append(timed[key])
+            row.append(f"{unit}{u}")
+        columns += [f"at {omega * 60 / (2 * np.pi):g} rpm", "unit"]
+    print_table("peak follower motion (per radian of cam angle)", columns, rows)
+    print(f"follower: {_follower_text(profile, kind)}")
+    if kind != "flat":
+        print(
+            f"pressure angle: max |φ| = {abs(deg(profile.pressure_angle_max)):.2f}° at "
+            f"θ = {deg(profile.theta_pressure_angle_max):.1f}°"
+        )
+        print(
+            f"radius of curvature: min convex ρ of pitch curve = {profile.rho_min:.4g} at "
+            f"θ = {deg(profile.theta_rho_min):.1f}° (roller radius {profile.roller_radius:g})"
+        )
+    else:
+        print(
+            f"radius of curvature: min ρ of cam = {profile.rho_min:.4g} at "
+            f"θ = {deg(profile.theta_rho_min):.1f}°; face width ≥ {profile.face_width:.4g}"
+        )
+    if profile.is_undercut:
+        spans = ", ".join(f"{deg(a):.1f}°–{deg(b):.1f}°" for a, b in profile.undercut_ranges())
+        print(f"undercut: YES at θ = {spans}")
+    else:
+        print("undercut: none")
+    print("design rules:")
+    for check in checks:
+        print(f"  {check.line()}")
+    if sizing is not None:
+        print(
+            f"smallest cam: prime radius {sizing.prime_radius:.4g}, base radius "
+            f"{sizing.base_radius:.4g} (governed by {sizing.governed_by})"
+        )
+
+
+def _payload(
+    prog: cams.CamProgram,
+    motion: cams.Motion,
+    profile: cams.CamProfile,
+    continuity: cams.ContinuityReport,
+    checks: list[cams.DesignCheck],
+    sizing: Any,
+    omega: float | None,
+    kind: str,
+) -> dict[str, Any]:
+    deg = np.degrees
+    out: dict[str, Any] = {
+        "follower": profile.follower,
+        "segments": [
+            {
+                "motion": seg.motion,
+                "law": seg.law.name,
+                "h": float(deg(seg.h)) if kind == "oscillating" else seg.h,
+                "beta_deg": float(deg(seg.beta)),
+            }
+            for seg in prog.segments
+        ],
+        "continuity": {
+            "ok": continuity.ok,
+            "discontinuities": [
+                {
+                    "theta_deg": float(deg(d.theta)),
+                    "quantity": d.quantity,
+                    "jump": d.jump,
+                    "where": d.where,
+                }
+                for d in continuity.discontinuities
+            ],
+            "notes": list(continuity.notes),
+        },
+        "peaks_per_rad": motion.peaks(),
+        "base_radius": profile.base_radius,
+        "prime_radius": profile.prime_radius,
+        "roller_radius": profile.roller_radius,
+        "pressure_angle_max_deg": float(deg(abs(profile.pressure_angle_max))),
+        "theta_pressure_angle_max_deg": float(deg(profile.theta_pressure_angle_max)),
+        "rho_min": profile.rho_min,
+        "theta_rho_min_deg": float(deg(profile.theta_rho_min)),
+        "undercut": profile.is_undercut,
+        "undercut_ranges_deg": [
+            [float(deg(a)), float(deg(b))] for a, b in profile.undercut_ranges()
+        ],
+        "checks": [{"name": c.name, "passed": c.passed, "detail": c.detail} for c in checks],
+    }
+    if profile.face_width is not None:
+        out["face_width_min"] = profile.face_width
+    if omega is not None:
+        out["rpm"] = omega * 60 / (2 * np.pi)
+        out["peaks_time"] = motion.in_time(omega).peaks()
+    if sizing is not None:
+        out["sizing"] = {
+            "prime_radius": sizing.prime_radius,
+            "base_radius": sizing.base_radius,
+            "governed_by": sizing.governed_by,
+        }
+    return out
+
+
+def _save_plots(
+    motion: cams.Motion, profile: cams.CamProfile, svaj: Path | None, drawing: Path | None
+) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if svaj is not None:
+        fig = motion.plot()
+        fig.savefig(svaj, dpi=120, bbox_inches="tight")
+        plt.close(fig)
+    if drawing is not None:
+        ax = profile.plot()
+        ax.figure.savefig(drawing, dpi=120, bbox_inches="tight")
+        plt.close(ax.figure)
+
+
+@cam_app.command("laws")
+def laws() -> None:
+    """List the motion laws with their peak v and a factors (× h/β, × h/β²)."""
+    x = np.linspace(0.0, 1.0, 20001)
+    rows = []
+    for name in cams.LAW_NAMES:
+        if name in ("dwell", "scca"):
+            continue
+        values = cams.get_law(name)(x, 1.0, 1.0)
+        rows.append([name, float(np.abs(values.v).max()), float(np.abs(values.a).max())])
+    print_table("motion laws (rise h over β)", ["law", "v_max·β/h", "a_max·β²/h"], rows)
+    print("also: scca(b,c,d) with b + c + d = 1, and polynomial laws from the Python API")

@@ -1,0 +1,590 @@
+"""Meshing of a pinion and a gear: centre distance, length of action, contact ratio.
+
+The notes (review lecture 3, Figure 9-7; Norton eq. 9.2):
+
+* length of action, from first contact to final separation along the line of
+  action, ``Z = √((r_p + a_p)² − (r_p cos φ)²) + √((r_g + a_g)² − (r_g cos φ)²) − C sin φ``;
+* contact ratio ``m_p = Z / p_b`` — the average number of tooth pairs in
+  contact; below 1.2 is unacceptable, 1.4 or more is the target;
+* a changed centre distance ``C'`` changes the pressure angle,
+  ``cos φ' = (C / C') cos φ``, and the pitch radii ``r' = r_b / cos φ'``, but not
+  the velocity ratio ``ω_g / ω_p = r_bp / r_bg`` (Figure 9-8).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._validate import as_array, magnitude
+from ..errors import InputError
+from .geometry import Gear, inverse_involute, involute
+
+__all__ = [
+    "CONTACT_RATIO_MINIMUM",
+    "CONTACT_RATIO_TARGET",
+    "GearPair",
+    "backlash_from_center_distance",
+    "contact_ratio",
+    "contact_ratio_rating",
+    "length_of_action",
+    "operating_pressure_angle",
+]
+
+#: The notes' minimum acceptable contact ratio.
+CONTACT_RATIO_MINIMUM = 1.2
+#: The notes' standard target: ``m_p >= 1.4``.
+CONTACT_RATIO_TARGET = 1.4
+
+
+def operating_pressure_angle(
+    standard_center_distance: ArrayLike,
+    center_distance: ArrayLike,
+    pressure_angle: ArrayLike,
+) -> NDArray[np.float64]:
+    """Operating pressure angle ``φ'`` from ``cos φ' = (C / C') cos φ`` (Figure 9-8).
+
+    Parameters
+    ----------
+    standard_center_distance : array_like
+        Centre distance ``C`` at which the pressure angle is ``φ``.
+    center_distance : array_like
+        Operating centre distance ``C'``.
+    pressure_angle : array_like
+        Pressure angle ``φ`` (radians) at ``C``.
+
+    Returns
+    -------
+    ndarray
+        ``φ'`` in radians.
+
+    Raises
+    ------
+    InputError
+        If ``C'`` is smaller than the sum of the base radii ``C cos φ``.
+
+    Examples
+    --------
+    Pulling a 20° pair 2 % apart raises the pressure angle to about 22.9°:
+
+    >>> round(float(np.degrees(operating_pressure_angle(10.0, 10.2, np.radians(20)))), 2)
+    22.89
+    """
+    c = as_array("standard_center_distance", standard_center_distance)
+    c_op = as_array("center_distance", center_distance)
+    cos_op = c / c_op * np.cos(pressure_angle)
+    if np.any(c_op <= 0) or np.any(cos_op > 1.0):
+        raise InputError(
+            "center_distance",
+            "must exceed the sum of the base radii C cos φ, where the teeth would lose mesh",
+        )
+    return np.arccos(cos_op)
+
+
+def length_of_action(
+    r_gear: ArrayLike,
+    a_gear: ArrayLike,
+    r_pinion: ArrayLike,
+    a_pinion: ArrayLike,
+    pressure_angle: ArrayLike,
+    center_distance: ArrayLike | None = None,
+) -> Any:
+    """Length of action ``Z`` of an external pair (the notes, Figure 9-7; Norton eq. 9.2).
+
+    ``Z = √((r_p + a_p)² − (r_p cos φ)²) + √((r_g + a_g)² − (r_g cos φ)²) − C sin φ``
+
+    Parameters
+    ----------
+    r_gear, a_gear : array_like
+        Gear pitch radius and addendum.
+    r_pinion, a_pinion : array_like
+        Pinion pitch radius and addendum.
+    pressure_angle : array_like
+        Pressure angle ``φ`` in radians, at the standard centre distance
+        ``C = r_g + r_p``.
+    center_distance : array_like, optional
+        Operating centre distance ``C'``. When given, ``φ`` is replaced by the
+        operating pressure angle ``cos φ' = (C / C') cos φ`` and ``C`` by ``C'``
+        (the base and addendum circles do not move with the centres).
+
+    Returns
+    -------
+    ndarray or float
+        ``Z``, in the unit of the radii (a float for scalar input).
+
+    Examples
+    --------
+    The notes' final exam, problem 10 (φ = 20°, r_g = 3.75, a_g = 0.125,
+    r_p = 1.5, a_p = 0.125 in):
+
+    >>> round(float(length_of_action(3.75, 0.125, 1.5, 0.125, np.radians(20))), 4)
+    0.6249
+    """
+    rg = as_array("r_gear", r_gear)
+    rp = as_array("r_pinion", r_pinion)
+    ag = as_array("a_gear", a_gear)
+    ap = as_array("a_pinion", a_pinion)
+    phi = as_array("pressure_angle", magnitude(pressure_angle, "radian"))
+    for name, value in (("r_gear", rg), ("r_pinion", rp)):
+        if np.any(value <= 0) or not np.all(np.isfinite(value)):
+            raise InputError(name, "must be a positive, finite pitch radius")
+    for name, value in (("a_gear", ag), ("a_pinion", ap)):
+        if np.any(value < 0) or not np.all(np.isfinite(value)):
+            raise InputError(name, "must be a finite addendum >= 0")
+    if np.any(phi <= 0) or np.any(phi >= np.pi / 2):
+        raise InputError("pressure_angle", "must be between 0 and π/2 radians")
+    c = rg + rp
+    if center_distance is None:
+        c_op, phi_op = c, phi
+    else:
+        c_op = as_array("center_distance", center_distance)
+        phi_op = operating_pressure_angle(c, c_op, phi)
+    rbg, rbp = rg * np.cos(phi), rp * np.cos(phi)
+    z = np.sqrt((rp + ap) ** 2 - rbp**2) + np.sqrt((rg + ag) ** 2 - rbg**2) - c_op * np.sin(phi_op)
+    return z if np.ndim(z) else float(z)
+
+
+def contact_ratio(length_of_action: ArrayLike, base_pitch: ArrayLike) -> Any:
+    """Contact ratio ``m_p = Z / p_b`` (the notes, review lecture 3).
+
+    Parameters
+    ----------
+    length_of_action : array_like
+        Length of action ``Z``.
+    base_pitch : array_like
+        Base pitch ``p_b``.
+
+    Returns
+    -------
+    ndarray or float
+        The average number of tooth pairs in contact.
+
+    Examples
+    --------
+    The notes' final exam, problem 10 (p_b = 0.3689 in):
+
+    >>> z = length_of_action(3.75, 0.125, 1.5, 0.125, np.radians(20))
+    >>> round(float(contact_ratio(z, 0.3689)), 3)
+    1.694
+    """
+    z = as_array("length_of_action", length_of_action)
+    pb = as_array("base_pitch", base_pitch)
+    if np.any(pb <= 0) or not np.all(np.isfinite(pb)):
+        raise InputError("base_pitch", "must be a positive, finite length")
+    out = z / pb
+    return out if np.ndim(out) else float(out)
+
+
+def contact_ratio_rating(contact_ratio: ArrayLike) -> Any:
+    """Rate a contact ratio by the notes' thresholds.
+
+    ``"no contact"`` (``m_p < 1``: the mesh loses contact between teeth),
+    ``"unacceptable"`` (``< 1.2``), ``"acceptable"`` (``1.2 <= m_p < 1.4``),
+    ``"good"`` (``>= 1.4``, the standard target range).
+
+    Examples
+    --------
+    >>> contact_ratio_rating([0.9, 1.1, 1.3, 1.7]).tolist()
+    ['no contact', 'unacceptable', 'acceptable', 'good']
+    """
+    mp = as_array("contact_ratio", contact_ratio)
+    out = np.select(
+        [mp < 1.0, mp < CONTACT_RATIO_MINIMUM, mp < CONTACT_RATIO_TARGET],
+        ["no contact", "unacceptable", "acceptable"],
+        "good",
+    )
+    return out if np.ndim(out) else str(out)
+
+
+def backlash_from_center_distance(
+    center_distance_increase: ArrayLike, pressure_angle: ArrayLike
+) -> Any:
+    """Approximate circular backlash from a centre-distance increase, ``B ≈ 2 ΔC tan φ``.
+
+    The first-order estimate (Norton Ch. 9, "Backlash"); :attr:`GearPair.backlash`
+    gives the exact value from the involute tooth thicknesses.
+
+    Examples
+    --------
+    >>> round(float(backlash_from_center_distance(0.01, np.radians(20))), 6)
+    0.00728
+    """
+    dc = as_array("center_distance_increase", center_distance_increase)
+    out = 2.0 * dc * np.tan(pressure_angle)
+    return out if np.ndim(out) else float(out)
+
+
+def _half_angle(gear: Gear, thinned: bool) -> float:
+    """``s / (2 r) + inv φ`` of a tooth (external) or of a space (internal)."""
+    s = gear.tooth_thickness if thinned else gear.thickness_standard
+    width = gear.circular_pitch - s if gear.internal else s
+    return width / (2.0 * gear.pitch_radius) + float(involute(gear.pressure_angle))
+
+
+@dataclass(frozen=True, init=False)
+class GearPair:
+    """A pinion meshing with a gear (external pair, or pinion inside a ring gear).
+
+    Parameters
+    ----------
+    pinion : Gear
+        The smaller, external gear (the driver unless stated otherwise).
+    gear : Gear
+        The mating gear, external or internal, with the same module and
+        pressure angle.
+    center_distance : float, optional
+        Operating centre distance ``C'``. Default: the tight-mesh centre
+        distance of the (unthinned) teeth, which is the standard
+        ``C = (N_g ± N_p) m / 2`` when the profile shifts add to zero.
+
+    Raises
+    ------
+    InputError
+        Mismatched module or pressure angle, two internal gears, an internal
+        gear that is not larger than the pinion, or a centre distance at which
+        the teeth jam (negative backlash) or a tip hits the other root.
+
+    Examples
+    --------
+    >>> import math
+    >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+    >>> pair.center_distance, round(pair.contact_ratio, 3), pair.contact_ratio_rating
+    (5.25, 1.693, 'good')
+    >>> wide = pair.with_center_distance(5.30)
+    >>> wide.velocity_ratio == pair.velocity_ratio == -0.4
+    True
+    >>> round(math.degrees(wide.operating_pressure_angle), 3)
+    21.436
+    """
+
+    pinion: Gear
+    gear: Gear
+    center_distance: float
+
+    def __init__(self, pinion: Gear, gear: Gear, center_distance: float | None = None) -> None:
+        if not isinstance(pinion, Gear) or not isinstance(gear, Gear):
+            raise InputError("pinion", "pinion and gear must be machdyn.gears.Gear objects")
+        if pinion.internal:
+            raise InputError("pinion", "the pinion must be an external gear")
+        if not math.isclose(pinion.module, gear.module, rel_tol=1e-9):
+            raise InputError(
+                "gear",
+                f"module/pitch mismatch: pinion m={pinion.module:g} (P_d={1 / pinion.module:g}),"
+                f" gear m={gear.module:g} (P_d={1 / gear.module:g}); mating gears need the"
+                " same pitch",
+            )
+        if not math.isclose(pinion.pressure_angle, gear.pressure_angle, rel_tol=1e-9):
+            raise InputError(
+                "gear",
+                f"pressure-angle mismatch: pinion {math.degrees(pinion.pressure_angle):g}°,"
+                f" gear {math.degrees(gear.pressure_angle):g}°; mating gears need the same one",
+            )
+        if gear.internal and gear.teeth <= pinion.teeth:
+            raise InputError("gear", "an internal gear must have more teeth than its pinion")
+        object.__setattr__(self, "pinion", pinion)
+        object.__setattr__(self, "gear", gear)
+        if center_distance is None:
+            c_op = self.tight_center_distance
+        else:
+            c_op = float(magnitude(center_distance))
+            if not (math.isfinite(c_op) and c_op > 0):
+                raise InputError("center_distance", f"must be a positive length, got {c_op}")
+        object.__setattr__(self, "center_distance", c_op)
+        self._check_center_distance()
+
+    def with_center_distance(self, center_distance: float) -> GearPair:
+        """Return the same gears at another operating centre distance.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(20, module=2.0), Gear(40, module=2.0))
+        >>> round(pair.with_center_distance(60.2).backlash, 4)  # ≈ 2 ΔC tan φ = 0.1456
+        0.1479
+        """
+        return GearPair(self.pinion, self.gear, center_distance)
+
+    # -- centre distance and pressure angle ---------------------------------
+    @property
+    def internal(self) -> bool:
+        """True for a pinion inside a ring gear."""
+        return self.gear.internal
+
+    @property
+    def _sign(self) -> float:
+        return -1.0 if self.internal else 1.0
+
+    @property
+    def standard_center_distance(self) -> float:
+        """``C = r_g + r_p`` (external) or ``r_g − r_p`` (internal), reference pitch radii."""
+        return self.gear.pitch_radius + self._sign * self.pinion.pitch_radius
+
+    def _operating_angle_for_zero_backlash(self, thinned: bool) -> float:
+        bp, bg = _half_angle(self.pinion, thinned), _half_angle(self.gear, thinned)
+        n_p, n_g = self.pinion.teeth, self.gear.teeth
+        if self.internal:
+            inv = (n_g * bg - n_p * bp) / (n_g - n_p)
+        else:
+            inv = (n_p * bp + n_g * bg - math.pi) / (n_p + n_g)
+        if inv <= 0:
+            raise InputError(
+                "profile_shift", "the profile shifts are too negative for the teeth to mesh"
+            )
+        return float(inverse_involute(inv))
+
+    @property
+    def tight_center_distance(self) -> float:
+        """Centre distance at zero backlash for unthinned teeth (standard if Σx = 0)."""
+        phi_op = self._operating_angle_for_zero_backlash(thinned=False)
+        return self.standard_center_distance * math.cos(self.pressure_angle) / math.cos(phi_op)
+
+    @property
+    def pressure_angle(self) -> float:
+        """Reference (cutting) pressure angle ``φ``."""
+        return self.pinion.pressure_angle
+
+    @property
+    def operating_pressure_angle(self) -> float:
+        """``φ'`` from ``cos φ' = (C / C') cos φ`` (Figure 9-8)."""
+        return float(
+            operating_pressure_angle(
+                self.standard_center_distance, self.center_distance, self.pressure_angle
+            )
+        )
+
+    @property
+    def operating_pitch_radii(self) -> tuple[float, float]:
+        """Operating pitch radii ``(r_p', r_g') = r_b / cos φ'`` of pinion and gear."""
+        c = math.cos(self.operating_pressure_angle)
+        return self.pinion.base_radius / c, self.gear.base_radius / c
+
+    @property
+    def velocity_ratio(self) -> float:
+        """Signed ``ω_g / ω_p = ∓ r_p' / r_g'`` (negative for an external pair).
+
+        Computed from the operating pitch radii, it equals ``∓ N_p / N_g`` at any
+        centre distance: the velocity ratio does not change (Figure 9-8).
+        """
+        rp, rg = self.operating_pitch_radii
+        return -self._sign * rp / rg
+
+    @property
+    def gear_ratio(self) -> float:
+        """``m_G = N_g / N_p`` (>= 1)."""
+        return self.gear.teeth / self.pinion.teeth
+
+    # -- contact -------------------------------------------------------------
+    def _tip_paths(self) -> tuple[float, float, float]:
+        """Return ``(√(r_ap² − r_bp²), √(r_ag² − r_bg²), C' sin φ')``.
+
+        The first two are the distances along the line of action from each
+        base-circle tangent point to that gear's tip circle; the last is the
+        distance between the two tangent points (external pair) — for an
+        internal pair it is the same expression, the tangent points lying on
+        the same side of the pitch point.
+        """
+        p, g = self.pinion, self.gear
+        zp = math.sqrt(p.addendum_radius**2 - p.base_radius**2)
+        zg = math.sqrt(g.addendum_radius**2 - g.base_radius**2)
+        return zp, zg, self.center_distance * math.sin(self.operating_pressure_angle)
+
+    @property
+    def length_of_action(self) -> float:
+        """Length of action ``Z`` at the operating centre distance (Figure 9-7).
+
+        The notes' formula assumes involute action from tip to tip; when a tip
+        interferes (:attr:`interference`), real contact would run below the
+        mate's base circle and ``Z`` (hence ``m_p``) is optimistic.
+        """
+        zp, zg, c_sin = self._tip_paths()
+        if self.internal:
+            return zp - zg + c_sin
+        return zp + zg - c_sin
+
+    @property
+    def base_pitch(self) -> float:
+        """Base pitch ``p_b`` (the same for both gears)."""
+        return self.pinion.base_pitch
+
+    @property
+    def contact_ratio(self) -> float:
+        """Contact ratio ``m_p = Z / p_b``."""
+        return float(contact_ratio(self.length_of_action, self.base_pitch))
+
+    @property
+    def contact_ratio_rating(self) -> str:
+        """The notes' verdict: "no contact", "unacceptable", "acceptable" or "good"."""
+        return str(contact_ratio_rating(self.contact_ratio))
+
+    @property
+    def path_of_approach(self) -> float:
+        """Length of the line of action from first contact to the pitch point.
+
+        With the pinion driving, contact begins where the gear's tip circle
+        crosses the line of action.
+        """
+        _, zg, _ = self._tip_paths()
+        rg_op = self.operating_pitch_radii[1]
+        s = math.sin(self.operating_pressure_angle)
+        return rg_op * s - zg if self.internal else zg - rg_op * s
+
+    @property
+    def path_of_recess(self) -> float:
+        """Length of the line of action from the pitch point to the last contact."""
+        zp, _, _ = self._tip_paths()
+        return zp - self.operating_pitch_radii[0] * math.sin(self.operating_pressure_angle)
+
+    @property
+    def angles_of_approach(self) -> tuple[float, float]:
+        """Angles (rad) turned by ``(pinion, gear)`` during approach, pinion driving.
+
+        The arc of approach on a pitch circle over its radius, which is the
+        path of approach over the base radius.
+        """
+        z = self.path_of_approach
+        return z / self.pinion.base_radius, z / self.gear.base_radius
+
+    @property
+    def angles_of_recess(self) -> tuple[float, float]:
+        """Angles (rad) turned by ``(pinion, gear)`` during recess, pinion driving."""
+        z = self.path_of_recess
+        return z / self.pinion.base_radius, z / self.gear.base_radius
+
+    # -- backlash and interference --------------------------------------------
+    @property
+    def backlash(self) -> float:
+        """Circular backlash on the operating pitch circles (exact involute relation).
+
+        From the centre-distance increase over the tight mesh and from any
+        tooth-thickness reduction; ``≈ 2 ΔC tan φ + Δs_p + Δs_g``.
+        """
+        inv_op = float(involute(self.operating_pressure_angle))
+        rp_op, rg_op = self.operating_pitch_radii
+        bp, bg = _half_angle(self.pinion, True), _half_angle(self.gear, True)
+        s_p = 2 * rp_op * (bp - inv_op)
+        if self.internal:
+            return 2 * rg_op * (bg - inv_op) - s_p
+        return 2 * math.pi * rp_op / self.pinion.teeth - s_p - 2 * rg_op * (bg - inv_op)
+
+    @property
+    def radial_clearances(self) -> tuple[float, float]:
+        """Radial gaps (gear tip to pinion root, pinion tip to gear root)."""
+        p, g, c = self.pinion, self.gear, self.center_distance
+        if self.internal:
+            return g.addendum_radius - c - p.root_radius, g.root_radius - c - p.addendum_radius
+        return c - g.addendum_radius - p.root_radius, c - p.addendum_radius - g.root_radius
+
+    def _check_center_distance(self) -> None:
+        c = self.center_distance
+        clear = self.radial_clearances
+        if min(clear) < -1e-12 * self.pinion.module:
+            lo = c - min(clear)
+            raise InputError(
+                "center_distance",
+                f"{c:g} is too small: a tooth tip hits the mating root (the clearance allows"
+                f" a centre distance of at least {lo:g}; standard is"
+                f" {self.standard_center_distance:g})",
+            )
+        if self.backlash < -1e-9 * self.pinion.module:
+            raise InputError(
+                "center_distance",
+                f"{c:g} is too small: the teeth jam (backlash {self.backlash:.4g}); the"
+                f" tight-mesh centre distance of these teeth is"
+                f" {self._zero_backlash_distance():g}",
+            )
+
+    def _zero_backlash_distance(self) -> float:
+        phi_op = self._operating_angle_for_zero_backlash(thinned=True)
+        return self.standard_center_distance * math.cos(self.pressure_angle) / math.cos(phi_op)
+
+    @property
+    def interference(self) -> tuple[bool, bool]:
+        """Whether (the gear tip, the pinion tip) reaches past the mate's interference point.
+
+        Interference (Figure 9-12): contact below a base circle, where the
+        profile cannot be involute. An external tip interferes when its
+        intersection with the line of action lies beyond the tangent point of
+        the mate's base circle, ``√(r_a² − r_b²) > C' sin φ'``.
+        """
+        zp, zg, c_sin = self._tip_paths()
+        tol = 1e-12 * self.pinion.module
+        if self.internal:
+            # The ring's inner tip must stay beyond the pinion's tangent point.
+            return zg < c_sin - tol, False
+        return zg > c_sin + tol, zp > c_sin + tol
+
+    @property
+    def interferes(self) -> bool:
+        """True if either tip interferes (see :attr:`interference`)."""
+        return any(self.interference)
+
+    def plot(self, pinion_angle: float = 0.0, ax: Any = None, points: int = 40) -> Any:
+        """Draw the pair in mesh (see :func:`machdyn.gears.profile.plot_mesh`).
+
+        Examples
+        --------
+        >>> import matplotlib.pyplot as plt
+        >>> ax = GearPair(Gear(18, module=1.0), Gear(40, module=1.0)).plot()
+        >>> plt.close("all")
+        """
+        from .profile import plot_mesh
+
+        return plot_mesh(self, pinion_angle, ax, points)
+
+    def to_pandas(self) -> Any:
+        """Return :meth:`summary` flattened into a pandas Series (``pinion.*``, ``gear.*``).
+
+        Examples
+        --------
+        >>> s = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8)).to_pandas()
+        >>> float(s["pinion.pitch_radius"]), s["contact_ratio_rating"]
+        (1.5, 'good')
+        """
+        import pandas as pd
+
+        flat: dict[str, Any] = {}
+        for key, value in self.summary().items():
+            if isinstance(value, dict):
+                flat |= {f"{key}.{k}": v for k, v in value.items()}
+            else:
+                flat[key] = value
+        return pd.Series(flat, dtype=object)
+
+    def summary(self) -> dict[str, Any]:
+        """Return geometry, contact and interference as a plain dict (angles in degrees).
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> pair.summary()["interferes"]
+        False
+        """
+        a_app, a_rec = self.angles_of_approach, self.angles_of_recess
+        gear_tip, pinion_tip = self.interference
+        return {
+            "pinion": self.pinion.summary(),
+            "gear": self.gear.summary(),
+            "internal": self.internal,
+            "standard_center_distance": self.standard_center_distance,
+            "center_distance": self.center_distance,
+            "operating_pressure_angle_deg": math.degrees(self.operating_pressure_angle),
+            "operating_pitch_radius_pinion": self.operating_pitch_radii[0],
+            "operating_pitch_radius_gear": self.operating_pitch_radii[1],
+            "velocity_ratio": self.velocity_ratio,
+            "gear_ratio": self.gear_ratio,
+            "length_of_action": self.length_of_action,
+            "base_pitch": self.base_pitch,
+            "contact_ratio": self.contact_ratio,
+            "contact_ratio_rating": self.contact_ratio_rating,
+            "angle_of_approach_pinion_deg": math.degrees(a_app[0]),
+            "angle_of_approach_gear_deg": math.degrees(a_app[1]),
+            "angle_of_recess_pinion_deg": math.degrees(a_rec[0]),
+            "angle_of_recess_gear_deg": math.degrees(a_rec[1]),
+            "backlash": self.backlash,
+            "interference_gear_tip": gear_tip,
+            "interference_pinion_tip": pinion_tip,
+            "interferes": self.interferes,
+        }

@@ -1,0 +1,272 @@
+"""Tooth profiles: involute properties, rack generation, undercut, export and plots.
+
+Checks that do not share the profile code path: finite-difference normals of
+the sampled flank against the base circle (the notes: "the normal to the
+involute is always tangent to the base circle"), the spacing of successive
+flanks along a line of action against p_b (Figure 9-9), the tooth thickness
+read off the polygon, and polygon-overlap tests of a meshing pair.
+"""
+
+import math
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
+
+from machdyn import InputError
+from machdyn.gears import Gear, GearPair, min_profile_shift, undercut
+from machdyn.gears.profile import default_tip_radius, gear_outline, mesh_outlines, plot_mesh
+
+DEG = math.pi / 180
+
+
+def _one_flank(out):
+    """The upper involute flank of the first tooth (positive polar angle), tip to form."""
+    psi = np.arctan2(out.y, out.x)
+    sel = (out.segment == "involute") & (psi > 0) & (psi < math.pi / out.teeth)
+    return out.x[sel], out.y[sel]
+
+
+@given(
+    teeth=st.integers(12, 80),
+    phi_deg=st.sampled_from([14.5, 20.0, 25.0]),
+    shift=st.floats(-0.2, 0.6),
+)
+def test_involute_normal_is_tangent_to_base_circle(teeth, phi_deg, shift):
+    g = Gear(teeth, module=1.0, pressure_angle=phi_deg * DEG, profile_shift=shift)
+    assume(g.tip_thickness > 0.05)
+    out = gear_outline(g, points=400, single_tooth=True)
+    x, y = _one_flank(out)
+    assert x.size == 400
+    # Central differences: tangent t, the normal line through p has distance |p . t| from O.
+    tx, ty = x[2:] - x[:-2], y[2:] - y[:-2]
+    norm = np.hypot(tx, ty)
+    distance = np.abs(x[1:-1] * tx + y[1:-1] * ty) / norm
+    assert np.allclose(distance, g.base_radius, rtol=2e-4)
+
+
+@pytest.mark.parametrize(
+    ("teeth", "phi_deg", "shift"), [(20, 20, 0), (33, 14.5, 0.2), (40, 25, 0.4)]
+)
+def test_successive_flanks_along_line_of_action_are_one_base_pitch_apart(teeth, phi_deg, shift):
+    g = Gear(teeth, module=2.0, pressure_angle=phi_deg * DEG, profile_shift=shift)
+    out = gear_outline(g, points=300)
+    alpha = 0.3  # tangent point on the base circle, any angle
+    t_hat = np.array([math.cos(alpha), math.sin(alpha)])
+    d = np.array([-math.sin(alpha), math.cos(alpha)])
+    p0 = g.base_radius * t_hat
+    # Intersections of the line p0 + s d with the polygon edges on involute flanks.
+    x, y = out.x, out.y
+    x2, y2 = np.roll(x, -1), np.roll(y, -1)
+    both = (out.segment == "involute") & (np.roll(out.segment, -1) == "involute")
+    ex, ey = x2 - x, y2 - y
+    denom = d[0] * ey - d[1] * ex
+    ok = both & (np.abs(denom) > 1e-15)
+    wx, wy = x - p0[0], y - p0[1]
+    s = (wx * ey - wy * ex) / np.where(ok, denom, 1.0)
+    u = (wx * d[1] - wy * d[0]) / np.where(ok, denom, 1.0)
+    hit = ok & (u >= 0) & (u < 1)
+    # Keep the flanks that the line crosses at right angles (one hand of involutes).
+    perpendicular = np.abs(ex * d[0] + ey * d[1]) / np.hypot(ex, ey) < 1e-2
+    params = np.sort(s[hit & perpendicular & (s > 0)])
+    assert params.size >= 2
+    assert np.allclose(np.diff(params), g.base_pitch, rtol=1e-6)
+
+
+def test_tooth_thickness_read_from_polygon():
+    g = Gear(24, module=3.0, profile_shift=0.25, thickness_reduction=0.1)
+    out = gear_outline(g, points=400, single_tooth=True)
+    r = np.hypot(out.x, out.y)
+    psi = np.arctan2(out.y, out.x)
+    # Crossings of the pitch circle on both flanks, linear interpolation.
+    above = r >= g.pitch_radius
+    idx = np.flatnonzero(above[1:] != above[:-1])
+    assert idx.size == 2
+    w = (g.pitch_radius - r[idx]) / (r[idx + 1] - r[idx])
+    angles = psi[idx] + w * (psi[idx + 1] - psi[idx])
+    arc = (angles.max() - angles.min()) * g.pitch_radius
+    expected = 3.0 * (math.pi / 2 + 2 * 0.25 * math.tan(20 * DEG)) - 0.1
+    assert arc == pytest.approx(expected, rel=1e-5)
+
+
+def test_outline_radii_and_segments():
+    g = Gear(30, module=1.5)
+    out = gear_outline(g, points=50)
+    r = np.hypot(out.x, out.y)
+    assert r.min() == pytest.approx(g.root_radius, rel=1e-12)
+    assert r.max() == pytest.approx(g.addendum_radius, rel=1e-12)
+    assert set(out.segment.tolist()) == {"root", "fillet", "involute", "tip"}
+    # A closed, simple chain: gaps between neighbours are small against the module.
+    gaps = np.hypot(np.diff(np.append(out.x, out.x[0])), np.diff(np.append(out.y, out.y[0])))
+    assert gaps.max() < 0.25 * g.module
+    # Fillet points stay between the root circle and the start of the involute.
+    fil = out.segment == "fillet"
+    assert r[fil].min() >= g.root_radius - 1e-12
+    assert r[fil].max() <= out.form_radius + 1e-12
+
+
+def test_fillet_meets_involute_tangentially():
+    g = Gear(40, module=1.0)
+    out = gear_outline(g, points=2000, single_tooth=True)
+    x, y, seg = out.x, out.y, out.segment
+    # The junction on the upper flank: last involute point followed by a fillet point.
+    j = np.flatnonzero((seg[:-1] == "involute") & (seg[1:] == "fillet"))[-1]
+    t_inv = np.array([x[j] - x[j - 1], y[j] - y[j - 1]])
+    t_fil = np.array([x[j + 2] - x[j + 1], y[j + 2] - y[j + 1]])
+    cos = t_inv @ t_fil / np.linalg.norm(t_inv) / np.linalg.norm(t_fil)
+    assert cos > 0.999
+
+
+@pytest.mark.parametrize("teeth", [8, 10, 12, 14, 16, 18, 20, 25, 40])
+def test_generated_undercut_agrees_with_rack_relation(teeth):
+    # The profile finds undercut from where the trochoid crosses the involute; the relation
+    # (k - x) > N sin^2(phi)/2 comes from the cutter flank passing the interference point.
+    # (At N = 17, 20 deg, the undercut is below 1e-5 m and not resolved; not tested here.)
+    g = Gear(teeth, module=1.0)
+    assert gear_outline(g, points=40).undercut == undercut(teeth, 20 * DEG)
+
+
+@pytest.mark.parametrize("teeth", [8, 10, 12, 15])
+def test_min_profile_shift_puts_the_involute_start_on_the_base_circle(teeth):
+    x = min_profile_shift(teeth, 20 * DEG)
+    g = Gear(teeth, module=1.0, profile_shift=x)
+    out = gear_outline(g, points=40)
+    assert not out.undercut
+    assert out.form_radius == pytest.approx(g.base_radius, rel=1e-9)
+
+
+def test_default_tip_radius_is_iso_038():
+    assert default_tip_radius(Gear(20, module=1.0)) == pytest.approx(0.38, abs=5e-3)
+
+
+def test_sharp_cutter_makes_deeper_fillet_start():
+    g = Gear(30, module=1.0)
+    round_tip = gear_outline(g, points=40)
+    sharp = gear_outline(g, points=40, tip_radius=0.0)
+    # A sharp-cornered cutter's straight flank reaches deeper: involute starts lower.
+    assert sharp.form_radius < round_tip.form_radius
+
+
+def test_too_large_tip_radius_rejected():
+    with pytest.raises(InputError, match="tip_radius"):
+        gear_outline(Gear(30, module=1.0), tip_radius=1.0)
+
+
+def test_extreme_profile_shift_rejected():
+    with pytest.raises(InputError, match="profile_shift"):
+        gear_outline(Gear(60, module=1.0, profile_shift=0.95))
+
+
+@pytest.mark.parametrize(("teeth", "cutter"), [(60, None), (40, 18), (120, 30), (300, 25)])
+def test_internal_gear_outline_generated_by_shaper_cutter(teeth, cutter):
+    ring = Gear(teeth, module=1.0, internal=True)
+    out = gear_outline(ring, points=400, single_tooth=True, cutter_teeth=cutter)
+    r = np.hypot(out.x, out.y)
+    psi = np.arctan2(out.y, out.x)
+    assert out.fillet == "trochoid"
+    assert r.min() == pytest.approx(ring.addendum_radius, rel=1e-12)
+    assert r.max() == pytest.approx(ring.root_radius, rel=1e-12)
+    # The fillet ends on the ring's involute, whose tooth half-angle is
+    # pi/N - (e/(2R) + inv(phi) - inv(phi_r)).
+    fil = (out.segment == "fillet") & (psi > 0)
+    space0 = ring.space_width / (2 * ring.pitch_radius) + math.tan(20 * DEG) - 20 * DEG
+    r_top = r[fil].min()
+    phi_r = math.acos(ring.base_radius / r_top)
+    expected = math.pi / teeth - (space0 - (math.tan(phi_r) - phi_r))
+    assert psi[fil][np.argmin(r[fil])] == pytest.approx(expected, abs=2e-4 / teeth)
+    assert out.form_radius < ring.root_radius
+    # Involute and fillet join smoothly: tangents turn by less than 10 degrees per step.
+    flank = (psi > 0) & np.isin(out.segment, ["involute", "fillet"])
+    t = np.column_stack([np.diff(out.x[flank]), np.diff(out.y[flank])])
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    assert np.min(np.sum(t[1:] * t[:-1], axis=1)) > math.cos(math.radians(10))
+
+
+def test_shaper_cutter_bad_input():
+    with pytest.raises(InputError, match="cutter_teeth"):
+        gear_outline(Gear(40, module=1.0, internal=True), cutter_teeth=35)
+    with pytest.raises(InputError, match="tip_radius"):
+        gear_outline(Gear(40, module=1.0, internal=True), tip_radius=1.2)
+
+
+def _near_pitch_point(out, x_pitch, window):
+    near = np.hypot(out.x - x_pitch, out.y) < window
+    return np.column_stack([out.x[near], out.y[near]])
+
+
+def _overlap(a, b, x_pitch=None, window=np.inf):
+    """Whether any vertex of outline ``a`` (near the pitch point) lies inside outline ``b``."""
+    from matplotlib.path import Path
+
+    pts = _near_pitch_point(a, x_pitch or 0.0, window)
+    return bool(Path(np.column_stack([b.x, b.y])).contains_points(pts).any())
+
+
+@pytest.mark.parametrize("internal", [False, True])
+def test_meshing_pair_does_not_overlap_through_a_pitch(internal):
+    p = Gear(18, module=1.0, thickness_reduction=0.02)
+    g = Gear(54 if internal else 41, module=1.0, thickness_reduction=0.02, internal=internal)
+    pair = GearPair(p, g)
+    x_pitch, window = pair.operating_pitch_radii[0], 4.0
+    for angle in np.linspace(0, 2 * math.pi / 18, 7):
+        pin, gear = mesh_outlines(pair, angle, points=40)
+        if internal:
+            # The pinion must stay inside the ring's bore (the ring's outline polygon).
+            from matplotlib.path import Path
+
+            bore = Path(np.column_stack([gear.x, gear.y]))
+            assert bore.contains_points(_near_pitch_point(pin, x_pitch, window)).all()
+        else:
+            assert not _overlap(pin, gear, x_pitch, window)
+            assert not _overlap(gear, pin, x_pitch, window)
+
+
+def test_meshing_without_backlash_overlaps_when_pushed_together():
+    # Control for the overlap test: rotate the gear a little against the pinion.
+    pair = GearPair(Gear(18, module=1.0), Gear(41, module=1.0))
+    pin, _ = mesh_outlines(pair, 0.0, points=40)
+    turned = gear_outline(
+        pair.gear, 40, rotation=math.pi + math.pi / 41 + 0.02, center=(pair.center_distance, 0)
+    )
+    x_pitch = pair.operating_pitch_radii[0]
+    assert _overlap(pin, turned, x_pitch, 4.0) or _overlap(turned, pin, x_pitch, 4.0)
+
+
+def test_exports(tmp_path):
+    out = gear_outline(Gear(15, module=2.0, profile_shift=0.2), points=20)
+    csv_path = out.to_csv(tmp_path / "g.csv")
+    data = np.genfromtxt(csv_path, delimiter=",", skip_header=1, usecols=(0, 1))
+    assert np.allclose(data[:, 0], out.x) and np.allclose(data[:, 1], out.y)
+
+    svg = out.to_svg(tmp_path / "g.svg")
+    root = ET.fromstring((tmp_path / "g.svg").read_text())
+    poly = root.find("{http://www.w3.org/2000/svg}polygon")
+    assert svg.startswith("<svg")
+    assert len(poly.get("points").split()) == out.x.size
+
+    import ezdxf
+
+    out.to_dxf(tmp_path / "g.dxf")
+    doc = ezdxf.readfile(tmp_path / "g.dxf")
+    (pl,) = doc.modelspace().query("LWPOLYLINE")
+    assert pl.closed and len(pl) == out.x.size
+
+    df = out.to_pandas()
+    assert list(df.columns) == ["x", "y", "segment"] and len(df) == out.x.size
+
+
+def test_plots():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ax = gear_outline(Gear(20, module=1.0)).plot()
+    assert ax.patches
+    pair = GearPair(Gear(18, module=1.0), Gear(40, module=1.0))
+    ax = plot_mesh(pair, pinion_angle=0.1)
+    assert "m_p" in ax.get_title()
+    assert len(ax.lines) >= 1
+    plt.close("all")
