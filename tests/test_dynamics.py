@@ -603,3 +603,15 @@ def test_many_samples_in_blocks_match_single_samples():
     np.testing.assert_allclose(f.F14[pick], g.F14, rtol=1e-13)
     empty = fourbar_dynamics(fb, np.array([]), 3.0, **kw)
     assert empty.T12.shape == (0,) and len(empty) == 0
+
+
+def test_docs_examples_run():
+    """The python blocks of docs/dynamics.md run, in order, as one script."""
+    import re
+    from pathlib import Path
+
+    doc = Path(__file__).resolve().parents[1] / "docs" / "dynamics.md"
+    code = "\n".join(re.findall(r"```python\n(.*?)```", doc.read_text(), flags=re.S))
+    namespace: dict = {}
+    exec(compile(code, str(doc), "exec"), namespace)
+    assert namespace["f"].ok.any() and namespace["table"].shape[0] == 360
