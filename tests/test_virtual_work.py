@@ -187,3 +187,37 @@ def test_pint_quantities_in_si_base_units():
         [(-1000 * u.kg * 9.81 * u.m / u.s**2 * 1j, (8.896 + 108.6j) * u.cm / u.s)],
     )
     assert float(t12) == pytest.approx(21307.32, rel=1e-6)  # N·m
+
+
+def test_fourbar_mechanical_advantage_by_finite_differences():
+    """Point-to-point MA against central differences of positions (no velocity code)."""
+    from machdyn.virtual_work import fourbar_mechanical_advantage
+
+    fb = FourBar(8, 4, 7, 6)
+    theta2 = np.radians(np.arange(10.0, 360.0, 25.0))
+    d_in, d_out = np.exp(1j * 0.3), np.exp(1j * 2.0)
+    ma = fourbar_mechanical_advantage(fb, theta2, (2, 3.0 + 0.5j, d_in), (4, 4.0 - 1j, d_out))
+
+    def points(t):
+        m = fb.solve(t)
+        e2 = m.A / 4
+        e4 = (m.B - 8) / 6
+        return (3.0 + 0.5j) * e2, 8 + (4.0 - 1j) * e4
+
+    h = 1e-6
+    (pi_p, po_p), (pi_m, po_m) = points(theta2 + h), points(theta2 - h)
+    v_in = power(d_in, (pi_p - pi_m) / (2 * h))
+    v_out = power(d_out, (po_p - po_m) / (2 * h))
+    np.testing.assert_allclose(ma, v_in / v_out, rtol=1e-6)
+    # link to link: the FourBar method (instant centres there)
+    np.testing.assert_allclose(
+        fourbar_mechanical_advantage(fb, theta2),
+        fb.mechanical_advantage(theta2, method="instant_centres"),
+        rtol=1e-10,
+    )
+    with pytest.raises(InputError):
+        fourbar_mechanical_advantage(fb, theta2, 5)
+    with pytest.raises(InputError):
+        fourbar_mechanical_advantage(fb, theta2, (3, 1.0))
+    with pytest.raises(InputError):
+        fourbar_mechanical_advantage(fb, theta2, (3, 1.0, 0.0))

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import finite_array, nonnegative
+from ._validate import choice, finite_array, nonnegative
 from .dynamics import (
     FORCE_REASONS,
     _check_sample_shapes,
@@ -40,6 +40,7 @@ from .fourbar import OK, TOGGLE, FourBar, FourBarMotion, velocities
 __all__ = [
     "InputTorque",
     "fourbar_input_torque",
+    "fourbar_mechanical_advantage",
     "mechanical_advantage",
     "power",
     "virtual_work",
@@ -185,6 +186,84 @@ def mechanical_advantage(input_rate: Any, output_rate: Any) -> np.ndarray:
 # The four-bar's dynamic input torque by virtual work
 
 
+class _Coefficients:
+    """Kinematic coefficients of a four-bar pose: rates per unit input rate ``θ̇2``."""
+
+    def __init__(self, fourbar: FourBar, motion: FourBarMotion) -> None:
+        r1, r2, r3, r4 = fourbar.lengths
+        A, B = motion.A, motion.B
+        # ∂θ3/∂θ2, ∂θ4/∂θ2: the velocity solution at unit input speed
+        h3, h4 = velocities(r2, r3, r4, motion.theta2, motion.theta3, motion.theta4, 1.0)
+        self.e = {2: A / r2, 3: (B - A) / r3, 4: (B - r1) / r4}  # link directions
+        self.h = {2: 1.0, 3: h3, 4: h4}
+        self.finite = np.isfinite(h3) & np.isfinite(h4)
+        self._origin_rate = {2: 0.0, 3: 1j * A, 4: 0.0}  # ∂(first joint)/∂θ2
+
+    def point_rate(self, link: int, point: complex) -> np.ndarray:
+        """∂rP/∂θ2 of a point fixed in a link (given in the link's frame)."""
+        return self._origin_rate[link] + 1j * self.h[link] * (point * self.e[link])
+
+    def rate(self, spec: Any, field: str) -> np.ndarray:
+        """Rate per unit θ̇2 of an input/output: a link (torque) or (link, point, direction)."""
+        if isinstance(spec, (int, np.integer)):
+            return np.asarray(self.h[choice(field, int(spec), (2, 3, 4))], dtype=float)
+        try:
+            link, point, direction = spec
+        except (TypeError, ValueError):
+            raise InputError(
+                field, f"expected a link number or (link, point, direction), got {spec!r}"
+            ) from None
+        link = choice(f"{field} link", link, (2, 3, 4))
+        point = complex(_as_complex(f"{field} point", point))
+        d = complex(_as_complex(f"{field} direction", direction))
+        if d == 0:
+            raise InputError(f"{field} direction", "must be a non-zero complex number")
+        return power(d / abs(d), self.point_rate(link, point))
+
+
+def fourbar_mechanical_advantage(
+    fourbar: FourBar,
+    theta2: Any,
+    input: Any = 2,
+    output: Any = 4,
+    form: int = 1,
+    *,
+    branch: int | None = None,
+) -> np.ndarray:
+    """Mechanical advantage of a four-bar between any input and output, by power.
+
+    ``input`` and ``output`` are a link number (a torque on that link) or
+    ``(link, point, direction)``: a force along the complex ``direction`` at a
+    ``point`` given in the link's frame (origin at O2, A, O4; x toward A, B, B).
+    The result is ``output effort / input effort = v_in* / v_out*`` (signed;
+    ``inf`` where the output is stationary, e.g. at a toggle of links 2 and 3).
+
+    Examples
+    --------
+    Torque on link 2 to torque on link 4 equals ``ω2/ω4``, the FourBar method:
+
+    >>> fb = FourBar(8, 4, 7, 6)
+    >>> ma = fourbar_mechanical_advantage(fb, np.radians(60))
+    >>> bool(np.isclose(ma, fb.mechanical_advantage(np.radians(60))))
+    True
+
+    A torque on link 2 against a horizontal force at the coupler's mid-point
+    (per unit torque, the force it can hold; negative: it pushes toward −x):
+
+    >>> ma = fourbar_mechanical_advantage(fb, np.radians(90), 2, (3, 3.5, 1.0))
+    >>> print(f"{float(ma):.4f}")
+    -0.2572
+    """
+    motion = fourbar.solve(theta2, 1.0, 0.0, form, branch=branch)
+    coef = _Coefficients(fourbar, motion)
+    v_in = coef.rate(input, "input")
+    v_out = coef.rate(output, "output")
+    valid = motion.ok & coef.finite
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ma = np.divide(v_in, v_out)
+    return np.where(valid, ma, np.nan)
+
+
 @dataclass(frozen=True, eq=False)
 class InputTorque:
     """The input torque of a four-bar found by virtual work.
@@ -275,22 +354,12 @@ def fourbar_input_torque(
     load4 = finite_array("load_torque4", load_torque4, units["torque"])
     motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
     _check_sample_shapes(np.shape(motion.status), loads, torques, ("load_torque4", load4))
-    r1, r2, r3, r4 = fourbar.lengths
-    # Kinematic coefficients ∂θ3/∂θ2, ∂θ4/∂θ2: the velocity solution at unit input speed.
-    h3, h4 = velocities(r2, r3, r4, motion.theta2, motion.theta3, motion.theta4, 1.0)
-
-    A, B = motion.A, motion.B
-    e = {2: A / r2, 3: (B - A) / r3, 4: (B - r1) / r4}
+    coef = _Coefficients(fourbar, motion)
+    e, h, point_rate = coef.e, coef.h, coef.point_rate
+    A = motion.A
     omega = {2: motion.omega2, 3: motion.omega3, 4: motion.omega4}
     alpha = {2: motion.alpha2, 3: motion.alpha3, 4: motion.alpha4}
-    h = {2: 1.0, 3: h3, 4: h4}  # ∂θ/∂θ2
-    dA = 1j * A  # ∂A/∂θ2
     accel_origin = {2: 0.0, 3: A * (1j * motion.alpha2 - motion.omega2**2), 4: 0.0}
-    rate_origin = {2: 0.0, 3: dA, 4: 0.0}
-
-    def point_rate(link: int, point: complex) -> np.ndarray:
-        """∂rP/∂θ2 of a point fixed in a link."""
-        return rate_origin[link] + 1j * h[link] * (point * e[link])
 
     generalized = 0.0  # Σ of (applied + inertia) loads · coefficients; T12 balances it
     for link, m, i_g, c in zip((2, 3, 4), props.mass, props.inertia, props.cg, strict=True):
@@ -306,7 +375,7 @@ def fourbar_input_torque(
     generalized = generalized + load4 * h[4]
 
     status = np.array(motion.status, dtype=np.uint8, copy=True)
-    status[(status == OK) & ~(np.isfinite(h3) & np.isfinite(h4))] = TOGGLE
+    status[(status == OK) & ~coef.finite] = TOGGLE
     T12 = np.broadcast_to(-generalized, status.shape)
     T12 = np.where(status == OK, T12, np.nan)
     return InputTorque(T12=T12, motion=motion, status=status)
