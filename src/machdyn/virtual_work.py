@@ -29,6 +29,7 @@ from ._validate import choice, finite_array, nonnegative
 from .dynamics import (
     FORCE_REASONS,
     _check_sample_shapes,
+    _complex_scalar,
     _point_loads,
     _torques,
     link_properties,
@@ -198,6 +199,7 @@ class _Coefficients:
         self.h = {2: 1.0, 3: h3, 4: h4}
         self.finite = np.isfinite(h3) & np.isfinite(h4)
         self._origin_rate = {2: 0.0, 3: 1j * A, 4: 0.0}  # ∂(first joint)/∂θ2
+        self._length = unit_system(fourbar.length_unit)["length"]
 
     def point_rate(self, link: int, point: complex) -> np.ndarray:
         """∂rP/∂θ2 of a point fixed in a link (given in the link's frame)."""
@@ -214,7 +216,7 @@ class _Coefficients:
                 field, f"expected a link number or (link, point, direction), got {spec!r}"
             ) from None
         link = choice(f"{field} link", link, (2, 3, 4))
-        point = complex(_as_complex(f"{field} point", point))
+        point = _complex_scalar(f"{field} point", point, self._length)
         d = complex(_as_complex(f"{field} direction", direction))
         if d == 0:
             raise InputError(f"{field} direction", "must be a non-zero complex number")
