@@ -56,6 +56,7 @@ import numpy as np
 from ._validate import choice, finite_array, finite_scalar, magnitude, nonnegative
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
+from .slidercrank import SliderCrank, SliderCrankMotion
 
 __all__ = [
     "FORCE_REASONS",
@@ -864,7 +865,7 @@ class SliderCrankForces:
     F14: np.ndarray
     shaking_force: np.ndarray
     shaking_moment: np.ndarray
-    motion: Any
+    motion: SliderCrankMotion
     status: np.ndarray
     friction: str
 
@@ -922,8 +923,8 @@ class SliderCrankForces:
 
 
 def slidercrank_forces(
-    slidercrank: Any,
-    motion: Any,
+    slidercrank: SliderCrank,
+    motion: SliderCrankMotion,
     *,
     mass: Sequence[float],
     inertia: Sequence[float],
@@ -1062,7 +1063,7 @@ def _sequence(field: str, value: Any, n: int, names: str) -> tuple[Any, ...]:
 
 
 def slidercrank_dynamics(
-    slidercrank: Any,
+    slidercrank: SliderCrank,
     theta2: Any,
     omega2: Any,
     alpha2: Any = 0.0,
