@@ -147,6 +147,7 @@ def test_normal_reversals_and_shaking():
     fs = -(2.0 * aG3 + 1.0 * f.motion.d_ddot)
     np.testing.assert_allclose(f.shaking_force, fs, atol=1e-9 * np.max(np.abs(fs)))
     assert len(f.to_pandas()) == 360
+    assert len(f.plot().lines) == 5
 
 
 def test_coulomb_wedging_is_flagged():

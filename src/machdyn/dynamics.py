@@ -324,6 +324,22 @@ def _check_sample_shapes(
             )
 
 
+def _plot_forces(result: Any, ax: Any, degrees: bool) -> Any:
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots()
+    x = np.ravel(result.motion.theta2)
+    x = np.degrees(x) if degrees else x
+    for name in ("F12", "F32", "F43", "F14"):
+        ax.plot(x, np.abs(np.ravel(getattr(result, name))), label=f"|{name}|")
+    ax.plot(x, np.ravel(result.T12), "k", label="T12")
+    ax.set_xlabel("θ2 [deg]" if degrees else "θ2 [rad]")
+    ax.set_ylabel("force, torque")
+    ax.legend()
+    return ax
+
+
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """The z component of ``u × v`` for planar vectors given as complex numbers."""
     return u.real * v.imag - u.imag * v.real
@@ -419,18 +435,7 @@ class FourBarForces:
 
     def plot(self, ax: Any = None, degrees: bool = True):
         """Plot ``T12`` and the joint-force magnitudes against θ2 (matplotlib, lazily)."""
-        import matplotlib.pyplot as plt
-
-        if ax is None:
-            _, ax = plt.subplots()
-        x = np.ravel(self.motion.theta2)
-        x = np.degrees(x) if degrees else x
-        for name in ("F12", "F32", "F43", "F14"):
-            ax.plot(x, np.abs(np.ravel(getattr(self, name))), label=f"|{name}|")
-        ax.plot(x, np.ravel(self.T12), "k", label="T12")
-        ax.set_xlabel("θ2 [deg]" if degrees else "θ2 [rad]")
-        ax.legend()
-        return ax
+        return _plot_forces(self, ax, degrees)
 
     def __len__(self) -> int:
         return int(np.size(self.T12))
@@ -888,6 +893,10 @@ class SliderCrankForces:
     def N(self) -> np.ndarray:
         """Normal force of the guide on the slider (+y positive)."""
         return self.F14.imag
+
+    def plot(self, ax: Any = None, degrees: bool = True):
+        """Plot ``T12`` and the joint-force magnitudes against θ2 (matplotlib, lazily)."""
+        return _plot_forces(self, ax, degrees)
 
     def normal_reversals(self) -> np.ndarray:
         """Indices ``i`` (of the flattened samples) where ``N`` changes sign between i and i+1.
