@@ -24,10 +24,12 @@ def _register() -> None:
     from .balance import balance_app
     from .cam import cam_app
     from .flywheel import flywheel as flywheel_command
+    from .gear import gear_app
 
     app.command("flywheel")(flywheel_command)
     app.add_typer(balance_app, name="balance")
     app.add_typer(cam_app, name="cam")
+    app.add_typer(gear_app, name="gear")
 
 
 _register()
