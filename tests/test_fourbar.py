@@ -489,3 +489,23 @@ def test_order_limits_the_derivatives_computed():
         assert "theta3" in m.to_pandas().columns
     with pytest.raises(InputError, match="order"):
         fb.solve(0.0, order=4)
+
+
+def test_change_point_where_a_meets_o4_is_flagged_indeterminate():
+    # CP3X rhombus: at θ2 = 0 joint A lands on O4 and B can be anywhere on its circle.
+    m = FourBar(1, 1, 1, 1).solve([0.0, 1.0])
+    assert m.ok.tolist() == [False, True]
+    assert "indeterminate" in m.reason[0]
+
+
+def test_dynamics_method_torque_equals_virtual_work():
+    # Newton–Euler (force matrix) against virtual work (velocities only): no shared path.
+    from machdyn.virtual_work import fourbar_input_torque
+
+    fb = FourBar(8, 4, 7, 6)
+    theta2 = np.radians(np.arange(0, 360, 10))
+    props = dict(mass=(1.0, 2.0, 1.5), inertia=(0.1, 0.4, 0.2), cg=(2.0, 3.5 + 0.5j, 3.0))
+    forces = fb.dynamics(theta2, 10.0, 2.0, gravity=9.81, **props)
+    vw = fourbar_input_torque(fb, theta2, 10.0, 2.0, gravity=9.81, **props)
+    assert forces.ok.all()
+    assert np.allclose(forces.T12, vw.T12, rtol=1e-9, atol=1e-9)

@@ -44,7 +44,18 @@ __all__ = [
 
 # Subpackages and modules loaded lazily on attribute access.
 _LAZY_MODULES = frozenset(
-    {"balancing", "cams", "flywheel", "gears", "loops", "massprops", "synthesis", "units"}
+    {
+        "balancing",
+        "cams",
+        "dynamics",
+        "flywheel",
+        "gears",
+        "loops",
+        "massprops",
+        "shaking",
+        "synthesis",
+        "virtual_work",
+    }
 )
 
 

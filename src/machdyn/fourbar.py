@@ -104,13 +104,14 @@ def _unit_vectors(
     cg = np.clip(cg, -1.0, 1.0)
     sg = np.sqrt(1.0 - cg * cg)
     sg *= branch
-    ux = sx * inv
-    uy = sy * inv
-    # e^{jθ4} = u · e^{−j·branch·γ}
-    e4x = ux * cg + uy * sg
-    e4y = uy * cg - ux * sg
-    e3x = (r1 + r4 * e4x - ax) * (1.0 / r3)
-    e3y = (r4 * e4y - ay) * (1.0 / r3)
+    with np.errstate(invalid="ignore"):  # 0 · ∞ where A sits on O4 (flagged above)
+        ux = sx * inv
+        uy = sy * inv
+        # e^{jθ4} = u · e^{−j·branch·γ}
+        e4x = ux * cg + uy * sg
+        e4y = uy * cg - ux * sg
+        e3x = (r1 + r4 * e4x - ax) * (1.0 / r3)
+        e3y = (r4 * e4y - ay) * (1.0 / r3)
     return e3x, e3y, e4x, e4y, status
 
 
@@ -783,6 +784,45 @@ class FourBar:
         return (
             f"theta2 must lie in [{np.degrees(rng.lo):.6g}, {np.degrees(rng.hi):.6g}] deg "
             f"for form {form}"
+        )
+
+    def dynamics(
+        self,
+        theta2: Any,
+        omega2: Any,
+        alpha2: Any = 0.0,
+        *,
+        mass: Any,
+        inertia: Any,
+        cg: Any,
+        form: int = 1,
+        gravity: float = 0.0,
+        load_torque4: Any = 0.0,
+        **options: Any,
+    ):
+        """Joint forces and driving torque by Newton–Euler (Norton eq. 11.10).
+
+        ``mass = (m2, m3, m4)``, ``inertia = (IG2, IG3, IG4)`` and ``cg = (c2, c3,
+        c4)``, each centre of mass a complex position in its link's frame (origin at
+        O2, A, O4; x toward A, B, B). Further keyword options (external forces and
+        torques, ``branch``) are those of :func:`machdyn.dynamics.fourbar_dynamics`,
+        which this calls; it returns a ``FourBarForces`` with ``T12, F12, F32, F43,
+        F14`` and the shaking force and moment.
+        """
+        from .dynamics import fourbar_dynamics
+
+        return fourbar_dynamics(
+            self,
+            theta2,
+            omega2,
+            alpha2,
+            mass=mass,
+            inertia=inertia,
+            cg=cg,
+            form=form,
+            gravity=gravity,
+            load_torque4=load_torque4,
+            **options,
         )
 
     # -- ranges, toggles, extrema --------------------------------------------------

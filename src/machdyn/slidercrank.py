@@ -314,6 +314,16 @@ class SliderCrank:
             offset=c,
         )
 
+    def dynamics(self, theta2: Any, omega2: Any, alpha2: Any = 0.0, **options: Any):
+        """Joint forces, guide normal force and crank torque (with slider friction).
+
+        Keyword options are those of :func:`machdyn.dynamics.slidercrank_dynamics`
+        (``mass, inertia, cg, form, gravity, load_force4, friction, mu, beta``, ...).
+        """
+        from .dynamics import slidercrank_dynamics
+
+        return slidercrank_dynamics(self, theta2, omega2, alpha2, **options)
+
     def instant_centres(self, theta2: Any, form: int = 1) -> InstantCentres:
         """The six instant centres (1 ground, 2 crank, 3 rod, 4 slider).
 
