@@ -509,3 +509,23 @@ def test_dynamics_method_torque_equals_virtual_work():
     vw = fourbar_input_torque(fb, theta2, 10.0, 2.0, gravity=9.81, **props)
     assert forces.ok.all()
     assert np.allclose(forces.T12, vw.T12, rtol=1e-9, atol=1e-9)
+
+
+def test_every_exact_rocker_limit_is_flagged_as_a_toggle(rng):
+    # At the limits returned by input_range, links 3 and 4 are collinear: the
+    # velocity solution is singular there, so the sample must be flagged.
+    count = 0
+    while count < 300:
+        lengths = rng.uniform(0.3, 10.0, 4)
+        if not is_assemblable(*lengths):
+            continue
+        fb = FourBar(*lengths)
+        for form in (1, 2):
+            r = fb.input_range(form)
+            if r.full_turn:
+                continue
+            for branch in (1, -1) if fb.form_rule == "phi34" else (None,):
+                m = fb.solve(np.array([r.lo, r.hi]), omega2=1.0, form=form, branch=branch)
+                assert m.assembled.all() and not m.ok.any()
+                assert all("toggle" in reason for reason in m.reason)
+                count += 1

@@ -70,8 +70,9 @@ STATUS_REASONS: tuple[str, ...] = (
 
 #: Tolerance on |cos| beyond 1 accepted as a toggle rather than a failure to assemble.
 _CLOSE_TOL = 1e-12
-#: |sin(θ4 − θ3)| below this is treated as a toggle of links 3 and 4.
-_TOGGLE_TOL = 1e-9
+#: |sin(θ4 − θ3)| below this is a toggle of links 3 and 4. At a rocker's exact limit
+#: rounding leaves up to ~6e-7 (the limit angle itself carries √ε error).
+_TOGGLE_TOL = 2e-6
 #: Samples are processed in chunks of this size (keeps temporaries in cache).
 _CHUNK = 1 << 14
 

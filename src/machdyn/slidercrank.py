@@ -36,7 +36,7 @@ REASONS = (
     "toggle: the velocity solution is singular here",
 )
 _CLOSE_TOL = 1e-12
-_TOGGLE_TOL = 1e-9
+_TOGGLE_TOL = 2e-6
 
 
 def _rates(theta: np.ndarray, w: np.ndarray, al: np.ndarray, je: np.ndarray):
