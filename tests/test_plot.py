@@ -361,7 +361,7 @@ def test_gif_has_the_requested_frames(tmp_path, hw6):
     np.testing.assert_allclose(ends(by_gid(ax.lines, "link3")), [m.A, m.B])
     assert "300.00°" in by_gid(ax.texts, "status").get_text()
     curve = ends(by_gid(ax.lines, "coupler_curve"))
-    np.testing.assert_allclose(curve, hw6.solve(np.radians(np.arange(0, 360, 60))).coupler)
+    np.testing.assert_allclose(curve, hw6.solve(np.radians(np.arange(0, 361, 60))).coupler)
 
 
 def test_animation_of_explicit_angles_flags_what_cannot_be_drawn(tmp_path):
@@ -388,3 +388,67 @@ def test_animate_rejects_bad_input(tmp_path, hw6):
         animate(hw6, n=1)
     with pytest.raises(InputError, match="fourbar"):
         animate(SliderCrank(2, 6), n=4)
+
+
+# --------------------------------------------------------------------------------------
+# the `animate` command (on a typer app of its own; the lead registers it on the main app)
+
+
+@pytest.fixture
+def cli():
+    import typer
+    from typer.testing import CliRunner
+
+    from machdyn.cli.plot import animate as animate_command
+
+    app = typer.Typer()
+    app.command("animate")(animate_command)
+    app.command("other")(lambda: None)  # two commands, so "animate" is a subcommand
+    runner = CliRunner()
+    return lambda *args: runner.invoke(app, ["animate", *map(str, args)])
+
+
+def test_cli_writes_each_kind_of_file(cli, tmp_path):
+    gif = tmp_path / "hw6.gif"
+    result = cli(8, 4, 7, 6, "--coupler", "5:30", "--frames", 5, "--out", gif)
+    assert result.exit_code == 0, result.output
+    assert "5 frames" in result.output
+    with Image.open(gif) as im:
+        assert im.n_frames == 5
+    page = tmp_path / "hw6.html"
+    assert cli(8, 4, 7, 6, "--coupler", "5:30", "--frames", 12, "--out", page).exit_code == 0
+    text = page.read_text(encoding="utf-8")
+    assert "<svg" in text and "http" not in text
+    png = tmp_path / "hw6.png"
+    assert cli(8, 4, 7, 6, "--coupler", "5:30", "--theta2", 45, "--out", png).exit_code == 0
+    with Image.open(png) as im:
+        assert im.format == "PNG" and im.size[0] > 100
+    svg = tmp_path / "rocker.svg"
+    assert cli(4, 7, 5, 3, "--form", 2, "--out", svg).exit_code == 0  # no coupler: pose only
+    assert "<svg" in svg.read_text(encoding="utf-8")
+
+
+def test_cli_still_pose_is_at_the_requested_angle(cli, tmp_path):
+    svg = tmp_path / "pose.svg"
+    assert cli(8, 4, 7, 6, "--theta2", 90, "--out", svg).exit_code == 0
+    text = svg.read_text(encoding="utf-8")
+    assert "θ2 = 90°, form 1" in text  # matplotlib keeps each text as a comment
+
+
+@pytest.mark.parametrize(
+    ("args", "field", "needle"),
+    [
+        ((8, 4, 7, 6, "--out", "x.jpg"), "--out", ".gif, .html, .png, .svg"),
+        ((8, 4, 7, 6, "--out", "x"), "--out", "unknown file type"),
+        ((8, 4, 7, 6, "--form", 3, "--out", "x.gif"), "--form", "1 or 2"),
+        ((8, 4, 7, 6, "--frames", 1, "--out", "x.gif"), "--frames", "at least 2"),
+        ((8, 4, 7, 6, "--coupler", "5", "--out", "x.gif"), "--coupler", "P:DELTA_DEG"),
+        (("--out", "x.gif", "--", 8, -4, 7, 6), "r2", "positive"),
+    ],
+)
+def test_cli_bad_input_names_the_field(cli, tmp_path, monkeypatch, args, field, needle):
+    monkeypatch.chdir(tmp_path)
+    result = cli(*args)
+    assert isinstance(result.exception, InputError)
+    assert result.exception.field == field and needle in str(result.exception)
+    assert not list(tmp_path.iterdir())  # nothing written

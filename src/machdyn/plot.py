@@ -789,6 +789,8 @@ def animate(
     ax = fig.add_subplot()
     if coupler_curve and frames.coupler is not None:
         path_pts = frames.coupler[frames.assembled]
+        if theta2 is None:  # a default sweep is a cycle: close the trace
+            path_pts = np.append(path_pts, path_pts[:1])
         (trace,) = ax.plot(path_pts.real, path_pts.imag, color="C3", lw=1.0, alpha=0.7)
         trace.set_gid("coupler_curve")
     art = _FourBarArtists(ax, fourbar)

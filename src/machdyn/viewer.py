@@ -253,12 +253,12 @@ _TEMPLATE = """<!DOCTYPE html>
   // hatch pattern for the ground
   const defs = make("defs", {}, svg);
   const pat = make("pattern", { id: "hatch", patternUnits: "userSpaceOnUse",
-    width: 2 * unit, height: 2 * unit, patternTransform: "rotate(45)" }, defs);
-  make("line", { x1: 0, y1: 0, x2: 0, y2: 2 * unit, stroke: "#000",
-    "stroke-width": 0.4 * unit }, pat);
+    width: 1.2 * unit, height: 1.2 * unit, patternTransform: "rotate(45)" }, defs);
+  make("line", { x1: 0, y1: 0, x2: 0, y2: 1.2 * unit, stroke: "#000",
+    "stroke-width": 0.35 * unit }, pat);
 
   function ground(x) {
-    const s = 3.5 * unit;
+    const s = 4.5 * unit;
     make("rect", { x: x - 0.9 * s, y: -1.35 * s, width: 1.8 * s, height: 0.35 * s,
       fill: "url(#hatch)" }, world);
     make("polygon", { points: [x, 0, x - 0.6 * s, -s, x + 0.6 * s, -s].join(" "),
