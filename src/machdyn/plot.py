@@ -34,12 +34,14 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 __all__ = [
+    "Sweep",
     "animate",
     "draw_fourbar",
     "plot_coupler_curve",
     "plot_kinematics",
     "plot_slider_crank",
     "plot_slider_motion",
+    "sweep",
 ]
 
 #: Colours of the moving links (matplotlib's default cycle), by link number.
@@ -766,9 +768,9 @@ def animate(
 
     Examples
     --------
-    >>> anim = animate(FourBar(8, 4, 7, 6, coupler=(5, 0.5)), n=12)
+    >>> anim = animate(FourBar(8, 4, 7, 6, coupler=(5, 0.5)), n=6, dpi=40)
     >>> len(list(anim.new_frame_seq()))
-    12
+    6
     >>> html = anim.to_jshtml()          # in a notebook: IPython.display.HTML(html)
     """
     from matplotlib.animation import FuncAnimation, PillowWriter
