@@ -773,7 +773,7 @@ def animate(
     6
     >>> html = anim.to_jshtml()          # in a notebook: IPython.display.HTML(html)
     """
-    from matplotlib.animation import FuncAnimation, PillowWriter
+    from matplotlib.animation import FuncAnimation
     from matplotlib.figure import Figure
 
     fps = positive("fps", fps)
@@ -841,5 +841,55 @@ def animate(
         cache_frame_data=False,
     )
     if path is not None:
-        anim.save(path, writer=PillowWriter(fps=fps), dpi=dpi)
+        anim.save(path, writer=_gif_writer([*art.artists, status], fps), dpi=fig.dpi)
     return anim
+
+
+def _gif_writer(moving: list[Any], fps: float) -> Any:
+    """A GIF writer that draws the still parts once and then only the ``moving`` artists.
+
+    matplotlib's ``PillowWriter`` re-renders the whole figure (tick labels,
+    hatching, the coupler curve) for every frame; here the background is
+    rendered once and restored before each frame, as interactive blitting
+    does. The frames are written by Pillow, as ``PillowWriter`` writes them.
+    """
+    from matplotlib.animation import AbstractMovieWriter
+    from matplotlib.backends.backend_agg import RendererAgg
+    from PIL import Image
+
+    class GifWriter(AbstractMovieWriter):
+        def setup(self, fig: Any, outfile: Any, dpi: float | None = None) -> None:
+            super().setup(fig, outfile, dpi)
+            self._images: list[Any] = []
+            self._renderer: Any = None
+            self._background: Any = None
+
+        def grab_frame(self, **savefig_kwargs: Any) -> None:
+            if self._renderer is None:  # the background, without the moving artists
+                width, height = self.frame_size
+                self._renderer = RendererAgg(width, height, self.fig.dpi)
+                shown = [artist.get_visible() for artist in moving]
+                for artist in moving:
+                    artist.set_visible(False)
+                self.fig.draw(self._renderer)
+                for artist, visible in zip(moving, shown, strict=True):
+                    artist.set_visible(visible)
+                self._background = self._renderer.copy_from_bbox(self.fig.bbox)
+            renderer = self._renderer
+            renderer.restore_region(self._background)
+            for artist in sorted(moving, key=lambda a: a.get_zorder()):
+                artist.draw(renderer)
+            rgba = np.array(renderer.buffer_rgba(), copy=True)
+            self._images.append(Image.fromarray(rgba, "RGBA"))
+
+        def finish(self) -> None:
+            if self._images:
+                self._images[0].save(
+                    self.outfile,
+                    save_all=True,
+                    append_images=self._images[1:],
+                    duration=int(1000 / self.fps),
+                    loop=0,
+                )
+
+    return GifWriter(fps=fps)
