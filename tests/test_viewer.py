@@ -165,3 +165,31 @@ def test_script_parses():
         ["node", "--check", "-"], input=script[0], capture_output=True, text=True, timeout=30
     )
     assert proc.returncode == 0, proc.stderr
+
+
+def test_random_linkages_embed_closed_loops(rng):
+    # seeded property test over all kinds of four-bars (cranks, rockers, GRCR/GRRC, both forms)
+    tried = 0
+    while tried < 25:
+        r = rng.uniform(0.5, 10.0, size=4)
+        if 2 * r.max() >= r.sum():  # the lengths cannot close a loop
+            continue
+        tried += 1
+        fb = FourBar(*r, coupler=(rng.uniform(0, 5), rng.uniform(-np.pi, np.pi)))
+        form = int(rng.integers(1, 3))
+        data = page_data(fb, form=form, n=120)
+        F = data["frames"]
+        shown = np.array(F["assembled"])
+        assert shown.all(), fb  # a default sweep stays inside the input's range
+        A = arr(F["Ax"]) + 1j * arr(F["Ay"])
+        B = arr(F["Bx"]) + 1j * arr(F["By"])
+        P = arr(F["Px"]) + 1j * arr(F["Py"])
+        np.testing.assert_allclose(np.abs(A), r[1], rtol=1e-9)
+        np.testing.assert_allclose(np.abs(B - A), r[2], rtol=1e-9)
+        np.testing.assert_allclose(np.abs(B - r[0]), r[3], rtol=1e-9)
+        np.testing.assert_allclose(np.abs(P - A), fb.coupler[0], rtol=1e-9, atol=1e-9)
+        # consecutive frames are neighbours (no jump to the other circuit): the output
+        # link turns by less than 20° from one frame to the next, also when the loop closes
+        B = np.append(B, B[0])
+        turn = np.degrees(np.abs(np.angle((B[1:] - r[0]) / (B[:-1] - r[0]))))
+        assert turn.max() < 20, (fb, form, turn.max())

@@ -119,26 +119,10 @@ def sweep(
         raise InputError("fourbar", f"expected a FourBar, got {type(fourbar).__name__}")
     choice("form", form, (1, 2))
     omega2 = finite_scalar("omega2", omega2, "radian / second")
-    if theta2 is not None:
-        motions = [fourbar.solve(np.ravel(np.asarray(theta2, dtype=float)), omega2, form=form)]
-    else:
-        n = integer("n", n, minimum=2)
-        rng = fourbar.input_range(form)
-        grid = rng.grid(n)
-        if rng.full_turn:
-            motions = [fourbar.solve(grid, omega2, form=form)]
-        elif fourbar.form_rule == "phi34":  # two branches make the closed motion of a form
-            # the branches meet at the toggles of links 3 and 4 (the ends of the grid)
-            motions = [
-                fourbar.solve(grid, omega2, form=form, branch=1),
-                fourbar.solve(grid[-2:0:-1], -omega2, form=form, branch=-1),
-            ]
-        else:  # a rocker: there and back on the same form
-            back = grid[-2:0:-1]
-            motions = [
-                fourbar.solve(grid, omega2, form=form),
-                fourbar.solve(back, -omega2, form=form),
-            ]
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        # A rocker's grid ends exactly at its toggles: the model flags them (status and
+        # NaN rates), but its jerk arithmetic there can still raise numpy's inf − inf warning.
+        motions = _sweep_motions(fourbar, form, n, theta2, omega2)
 
     def join(name: str) -> np.ndarray:
         return np.concatenate([np.ravel(getattr(m, name)) for m in motions])
@@ -159,6 +143,29 @@ def sweep(
         ok=join("ok"),
         reason=join("reason"),
     )
+
+
+def _sweep_motions(
+    fourbar: FourBar, form: int, n: int, theta2: Any, omega2: float
+) -> list[FourBarMotion]:
+    """The solves that make up a sweep, in the order they are shown."""
+    if theta2 is not None:
+        return [fourbar.solve(np.ravel(np.asarray(theta2, dtype=float)), omega2, form=form)]
+    n = integer("n", n, minimum=2)
+    rng = fourbar.input_range(form)
+    grid = rng.grid(n)
+    back = grid[-2:0:-1]  # the return stroke, without repeating either end
+    if rng.full_turn:
+        return [fourbar.solve(grid, omega2, form=form)]
+    if fourbar.form_rule == "phi34":
+        # GRCR/GRRC: the two branches meet at the toggles of links 3 and 4 (the grid's
+        # ends), so one branch out and the other back make the closed motion of a form
+        return [
+            fourbar.solve(grid, omega2, form=form, branch=1),
+            fourbar.solve(back, -omega2, form=form, branch=-1),
+        ]
+    # any other rocker input: there and back on the same form
+    return [fourbar.solve(grid, omega2, form=form), fourbar.solve(back, -omega2, form=form)]
 
 
 # --------------------------------------------------------------------------------------
