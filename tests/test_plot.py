@@ -282,6 +282,9 @@ def test_slider_crank_pose_and_block():
     assert guide.real.min() < lo and guide.real.max() > hi  # the guide covers the stroke
     P = ends(by_gid(ax.lines, "coupler_point"))[0]
     assert abs(P - A) == pytest.approx(3.0)
+    assert np.angle((P - A) / (B - A)) == pytest.approx(0.4)  # δ from the line A→B
+    tri = by_gid(ax.patches, "coupler_triangle").get_xy()
+    np.testing.assert_allclose(tri[:3, 0] + 1j * tri[:3, 1], [A, B, P])
 
 
 def test_slider_motion_curves_and_gaps():

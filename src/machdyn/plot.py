@@ -634,8 +634,8 @@ def plot_slider_crank(
     w, h = 0.22 * b, 0.12 * b
     if slidercrank.crank_rotates:
         lo, hi = slidercrank.stroke(motion.form)
-    else:
-        lo = hi = B.real
+    else:  # a rocking crank: the slider stays within a crank length of this pose
+        lo, hi = B.real - a, B.real + a
     guide_y = c - 0.5 * h
     (guide,) = ax.plot(
         [lo - 0.8 * w, hi + 0.8 * w], [guide_y, guide_y], color="black", lw=1.0, zorder=2
@@ -671,6 +671,11 @@ def plot_slider_crank(
     names = {"O2": 0j, "A": A, "B": B}
     if motion.coupler is not None:
         P = complex(np.ravel(motion.coupler)[k])
+        triangle = Polygon(
+            [_xy(A), _xy(B), _xy(P)], closed=True, facecolor="C1", alpha=0.25, edgecolor="C1"
+        )
+        triangle.set_gid("coupler_triangle")
+        ax.add_patch(triangle)
         (point,) = ax.plot([P.real], [P.imag], marker="o", ms=6, color="C3", ls="none", zorder=7)
         point.set_gid("coupler_point")
         names["P"] = P
