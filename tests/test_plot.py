@@ -466,3 +466,22 @@ def test_cli_bad_input_names_the_field(cli, tmp_path, monkeypatch, args, field, 
     assert isinstance(result.exception, InputError)
     assert result.exception.field == field and needle in str(result.exception)
     assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_model_methods_delegate_to_the_front_end():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from machdyn import FourBar, SliderCrank
+
+    fb = FourBar(8, 4, 7, 6, coupler=(5, 0.5))
+    m = fb.solve(np.radians(np.arange(0, 360, 10)), omega2=1.0)
+    assert m.plot() is not None
+    ax = fb.draw(np.radians(30))
+    xs = np.concatenate([line.get_xdata() for line in ax.get_lines()])
+    assert np.any(np.isclose(xs, 4 * np.cos(np.radians(30))))  # joint A is drawn
+    assert fb.plot_coupler_curve() is not None
+    assert "<svg" in fb.to_html(n=24)
+    sc = SliderCrank(2, 6)
+    assert sc.draw(0.3) is not None
+    assert sc.solve(np.linspace(0, 6, 20), omega2=1.0).plot() is not None

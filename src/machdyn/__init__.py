@@ -52,8 +52,10 @@ _LAZY_MODULES = frozenset(
         "gears",
         "loops",
         "massprops",
+        "plot",
         "shaking",
         "synthesis",
+        "viewer",
         "virtual_work",
     }
 )

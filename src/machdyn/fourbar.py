@@ -488,6 +488,12 @@ class FourBarMotion:
     def __len__(self) -> int:
         return int(np.size(self.theta2))
 
+    def plot(self, **options: Any):
+        """Angles and rates against θ2 (see :func:`machdyn.plot.plot_kinematics`)."""
+        from .plot import plot_kinematics
+
+        return plot_kinematics(self, **options)
+
 
 # --------------------------------------------------------------------------------------
 # Limits and tables
@@ -1012,6 +1018,31 @@ class FourBar:
         return CouplerCurve(
             np.concatenate(thetas), np.concatenate(branches), np.concatenate(points)
         )
+
+    # -- pictures (front-end functions in machdyn.plot and machdyn.viewer) ----------
+    def draw(self, theta2: Any, form: int = 1, ax: Any = None, **options: Any):
+        """Draw the linkage in one pose (see :func:`machdyn.plot.draw_fourbar`)."""
+        from .plot import draw_fourbar
+
+        return draw_fourbar(self, theta2, ax=ax, form=form, **options)
+
+    def plot_coupler_curve(self, form: int = 1, ax: Any = None, **options: Any):
+        """The coupler curve with the linkage drawn (:func:`machdyn.plot.plot_coupler_curve`)."""
+        from .plot import plot_coupler_curve
+
+        return plot_coupler_curve(self, form, ax, **options)
+
+    def animate(self, **options: Any):
+        """A matplotlib animation; a GIF with ``path=`` (:func:`machdyn.plot.animate`)."""
+        from .plot import animate
+
+        return animate(self, **options)
+
+    def to_html(self, **options: Any) -> str:
+        """A self-contained HTML page animating the linkage (:func:`machdyn.viewer.to_html`)."""
+        from .viewer import to_html
+
+        return to_html(self, **options)
 
     # -- instant centres and mechanical advantage ----------------------------------
     def instant_centres(self, theta2: Any, form: int = 1, *, branch: int | None = None):

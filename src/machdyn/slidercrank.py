@@ -134,6 +134,12 @@ class SliderCrankMotion:
         cols["reason"] = np.ravel(self.reason)
         return pd.DataFrame(cols)
 
+    def plot(self, **options: Any):
+        """Slider position and derivatives against θ2 (:func:`machdyn.plot.plot_slider_motion`)."""
+        from .plot import plot_slider_motion
+
+        return plot_slider_motion(self, **options)
+
 
 class SliderCrank:
     """An offset slider-crank (the notes' loop ``a e^{jθ2} − b e^{jθ3} − j c − d = 0``).
@@ -313,6 +319,12 @@ class SliderCrank:
             form=form,
             offset=c,
         )
+
+    def draw(self, theta2: Any, ax: Any = None, **options: Any):
+        """Draw the mechanism in one pose (see :func:`machdyn.plot.plot_slider_crank`)."""
+        from .plot import plot_slider_crank
+
+        return plot_slider_crank(self, theta2, ax=ax, **options)
 
     def dynamics(self, theta2: Any, omega2: Any, alpha2: Any = 0.0, **options: Any):
         """Joint forces, guide normal force and crank torque (with slider friction).

@@ -25,11 +25,13 @@ def _register() -> None:
     from .cam import cam_app
     from .flywheel import flywheel as flywheel_command
     from .gear import gear_app
+    from .plot import animate
 
     app.command("flywheel")(flywheel_command)
     app.add_typer(balance_app, name="balance")
     app.add_typer(cam_app, name="cam")
     app.add_typer(gear_app, name="gear")
+    app.command("animate")(animate)
 
 
 _register()
