@@ -1,0 +1,741 @@
+"""Numeric core of the vector-loop solver: batched Newton, continuation, derivatives.
+
+Everything works on a :class:`Compiled` system (plain index arrays built by
+:class:`machdyn.loops.LoopSystem`) and on arrays laid out as
+``(variable, sample)``: one row per variable, one column per pose, so every
+operation is a numpy call over the whole batch. Python loops run only over
+Newton iterations, over the few unknowns (Gaussian elimination) and over the
+vectors of the model.
+
+Equations (Norton, *Design of Machinery*, ch. 4 and 6; the notes' "vector loop
+equation"): each loop ``Σ s_k d_k e^{jθ_k} = 0`` gives a real and an imaginary
+row; each linear constraint ``Σ c_v x_v + c0 = 0`` gives one row. The Jacobian
+uses ``∂(d e^{jθ})/∂θ = j d e^{jθ}`` and ``∂(d e^{jθ})/∂d = e^{jθ}``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "Compiled",
+    "Factor",
+    "derivatives",
+    "lu_factor",
+    "lu_solve",
+    "newton",
+    "residual_and_jacobian",
+    "solve_positions",
+]
+
+#: Samples whose Jacobian has a (pivot-ratio) reciprocal condition below this are
+#: flagged singular. Newton stops within about sqrt(tol) ~ 1e-6 rad of a toggle
+#: (a double root), so the threshold must sit above that; velocities there are
+#: amplified ~1e5 times anyway.
+SINGULAR_RCOND = 1e-5
+
+# Reason codes for per-sample flags (index into REASONS).
+OK, NO_ASSEMBLY, SINGULAR, JUMP, LOST = 0, 1, 2, 3, 4
+REASONS = (
+    "",
+    "cannot assemble: Newton-Raphson did not converge at this input",
+    "singular Jacobian (toggle or dead point): derivatives undefined",
+    "possible branch jump: solution far from the continuation prediction",
+    "cannot assemble on the starting branch after an assembly gap",
+)
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """Index form of a loop system (built by ``LoopSystem``; not user facing).
+
+    Attributes
+    ----------
+    names : tuple of str
+        All variables; rows of the state array ``X``.
+    unknown, inputs : ndarray of int
+        Indices of unknown and input variables in ``names``.
+    length_const, angle_const : ndarray, shape (n_vec,)
+        Constant length / angle of each vector (ignored where a variable).
+    length_var, angle_var : ndarray of int, shape (n_vec,)
+        Variable index of each vector's length / angle, or -1 when constant.
+    loops : ndarray, shape (n_loop, n_vec)
+        Signed coefficients of the vectors in each loop.
+    con : ndarray, shape (n_con, n_var); con0 : ndarray, shape (n_con,)
+        Linear constraints ``con @ X + con0 = 0``.
+    points : ndarray, shape (n_point, n_vec)
+        Signed coefficients of the vector chain of each point.
+    scale : float
+        Characteristic length (mean constant length) for relative tolerances.
+    var_scale : ndarray, shape (n_var,)
+        1 for angle variables, ``scale`` for length variables.
+    """
+
+    names: tuple[str, ...]
+    unknown: np.ndarray
+    inputs: np.ndarray
+    length_const: np.ndarray
+    angle_const: np.ndarray
+    length_var: np.ndarray
+    angle_var: np.ndarray
+    loops: np.ndarray
+    con: np.ndarray
+    con0: np.ndarray
+    points: np.ndarray
+    scale: float
+    var_scale: np.ndarray
+
+    @property
+    def n_eq(self) -> int:
+        """Number of scalar equations."""
+        return 2 * self.loops.shape[0] + self.con.shape[0]
+
+    @property
+    def row_weight(self) -> np.ndarray:
+        """Weights that make every residual row dimensionless (loop rows / scale)."""
+        con_w = 1.0 / np.maximum.reduce(
+            [np.ones(len(self.con0)), np.abs(self.con0), np.abs(self.con) @ self.var_scale]
+        )
+        return np.concatenate([np.full(2 * self.loops.shape[0], 1.0 / self.scale), con_w])
+
+
+# --------------------------------------------------------------------------- linear algebra
+@dataclass(frozen=True)
+class Factor:
+    """Batched LU factors with partial pivoting, layout ``(n, n, N)``.
+
+    The matrix is first equilibrated (columns, then rows, scaled to a largest
+    entry of 1). ``swaps[k]`` is the (N,) row chosen as pivot of column ``k``;
+    ``det`` the determinant of the original matrix and ``rcond`` the ratio of the
+    smallest to the largest pivot magnitude of the equilibrated one (a cheap
+    reciprocal condition estimate).
+    """
+
+    lu: np.ndarray
+    swaps: tuple[np.ndarray, ...]
+    row_scale: np.ndarray
+    col_scale: np.ndarray
+    det: np.ndarray
+    rcond: np.ndarray
+
+
+def lu_factor(a: np.ndarray) -> Factor:
+    """Factor a batch of small dense matrices ``a[:, :, i]`` (Gaussian elimination).
+
+    Hand-vectorised over the batch: one numpy operation per matrix entry and
+    column, so a million 2x2 or 4x4 systems cost a few dozen array operations
+    (``np.linalg.solve`` on ``(N, n, n)`` pays a LAPACK call per matrix).
+
+    Parameters
+    ----------
+    a : ndarray, shape (n, n, N)
+        The matrices; not modified.
+
+    Returns
+    -------
+    Factor
+
+    Examples
+    --------
+    >>> a = np.array([[[2.0], [1.0]], [[4.0], [3.0]]])  # [[2, 1], [4, 3]]
+    >>> f = lu_factor(a)
+    >>> float(f.det[0])
+    2.0
+    >>> lu_solve(f, np.array([[3.0], [7.0]]))[:, 0].tolist()
+    [1.0, 1.0]
+    """
+    n = a.shape[0]
+    if n == 0:
+        ones = np.ones(a.shape[2])
+        empty = np.ones((0, a.shape[2]))
+        return Factor(lu=a.copy(), swaps=(), row_scale=empty, col_scale=empty, det=ones, rcond=ones)
+    col_max = np.abs(a).max(axis=0)
+    col_max[col_max == 0.0] = 1.0
+    lu = a / col_max[None, :, :]
+    row_max = np.abs(lu).max(axis=1)
+    row_max[row_max == 0.0] = 1.0
+    lu /= row_max[:, None, :]
+    sign = np.ones(a.shape[2])
+    swaps = []
+    piv_abs = []
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for k in range(n):
+            col = np.abs(lu[k:, k, :])
+            p = np.argmax(col, axis=0) + k
+            swaps.append(p)
+            for i in range(k + 1, n):
+                m = p == i
+                if m.any():
+                    top = lu[k].copy()
+                    lu[k] = np.where(m, lu[i], lu[k])
+                    lu[i] = np.where(m, top, lu[i])
+                    sign = np.where(m, -sign, sign)
+            pivot = lu[k, k]
+            piv_abs.append(np.abs(pivot))
+            safe = np.where(pivot == 0.0, 1.0, pivot)
+            for i in range(k + 1, n):
+                factor = lu[i, k] / safe
+                lu[i, k] = factor
+                lu[i, k + 1 :] -= factor * lu[k, k + 1 :]
+    piv = np.array(piv_abs)
+    det = (
+        sign
+        * np.prod(np.array([lu[k, k] for k in range(n)]), axis=0)
+        * np.prod(row_max, axis=0)
+        * np.prod(col_max, axis=0)
+    )
+    big = piv.max(axis=0)
+    rcond = np.where(big > 0.0, piv.min(axis=0) / np.where(big > 0.0, big, 1.0), 0.0)
+    return Factor(
+        lu=lu, swaps=tuple(swaps), row_scale=row_max, col_scale=col_max, det=det, rcond=rcond
+    )
+
+
+def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
+    """Solve ``a x = b`` for every sample with the factors of :func:`lu_factor`.
+
+    Parameters
+    ----------
+    f : Factor
+    b : ndarray, shape (n, N) or (n, m, N)
+
+    Returns
+    -------
+    ndarray, the shape of ``b``
+    """
+    lu = f.lu
+    n = lu.shape[0]
+    row_max = f.row_scale
+    x = b / (row_max if b.ndim == 2 else row_max[:, None, :])
+    extra = () if b.ndim == 2 else (None,)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for k in range(n):  # P b: the row interchanges, in order
+            p = f.swaps[k]
+            for i in range(k + 1, n):
+                m = (p == i)[extra]
+                if m.any():
+                    top = x[k].copy()
+                    x[k] = np.where(m, x[i], x[k])
+                    x[i] = np.where(m, top, x[i])
+        for k in range(n):  # L y = P b
+            for i in range(k + 1, n):
+                x[i] -= lu[i, k][extra] * x[k]
+        for k in range(n - 1, -1, -1):
+            for j in range(k + 1, n):
+                x[k] -= lu[k, j][extra] * x[j]
+            x[k] /= lu[k, k][extra]
+    return x / (f.col_scale if b.ndim == 2 else f.col_scale[:, None, :])
+
+
+# --------------------------------------------------------------------------- equations
+def _vector_terms(c: Compiled, x: np.ndarray) -> tuple[list, list, list]:
+    """Length, cos and sin of every vector for the states ``x`` (n_var, N)."""
+    d, cos, sin = [], [], []
+    for k in range(len(c.length_const)):
+        lv, av = c.length_var[k], c.angle_var[k]
+        d.append(x[lv] if lv >= 0 else c.length_const[k])
+        theta = x[av] if av >= 0 else c.angle_const[k]
+        cos.append(np.cos(theta))
+        sin.append(np.sin(theta))
+    return d, cos, sin
+
+
+def residual_and_jacobian(
+    c: Compiled, x: np.ndarray, cols: np.ndarray | None = None, jacobian: bool = True
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """Residual ``F(x)`` and Jacobian ``∂F/∂x[cols]`` for a batch of states.
+
+    Parameters
+    ----------
+    c : Compiled
+    x : ndarray, shape (n_var, N)
+    cols : ndarray of int, optional
+        Variables to differentiate by (default: the unknowns).
+    jacobian : bool
+        Skip the Jacobian when False.
+
+    Returns
+    -------
+    F : ndarray, shape (n_eq, N)
+    J : ndarray, shape (n_eq, len(cols), N) or None
+    """
+    cols = c.unknown if cols is None else cols
+    n_samples = x.shape[1]
+    d, cos, sin = _vector_terms(c, x)
+    n_loop = c.loops.shape[0]
+    f = np.empty((c.n_eq, n_samples))
+    jac = np.zeros((c.n_eq, len(cols), n_samples)) if jacobian else None
+    where = {int(v): i for i, v in enumerate(cols)}
+    for l_idx in range(n_loop):
+        re = np.zeros(n_samples)
+        im = np.zeros(n_samples)
+        for k in np.flatnonzero(c.loops[l_idx]):
+            s = c.loops[l_idx, k]
+            sd = s * d[k]
+            re += sd * cos[k]
+            im += sd * sin[k]
+            if jac is None:
+                continue
+            a_col = where.get(int(c.angle_var[k]))
+            if a_col is not None:
+                jac[2 * l_idx, a_col] -= sd * sin[k]
+                jac[2 * l_idx + 1, a_col] += sd * cos[k]
+            l_col = where.get(int(c.length_var[k]))
+            if l_col is not None:
+                jac[2 * l_idx, l_col] += s * cos[k]
+                jac[2 * l_idx + 1, l_col] += s * sin[k]
+        f[2 * l_idx] = re
+        f[2 * l_idx + 1] = im
+    if c.con.shape[0]:
+        f[2 * n_loop :] = c.con @ x + c.con0[:, None]
+        if jac is not None:
+            jac[2 * n_loop :] = c.con[:, cols][:, :, None]
+    return f, jac
+
+
+# --------------------------------------------------------------------------- Newton
+@dataclass(frozen=True)
+class NewtonResult:
+    """Outcome of a batched Newton solve (internal)."""
+
+    q: np.ndarray  # (n_q, N) unknowns
+    converged: np.ndarray  # (N,) bool
+    residual: np.ndarray  # (N,) max weighted residual
+
+
+def newton(
+    c: Compiled,
+    q0: np.ndarray,
+    u: np.ndarray,
+    max_iter: int = 30,
+    tol: float = 1e-12,
+    max_step: float = 0.5,
+) -> NewtonResult:
+    """Batched Newton–Raphson for the unknowns ``q`` at inputs ``u``.
+
+    Samples leave the active set as soon as their weighted residual is below
+    ``tol``; steps are shortened so that no angle moves more than ``max_step``
+    radians (and no length more than ``max_step`` times the model's scale) per
+    iteration, which keeps a poor guess from leaping to another circuit.
+
+    Parameters
+    ----------
+    c : Compiled
+    q0 : ndarray, shape (n_q, N)
+        Starting values of the unknowns.
+    u : ndarray, shape (n_u, N)
+        Input values.
+    """
+    n_samples = q0.shape[1]
+    q = q0.copy()
+    x = np.empty((len(c.names), n_samples))
+    x[c.inputs] = u
+    x[c.unknown] = q
+    weight = c.row_weight[:, None]
+    inv_scale = (1.0 / c.var_scale[c.unknown])[:, None]
+    converged = np.zeros(n_samples, dtype=bool)
+    resid = np.full(n_samples, np.inf)
+    active = np.arange(n_samples)
+    xa = x
+    for _ in range(max_iter + 1):
+        f, jac = residual_and_jacobian(c, xa)
+        r = np.abs(f * weight).max(axis=0)
+        resid[active] = r
+        done = r <= tol
+        if done.any():
+            converged[active[done]] = True
+            x[:, active[done]] = xa[:, done]
+            keep = ~done
+            active, xa, f, jac = active[keep], xa[:, keep], f[:, keep], jac[:, :, keep]
+        if active.size == 0:
+            break
+        step = lu_solve(lu_factor(jac), -f)
+        with np.errstate(invalid="ignore"):
+            size = np.abs(step * inv_scale).max(axis=0)
+            shrink = np.where(size > max_step, max_step / size, 1.0)
+        step = np.where(np.isfinite(step), step * shrink, 0.0)
+        xa[c.unknown] += step
+    if active.size:
+        x[:, active] = xa
+    return NewtonResult(q=x[c.unknown], converged=converged, residual=resid)
+
+
+def _tangent(c: Compiled, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, Factor]:
+    """``dq/du = −J_q⁻¹ J_u`` (n_q, n_u, N) and the factors of ``J_q`` at solutions."""
+    x = np.empty((len(c.names), q.shape[1]))
+    x[c.inputs] = u
+    x[c.unknown] = q
+    cols = np.concatenate([c.unknown, c.inputs])
+    _, jac = residual_and_jacobian(c, x, cols)
+    nq = len(c.unknown)
+    f = lu_factor(jac[:, :nq])
+    t = lu_solve(f, -jac[:, nq:])
+    return t, f
+
+
+# --------------------------------------------------------------------------- continuation
+@dataclass(frozen=True)
+class Positions:
+    """Positions of the unknowns with per-sample codes (internal)."""
+
+    q: np.ndarray  # (n_q, N)
+    code: np.ndarray  # (N,) int8 reason codes
+    residual: np.ndarray  # (N,)
+
+
+def _dist(c: Compiled, a: np.ndarray, b: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """Scaled max-norm distance between state rows (angles in rad, lengths / scale)."""
+    return np.abs((a - b) / c.var_scale[which][:, None]).max(axis=0)
+
+
+def _accept(
+    c: Compiled,
+    res: NewtonResult,
+    pred: np.ndarray,
+    du: np.ndarray,
+    det_ref: np.ndarray,
+    rc_ref: np.ndarray,
+    f: Factor,
+    sing_tol: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Continuation checks: returns (accepted mask, jump mask)."""
+    near_sing = (f.rcond < 1e3 * sing_tol) | (rc_ref < 1e3 * sing_tol)
+    same_side = (np.sign(f.det) == np.sign(det_ref)) | near_sing
+    far = _dist(c, res.q, pred, c.unknown) > 0.5 * du + 1e-9
+    jump = res.converged & (~same_side | far)
+    return res.converged & ~jump, jump
+
+
+def solve_positions(
+    c: Compiled,
+    u: np.ndarray,
+    guess: np.ndarray,
+    continuation: bool,
+    max_step: float = 0.2,
+    tol: float = 1e-12,
+    max_iter: int = 50,
+    sing_tol: float = SINGULAR_RCOND,
+) -> Positions:
+    """Positions of the unknowns for inputs ``u`` (n_u, N).
+
+    With ``continuation=False`` every sample starts from ``guess`` (shape
+    (n_q, 1) or (n_q, N)). With ``continuation=True`` the samples are an ordered
+    sweep: a coarse subsample (steps of at most ``max_step`` in input space,
+    radians for angles, model scale for lengths) is marched sequentially from
+    the guess with a tangent predictor and step halving; the samples in between
+    are then filled in doubling waves, each a single batched Newton solve
+    predicted from the already solved neighbours. Every solution is verified:
+    the sign of ``det J_q`` (which identifies the circuit/branch away from
+    toggles) must match its neighbour and it must lie close to its prediction;
+    otherwise it is re-solved with smaller steps or flagged.
+    """
+    n_q, n_samples = guess.shape[0], u.shape[1]
+    if not continuation or n_samples == 1:
+        q0 = np.broadcast_to(guess, (n_q, n_samples))
+        res = newton(c, q0, u, max_iter=max_iter, tol=tol)
+        code = np.where(res.converged, OK, NO_ASSEMBLY).astype(np.int8)
+        q = np.where(res.converged, res.q, np.nan)
+        return Positions(q=q, code=code, residual=res.residual)
+
+    u_scale = c.var_scale[c.inputs][:, None]
+    steps = np.abs(np.diff(u, axis=1) / u_scale).max(axis=0)
+    biggest = float(steps.max()) if steps.size else 0.0
+    stride = 1
+    while stride * 2 * biggest <= max_step and stride * 2 < n_samples:
+        stride *= 2
+    coarse = np.arange(0, n_samples, stride)
+
+    q = np.full((n_q, n_samples), np.nan)
+    code = np.full(n_samples, NO_ASSEMBLY, dtype=np.int8)
+    resid = np.full(n_samples, np.inf)
+    n_u = u.shape[0]
+    tan = np.full((n_q, n_u, n_samples), np.nan)
+    det = np.zeros(n_samples)
+    rc = np.zeros(n_samples)
+
+    # 1. The first coarse sample from the guess, then a sequential march.
+    start = newton(c, guess[:, :1], u[:, :1], max_iter=max_iter, tol=tol)
+    march = _March(c, tol, sing_tol, max_step)
+    if start.converged[0]:
+        anchor = march.state(start.q, u[:, :1])
+        march.store(anchor, 0, q, code, resid, tan, det, rc, start.residual[0])
+    else:
+        anchor = None
+    after_gap = False
+    for idx in coarse[1:]:
+        if anchor is None:
+            trial = newton(c, guess[:, :1], u[:, idx : idx + 1], max_iter=max_iter, tol=tol)
+            if trial.converged[0]:
+                anchor = march.state(trial.q, u[:, idx : idx + 1])
+                march.store(anchor, idx, q, code, resid, tan, det, rc, trial.residual[0])
+            continue
+        reached = march.to(anchor, u[:, idx : idx + 1], restart=after_gap, guess=guess[:, :1])
+        if reached is None:
+            after_gap = True
+            continue
+        if reached == "lost":
+            code[idx] = LOST
+            continue
+        anchor = reached
+        after_gap = False
+        march.store(anchor, idx, q, code, resid, tan, det, rc, anchor.residual)
+
+    # 2. Fill the rest in doubling waves.
+    half = stride // 2
+    while half >= 1:
+        new = np.arange(half, n_samples, 2 * half)
+        new = new[new % (2 * half) == half] if half < stride else new
+        if new.size:
+            _fill(c, new, half, u, q, code, resid, tan, det, rc, tol, sing_tol, march)
+        half //= 2
+    return Positions(q=q, code=code, residual=resid)
+
+
+@dataclass
+class _State:
+    q: np.ndarray  # (n_q, 1)
+    u: np.ndarray  # (n_u, 1)
+    tan: np.ndarray  # (n_q, n_u, 1)
+    det: float
+    rcond: float
+    residual: float
+
+
+class _March:
+    """Sequential predictor–corrector steps with step halving (size-1 batches)."""
+
+    def __init__(self, c: Compiled, tol: float, sing_tol: float, max_step: float) -> None:
+        self.c, self.tol, self.sing_tol, self.max_step = c, tol, sing_tol, max_step
+
+    def state(self, q: np.ndarray, u: np.ndarray, residual: float = 0.0) -> _State:
+        t, f = _tangent(self.c, q, u)
+        return _State(q, u, t, float(f.det[0]), float(f.rcond[0]), residual)
+
+    def store(self, s: _State, idx, q, code, resid, tan, det, rc, residual) -> None:
+        sing_tol = self.sing_tol
+        q[:, idx] = s.q[:, 0]
+        code[idx] = SINGULAR if s.rcond < sing_tol else OK
+        resid[idx] = residual
+        tan[:, :, idx] = s.tan[:, :, 0]
+        det[idx] = s.det
+        rc[idx] = s.rcond
+
+    def _step(self, a: _State, u_b: np.ndarray) -> _State | None:
+        c = self.c
+        du_vec = u_b - a.u
+        pred = a.q + np.einsum("qun,un->qn", a.tan, du_vec)
+        pred = np.where(np.isfinite(pred), pred, a.q)
+        res = newton(c, pred, u_b, max_iter=20, tol=self.tol)
+        if not res.converged[0]:
+            return None
+        t, f = _tangent(c, res.q, u_b)
+        du = np.abs(du_vec / c.var_scale[c.inputs][:, None]).max(axis=0)
+        ok, _ = _accept(c, res, pred, du, np.array([a.det]), np.array([a.rcond]), f, self.sing_tol)
+        if not ok[0]:
+            return None
+        return _State(res.q, u_b, t, float(f.det[0]), float(f.rcond[0]), float(res.residual[0]))
+
+    def to(self, a: _State, u_b: np.ndarray, restart: bool, guess: np.ndarray):
+        """March from state ``a`` to inputs ``u_b``; None when it cannot be reached."""
+        if restart:
+            # After an assembly gap: re-assemble from the last good pose or the guess and
+            # keep only a solution on the same side of det J = 0 (the same circuit/branch).
+            found_other = False
+            for start in (a.q, guess):
+                res = newton(self.c, start, u_b, max_iter=50, tol=self.tol)
+                if res.converged[0]:
+                    s = self.state(res.q, u_b, float(res.residual[0]))
+                    if np.sign(s.det) == np.sign(a.det):
+                        return s
+                    found_other = True
+            return "lost" if found_other else None
+        cur = a
+        fraction = 1.0
+        for _ in range(200):
+            target = u_b if fraction >= 1.0 else cur.u + fraction * (u_b - cur.u)
+            nxt = self._step(cur, target)
+            if nxt is None:
+                fraction *= 0.5
+                if fraction < 1.0 / 1024:
+                    return None
+                continue
+            if fraction >= 1.0:
+                return nxt
+            cur = nxt
+            fraction = 2.0 * fraction
+        return None
+
+
+def _fill(c, new, half, u, q, code, resid, tan, det, rc, tol, sing_tol, march) -> None:
+    """Solve samples ``new`` from neighbours at ``new ± half`` in one batch."""
+    n_samples = u.shape[1]
+    good = (code == OK) | (code == SINGULAR)
+    left = new - half
+    right = np.minimum(new + half, n_samples - 1)
+    has_right = (new + half <= n_samples - 1) & good[right]
+    has_left = good[left]
+    # Neighbours that failed: fall back to the nearest solved sample on either side.
+    idx = np.arange(n_samples)
+    last_good = np.maximum.accumulate(np.where(good, idx, -1))
+    next_good = np.minimum.accumulate(np.where(good, idx, n_samples)[::-1])[::-1]
+    left = np.where(has_left, left, last_good[left])
+    right = np.where(has_right, right, next_good[right])
+    has_left = left >= 0
+    has_right = right < n_samples
+    left_c = np.clip(left, 0, n_samples - 1)
+    right_c = np.clip(right, 0, n_samples - 1)
+    solvable = has_left | has_right
+    new, left_c, right_c = new[solvable], left_c[solvable], right_c[solvable]
+    has_left, has_right = has_left[solvable], has_right[solvable]
+    if new.size == 0:
+        return
+
+    scale_u = c.var_scale[c.inputs][:, None]
+    u_new = u[:, new]
+    pred_l = q[:, left_c] + np.einsum("qun,un->qn", tan[:, :, left_c], u_new - u[:, left_c])
+    pred_r = q[:, right_c] + np.einsum("qun,un->qn", tan[:, :, right_c], u_new - u[:, right_c])
+    dl = np.abs((u_new - u[:, left_c]) / scale_u).max(axis=0)
+    dr = np.abs((u_new - u[:, right_c]) / scale_u).max(axis=0)
+    wl = np.where(has_left, np.where(has_right, dr / np.maximum(dl + dr, 1e-300), 1.0), 0.0)
+    with np.errstate(invalid="ignore"):
+        pred = np.where(has_left, pred_l * wl, 0.0) + np.where(has_right, pred_r * (1 - wl), 0.0)
+    du = np.maximum(np.where(has_left, dl, 0.0), np.where(has_right, dr, 0.0))
+    ref = np.where(has_left, left_c, right_c)
+
+    res = newton(c, pred, u_new, max_iter=20, tol=tol)
+    t, f = _tangent(c, np.where(res.converged, res.q, pred), u_new)
+    ok, jump = _accept(c, res, pred, du, det[ref], rc[ref], f, sing_tol)
+
+    sel = new[ok]
+    q[:, sel] = res.q[:, ok]
+    tan[:, :, sel] = t[:, :, ok]
+    det[sel] = f.det[ok]
+    rc[sel] = f.rcond[ok]
+    resid[sel] = res.residual[ok]
+    code[sel] = np.where(f.rcond[ok] < sing_tol, SINGULAR, OK)
+    code[new[~res.converged]] = NO_ASSEMBLY
+    # Suspected jumps: retry a few with the sequential march, flag the rest.
+    jumped = np.flatnonzero(jump)
+    code[new[jumped]] = JUMP
+    for j in jumped[:64]:
+        a_idx = int(ref[j])
+        a = _State(
+            q[:, a_idx : a_idx + 1],
+            u[:, a_idx : a_idx + 1],
+            tan[:, :, a_idx : a_idx + 1],
+            float(det[a_idx]),
+            float(rc[a_idx]),
+            float(resid[a_idx]),
+        )
+        s = march.to(a, u[:, new[j] : new[j] + 1], restart=False, guess=a.q)
+        if isinstance(s, _State):
+            march.store(s, int(new[j]), q, code, resid, tan, det, rc, s.residual)
+
+
+# --------------------------------------------------------------------------- derivatives
+def derivatives(
+    c: Compiled,
+    x0: np.ndarray,
+    u_rates: list[np.ndarray],
+) -> tuple[list[np.ndarray], Factor]:
+    """Velocity, acceleration and jerk of every variable, one linear solve each.
+
+    Differentiating each loop ``Σ s R = 0`` with ``R = d e^{jθ}`` (DESIGN.md):
+
+    * ``Ṙ = (ḋ + j d θ̇) e^{jθ}``
+    * ``R̈ = (d̈ − d θ̇² + j(d θ̈ + 2 ḋ θ̇)) e^{jθ}``
+    * ``R⃛ = (d⃛ − 3 ḋ θ̇² − 3 d θ̇ θ̈ + j(d θ⃛ + 3 ḋ θ̈ + 3 d̈ θ̇ − d θ̇³)) e^{jθ}``
+
+    The highest derivatives enter as ``(d⁽ᵏ⁾ + j d θ⁽ᵏ⁾) e^{jθ}``, i.e. through
+    the position Jacobian, so ``J_q`` is factored once and solved per order.
+
+    Parameters
+    ----------
+    c : Compiled
+    x0 : ndarray, shape (n_var, N)
+        Positions of all variables.
+    u_rates : list of ndarray, each (n_u, N)
+        First, second, third time derivatives of the inputs (1 to 3 entries).
+
+    Returns
+    -------
+    rates : list of ndarray, each (n_var, N)
+        ẋ, ẍ, x⃛ (as many as ``u_rates``).
+    factor : Factor
+        The factors of ``J_q`` (determinant and conditioning per sample).
+    """
+    cols = np.concatenate([c.unknown, c.inputs])
+    _, jac = residual_and_jacobian(c, x0, cols)
+    nq = len(c.unknown)
+    fac = lu_factor(jac[:, :nq])
+    j_u = jac[:, nq:]
+    d, cos, sin = _vector_terms(c, x0)
+    rates: list[np.ndarray] = []
+    n_loop = c.loops.shape[0]
+    zero = 0.0
+    for order, u_k in enumerate(u_rates, start=1):
+        rhs = -np.einsum("eun,un->en", j_u, u_k)
+        if order > 1:
+            x1 = rates[0]
+            x2 = rates[1] if order > 2 else None
+            for l_idx in range(n_loop):
+                for k in np.flatnonzero(c.loops[l_idx]):
+                    s = c.loops[l_idx, k]
+                    lv, av = c.length_var[k], c.angle_var[k]
+                    d1 = x1[lv] if lv >= 0 else zero
+                    w1 = x1[av] if av >= 0 else zero
+                    if order == 2:
+                        re = -d[k] * w1 * w1
+                        im = 2.0 * d1 * w1
+                    else:
+                        d2 = x2[lv] if lv >= 0 else zero
+                        w2 = x2[av] if av >= 0 else zero
+                        re = -3.0 * d1 * w1 * w1 - 3.0 * d[k] * w1 * w2
+                        im = 3.0 * d1 * w2 + 3.0 * d2 * w1 - d[k] * w1 * w1 * w1
+                    rhs[2 * l_idx] -= s * (re * cos[k] - im * sin[k])
+                    rhs[2 * l_idx + 1] -= s * (re * sin[k] + im * cos[k])
+        xk = np.empty_like(x0)
+        xk[c.inputs] = u_k
+        xk[c.unknown] = lu_solve(fac, rhs)
+        rates.append(xk)
+    return rates, fac
+
+
+def point_motion(c: Compiled, x: list[np.ndarray]) -> list[np.ndarray]:
+    """Positions (and derivatives) of the named points as complex arrays (n_point, N).
+
+    ``x`` holds the positions followed by as many rates as known.
+    """
+    d, cos, sin = _vector_terms(c, x[0])
+    n_samples = x[0].shape[1]
+    out = []
+    zero = 0.0
+
+    def der(level: int, var: int) -> np.ndarray | float:
+        return x[level][var] if var >= 0 else zero
+
+    for order in range(len(x)):
+        p = np.zeros((c.points.shape[0], n_samples), dtype=complex)
+        for i in range(c.points.shape[0]):
+            for k in np.flatnonzero(c.points[i]):
+                s = c.points[i, k]
+                lv, av = c.length_var[k], c.angle_var[k]
+                dk = d[k]
+                if order == 0:
+                    re, im = dk, zero
+                elif order == 1:
+                    re, im = der(1, lv), dk * der(1, av)
+                elif order == 2:
+                    d1, w1 = der(1, lv), der(1, av)
+                    re = der(2, lv) - dk * w1 * w1
+                    im = dk * der(2, av) + 2.0 * d1 * w1
+                else:
+                    d1, w1 = der(1, lv), der(1, av)
+                    d2, w2 = der(2, lv), der(2, av)
+                    re = der(3, lv) - 3.0 * d1 * w1 * w1 - 3.0 * dk * w1 * w2
+                    im = dk * der(3, av) + 3.0 * d1 * w2 + 3.0 * d2 * w1 - dk * w1 * w1 * w1
+                p[i] += s * ((re * cos[k] - im * sin[k]) + 1j * (re * sin[k] + im * cos[k]))
+        out.append(p)
+    return out
