@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar
+from .._validate import finite_array, finite_scalar, integer
 from ..errors import InputError, ModelError
 from . import solve as _solve
 from ._parse import parse_linear, parse_signed_sum
@@ -408,8 +408,9 @@ class LoopSystem:
         acceleration: Mapping[str, Any] | None = None,
         jerk: Mapping[str, Any] | None = None,
         *,
+        order: int = 3,
         continuation: bool | None = None,
-        max_step: float = 0.2,
+        max_step: float = 0.4,
         tol: float = 1e-12,
     ) -> Motion:
         """Positions (Newton–Raphson) and, optionally, velocity, acceleration and jerk.
@@ -427,6 +428,9 @@ class LoopSystem:
         acceleration, jerk : mapping, optional
             Second and third time derivatives of inputs; missing ones are 0
             (constant speed).
+        order : int
+            Derivative orders computed when ``velocity`` is given: 1 velocity,
+            2 also acceleration, 3 (default) also jerk.
         continuation : bool, optional
             Treat 1-D inputs as an ordered sweep and follow one branch (default
             for 1-D inputs with more than one sample); False solves every sample
@@ -480,7 +484,9 @@ class LoopSystem:
         x0 = np.empty((len(c.names), n))
         x0[c.inputs] = u
         x0[c.unknown] = pos.q
-        return self._finish(c, x0, pos.code, pos.residual, shape, velocity, acceleration, jerk)
+        return self._finish(
+            c, x0, pos.code, pos.residual, shape, velocity, acceleration, jerk, order, pos
+        )
 
     def evaluate(
         self,
@@ -488,6 +494,8 @@ class LoopSystem:
         velocity: Mapping[str, Any] | None = None,
         acceleration: Mapping[str, Any] | None = None,
         jerk: Mapping[str, Any] | None = None,
+        *,
+        order: int = 3,
     ) -> Motion:
         """Compute derivatives at a *given* configuration (no position solve).
 
@@ -518,28 +526,36 @@ class LoopSystem:
         f, _ = _solve.residual_and_jacobian(c, x0, jacobian=False)
         resid = np.abs(f * c.row_weight[:, None]).max(axis=0) if f.size else np.zeros(x0.shape[1])
         code = np.zeros(x0.shape[1], dtype=np.int8)
-        return self._finish(c, x0, code, resid, shape, velocity, acceleration, jerk)
+        return self._finish(c, x0, code, resid, shape, velocity, acceleration, jerk, order)
 
-    def _finish(self, c, x0, code, resid, shape, velocity, acceleration, jerk) -> Motion:
+    def _finish(
+        self, c, x0, code, resid, shape, velocity, acceleration, jerk, order, pos=None
+    ) -> Motion:
         inputs = tuple(c.names[i] for i in c.inputs)
+        order = integer("order", order, minimum=1)
+        if order > 3:
+            raise InputError(
+                "order", f"must be 1, 2 or 3 (velocity, acceleration, jerk), got {order}"
+            )
         states = [x0]
         if velocity is not None:
             u_rates = [
                 self._rates("velocity", velocity, inputs, shape, required=True),
                 self._rates("acceleration", acceleration, inputs, shape, required=False),
                 self._rates("jerk", jerk, inputs, shape, required=False),
-            ]
+            ][:order]
             rates, fac = _solve.derivatives(c, x0, u_rates)
             det, rcond = fac.det, fac.rcond
             states += rates
         else:
             if acceleration is not None or jerk is not None:
                 raise ModelError("acceleration/jerk need the input velocity too (velocity=...)")
-            x = np.nan_to_num(x0)
-            cols = c.unknown
-            _, jac = _solve.residual_and_jacobian(c, x, cols)
-            fac = _solve.lu_factor(jac)
-            det, rcond = fac.det, fac.rcond
+            if pos is not None:
+                det, rcond = pos.det, pos.rcond
+            else:
+                _, jac = _solve.residual_and_jacobian(c, np.nan_to_num(x0), c.unknown)
+                fac = _solve.lu_factor(jac)
+                det, rcond = fac.det, fac.rcond
         assembled = code == _solve.OK
         singular = assembled & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
         code = np.where(singular, _solve.SINGULAR, code)
@@ -562,7 +578,7 @@ class LoopSystem:
         ]
         for name in inputs:  # inputs are known even where the pose is not
             per_var[0][name] = x0[c.inputs[inputs.index(name)]].reshape(shape).copy()
-        reasons = np.array(_solve.REASONS)
+        reasons = np.array(_solve.REASONS, dtype=object)
         frozen = [_freeze(d) for d in per_var]
         frozen_pts = [_freeze(d) for d in per_pt]
         extra = [None] * (4 - len(frozen))

@@ -298,11 +298,18 @@ def residual_and_jacobian(
 # --------------------------------------------------------------------------- Newton
 @dataclass(frozen=True)
 class NewtonResult:
-    """Outcome of a batched Newton solve (internal)."""
+    """Outcome of a batched Newton solve (internal).
+
+    ``tan`` (dq/du), ``det`` and ``rcond`` are those of ``J_q`` at the converged
+    solution (NaN / 0 where not converged).
+    """
 
     q: np.ndarray  # (n_q, N) unknowns
     converged: np.ndarray  # (N,) bool
     residual: np.ndarray  # (N,) max weighted residual
+    tan: np.ndarray  # (n_q, n_u, N)
+    det: np.ndarray  # (N,)
+    rcond: np.ndarray  # (N,)
 
 
 def newton(
@@ -318,7 +325,10 @@ def newton(
     Samples leave the active set as soon as their weighted residual is below
     ``tol``; steps are shortened so that no angle moves more than ``max_step``
     radians (and no length more than ``max_step`` times the model's scale) per
-    iteration, which keeps a poor guess from leaping to another circuit.
+    iteration, which keeps a poor guess from leaping to another circuit. Each
+    iteration evaluates ``F``, ``J_q`` and ``J_u`` once and factors ``J_q``
+    once: the same solve gives the Newton step of the active samples and the
+    continuation tangent ``dq/du = −J_q⁻¹ J_u`` of the ones that just converged.
 
     Parameters
     ----------
@@ -329,29 +339,40 @@ def newton(
         Input values.
     """
     n_samples = q0.shape[1]
-    q = q0.copy()
+    nq, nu = len(c.unknown), len(c.inputs)
     x = np.empty((len(c.names), n_samples))
     x[c.inputs] = u
-    x[c.unknown] = q
+    x[c.unknown] = q0
     weight = c.row_weight[:, None]
     inv_scale = (1.0 / c.var_scale[c.unknown])[:, None]
+    cols = np.concatenate([c.unknown, c.inputs])
     converged = np.zeros(n_samples, dtype=bool)
     resid = np.full(n_samples, np.inf)
+    tan = np.full((nq, nu, n_samples), np.nan)
+    det = np.zeros(n_samples)
+    rcond = np.zeros(n_samples)
     active = np.arange(n_samples)
     xa = x
-    for _ in range(max_iter + 1):
-        f, jac = residual_and_jacobian(c, xa)
+    for it in range(max_iter + 1):
+        f, jac = residual_and_jacobian(c, xa, cols)
         r = np.abs(f * weight).max(axis=0)
         resid[active] = r
         done = r <= tol
+        fac = lu_factor(jac[:, :nq])
+        rhs = np.concatenate([-f[:, None, :], -jac[:, nq:]], axis=1)
+        sol = lu_solve(fac, rhs)
         if done.any():
-            converged[active[done]] = True
-            x[:, active[done]] = xa[:, done]
+            idx = active[done]
+            converged[idx] = True
+            x[:, idx] = xa[:, done]
+            tan[:, :, idx] = sol[:, 1:, done]
+            det[idx] = fac.det[done]
+            rcond[idx] = fac.rcond[done]
             keep = ~done
-            active, xa, f, jac = active[keep], xa[:, keep], f[:, keep], jac[:, :, keep]
-        if active.size == 0:
+            active, xa, sol = active[keep], xa[:, keep], sol[:, :, keep]
+        if active.size == 0 or it == max_iter:
             break
-        step = lu_solve(lu_factor(jac), -f)
+        step = sol[:, 0]
         with np.errstate(invalid="ignore"):
             size = np.abs(step * inv_scale).max(axis=0)
             shrink = np.where(size > max_step, max_step / size, 1.0)
@@ -359,20 +380,9 @@ def newton(
         xa[c.unknown] += step
     if active.size:
         x[:, active] = xa
-    return NewtonResult(q=x[c.unknown], converged=converged, residual=resid)
-
-
-def _tangent(c: Compiled, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, Factor]:
-    """``dq/du = −J_q⁻¹ J_u`` (n_q, n_u, N) and the factors of ``J_q`` at solutions."""
-    x = np.empty((len(c.names), q.shape[1]))
-    x[c.inputs] = u
-    x[c.unknown] = q
-    cols = np.concatenate([c.unknown, c.inputs])
-    _, jac = residual_and_jacobian(c, x, cols)
-    nq = len(c.unknown)
-    f = lu_factor(jac[:, :nq])
-    t = lu_solve(f, -jac[:, nq:])
-    return t, f
+    return NewtonResult(
+        q=x[c.unknown], converged=converged, residual=resid, tan=tan, det=det, rcond=rcond
+    )
 
 
 # --------------------------------------------------------------------------- continuation
@@ -383,11 +393,8 @@ class Positions:
     q: np.ndarray  # (n_q, N)
     code: np.ndarray  # (N,) int8 reason codes
     residual: np.ndarray  # (N,)
-
-
-def _dist(c: Compiled, a: np.ndarray, b: np.ndarray, which: np.ndarray) -> np.ndarray:
-    """Scaled max-norm distance between state rows (angles in rad, lengths / scale)."""
-    return np.abs((a - b) / c.var_scale[which][:, None]).max(axis=0)
+    det: np.ndarray  # (N,)
+    rcond: np.ndarray  # (N,)
 
 
 def _accept(
@@ -397,15 +404,55 @@ def _accept(
     du: np.ndarray,
     det_ref: np.ndarray,
     rc_ref: np.ndarray,
-    f: Factor,
     sing_tol: float,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Continuation checks: returns (accepted mask, jump mask)."""
-    near_sing = (f.rcond < 1e3 * sing_tol) | (rc_ref < 1e3 * sing_tol)
-    same_side = (np.sign(f.det) == np.sign(det_ref)) | near_sing
-    far = _dist(c, res.q, pred, c.unknown) > 0.5 * du + 1e-9
+    """Continuation checks; returns (accepted, jump) masks.
+
+    A converged sample is a *jump* when ``det J_q`` changed sign from its
+    reference neighbour while neither is near a toggle, or when it lies farther
+    from its tangent prediction than half the (scaled) input step: on one
+    branch the prediction error is O(step²), a jump to another circuit is O(1).
+    """
+    near_sing = (res.rcond < 1e2 * sing_tol) | (rc_ref < 1e2 * sing_tol)
+    same_side = (np.sign(res.det) == np.sign(det_ref)) | near_sing
+    far = np.abs((res.q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0) > 0.5 * du + 1e-9
     jump = res.converged & (~same_side | far)
     return res.converged & ~jump, jump
+
+
+class _Store:
+    """Per-sample arrays filled by the continuation (internal)."""
+
+    def __init__(self, n_q: int, n_u: int, n: int, sing_tol: float) -> None:
+        self.q = np.full((n_q, n), np.nan)
+        self.code = np.full(n, NO_ASSEMBLY, dtype=np.int8)
+        self.resid = np.full(n, np.inf)
+        self.tan = np.full((n_q, n_u, n), np.nan)
+        self.det = np.zeros(n)
+        self.rc = np.zeros(n)
+        self.sing_tol = sing_tol
+
+    def put(self, idx, res: NewtonResult, sel=slice(None)) -> None:
+        self.q[:, idx] = res.q[:, sel]
+        self.tan[:, :, idx] = res.tan[:, :, sel]
+        self.det[idx] = res.det[sel]
+        self.rc[idx] = res.rcond[sel]
+        self.resid[idx] = res.residual[sel]
+        self.code[idx] = np.where(res.rcond[sel] < self.sing_tol, SINGULAR, OK)
+
+    def good(self) -> np.ndarray:
+        return (self.code == OK) | (self.code == SINGULAR)
+
+    def one(self, i: int) -> NewtonResult:
+        sl = slice(i, i + 1)
+        return NewtonResult(
+            q=self.q[:, sl],
+            converged=np.ones(1, bool),
+            residual=self.resid[sl],
+            tan=self.tan[:, :, sl],
+            det=self.det[sl],
+            rcond=self.rc[sl],
+        )
 
 
 def solve_positions(
@@ -413,7 +460,7 @@ def solve_positions(
     u: np.ndarray,
     guess: np.ndarray,
     continuation: bool,
-    max_step: float = 0.2,
+    max_step: float = 0.4,
     tol: float = 1e-12,
     max_iter: int = 50,
     sing_tol: float = SINGULAR_RCOND,
@@ -426,18 +473,18 @@ def solve_positions(
     radians for angles, model scale for lengths) is marched sequentially from
     the guess with a tangent predictor and step halving; the samples in between
     are then filled in doubling waves, each a single batched Newton solve
-    predicted from the already solved neighbours. Every solution is verified:
-    the sign of ``det J_q`` (which identifies the circuit/branch away from
-    toggles) must match its neighbour and it must lie close to its prediction;
-    otherwise it is re-solved with smaller steps or flagged.
+    predicted from the already solved neighbours. Every solution is verified
+    (:func:`_accept`); a failed verification is re-solved with smaller steps or
+    flagged.
     """
-    n_q, n_samples = guess.shape[0], u.shape[1]
+    n_q, n_u, n_samples = guess.shape[0], u.shape[0], u.shape[1]
     if not continuation or n_samples == 1:
         q0 = np.broadcast_to(guess, (n_q, n_samples))
         res = newton(c, q0, u, max_iter=max_iter, tol=tol)
-        code = np.where(res.converged, OK, NO_ASSEMBLY).astype(np.int8)
+        code = np.where(res.converged, OK, NO_ASSEMBLY)
+        code = np.where(res.converged & (res.rcond < sing_tol), SINGULAR, code).astype(np.int8)
         q = np.where(res.converged, res.q, np.nan)
-        return Positions(q=q, code=code, residual=res.residual)
+        return Positions(q, code, res.residual, res.det, res.rcond)
 
     u_scale = c.var_scale[c.inputs][:, None]
     steps = np.abs(np.diff(u, axis=1) / u_scale).max(axis=0)
@@ -446,99 +493,67 @@ def solve_positions(
     while stride * 2 * biggest <= max_step and stride * 2 < n_samples:
         stride *= 2
     coarse = np.arange(0, n_samples, stride)
-
-    q = np.full((n_q, n_samples), np.nan)
-    code = np.full(n_samples, NO_ASSEMBLY, dtype=np.int8)
-    resid = np.full(n_samples, np.inf)
-    n_u = u.shape[0]
-    tan = np.full((n_q, n_u, n_samples), np.nan)
-    det = np.zeros(n_samples)
-    rc = np.zeros(n_samples)
+    st = _Store(n_q, n_u, n_samples, sing_tol)
+    march = _March(c, tol, sing_tol)
+    g0 = guess[:, :1]
 
     # 1. The first coarse sample from the guess, then a sequential march.
-    start = newton(c, guess[:, :1], u[:, :1], max_iter=max_iter, tol=tol)
-    march = _March(c, tol, sing_tol, max_step)
-    if start.converged[0]:
-        anchor = march.state(start.q, u[:, :1])
-        march.store(anchor, 0, q, code, resid, tan, det, rc, start.residual[0])
-    else:
-        anchor = None
+    anchor, u_anchor = None, None
     after_gap = False
-    for idx in coarse[1:]:
+    for idx in coarse:
+        u_b = u[:, idx : idx + 1]
         if anchor is None:
-            trial = newton(c, guess[:, :1], u[:, idx : idx + 1], max_iter=max_iter, tol=tol)
+            trial = newton(c, g0, u_b, max_iter=max_iter, tol=tol)
             if trial.converged[0]:
-                anchor = march.state(trial.q, u[:, idx : idx + 1])
-                march.store(anchor, idx, q, code, resid, tan, det, rc, trial.residual[0])
+                anchor, u_anchor = trial, u_b
+                st.put(np.array([idx]), trial)
             continue
-        reached = march.to(anchor, u[:, idx : idx + 1], restart=after_gap, guess=guess[:, :1])
+        reached = march.to(anchor, u_anchor, u_b, restart=after_gap, guess=g0)
         if reached is None:
             after_gap = True
             continue
         if reached == "lost":
-            code[idx] = LOST
+            st.code[idx] = LOST
             continue
-        anchor = reached
-        after_gap = False
-        march.store(anchor, idx, q, code, resid, tan, det, rc, anchor.residual)
+        anchor, u_anchor, after_gap = reached, u_b, False
+        st.put(np.array([idx]), reached)
 
     # 2. Fill the rest in doubling waves.
     half = stride // 2
     while half >= 1:
         new = np.arange(half, n_samples, 2 * half)
-        new = new[new % (2 * half) == half] if half < stride else new
         if new.size:
-            _fill(c, new, half, u, q, code, resid, tan, det, rc, tol, sing_tol, march)
+            _fill(c, new, half, u, st, tol, march)
         half //= 2
-    return Positions(q=q, code=code, residual=resid)
-
-
-@dataclass
-class _State:
-    q: np.ndarray  # (n_q, 1)
-    u: np.ndarray  # (n_u, 1)
-    tan: np.ndarray  # (n_q, n_u, 1)
-    det: float
-    rcond: float
-    residual: float
+    return Positions(st.q, st.code, st.resid, st.det, st.rc)
 
 
 class _March:
     """Sequential predictor–corrector steps with step halving (size-1 batches)."""
 
-    def __init__(self, c: Compiled, tol: float, sing_tol: float, max_step: float) -> None:
-        self.c, self.tol, self.sing_tol, self.max_step = c, tol, sing_tol, max_step
+    def __init__(self, c: Compiled, tol: float, sing_tol: float) -> None:
+        self.c, self.tol, self.sing_tol = c, tol, sing_tol
 
-    def state(self, q: np.ndarray, u: np.ndarray, residual: float = 0.0) -> _State:
-        t, f = _tangent(self.c, q, u)
-        return _State(q, u, t, float(f.det[0]), float(f.rcond[0]), residual)
-
-    def store(self, s: _State, idx, q, code, resid, tan, det, rc, residual) -> None:
-        sing_tol = self.sing_tol
-        q[:, idx] = s.q[:, 0]
-        code[idx] = SINGULAR if s.rcond < sing_tol else OK
-        resid[idx] = residual
-        tan[:, :, idx] = s.tan[:, :, 0]
-        det[idx] = s.det
-        rc[idx] = s.rcond
-
-    def _step(self, a: _State, u_b: np.ndarray) -> _State | None:
+    def _step(self, a: NewtonResult, u_a: np.ndarray, u_b: np.ndarray) -> NewtonResult | None:
         c = self.c
-        du_vec = u_b - a.u
+        du_vec = u_b - u_a
         pred = a.q + np.einsum("qun,un->qn", a.tan, du_vec)
         pred = np.where(np.isfinite(pred), pred, a.q)
         res = newton(c, pred, u_b, max_iter=20, tol=self.tol)
         if not res.converged[0]:
             return None
-        t, f = _tangent(c, res.q, u_b)
         du = np.abs(du_vec / c.var_scale[c.inputs][:, None]).max(axis=0)
-        ok, _ = _accept(c, res, pred, du, np.array([a.det]), np.array([a.rcond]), f, self.sing_tol)
-        if not ok[0]:
-            return None
-        return _State(res.q, u_b, t, float(f.det[0]), float(f.rcond[0]), float(res.residual[0]))
+        ok, _ = _accept(c, res, pred, du, a.det, a.rcond, self.sing_tol)
+        return res if ok[0] else None
 
-    def to(self, a: _State, u_b: np.ndarray, restart: bool, guess: np.ndarray):
-        """March from state ``a`` to inputs ``u_b``; None when it cannot be reached."""
+    def to(
+        self, a: NewtonResult, u_a: np.ndarray, u_b: np.ndarray, restart: bool, guess: np.ndarray
+    ) -> NewtonResult | str | None:
+        """March from solution ``a`` (at inputs ``u_a``) to ``u_b``.
+
+        Returns the solution, None when ``u_b`` cannot be reached, or ``"lost"``
+        when (after a gap) only a pose on another branch was found.
+        """
         if restart:
             # After an assembly gap: re-assemble from the last good pose or the guess and
             # keep only a solution on the same side of det J = 0 (the same circuit/branch).
@@ -546,16 +561,15 @@ class _March:
             for start in (a.q, guess):
                 res = newton(self.c, start, u_b, max_iter=50, tol=self.tol)
                 if res.converged[0]:
-                    s = self.state(res.q, u_b, float(res.residual[0]))
-                    if np.sign(s.det) == np.sign(a.det):
-                        return s
+                    if np.sign(res.det[0]) == np.sign(a.det[0]):
+                        return res
                     found_other = True
             return "lost" if found_other else None
-        cur = a
+        cur, u_cur = a, u_a
         fraction = 1.0
         for _ in range(200):
-            target = u_b if fraction >= 1.0 else cur.u + fraction * (u_b - cur.u)
-            nxt = self._step(cur, target)
+            target = u_b if fraction >= 1.0 else u_cur + fraction * (u_b - u_cur)
+            nxt = self._step(cur, u_cur, target)
             if nxt is None:
                 fraction *= 0.5
                 if fraction < 1.0 / 1024:
@@ -563,75 +577,70 @@ class _March:
                 continue
             if fraction >= 1.0:
                 return nxt
-            cur = nxt
+            cur, u_cur = nxt, target
             fraction = 2.0 * fraction
         return None
 
 
-def _fill(c, new, half, u, q, code, resid, tan, det, rc, tol, sing_tol, march) -> None:
+def _fill(c: Compiled, new, half, u, st: _Store, tol, march: _March) -> None:
     """Solve samples ``new`` from neighbours at ``new ± half`` in one batch."""
     n_samples = u.shape[1]
-    good = (code == OK) | (code == SINGULAR)
+    good = st.good()
     left = new - half
-    right = np.minimum(new + half, n_samples - 1)
-    has_right = (new + half <= n_samples - 1) & good[right]
+    right = new + half
+    has_right = right <= n_samples - 1
+    right = np.minimum(right, n_samples - 1)
     has_left = good[left]
-    # Neighbours that failed: fall back to the nearest solved sample on either side.
-    idx = np.arange(n_samples)
-    last_good = np.maximum.accumulate(np.where(good, idx, -1))
-    next_good = np.minimum.accumulate(np.where(good, idx, n_samples)[::-1])[::-1]
-    left = np.where(has_left, left, last_good[left])
-    right = np.where(has_right, right, next_good[right])
-    has_left = left >= 0
-    has_right = right < n_samples
-    left_c = np.clip(left, 0, n_samples - 1)
-    right_c = np.clip(right, 0, n_samples - 1)
-    solvable = has_left | has_right
-    new, left_c, right_c = new[solvable], left_c[solvable], right_c[solvable]
-    has_left, has_right = has_left[solvable], has_right[solvable]
+    has_right &= good[right]
+    if not (has_left.all() and has_right[:-1].all()):
+        # Neighbours that failed: fall back to the nearest solved sample on either side.
+        idx = np.arange(n_samples)
+        last_good = np.maximum.accumulate(np.where(good, idx, -1))
+        next_good = np.minimum.accumulate(np.where(good, idx, n_samples)[::-1])[::-1]
+        left = np.where(has_left, left, last_good[left])
+        right = np.where(has_right, right, next_good[right])
+        has_left = left >= 0
+        has_right = right < n_samples
+        left = np.clip(left, 0, n_samples - 1)
+        right = np.clip(right, 0, n_samples - 1)
+        solvable = has_left | has_right
+        new, left, right = new[solvable], left[solvable], right[solvable]
+        has_left, has_right = has_left[solvable], has_right[solvable]
     if new.size == 0:
         return
 
     scale_u = c.var_scale[c.inputs][:, None]
     u_new = u[:, new]
-    pred_l = q[:, left_c] + np.einsum("qun,un->qn", tan[:, :, left_c], u_new - u[:, left_c])
-    pred_r = q[:, right_c] + np.einsum("qun,un->qn", tan[:, :, right_c], u_new - u[:, right_c])
-    dl = np.abs((u_new - u[:, left_c]) / scale_u).max(axis=0)
-    dr = np.abs((u_new - u[:, right_c]) / scale_u).max(axis=0)
-    wl = np.where(has_left, np.where(has_right, dr / np.maximum(dl + dr, 1e-300), 1.0), 0.0)
+    dul, dur = u_new - u[:, left], u_new - u[:, right]
+    dl = np.abs(dul / scale_u).max(axis=0)
+    dr = np.abs(dur / scale_u).max(axis=0)
+    if c.inputs.size == 1:
+        pred_l = st.q[:, left] + st.tan[:, 0, left] * dul[0]
+        pred_r = st.q[:, right] + st.tan[:, 0, right] * dur[0]
+    else:
+        pred_l = st.q[:, left] + np.einsum("qun,un->qn", st.tan[:, :, left], dul)
+        pred_r = st.q[:, right] + np.einsum("qun,un->qn", st.tan[:, :, right], dur)
+    total = dl + dr
+    wl = np.where(has_right, dr / np.where(total > 0, total, 1.0), 1.0)
+    wl = np.where(has_left, wl, 0.0)
     with np.errstate(invalid="ignore"):
-        pred = np.where(has_left, pred_l * wl, 0.0) + np.where(has_right, pred_r * (1 - wl), 0.0)
+        pred = np.where(wl > 0, pred_l * wl, 0.0) + np.where(wl < 1, pred_r * (1 - wl), 0.0)
     du = np.maximum(np.where(has_left, dl, 0.0), np.where(has_right, dr, 0.0))
-    ref = np.where(has_left, left_c, right_c)
+    ref = np.where(has_left, left, right)
 
     res = newton(c, pred, u_new, max_iter=20, tol=tol)
-    t, f = _tangent(c, np.where(res.converged, res.q, pred), u_new)
-    ok, jump = _accept(c, res, pred, du, det[ref], rc[ref], f, sing_tol)
-
-    sel = new[ok]
-    q[:, sel] = res.q[:, ok]
-    tan[:, :, sel] = t[:, :, ok]
-    det[sel] = f.det[ok]
-    rc[sel] = f.rcond[ok]
-    resid[sel] = res.residual[ok]
-    code[sel] = np.where(f.rcond[ok] < sing_tol, SINGULAR, OK)
-    code[new[~res.converged]] = NO_ASSEMBLY
+    ok, jump = _accept(c, res, pred, du, st.det[ref], st.rc[ref], march.sing_tol)
+    st.put(new[ok], res, ok)
+    st.code[new[~res.converged]] = NO_ASSEMBLY
     # Suspected jumps: retry a few with the sequential march, flag the rest.
     jumped = np.flatnonzero(jump)
-    code[new[jumped]] = JUMP
+    st.code[new[jumped]] = JUMP
     for j in jumped[:64]:
         a_idx = int(ref[j])
-        a = _State(
-            q[:, a_idx : a_idx + 1],
-            u[:, a_idx : a_idx + 1],
-            tan[:, :, a_idx : a_idx + 1],
-            float(det[a_idx]),
-            float(rc[a_idx]),
-            float(resid[a_idx]),
-        )
-        s = march.to(a, u[:, new[j] : new[j] + 1], restart=False, guess=a.q)
-        if isinstance(s, _State):
-            march.store(s, int(new[j]), q, code, resid, tan, det, rc, s.residual)
+        u_a, u_b = u[:, a_idx : a_idx + 1], u[:, new[j] : new[j] + 1]
+        s = march.to(st.one(a_idx), u_a, u_b, False, st.q[:, a_idx : a_idx + 1])
+        if isinstance(s, NewtonResult):
+            st.put(new[j : j + 1], s)
 
 
 # --------------------------------------------------------------------------- derivatives
