@@ -75,7 +75,7 @@ def main() -> None:
                 m = s.solve({"theta2": theta2}, guess=guess, **kw)
                 assert m.ok.all(), f"{label}: {np.unique(m.reason)}"
                 t = best(
-                    lambda s=s, kw=kw, theta2=theta2: s.solve(
+                    lambda s=s, kw=kw, theta2=theta2, guess=guess: s.solve(
                         {"theta2": theta2}, guess=guess, **kw
                     ),
                     repeat,

@@ -172,7 +172,7 @@ def lu_factor(a: np.ndarray) -> Factor:
     with np.errstate(divide="ignore", invalid="ignore"):
         for k in range(n):
             best = np.abs(lu[k, k])
-            p = np.full(a.shape[2], k)
+            p: np.ndarray | int = k
             for i in range(k + 1, n):
                 cand = np.abs(lu[i, k])
                 bigger = cand > best
@@ -257,7 +257,11 @@ def _vector_terms(c: Compiled, x: np.ndarray) -> tuple[list, list, list]:
 
 
 def residual_and_jacobian(
-    c: Compiled, x: np.ndarray, cols: np.ndarray | None = None, jacobian: bool = True
+    c: Compiled,
+    x: np.ndarray,
+    cols: np.ndarray | None = None,
+    jacobian: bool = True,
+    terms: tuple[list, list, list] | None = None,
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """Residual ``F(x)`` and Jacobian ``∂F/∂x[cols]`` for a batch of states.
 
@@ -269,6 +273,8 @@ def residual_and_jacobian(
         Variables to differentiate by (default: the unknowns).
     jacobian : bool
         Skip the Jacobian when False.
+    terms : tuple, optional
+        ``_vector_terms(c, x)`` when already computed.
 
     Returns
     -------
@@ -277,7 +283,7 @@ def residual_and_jacobian(
     """
     cols = c.unknown if cols is None else cols
     n_samples = x.shape[1]
-    d, cos, sin = _vector_terms(c, x)
+    d, cos, sin = _vector_terms(c, x) if terms is None else terms
     n_loop = c.loops.shape[0]
     f = np.empty((c.n_eq, n_samples))
     jac = np.zeros((c.n_eq, len(cols), n_samples)) if jacobian else None
@@ -700,11 +706,12 @@ def derivatives(
         The factors of ``J_q`` (determinant and conditioning per sample).
     """
     cols = np.concatenate([c.unknown, c.inputs])
-    _, jac = residual_and_jacobian(c, x0, cols)
+    terms = _vector_terms(c, x0)
+    d, cos, sin = terms
+    _, jac = residual_and_jacobian(c, x0, cols, terms=terms)
     nq = len(c.unknown)
     fac = lu_factor(jac[:, :nq])
     j_u = jac[:, nq:]
-    d, cos, sin = _vector_terms(c, x0)
     rates: list[np.ndarray] = []
     n_loop = c.loops.shape[0]
     zero = 0.0
