@@ -650,3 +650,52 @@ def test_non_finite_inputs_and_bad_vectors():
             guess={"theta3": 0.5, "theta4": 1.5},
             velocity={"theta2": 1.0, "theta3": 1.0},
         )
+
+
+def test_scalar_and_batched_newton_agree(rng):
+    """The plain-Python single-pose Newton (used by the march) equals the batched one."""
+    from machdyn.loops import solve as core
+
+    s = watt_six_bar_with_slider()
+    c = s._compile(("theta2",))
+    for _ in range(5):
+        u = rng.uniform(0, 2 * np.pi, (1, 1))
+        q0 = np.array(
+            [
+                [
+                    {"theta3": 1.2, "theta4": 1.9, "theta4c": 2.2, "theta5": 0.4, "d6": 10.0}[
+                        c.names[i]
+                    ]
+                ]
+                for i in c.unknown
+            ]
+        )
+        a = core.newton(c, q0, u)
+        b = core.newton_one(c, q0, u)
+        assert a.converged[0] == b.converged[0]
+        if a.converged[0]:
+            np.testing.assert_allclose(a.q, b.q, atol=1e-10)
+            np.testing.assert_allclose(a.tan, b.tan, rtol=1e-8, atol=1e-10)
+            np.testing.assert_allclose(a.det, b.det, rtol=1e-8)
+
+
+def test_reversed_sweep_gives_the_same_poses():
+    s = fourbar_system(4.0, 1.0, 4.5, 3.0)
+    theta2 = np.linspace(0, 2 * np.pi, 200)
+    fwd = s.solve({"theta2": theta2}, guess={"theta3": 0.4, "theta4": 1.5})
+    g = {"theta3": float(fwd["theta3"][-1]), "theta4": float(fwd["theta4"][-1])}
+    back = s.solve({"theta2": theta2[::-1]}, guess=g)
+    np.testing.assert_allclose(wrap(back["theta4"][::-1] - fwd["theta4"]), 0, atol=1e-10)
+
+
+def test_lost_branch_and_stop_are_reported_not_silent():
+    """A sweep that starts outside the assemblable range: those samples are flagged."""
+    r1, r2, r3, r4 = 4.0, 3.0, 3.0, 2.5  # triple rocker
+    theta2 = np.linspace(np.pi - 0.3, np.pi + 0.3, 7)  # around theta2 = 180 deg
+    t3, _ = fourbar_closed_form(r1, r2, r3, r4, theta2)
+    m = fourbar_system(r1, r2, r3, r4).solve(
+        {"theta2": theta2}, guess={"theta3": 0.3, "theta4": 1.0}
+    )
+    assert (~m.ok[~np.isfinite(t3)]).all()
+    assert np.isnan(m["theta3"][~m.ok]).all()
+    assert (m.reason[m.ok] == "").all()

@@ -15,6 +15,7 @@ uses ``∂(d e^{jθ})/∂θ = j d e^{jθ}`` and ``∂(d e^{jθ})/∂d = e^{jθ}`
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -404,6 +405,144 @@ def newton(
     )
 
 
+def _small_lu(
+    a: list[list[float]],
+) -> tuple[list[list[float]], list[int], list[float], list[float], float, float]:
+    """Plain-Python twin of :func:`lu_factor` for one small matrix (the sequential march).
+
+    Returns (lu, pivot rows, row scales, column scales, det, rcond).
+    """
+    n = len(a)
+    col = [max(abs(a[i][j]) for i in range(n)) or 1.0 for j in range(n)]
+    lu = [[a[i][j] / col[j] for j in range(n)] for i in range(n)]
+    row = [max(abs(v) for v in r) or 1.0 for r in lu]
+    lu = [[v / row[i] for v in r] for i, r in enumerate(lu)]
+    det = 1.0
+    for v in row + col:
+        det *= v
+    piv, lo, hi = [], math.inf, 0.0
+    for k in range(n):
+        p = max(range(k, n), key=lambda i: abs(lu[i][k]))
+        piv.append(p)
+        if p != k:
+            lu[k], lu[p] = lu[p], lu[k]
+            det = -det
+        pivot = lu[k][k]
+        det *= pivot
+        lo, hi = min(lo, abs(pivot)), max(hi, abs(pivot))
+        if pivot == 0.0:
+            continue
+        for i in range(k + 1, n):
+            f = lu[i][k] / pivot
+            lu[i][k] = f
+            if f:
+                rk, ri = lu[k], lu[i]
+                for j in range(k + 1, n):
+                    ri[j] -= f * rk[j]
+    return lu, piv, row, col, det, (lo / hi if hi > 0.0 else 0.0)
+
+
+def _small_solve(fac: tuple, b: list[float]) -> list[float]:
+    lu, piv, row, col = fac[:4]
+    n = len(lu)
+    x = [b[i] / row[i] for i in range(n)]
+    for k in range(n):
+        if piv[k] != k:
+            x[k], x[piv[k]] = x[piv[k]], x[k]
+    for k in range(n):
+        for i in range(k + 1, n):
+            x[i] -= lu[i][k] * x[k]
+    for k in range(n - 1, -1, -1):
+        for j in range(k + 1, n):
+            x[k] -= lu[k][j] * x[j]
+        x[k] = x[k] / lu[k][k] if lu[k][k] != 0.0 else math.nan
+    return [x[j] / col[j] for j in range(n)]
+
+
+def newton_one(
+    c: Compiled,
+    q0: np.ndarray,
+    u: np.ndarray,
+    max_iter: int = 30,
+    tol: float = 1e-12,
+    max_step: float = 0.5,
+) -> NewtonResult:
+    """:func:`newton` for a single sample in plain Python floats.
+
+    The sequential continuation march solves one pose at a time; there numpy's
+    per-call overhead dominates, so this scalar twin (same equations, same
+    step limiting and tolerances) is several times faster.
+    """
+    nq, nu = len(c.unknown), len(c.inputs)
+    x = [0.0] * len(c.names)
+    for i, v in zip(c.unknown, q0[:, 0], strict=True):
+        x[i] = float(v)
+    for i, v in zip(c.inputs, u[:, 0], strict=True):
+        x[i] = float(v)
+    cols = [int(v) for v in c.unknown] + [int(v) for v in c.inputs]
+    where = {v: i for i, v in enumerate(cols)}
+    weight = c.row_weight.tolist()
+    con, con0 = c.con.tolist(), c.con0.tolist()
+    lvar, avar = c.length_var.tolist(), c.angle_var.tolist()
+    lconst, aconst = c.length_const.tolist(), c.angle_const.tolist()
+    scale = [float(c.var_scale[i]) for i in c.unknown]
+    n_eq = c.n_eq
+    resid = math.inf
+    for it in range(max_iter + 1):
+        f = [0.0] * n_eq
+        jac = [[0.0] * (nq + nu) for _ in range(n_eq)]
+        for l_idx, terms in enumerate(c.loop_terms):
+            rx, ry = 2 * l_idx, 2 * l_idx + 1
+            for k, sgn in terms:
+                d = x[lvar[k]] if lvar[k] >= 0 else lconst[k]
+                th = x[avar[k]] if avar[k] >= 0 else aconst[k]
+                co, si = math.cos(th), math.sin(th)
+                sd = sgn * d
+                f[rx] += sd * co
+                f[ry] += sd * si
+                col = where.get(avar[k])
+                if col is not None:
+                    jac[rx][col] -= sd * si
+                    jac[ry][col] += sd * co
+                col = where.get(lvar[k])
+                if col is not None:
+                    jac[rx][col] += sgn * co
+                    jac[ry][col] += sgn * si
+        for r, (coefs, c0) in enumerate(zip(con, con0, strict=True), start=2 * len(c.loop_terms)):
+            f[r] = sum(a * b for a, b in zip(coefs, x, strict=True)) + c0
+            for j, v in enumerate(cols):
+                jac[r][j] = coefs[v]
+        resid = max((abs(fi * w) for fi, w in zip(f, weight, strict=True)), default=0.0)
+        fac = _small_lu([r[:nq] for r in jac])
+        if resid <= tol:
+            tan = [_small_solve(fac, [-r[nq + m] for r in jac]) for m in range(nu)]
+            return NewtonResult(
+                q=np.array([[x[i]] for i in c.unknown]).reshape(nq, 1),
+                converged=np.ones(1, dtype=bool),
+                residual=np.array([resid]),
+                tan=np.array(tan).T.reshape(nq, nu, 1),
+                det=np.array([fac[4]]),
+                rcond=np.array([fac[5]]),
+            )
+        if it == max_iter:
+            break
+        step = _small_solve(fac, [-v for v in f])
+        if not all(math.isfinite(v) for v in step):
+            break
+        size = max((abs(v) / sc for v, sc in zip(step, scale, strict=True)), default=0.0)
+        shrink = max_step / size if size > max_step else 1.0
+        for i, v in zip(c.unknown, step, strict=True):
+            x[i] += v * shrink
+    return NewtonResult(
+        q=np.array([x[i] for i in c.unknown]).reshape(nq, 1),
+        converged=np.zeros(1, dtype=bool),
+        residual=np.array([resid]),
+        tan=np.full((nq, nu, 1), np.nan),
+        det=np.zeros(1),
+        rcond=np.zeros(1),
+    )
+
+
 # --------------------------------------------------------------------------- continuation
 @dataclass(frozen=True)
 class Positions:
@@ -522,7 +661,7 @@ def solve_positions(
     for idx in coarse:
         u_b = u[:, idx : idx + 1]
         if anchor is None:
-            trial = newton(c, g0, u_b, max_iter=max_iter, tol=tol)
+            trial = newton_one(c, g0, u_b, max_iter=max_iter, tol=tol)
             if trial.converged[0]:
                 anchor, u_anchor = trial, u_b
                 st.put(np.array([idx]), trial)
@@ -558,7 +697,7 @@ class _March:
         du_vec = u_b - u_a
         pred = a.q + np.einsum("qun,un->qn", a.tan, du_vec)
         pred = np.where(np.isfinite(pred), pred, a.q)
-        res = newton(c, pred, u_b, max_iter=20, tol=self.tol)
+        res = newton_one(c, pred, u_b, max_iter=20, tol=self.tol)
         if not res.converged[0]:
             return None
         du = np.abs(du_vec / c.var_scale[c.inputs][:, None]).max(axis=0)
@@ -578,7 +717,7 @@ class _March:
             # keep only a solution on the same side of det J = 0 (the same circuit/branch).
             found_other = False
             for start in (a.q, guess):
-                res = newton(self.c, start, u_b, max_iter=50, tol=self.tol)
+                res = newton_one(self.c, start, u_b, max_iter=50, tol=self.tol)
                 if res.converged[0]:
                     if np.sign(res.det[0]) == np.sign(a.det[0]):
                         return res
