@@ -551,11 +551,16 @@ class LoopSystem:
             if acceleration is not None or jerk is not None:
                 raise ModelError("acceleration/jerk need the input velocity too (velocity=...)")
             if pos is not None:
-                det, rcond = pos.det, pos.rcond
+                det, rcond = pos.det.copy(), pos.rcond.copy()
+                todo = np.flatnonzero(np.isnan(rcond))  # accepted without a factorization
             else:
-                _, jac = _solve.residual_and_jacobian(c, np.nan_to_num(x0), c.unknown)
+                det, rcond = np.zeros(x0.shape[1]), np.zeros(x0.shape[1])
+                todo = np.arange(x0.shape[1])
+            if todo.size:
+                x = np.nan_to_num(x0[:, todo])
+                _, jac = _solve.residual_and_jacobian(c, x, c.unknown)
                 fac = _solve.lu_factor(jac)
-                det, rcond = fac.det, fac.rcond
+                det[todo], rcond[todo] = fac.det, fac.rcond
         assembled = code == _solve.OK
         singular = assembled & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
         code = np.where(singular, _solve.SINGULAR, code)

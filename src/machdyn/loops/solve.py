@@ -339,6 +339,7 @@ def newton(
     max_iter: int = 30,
     tol: float = 1e-12,
     max_step: float = 0.5,
+    lazy_first: bool = False,
 ) -> NewtonResult:
     """Batched Newton–Raphson for the unknowns ``q`` at inputs ``u``.
 
@@ -357,6 +358,10 @@ def newton(
         Starting values of the unknowns.
     u : ndarray, shape (n_u, N)
         Input values.
+    lazy_first : bool
+        Check the starting values by their residual alone: samples that already
+        satisfy the tolerance are accepted without a Jacobian (then ``tan``,
+        ``det`` and ``rcond`` are NaN for them).
     """
     n_samples = q0.shape[1]
     nq, nu = len(c.unknown), len(c.inputs)
@@ -374,10 +379,28 @@ def newton(
     active = np.arange(n_samples)
     xa = x
     for it in range(max_iter + 1):
-        f, jac = residual_and_jacobian(c, xa, cols)
-        r = np.abs(f * weight).max(axis=0)
-        resid[active] = r
-        done = r <= tol
+        if lazy_first and it == 0:
+            # Residual only: samples already converged need no Jacobian (their tangent,
+            # det and rcond stay NaN: "not computed").
+            f, _ = residual_and_jacobian(c, xa, cols, jacobian=False)
+            done = np.abs(f * weight).max(axis=0) <= tol
+            resid[active] = np.abs(f * weight).max(axis=0)
+            if done.any():
+                idx = active[done]
+                converged[idx] = True
+                x[:, idx] = xa[:, done]
+                det[idx] = np.nan
+                rcond[idx] = np.nan
+                active, xa = active[~done], xa[:, ~done]
+            if active.size == 0:
+                break
+            f, jac = residual_and_jacobian(c, xa, cols)
+            done = np.zeros(active.size, dtype=bool)
+        else:
+            f, jac = residual_and_jacobian(c, xa, cols)
+            r = np.abs(f * weight).max(axis=0)
+            resid[active] = r
+            done = r <= tol
         fac = lu_factor(jac[:, :nq])
         rhs = np.concatenate([-f[:, None, :], -jac[:, nq:]], axis=1)
         sol = lu_solve(fac, rhs)
@@ -571,7 +594,7 @@ def _accept(
     from its tangent prediction than half the (scaled) input step: on one
     branch the prediction error is O(step²), a jump to another circuit is O(1).
     """
-    near_sing = (res.rcond < 1e2 * sing_tol) | (rc_ref < 1e2 * sing_tol)
+    near_sing = ~(res.rcond >= 1e2 * sing_tol) | ~(rc_ref >= 1e2 * sing_tol)  # NaN: unknown
     same_side = (np.sign(res.det) == np.sign(det_ref)) | near_sing
     far = np.abs((res.q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0) > 0.5 * du + 1e-9
     jump = res.converged & (~same_side | far)
@@ -797,7 +820,7 @@ def _fill(c: Compiled, new, half, u, st: _Store, tol, march: _March) -> None:
     du = np.maximum(np.where(has_left, dl, 0.0), np.where(has_right, dr, 0.0))
     ref = np.where(has_left, left, right)
 
-    res = newton(c, pred, u_new, max_iter=20, tol=tol)
+    res = newton(c, pred, u_new, max_iter=20, tol=tol, lazy_first=half == 1)
     ok, jump = _accept(c, res, pred, du, st.det[ref], st.rc[ref], march.sing_tol)
     st.put(new[ok], res, ok)
     st.code[new[~res.converged]] = NO_ASSEMBLY
