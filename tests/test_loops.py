@@ -699,3 +699,15 @@ def test_lost_branch_and_stop_are_reported_not_silent():
     assert (~m.ok[~np.isfinite(t3)]).all()
     assert np.isnan(m["theta3"][~m.ok]).all()
     assert (m.reason[m.ok] == "").all()
+
+
+def test_sweep_with_a_big_jump_between_two_ranges():
+    """Two ranges of theta2 in one sweep (a 3 rad jump between them): both solved on form 1."""
+    r1, r2, r3, r4 = 4.0, 1.0, 4.5, 3.0
+    theta2 = np.concatenate([np.linspace(0.0, 1.0, 500), np.linspace(4.0, 5.0, 500)])
+    t3, t4 = fourbar_closed_form(r1, r2, r3, r4, theta2, form=1)
+    m = fourbar_system(r1, r2, r3, r4).solve(
+        {"theta2": theta2}, guess={"theta3": float(t3[0]), "theta4": float(t4[0])}
+    )
+    assert m.ok.all()
+    np.testing.assert_allclose(wrap(m["theta4"] - t4), 0, atol=1e-9)
