@@ -33,10 +33,11 @@ __all__ = [
 ]
 
 #: Samples whose Jacobian has a (pivot-ratio) reciprocal condition below this are
-#: flagged singular. Newton stops within about sqrt(tol) ~ 1e-6 rad of a toggle
-#: (a double root), so the threshold must sit above that; velocities there are
-#: amplified ~1e5 times anyway.
-SINGULAR_RCOND = 1e-5
+#: flagged singular. Newton converges only linearly to a toggle (a double root) and
+#: stops about sqrt(tol) ~ 1e-6 rad from it, where rcond is still ~1e-5; so the
+#: threshold sits above that: poses within roughly 1e-4 rad of a toggle, where
+#: velocities are amplified ~1e4 times, are reported as singular.
+SINGULAR_RCOND = 1e-4
 
 # Reason codes for per-sample flags (index into REASONS).
 OK, NO_ASSEMBLY, SINGULAR, JUMP, LOST = 0, 1, 2, 3, 4
@@ -102,6 +103,11 @@ class Compiled:
         )
 
     @cached_property
+    def jq_scales(self) -> tuple[np.ndarray, np.ndarray]:
+        """Static row and column multipliers that make ``J_q``'s entries O(1)."""
+        return self.row_weight, self.var_scale[self.unknown]
+
+    @cached_property
     def row_weight(self) -> np.ndarray:
         """Weights that make every residual row dimensionless (loop rows / scale)."""
         con_w = 1.0 / np.maximum.reduce(
@@ -115,22 +121,25 @@ class Compiled:
 class Factor:
     """Batched LU factors with partial pivoting, layout ``(n, n, N)``.
 
-    The matrix is first equilibrated (columns, then rows, scaled to a largest
-    entry of 1). ``swaps[k]`` is the (N,) row chosen as pivot of column ``k``;
-    ``det`` the determinant of the original matrix and ``rcond`` the ratio of the
-    smallest to the largest pivot magnitude of the equilibrated one (a cheap
+    The matrix is first scaled, ``diag(r) · a · diag(s)``: by the given static
+    scales (one pass), or equilibrated per sample (columns, then rows, to a
+    largest entry of 1). ``swaps[k]`` is the (N,) row chosen as pivot of column
+    ``k``; ``det`` the determinant of the original matrix and ``rcond`` the ratio
+    of the smallest to the largest pivot magnitude of the scaled one (a cheap
     reciprocal condition estimate).
     """
 
     lu: np.ndarray
     swaps: tuple[np.ndarray, ...]
-    row_scale: np.ndarray
-    col_scale: np.ndarray
+    row_mul: np.ndarray  # (n, N) or (n, 1)
+    col_mul: np.ndarray  # (n, N) or (n, 1)
     det: np.ndarray
     rcond: np.ndarray
 
 
-def lu_factor(a: np.ndarray) -> Factor:
+def lu_factor(
+    a: np.ndarray, row_scale: np.ndarray | None = None, col_scale: np.ndarray | None = None
+) -> Factor:
     """Factor a batch of small dense matrices ``a[:, :, i]`` (Gaussian elimination).
 
     Hand-vectorised over the batch: one numpy operation per matrix entry and
@@ -141,6 +150,10 @@ def lu_factor(a: np.ndarray) -> Factor:
     ----------
     a : ndarray, shape (n, n, N)
         The matrices; not modified.
+    row_scale, col_scale : ndarray, shape (n,), optional
+        Static multipliers that make the entries O(1) (e.g. from the model's
+        units). Without them every matrix is equilibrated from its entries,
+        which costs several extra passes over the batch.
 
     Returns
     -------
@@ -159,14 +172,21 @@ def lu_factor(a: np.ndarray) -> Factor:
     if n == 0:
         ones = np.ones(a.shape[2])
         empty = np.ones((0, a.shape[2]))
-        return Factor(lu=a.copy(), swaps=(), row_scale=empty, col_scale=empty, det=ones, rcond=ones)
-    col_max = np.abs(a).max(axis=0)
-    col_max[col_max == 0.0] = 1.0
-    lu = a / col_max[None, :, :]
-    row_max = np.abs(lu).max(axis=1)
-    row_max[row_max == 0.0] = 1.0
-    lu /= row_max[:, None, :]
-    det = np.prod(row_max, axis=0) * np.prod(col_max, axis=0)
+        return Factor(lu=a.copy(), swaps=(), row_mul=empty, col_mul=empty, det=ones, rcond=ones)
+    if row_scale is not None and col_scale is not None:
+        row_mul = np.asarray(row_scale, dtype=float)[:, None]
+        col_mul = np.asarray(col_scale, dtype=float)[:, None]
+        lu = a * (row_mul * col_mul.T)[:, :, None]
+    else:
+        col_max = np.maximum(a.max(axis=0), -a.min(axis=0))
+        col_max[col_max == 0.0] = 1.0
+        col_mul = 1.0 / col_max
+        lu = a * col_mul[None, :, :]
+        row_max = np.maximum(lu.max(axis=1), -lu.min(axis=1))
+        row_max[row_max == 0.0] = 1.0
+        row_mul = 1.0 / row_max
+        lu *= row_mul[:, None, :]
+    det = 1.0 / (np.prod(row_mul, axis=0) * np.prod(col_mul, axis=0))
     swaps = []
     piv_min = np.full(a.shape[2], np.inf)
     piv_max = np.zeros(a.shape[2])
@@ -197,9 +217,7 @@ def lu_factor(a: np.ndarray) -> Factor:
                 lu[i, k] = factor
                 lu[i, k + 1 :] -= factor * lu[k, k + 1 :]
     rcond = np.where(piv_max > 0.0, piv_min / np.where(piv_max > 0.0, piv_max, 1.0), 0.0)
-    return Factor(
-        lu=lu, swaps=tuple(swaps), row_scale=row_max, col_scale=col_max, det=det, rcond=rcond
-    )
+    return Factor(lu=lu, swaps=tuple(swaps), row_mul=row_mul, col_mul=col_mul, det=det, rcond=rcond)
 
 
 def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
@@ -216,8 +234,7 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
     """
     lu = f.lu
     n = lu.shape[0]
-    row_max = f.row_scale
-    x = b / (row_max if b.ndim == 2 else row_max[:, None, :])
+    x = b * (f.row_mul if b.ndim == 2 else f.row_mul[:, None, :])
     extra = () if b.ndim == 2 else (None,)
     with np.errstate(divide="ignore", invalid="ignore"):
         for k in range(n):  # P b: the row interchanges, in order
@@ -235,7 +252,7 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
             for j in range(k + 1, n):
                 x[k] -= lu[k, j][extra] * x[j]
             x[k] /= lu[k, k][extra]
-    return x / (f.col_scale if b.ndim == 2 else f.col_scale[:, None, :])
+    return x * (f.col_mul if b.ndim == 2 else f.col_mul[:, None, :])
 
 
 # --------------------------------------------------------------------------- equations
@@ -401,7 +418,7 @@ def newton(
             r = np.abs(f * weight).max(axis=0)
             resid[active] = r
             done = r <= tol
-        fac = lu_factor(jac[:, :nq])
+        fac = lu_factor(jac[:, :nq], *c.jq_scales)
         rhs = np.concatenate([-f[:, None, :], -jac[:, nq:]], axis=1)
         sol = lu_solve(fac, rhs)
         if done.any():
@@ -429,20 +446,18 @@ def newton(
 
 
 def _small_lu(
-    a: list[list[float]],
+    a: list[list[float]], row: list[float], col: list[float]
 ) -> tuple[list[list[float]], list[int], list[float], list[float], float, float]:
     """Plain-Python twin of :func:`lu_factor` for one small matrix (the sequential march).
 
-    Returns (lu, pivot rows, row scales, column scales, det, rcond).
+    ``row``/``col`` are the static multipliers. Returns (lu, pivot rows, row
+    multipliers, column multipliers, det, rcond).
     """
     n = len(a)
-    col = [max(abs(a[i][j]) for i in range(n)) or 1.0 for j in range(n)]
-    lu = [[a[i][j] / col[j] for j in range(n)] for i in range(n)]
-    row = [max(abs(v) for v in r) or 1.0 for r in lu]
-    lu = [[v / row[i] for v in r] for i, r in enumerate(lu)]
+    lu = [[a[i][j] * row[i] * col[j] for j in range(n)] for i in range(n)]
     det = 1.0
     for v in row + col:
-        det *= v
+        det /= v
     piv, lo, hi = [], math.inf, 0.0
     for k in range(n):
         p = max(range(k, n), key=lambda i: abs(lu[i][k]))
@@ -468,7 +483,7 @@ def _small_lu(
 def _small_solve(fac: tuple, b: list[float]) -> list[float]:
     lu, piv, row, col = fac[:4]
     n = len(lu)
-    x = [b[i] / row[i] for i in range(n)]
+    x = [b[i] * row[i] for i in range(n)]
     for k in range(n):
         if piv[k] != k:
             x[k], x[piv[k]] = x[piv[k]], x[k]
@@ -479,7 +494,7 @@ def _small_solve(fac: tuple, b: list[float]) -> list[float]:
         for j in range(k + 1, n):
             x[k] -= lu[k][j] * x[j]
         x[k] = x[k] / lu[k][k] if lu[k][k] != 0.0 else math.nan
-    return [x[j] / col[j] for j in range(n)]
+    return [x[j] * col[j] for j in range(n)]
 
 
 def newton_one(
@@ -509,6 +524,7 @@ def newton_one(
     lvar, avar = c.length_var.tolist(), c.angle_var.tolist()
     lconst, aconst = c.length_const.tolist(), c.angle_const.tolist()
     scale = [float(c.var_scale[i]) for i in c.unknown]
+    row_mul, col_mul = (v.tolist() for v in c.jq_scales)
     n_eq = c.n_eq
     resid = math.inf
     for it in range(max_iter + 1):
@@ -536,7 +552,7 @@ def newton_one(
             for j, v in enumerate(cols):
                 jac[r][j] = coefs[v]
         resid = max((abs(fi * w) for fi, w in zip(f, weight, strict=True)), default=0.0)
-        fac = _small_lu([r[:nq] for r in jac])
+        fac = _small_lu([r[:nq] for r in jac], row_mul, col_mul)
         if resid <= tol:
             tan = [_small_solve(fac, [-r[nq + m] for r in jac]) for m in range(nu)]
             return NewtonResult(
@@ -594,7 +610,7 @@ def _accept(
     from its tangent prediction than half the (scaled) input step: on one
     branch the prediction error is O(step²), a jump to another circuit is O(1).
     """
-    near_sing = ~(res.rcond >= 1e2 * sing_tol) | ~(rc_ref >= 1e2 * sing_tol)  # NaN: unknown
+    near_sing = ~(res.rcond >= 10 * sing_tol) | ~(rc_ref >= 10 * sing_tol)  # NaN: unknown
     same_side = (np.sign(res.det) == np.sign(det_ref)) | near_sing
     far = np.abs((res.q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0) > 0.5 * du + 1e-9
     jump = res.converged & (~same_side | far)
@@ -874,7 +890,7 @@ def derivatives(
     d, cos, sin = terms
     _, jac = residual_and_jacobian(c, x0, cols, terms=terms)
     nq = len(c.unknown)
-    fac = lu_factor(jac[:, :nq])
+    fac = lu_factor(jac[:, :nq], *c.jq_scales)
     j_u = jac[:, nq:]
     rates: list[np.ndarray] = []
     n_loop = c.loops.shape[0]
