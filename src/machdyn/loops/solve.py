@@ -813,9 +813,8 @@ def _fill(c: Compiled, new, half, u, st: _Store, tol, march: _March) -> None:
     dul, dur = u_new - u[:, left], u_new - u[:, right]
     dl = np.abs(dul / scale_u).max(axis=0)
     dr = np.abs(dur / scale_u).max(axis=0)
+    q_l, q_r = st.q[:, left], st.q[:, right]
     t_l, t_r = st.tan[:, :, left], st.tan[:, :, right]
-    pred_l = st.q[:, left] + np.einsum("qun,un->qn", t_l, dul)
-    pred_r = st.q[:, right] + np.einsum("qun,un->qn", t_r, dur)
     # Both neighbours solved: cubic Hermite between them (positions and tangents), whose
     # error is O(step^4), so most fine-level samples converge without a Newton step.
     span = u[:, right] - u[:, left]
@@ -827,14 +826,17 @@ def _fill(c: Compiled, new, half, u, st: _Store, tol, march: _March) -> None:
     t2, t3 = t * t, t * t * t
     m_l = np.einsum("qun,un->qn", t_l, span)
     m_r = np.einsum("qun,un->qn", t_r, span)
-    hermite = (
-        (2 * t3 - 3 * t2 + 1) * st.q[:, left]
+    pred = (
+        (2 * t3 - 3 * t2 + 1) * q_l
         + (t3 - 2 * t2 + t) * m_l
-        + (3 * t2 - 2 * t3) * st.q[:, right]
+        + (3 * t2 - 2 * t3) * q_r
         + (t3 - t2) * m_r
     )
-    with np.errstate(invalid="ignore"):
-        pred = np.where(both, hermite, np.where(has_left, pred_l, pred_r))
+    if not both.all():  # one-sided: the tangent predictor from the solved neighbour
+        pred_l = q_l + np.einsum("qun,un->qn", t_l, dul)
+        pred_r = q_r + np.einsum("qun,un->qn", t_r, dur)
+        with np.errstate(invalid="ignore"):
+            pred = np.where(both, pred, np.where(has_left, pred_l, pred_r))
     du = np.maximum(np.where(has_left, dl, 0.0), np.where(has_right, dr, 0.0))
     ref = np.where(has_left, left, right)
 
@@ -904,16 +906,27 @@ def derivatives(
                 for k in np.flatnonzero(c.loops[l_idx]):
                     s = c.loops[l_idx, k]
                     lv, av = c.length_var[k], c.angle_var[k]
-                    d1 = x1[lv] if lv >= 0 else zero
-                    w1 = x1[av] if av >= 0 else zero
-                    if order == 2:
+                    if av < 0:  # constant angle: only the length's own derivatives
+                        continue  # which enter through the Jacobian (no bias)
+                    w1 = x1[av]
+                    if lv < 0:  # constant length: the common case, fewer terms
+                        if order == 2:
+                            re, im = -d[k] * w1 * w1, zero
+                        else:
+                            w2 = x2[av]
+                            re, im = -3.0 * d[k] * w1 * w2, -d[k] * w1 * w1 * w1
+                    elif order == 2:
+                        d1 = x1[lv]
                         re = -d[k] * w1 * w1
                         im = 2.0 * d1 * w1
                     else:
-                        d2 = x2[lv] if lv >= 0 else zero
-                        w2 = x2[av] if av >= 0 else zero
+                        d1, d2, w2 = x1[lv], x2[lv], x2[av]
                         re = -3.0 * d1 * w1 * w1 - 3.0 * d[k] * w1 * w2
                         im = 3.0 * d1 * w2 + 3.0 * d2 * w1 - d[k] * w1 * w1 * w1
+                    if im is zero:
+                        rhs[2 * l_idx] -= s * (re * cos[k])
+                        rhs[2 * l_idx + 1] -= s * (re * sin[k])
+                        continue
                     rhs[2 * l_idx] -= s * (re * cos[k] - im * sin[k])
                     rhs[2 * l_idx + 1] -= s * (re * sin[k] + im * cos[k])
         xk = np.empty_like(x0)
