@@ -66,7 +66,7 @@ def main() -> None:
         s, guess = build()
         for n in (3_600, big):
             theta2 = np.linspace(0.0, 2 * np.pi, n)
-            repeat = 20 if n <= 10_000 else 3
+            repeat = 20 if n <= 10_000 else 5
             for what, kw in (
                 ("pos", {}),
                 ("pos+vel+acc", {"velocity": {"theta2": 10.0}, "order": 2}),

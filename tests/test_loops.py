@@ -711,3 +711,11 @@ def test_sweep_with_a_big_jump_between_two_ranges():
     )
     assert m.ok.all()
     np.testing.assert_allclose(wrap(m["theta4"] - t4), 0, atol=1e-9)
+
+
+def test_model_changes_after_a_solve_are_checked_again():
+    s = fourbar_system(8, 4, 7, 6)
+    s.solve({"theta2": [0.1]}, guess={"theta3": 0.5, "theta4": 1.5})
+    s.constraint("theta3 = theta4")
+    with pytest.raises(ModelError, match="DOF 0, but 1 input was named"):
+        s.solve({"theta2": [0.1]}, guess={"theta3": 0.5, "theta4": 1.5})

@@ -87,6 +87,7 @@ class LoopSystem:
         self._constraints: list[_Constraint] = []
         self._points: dict[str, tuple[str, dict[str, int]]] = {}
         self._inputs: tuple[str, ...] = ()
+        self._cache: dict[tuple[str, ...], tuple[SystemReport, _solve.Compiled]] = {}
 
     # ------------------------------------------------------------------ building
     def vector(self, name: str, length: float | str, angle: float | str) -> LoopSystem:
@@ -119,11 +120,13 @@ class LoopSystem:
                     raise InputError(f"{name}.length", f"must be a positive length, got {number}")
                 parts.append(number)
         self._vectors[name] = Vector(name, parts[0], parts[1])
+        self._cache.clear()
         return self
 
     def loop(self, text: str) -> LoopSystem:
         """Add a vector loop such as ``"R2 + R3 - R4 - R1"`` (optionally ``= 0``)."""
         self._loops.append((text, parse_signed_sum(text, "loop")))
+        self._cache.clear()
         return self
 
     def constraint(self, text: str, **constants: float) -> LoopSystem:
@@ -138,6 +141,7 @@ class LoopSystem:
         values = {k: finite_scalar(k, v) for k, v in constants.items()}
         coefs, c0 = parse_linear(text, values, "constraint")
         self._constraints.append(_Constraint(text, coefs, c0))
+        self._cache.clear()
         return self
 
     def point(self, name: str, chain: str | None = None) -> LoopSystem:
@@ -154,11 +158,13 @@ class LoopSystem:
         if not _IDENT.match(name):
             raise InputError("point", f"a point name must be an identifier, got {name!r}")
         self._points[name] = (chain, parse_signed_sum(chain, f"point {name}"))
+        self._cache.clear()
         return self
 
     def inputs(self, *names: str) -> LoopSystem:
         """Name the input (driven) variables, e.g. ``inputs("theta2")``."""
         self._inputs = tuple(names)
+        self._cache.clear()
         return self
 
     # ------------------------------------------------------------------ validation
@@ -347,6 +353,13 @@ class LoopSystem:
                 "(Jacobian rank-deficient at every pose): choose other inputs or add constraints"
             )
 
+    def _checked(self, inputs: tuple[str, ...]) -> _solve.Compiled:
+        """``check(inputs)`` and compile, cached until the model changes."""
+        if inputs not in self._cache:
+            report = self.check(inputs)
+            self._cache[inputs] = (report, self._compile(inputs))
+        return self._cache[inputs][1]
+
     # ------------------------------------------------------------------ solving
     def _input_arrays(
         self, values: Mapping[str, Any], inputs: tuple[str, ...]
@@ -449,8 +462,7 @@ class LoopSystem:
             ``reason``; their positions (or derivatives) are NaN.
         """
         inputs = self._inputs or tuple(values)
-        self.check(inputs)
-        c = self._compile(inputs)
+        c = self._checked(inputs)
         u, shape = self._input_arrays(values, inputs)
         unknowns = [c.names[i] for i in c.unknown]
         guess = dict(guess)
@@ -519,8 +531,7 @@ class LoopSystem:
         inputs = self._inputs
         if not inputs:
             raise ModelError("evaluate needs the inputs named first: call inputs(...)")
-        self.check(inputs)
-        c = self._compile(inputs)
+        c = self._checked(inputs)
         names = list(c.names)
         x0, shape = self._input_arrays(values, tuple(names))
         f, _ = _solve.residual_and_jacobian(c, x0, jacobian=False)
