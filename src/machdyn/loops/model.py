@@ -101,6 +101,10 @@ class LoopSystem:
             A positive constant, or the name of a length variable (a slider).
         angle : float or str
             A constant angle in radians (CCW from +x), or a variable name.
+
+        Examples
+        --------
+        >>> s = LoopSystem().vector("R6", length="d6", angle=0.0)  # a slider
         """
         if not isinstance(name, str) or not _IDENT.match(name):
             raise InputError("name", f"a vector name must be an identifier like 'R2', got {name!r}")
@@ -124,7 +128,12 @@ class LoopSystem:
         return self
 
     def loop(self, text: str) -> LoopSystem:
-        """Add a vector loop such as ``"R2 + R3 - R4 - R1"`` (optionally ``= 0``)."""
+        """Add a vector loop such as ``"R2 + R3 - R4 - R1"`` (optionally ``= 0``).
+
+        Examples
+        --------
+        >>> s = LoopSystem().loop("-r1 + r2 + r3 = 0")
+        """
         self._loops.append((text, parse_signed_sum(text, "loop")))
         self._cache.clear()
         return self
@@ -148,6 +157,10 @@ class LoopSystem:
         """Name a point reached from the origin by a vector chain.
 
         ``point("P", "R2 + R3p")`` or ``point("P = R2 + R3p")``.
+
+        Examples
+        --------
+        >>> s = LoopSystem().point("P = R2 + R3p")
         """
         if chain is None:
             if not isinstance(name, str) or "=" not in name:
@@ -162,7 +175,12 @@ class LoopSystem:
         return self
 
     def inputs(self, *names: str) -> LoopSystem:
-        """Name the input (driven) variables, e.g. ``inputs("theta2")``."""
+        """Name the input (driven) variables; several for a multi-DOF mechanism.
+
+        Examples
+        --------
+        >>> s = LoopSystem().inputs("theta2", "theta5")  # a five-bar with two cranks
+        """
         self._inputs = tuple(names)
         self._cache.clear()
         return self
@@ -283,6 +301,18 @@ class LoopSystem:
         Returns
         -------
         SystemReport
+
+        Examples
+        --------
+        >>> s = (LoopSystem().vector("R1", 8.0, 0.0).vector("R2", 4.0, "theta2")
+        ...      .vector("R3", 7.0, "theta3").vector("R4", 6.0, "theta4")
+        ...      .loop("R2 + R3 - R4 - R1"))
+        >>> s.check().dof
+        1
+        >>> s.check(inputs=("theta2", "theta3"))  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        machdyn.errors.ModelError: 3 variables, 2 equations: DOF 1, but 2 inputs were named: ...
         """
         inputs = tuple(self._inputs if inputs is None else inputs)
         variables = self._structure()
@@ -460,6 +490,23 @@ class LoopSystem:
             Samples that cannot be assembled, sit at a toggle (singular
             Jacobian) or could not be followed safely have ``ok`` False and a
             ``reason``; their positions (or derivatives) are NaN.
+
+        Examples
+        --------
+        A triple rocker (4-3-3-2.5) driven past its limit: it assembles only while
+        ``|A − O4| ≤ R3 + R4``, i.e. ``cos θ2 ≥ −0.21875`` (θ2 ≤ 102.6°); the other
+        inputs are flagged.
+
+        >>> import numpy as np
+        >>> s = (LoopSystem().vector("R1", 4.0, 0.0).vector("R2", 3.0, "theta2")
+        ...      .vector("R3", 3.0, "theta3").vector("R4", 2.5, "theta4")
+        ...      .loop("R2 + R3 - R4 - R1").inputs("theta2"))
+        >>> m = s.solve({"theta2": np.radians([60.0, 90.0, 120.0, 150.0])},
+        ...             guess={"theta3": 0.0, "theta4": 1.5})
+        >>> m.ok.tolist()
+        [True, True, False, False]
+        >>> str(m.reason[3])
+        'cannot assemble: Newton-Raphson did not converge at this input'
         """
         inputs = self._inputs or tuple(values)
         c = self._checked(inputs)

@@ -25,6 +25,13 @@ class SystemReport:
         The named inputs (empty when none were named yet).
     dof : int
         Degrees of freedom ``len(variables) - len(equations)``.
+
+    Examples
+    --------
+    >>> r = SystemReport(("loop 1 x: R2 + R3 - R4 - R1", "loop 1 y: R2 + R3 - R4 - R1"),
+    ...                  ("theta2", "theta3", "theta4"), ("theta2",), 1)
+    >>> r.unknowns
+    ('theta3', 'theta4')
     """
 
     equations: tuple[str, ...]
@@ -80,6 +87,19 @@ class Motion:
         along one circuit/branch away from toggles.
     inputs : tuple of str
         Names of the input variables.
+
+    Examples
+    --------
+    >>> from machdyn.loops import LoopSystem
+    >>> s = (LoopSystem().vector("R1", 8.0, 0.0).vector("R2", 4.0, "theta2")
+    ...      .vector("R3", 7.0, "theta3").vector("R4", 6.0, "theta4")
+    ...      .loop("R2 + R3 - R4 - R1").point("B", "R2 + R3").inputs("theta2"))
+    >>> m = s.solve({"theta2": [0.0, 0.1]}, guess={"theta3": 1.0, "theta4": 1.6},
+    ...             velocity={"theta2": 1.0})
+    >>> list(m.to_pandas().columns[:5])
+    ['theta2', 'theta2_dot', 'theta2_ddot', 'theta2_dddot', 'theta3']
+    >>> m.velocity["theta2"].tolist(), bool(m.ok.all())
+    ([1.0, 1.0], True)
     """
 
     positions: Mapping[str, np.ndarray]

@@ -21,16 +21,7 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = [
-    "Compiled",
-    "Factor",
-    "derivatives",
-    "lu_factor",
-    "lu_solve",
-    "newton",
-    "residual_and_jacobian",
-    "solve_positions",
-]
+__all__ = ["lu_factor", "lu_solve"]  # the rest is the engine behind LoopSystem
 
 #: Samples whose Jacobian has a (pivot-ratio) reciprocal condition below this are
 #: flagged singular. Newton converges only linearly to a toggle (a double root) and
@@ -231,6 +222,15 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
     Returns
     -------
     ndarray, the shape of ``b``
+
+    Examples
+    --------
+    Two systems at once, ``[[0, 1], [1, 1]] x = [2, 3]`` (needs pivoting) and
+    ``[[2, 0], [0, 4]] x = [2, 4]``:
+
+    >>> a = np.array([[[0.0, 2.0], [1.0, 0.0]], [[1.0, 0.0], [1.0, 4.0]]])
+    >>> lu_solve(lu_factor(a), np.array([[2.0, 2.0], [3.0, 4.0]])).T.tolist()
+    [[1.0, 2.0], [1.0, 1.0]]
     """
     lu = f.lu
     n = lu.shape[0]
