@@ -719,3 +719,19 @@ def test_model_changes_after_a_solve_are_checked_again():
     s.constraint("theta3 = theta4")
     with pytest.raises(ModelError, match="DOF 0, but 1 input was named"):
         s.solve({"theta2": [0.1]}, guess={"theta3": 0.5, "theta4": 1.5})
+
+
+def test_plot_labels_angles_in_degrees():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    s = watt_six_bar_with_slider(constraint=False)
+    m = s.solve(
+        {"theta2": np.linspace(0, 1, 20)},
+        guess={"theta3": 1.2, "theta4": 1.9, "theta5": 0.4, "d6": 10.0},
+    )
+    ax = m.plot()
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert "theta3 [deg]" in labels and "d6" in labels
+    assert ax.get_xlabel() == "theta2 [deg]"
+    np.testing.assert_allclose(ax.get_lines()[0].get_xdata(), np.degrees(np.linspace(0, 1, 20)))

@@ -659,6 +659,7 @@ class LoopSystem:
             residual=np.where(bad_pos, np.nan, resid).reshape(shape),
             branch=np.where(bad_pos, 0, np.sign(det)).astype(np.int8).reshape(shape),
             inputs=inputs,
+            angles=tuple(c.names[i] for i in np.unique(c.angle_var[c.angle_var >= 0])),
         )
 
 

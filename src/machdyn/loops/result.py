@@ -87,6 +87,8 @@ class Motion:
         along one circuit/branch away from toggles.
     inputs : tuple of str
         Names of the input variables.
+    angles : tuple of str
+        Names of the variables that are angles (plotted in degrees).
 
     Examples
     --------
@@ -115,6 +117,7 @@ class Motion:
     residual: np.ndarray
     branch: np.ndarray
     inputs: tuple[str, ...]
+    angles: tuple[str, ...] = ()
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Position of variable ``name``, or of point ``name`` (complex)."""
@@ -161,3 +164,37 @@ class Motion:
         cols["ok"] = self.ok.ravel()
         cols["reason"] = self.reason.ravel()
         return pd.DataFrame(cols)
+
+    def plot(self, names: tuple[str, ...] | list[str] | None = None, ax: Any = None) -> Any:
+        """Plot variables against the first input (angles in degrees, labelled).
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+            Variables to plot; default every unknown.
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure otherwise.
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        names = [n for n in self.positions if n not in self.inputs] if names is None else names
+
+        def shown(name: str) -> tuple[np.ndarray, str]:
+            value = np.asarray(self[name]).ravel()
+            if name in self.angles:
+                return np.degrees(value), f"{name} [deg]"
+            return value, name
+
+        x, x_label = shown(self.inputs[0]) if self.inputs else (np.arange(len(self)), "sample")
+        for name in names:
+            y, label = shown(name)
+            ax.plot(x, y, label=label)
+        ax.set_xlabel(x_label)
+        ax.legend()
+        return ax
