@@ -735,3 +735,55 @@ def test_plot_labels_angles_in_degrees():
     assert "theta3 [deg]" in labels and "d6" in labels
     assert ax.get_xlabel() == "theta2 [deg]"
     np.testing.assert_allclose(ax.get_lines()[0].get_xdata(), np.degrees(np.linspace(0, 1, 20)))
+
+
+def test_notes_six_link_example_solves_along_a_sweep():
+    """The notes' 6-link example (7 unknowns), with lengths chosen so that a known pose closes.
+
+    The pose is built first (theta2 = 0.5, d3 = 3, theta3 = 1.0, theta7 = 2.0, gamma = 0.4)
+    and the remaining lengths are computed from it, so the guess is an exact solution.
+    """
+    e = np.exp
+    theta2, d3, theta3, theta7, gamma = 0.5, 3.0, 1.0, 2.0, 0.4
+    d2, dbar, d7, d9, d1 = 3.0, 9.0, 2.0, 3.0, 10.0
+    p1 = d2 * e(1j * theta2) + dbar * e(1j * theta3)
+    d5, d6 = p1.real, p1.imag
+    r8 = d2 * e(1j * theta2) + d3 * e(1j * theta3) + d7 * e(1j * theta7) - d1
+    d8, theta8 = abs(r8), np.angle(r8)
+    r11 = 6.0 * e(0.3j)
+    r10 = r8 + d9 * e(1j * (theta7 + gamma)) - r11
+    d10, theta10 = abs(r10), np.angle(r10)
+    s = LoopSystem()
+    s.vector("R1", d1, 0.0).vector("R2", d2, "theta2").vector("R5", d5, 0.0)
+    s.vector("R6", "d6", np.pi / 2).vector("R7", d7, "theta7").vector("R8", d8, "theta8")
+    s.vector("R9", d9, "theta9").vector("R10", d10, "theta10").vector("R11", 6.0, 0.3)
+    s.vector("R3", "d3", "theta3").vector("R34", dbar, "theta3")
+    s.loop("R2 + R34 - R5 - R6").loop("R2 + R3 + R7 - R8 - R1").loop("R8 + R9 - R10 - R11")
+    s.constraint("theta9 - theta7 = gamma", gamma=gamma).inputs("theta2")
+    guess = {
+        "d3": d3,
+        "d6": d6,
+        "theta3": theta3,
+        "theta7": theta7,
+        "theta8": theta8,
+        "theta9": theta7 + gamma,
+        "theta10": theta10,
+    }
+    # d3 shrinks from 3 to ~1.8; near theta2 = 0.69 this circuit reaches a limit (a fold: a
+    # multi-start check finds 8 distinct poses at 0.68 and 6 at 0.70).
+    sweep = np.linspace(0.5, 0.62, 301)
+    m = s.solve({"theta2": sweep}, guess=guess, velocity={"theta2": 2.0})
+    assert m.ok.all()
+    assert m["d3"][0] == pytest.approx(d3, abs=1e-10)
+    loop2 = (
+        d2 * e(1j * m["theta2"])
+        + m["d3"] * e(1j * m["theta3"])
+        + d7 * e(1j * m["theta7"])
+        - d8 * e(1j * m["theta8"])
+        - d1
+    )
+    assert np.abs(loop2).max() < 1e-10 * d1
+    h = sweep[1] - sweep[0]
+    for name in ("d3", "d6", "theta8", "theta10"):
+        vel = m.velocity[name][2:-2]
+        np.testing.assert_allclose(vel, 2.0 * five_point(m[name], h), atol=1e-6 * np.abs(vel).max())
