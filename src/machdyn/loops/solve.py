@@ -711,7 +711,7 @@ def solve_positions(
         if reached is None:
             after_gap = True
             continue
-        if reached == "lost":
+        if isinstance(reached, str):  # "lost": only the other branch after a gap
             st.code[idx] = LOST
             continue
         anchor, u_anchor, after_gap = reached, u_b, False
