@@ -191,13 +191,24 @@ def lu_factor(
                 best = np.where(bigger, cand, best)
                 p = np.where(bigger, i, p)
             swaps.append(p)
-            for i in range(k + 1, n):
-                m = p == i
-                if m.any():
+            if n - k > 3 and not np.isscalar(p):
+                # Many candidate rows: one gather and one scatter instead of a where-swap
+                # per candidate (O(n) instead of O(n^2) row passes per column).
+                moved = p != k
+                if moved.any():
+                    cols = np.arange(a.shape[2])
                     top = lu[k].copy()
-                    lu[k] = np.where(m, lu[i], lu[k])
-                    lu[i] = np.where(m, top, lu[i])
-                    det = np.where(m, -det, det)
+                    lu[k] = lu[p, :, cols].T
+                    lu[p, :, cols] = top.T
+                    det = np.where(moved, -det, det)
+            else:
+                for i in range(k + 1, n):
+                    m = p == i
+                    if m.any():
+                        top = lu[k].copy()
+                        lu[k] = np.where(m, lu[i], lu[k])
+                        lu[i] = np.where(m, top, lu[i])
+                        det = np.where(m, -det, det)
             pivot = lu[k, k]
             det = det * pivot
             np.minimum(piv_min, best, out=piv_min)
