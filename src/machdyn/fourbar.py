@@ -73,8 +73,9 @@ _CLOSE_TOL = 1e-12
 #: |sin(θ4 − θ3)| below this is a toggle of links 3 and 4. At a rocker's exact limit
 #: rounding leaves up to ~6e-7 (the limit angle itself carries √ε error).
 _TOGGLE_TOL = 2e-6
-#: Samples are processed in chunks of this size (keeps temporaries in cache).
-_CHUNK = 1 << 14
+#: Samples are processed in chunks of this size: temporaries stay in cache and below
+#: the allocator's mmap threshold (128 KiB), so they are not mapped and unmapped each time.
+_CHUNK = 1 << 13
 
 
 # --------------------------------------------------------------------------------------
@@ -90,21 +91,31 @@ def _unit_vectors(
     """
     ax = r2 * c2
     ay = r2 * s2
-    sx = ax - r1  # diagonal O4 -> A
-    sy = ay
-    dd = sx * sx + sy * sy
-    delta = np.sqrt(dd)
+    sx = ax - r1  # diagonal O4 -> A (its y component is ay)
+    dd = sx * sx
+    dd += ay * ay
     with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 1.0 / delta
+        inv = np.sqrt(dd)
+        np.divide(1.0, inv, out=inv)
         # law of cosines at O4 in triangle O4 A B
-        cg = (r4 * r4 - r3 * r3 + dd) * (inv / (2.0 * r4))
+        cg = dd + (r4 * r4 - r3 * r3)
+        cg *= inv
+        cg *= 1.0 / (2.0 * r4)
     status = np.zeros(c2.shape, dtype=np.uint8)
-    bad = ~(np.abs(cg) <= 1.0 + _CLOSE_TOL)  # also catches NaN from delta = 0
-    status[bad] = NOT_ASSEMBLABLE
-    status[~np.isfinite(inv)] = INDETERMINATE
-    cg = np.clip(cg, -1.0, 1.0)
-    sg = np.sqrt(1.0 - cg * cg)
-    sg *= branch
+    abs_cg = np.abs(cg)
+    inside = abs_cg <= 1.0 + _CLOSE_TOL  # False for NaN too (A on O4)
+    if not inside.all():  # rare: only then pay for the masks and the clip
+        status[~inside] = NOT_ASSEMBLABLE
+        status[~np.isfinite(inv)] = INDETERMINATE
+        cg = np.clip(cg, -1.0, 1.0)
+    elif abs_cg.max() > 1.0:
+        cg = np.clip(cg, -1.0, 1.0)
+    sg = cg * cg
+    np.subtract(1.0, sg, out=sg)
+    np.sqrt(sg, out=sg)
+    if branch < 0:
+        np.negative(sg, out=sg)
+    sy = ay
     with np.errstate(invalid="ignore"):  # 0 · ∞ where A sits on O4 (flagged above)
         ux = sx * inv
         uy = sy * inv
