@@ -6,6 +6,14 @@ The notes' Ch. 3 (graphical synthesis, done algebraically) and Norton,
 
 from __future__ import annotations
 
+from .function import (
+    FunctionGenerator,
+    StructuralError,
+    chebyshev_spacing,
+    freudenstein_coefficients,
+    function_generator,
+    lengths_from_freudenstein,
+)
 from .geometry import circumcentre, intersect_lines, perpendicular_bisector, rigid_motion, rotopole
 from .motion import (
     DrivingDyad,
@@ -21,12 +29,18 @@ from .placed import PlacedFourBar
 
 __all__ = [
     "DrivingDyad",
+    "FunctionGenerator",
     "MotionSynthesis",
     "PlacedFourBar",
     "RotopoleLink",
+    "StructuralError",
+    "chebyshev_spacing",
     "circumcentre",
     "driving_dyad",
+    "freudenstein_coefficients",
+    "function_generator",
     "intersect_lines",
+    "lengths_from_freudenstein",
     "perpendicular_bisector",
     "rigid_motion",
     "rotopole",

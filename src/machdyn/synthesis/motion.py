@@ -387,7 +387,7 @@ def _check(
 ) -> tuple[np.ndarray, np.ndarray, int, float, list[str]]:
     """Check that link 2, turning one way, carries the coupler through the positions in order.
 
-    Defects (Norton sec. 3.6 and 5.x): a **circuit** defect when two positions
+    Defects (Norton, ch. 3 and 5): a **circuit** defect when two positions
     lie on different circuits (no motion joins them without disassembly), a
     **branch** defect when they are joined only through a toggle of links 3
     and 4 (a dead point for the link-2 drive), an **order** defect when a
