@@ -90,6 +90,21 @@ def coupler_points(
     for name, a in zip(_NAMES[:4], (r1, r2, r3, r4), strict=True):
         if np.any(a <= 0.0):
             raise InputError(name, "every length must be positive")
+    return _kernel(r1, r2, r3, r4, p, delta, theta2, branch)
+
+
+def _kernel(
+    r1: np.ndarray,
+    r2: np.ndarray,
+    r3: np.ndarray,
+    r4: np.ndarray,
+    p: np.ndarray,
+    delta: np.ndarray,
+    theta2: np.ndarray,
+    branch: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`coupler_points` on validated 1-D arrays of one length (no checks)."""
+    n = r1.size
     m = theta2.size
     points = np.empty((n, m), dtype=complex)
     ok = np.empty((n, m), dtype=bool)

@@ -32,7 +32,7 @@ from .._validate import finite_array, finite_scalar, integer
 from ..classify import classify
 from ..errors import AssemblyError, InputError
 from ..fourbar import FourBar
-from .atlas import coupler_points
+from .atlas import _kernel
 from .geometry import as_points
 from .placed import PlacedFourBar
 
@@ -43,7 +43,7 @@ _W_ASSEMBLY = 10.0
 #: Weight of the squared transmission-angle shortfall (radians²).
 _W_MU = 1.0
 #: How many of the best candidates the final local search starts from.
-_POLISH_STARTS = 4
+_POLISH_STARTS = 3
 #: The transmission-angle penalty is soft: a shortfall below this (0.5°) is not a defect.
 _MU_SLACK = np.radians(0.5)
 
@@ -188,9 +188,7 @@ def path_objective(
         scale, centre = _frame(targets)
     q = _decode(x, scale, centre)
     theta2 = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    local, ok = coupler_points(
-        q["r1"], q["r2"], q["r3"], q["r4"], q["p"], q["delta"], theta2, q["branch"]
-    )
+    local, ok = _kernel(q["r1"], q["r2"], q["r3"], q["r4"], q["p"], q["delta"], theta2, q["branch"])
     rot = np.exp(1j * q["theta1"])[:, None]
     curve = q["O2"][:, None] + rot * local  # (S, n)
     bad_fraction = 1.0 - ok.mean(axis=1)
@@ -383,7 +381,7 @@ def synthesize_path(
                 fine,
                 start,
                 method="Nelder-Mead",
-                options={"maxiter": 1500, "xatol": 1e-10, "fatol": 1e-14},
+                options={"maxiter": 1200, "xatol": 1e-10, "fatol": 1e-14},
             )
             if local.fun < value:
                 best, value = local.x, float(local.fun)
