@@ -103,8 +103,12 @@ def test_path_objective_is_zero_for_the_generating_linkage():
         [5 / scale, 2 / scale, 5 / scale, 4 / scale, 3 / scale, 0.6, o.real, o.imag, 0.3, 1.0]
     )
     assert path_objective(x, targets) < 1e-5  # nearest point of a 120-sample polyline
-    timed = np.append(x, 0.0)
+    # with timing the placement is solved in closed form: lengths, coupler, branch, θ2_0
+    timed = np.array([5 / scale, 2 / scale, 5 / scale, 4 / scale, 3 / scale, 0.6, 1.0, 0.0])
     assert path_objective(timed, targets, timing=theta2) < 1e-24
+    shifted = timed.copy()
+    shifted[7] = 0.2  # another θ2_0: the timed points no longer fit
+    assert path_objective(shifted, targets, timing=theta2) > 1e-4
     # and many candidates at once give the same values as one at a time
     xs = np.column_stack([x, x * 1.1, x * 0.9])
     many = path_objective(xs, targets)

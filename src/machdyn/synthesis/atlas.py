@@ -134,10 +134,11 @@ def _kernel(
             # B − A = d + c e^{jθ4} − A = c e^{jθ4} − s
             dx = r4c[sl] * (ux * cg + uy * sg) - sx
             dy = r4c[sl] * (uy * cg - ux * sg) - ay
+            # NaN where not assembled, without a boolean scatter: add 0 or NaN
+            blank = np.where(good, 0.0, np.nan)
             block = points[sl]
-            block.real = ax + kr[sl] * dx - ki[sl] * dy
-            block.imag = ay + kr[sl] * dy + ki[sl] * dx
-            block[~good] = np.nan
+            block.real = ax + kr[sl] * dx - ki[sl] * dy + blank
+            block.imag = ay + kr[sl] * dy + ki[sl] * dx + blank
             ok[sl] = good
     return points, ok
 

@@ -13,7 +13,9 @@ Objective (dimensionless, with ``L`` the size of the target set):
 * without timing: the mean over targets of the squared distance to the
   nearest point of the candidate's coupler curve, over ``L²``;
 * with prescribed timing (input angles ``θ2_k = θ2_0 + Δ_k``, ``θ2_0`` free):
-  the mean squared distance of the coupler point at ``θ2_k`` to target k;
+  the mean squared distance of the coupler point at ``θ2_k`` to target k,
+  where the placement ``O2, θ1`` is solved in closed form for each candidate
+  (a complex Procrustes fit), so only 8 numbers are searched;
 
 plus penalties for not being a full-turn crank on one assembly (the fraction
 of input angles that cannot be assembled) and for a transmission angle below
@@ -138,6 +140,47 @@ def _decode(x: np.ndarray, scale: float, centre: complex) -> dict[str, np.ndarra
     )
 
 
+def _decode_timed(x: np.ndarray, scale: float) -> dict[str, np.ndarray]:
+    """Unpack timed design vectors (rows: r1..r4, p, delta, branch, θ2_0; shape (8, S))."""
+    r1, r2, r3, r4, p = (x[i] * scale for i in range(5))
+    return dict(
+        r1=r1,
+        r2=r2,
+        r3=r3,
+        r4=r4,
+        p=p,
+        delta=x[5],
+        branch=np.where(x[6] >= 0.0, 1.0, -1.0),
+        theta20=x[7],
+    )
+
+
+def _procrustes(
+    q: dict[str, np.ndarray], timing: np.ndarray, targets: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Best placement of each candidate for timed targets, in closed form.
+
+    With the candidate's coupler points ``Q_k`` (own frame) at ``θ2_0 + Δ_k``,
+    the rotation ``r = e^{jθ1}`` and the pivot ``O2`` minimising
+    ``Σ |T_k − O2 − r Q_k|²`` are ``r = h/|h|`` with ``h = Σ conj(Q_k − Q̄)(T_k − T̄)``
+    and ``O2 = T̄ − r Q̄`` (orthogonal Procrustes in complex form). So the
+    search never needs the placement as variables.
+
+    Returns ``rot, O2, d2, ok``: shapes (S,), (S,), (S, K), (S, K).
+    """
+    th = q["theta20"][:, None] + timing[None, :]
+    local, ok = _points_at(q, th)
+    local = np.where(ok, local, 0.0)
+    qm = local.mean(axis=1)
+    tm = targets.mean()
+    h = np.sum(np.conj(local - qm[:, None]) * (targets - tm)[None, :], axis=1)
+    mag = np.abs(h)
+    rot = np.where(mag > 0.0, h / np.where(mag > 0.0, mag, 1.0), 1.0)
+    o2 = tm - rot * qm
+    resid = targets[None, :] - (o2[:, None] + rot[:, None] * local)
+    return rot, o2, resid.real**2 + resid.imag**2, ok
+
+
 _BOUNDS = [
     (0.1, 3.0),  # r1 / L
     (0.05, 1.5),  # r2 / L
@@ -150,6 +193,8 @@ _BOUNDS = [
     (-np.pi, np.pi),  # theta1
     (-1.0, 1.0),  # branch (sign)
 ]
+#: With timing, the placement is solved in closed form: lengths, coupler, branch, θ2_0.
+_BOUNDS_TIMED = [*_BOUNDS[:6], (-1.0, 1.0), (-np.pi, np.pi)]
 
 
 def path_objective(
@@ -166,8 +211,11 @@ def path_objective(
 
     Parameters
     ----------
-    x : ndarray, shape (10,) or (10, S) — or (11, S) with timing
-        Design vectors (see the module docstring); the 11th row is ``θ2_0``.
+    x : ndarray, shape (10,) or (10, S); with timing (8,) or (8, S)
+        Design vectors: ``r1, r2, r3, r4, p`` (over the targets' size), ``δ``,
+        the placement ``O2`` (offset over the size) and ``θ1``, the branch sign;
+        with timing ``r1 … δ``, the branch sign and ``θ2_0`` (the placement is
+        then solved in closed form, see :func:`_procrustes`).
     targets : ndarray of complex, shape (K,)
         Target points.
     timing : ndarray, shape (K,), optional
@@ -186,18 +234,20 @@ def path_objective(
     targets = np.asarray(targets, dtype=complex)
     if scale is None or centre is None:
         scale, centre = _frame(targets)
-    q = _decode(x, scale, centre)
     theta2 = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    local, ok = _kernel(q["r1"], q["r2"], q["r3"], q["r4"], q["p"], q["delta"], theta2, q["branch"])
-    rot = np.exp(1j * q["theta1"])[:, None]
-    curve = q["O2"][:, None] + rot * local  # (S, n)
-    bad_fraction = 1.0 - ok.mean(axis=1)
     if timing is None:
+        q = _decode(x, scale, centre)
+        local, ok = _kernel(
+            q["r1"], q["r2"], q["r3"], q["r4"], q["p"], q["delta"], theta2, q["branch"]
+        )
+        curve = q["O2"][:, None] + np.exp(1j * q["theta1"])[:, None] * local  # (S, n)
         nearest = _distance_to_polyline(curve, targets) ** 2
     else:
-        th = x[10][:, None] + np.asarray(timing)[None, :]  # (S, K)
-        pts, okk = _points_at(q, th)
-        nearest = np.where(okk, np.abs(pts - targets[None, :]) ** 2, np.inf)
+        q = _decode_timed(x, scale)
+        _, ok = _kernel(q["r1"], q["r2"], q["r3"], q["r4"], q["p"], q["delta"], theta2, q["branch"])
+        _, _, d2, okk = _procrustes(q, np.asarray(timing, dtype=float), targets)
+        nearest = np.where(okk, d2, np.inf)
+    bad_fraction = 1.0 - ok.mean(axis=1)
     nearest = np.minimum(nearest, 1e6 * scale * scale)
     fit = nearest.mean(axis=1) / (scale * scale)
     mu = _mu_min(q, theta2, ok)
@@ -234,13 +284,11 @@ def _distance_to_polyline(curve: np.ndarray, targets: np.ndarray) -> np.ndarray:
 
 
 def _points_at(q: dict[str, np.ndarray], theta2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Coupler points of candidate s at its own angles ``theta2[s, :]`` (global)."""
+    """Coupler points (own frame) of candidate s at its own angles ``theta2[s, :]``."""
     s, k = theta2.shape
     rep = {name: np.repeat(q[name], k) for name in ("r1", "r2", "r3", "r4", "p", "delta", "branch")}
     local, ok = _coupler_points_diag(rep, theta2.ravel())
-    rot = np.exp(1j * np.repeat(q["theta1"], k))
-    pts = np.repeat(q["O2"], k) + rot * local
-    return pts.reshape(s, k), ok.reshape(s, k)
+    return local.reshape(s, k), ok.reshape(s, k)
 
 
 def _coupler_points_diag(rep: dict[str, np.ndarray], theta2: np.ndarray):
@@ -343,7 +391,7 @@ def synthesize_path(
         timing = timing - timing[0]
     mu_min = finite_scalar("mu_min", mu_min, "radian")
     n = integer("n", n, minimum=12)
-    bounds = list(_BOUNDS) + ([(-np.pi, np.pi)] if timing is not None else [])
+    bounds = list(_BOUNDS) if timing is None else list(_BOUNDS_TIMED)
 
     def objective(x: np.ndarray) -> np.ndarray:
         return path_objective(
@@ -389,10 +437,15 @@ def synthesize_path(
 
 
 def _result(best, value, targets, timing, scale, centre, mu_min, tolerance) -> PathSynthesis:
-    q = _decode(best.reshape(-1, 1), scale, centre)
+    if timing is None:
+        q = _decode(best.reshape(-1, 1), scale, centre)
+        O2, theta1 = complex(q["O2"][0]), float(q["theta1"][0])
+    else:
+        q = _decode_timed(best.reshape(-1, 1), scale)
+        rot, o2, _, _ = _procrustes(q, timing, targets)
+        O2, theta1 = complex(o2[0]), float(np.angle(rot[0]))
     r1, r2, r3, r4, p, delta = (float(q[k][0]) for k in ("r1", "r2", "r3", "r4", "p", "delta"))
     branch = int(q["branch"][0])
-    O2, theta1 = complex(q["O2"][0]), float(q["theta1"][0])
     try:
         fb = FourBar(r1, r2, r3, r4, coupler=(p, delta))
     except AssemblyError:
@@ -415,7 +468,7 @@ def _result(best, value, targets, timing, scale, centre, mu_min, tolerance) -> P
             or np.sum(np.mod(-steps, dense.size)) == dense.size
         )
     else:
-        theta2 = np.mod(float(best[10]) + timing, 2 * np.pi)
+        theta2 = np.mod(float(best[7]) + timing, 2 * np.pi)
         _, _, Pk, okk = linkage.pose(theta2)
         distance = np.where(okk, np.abs(Pk - targets), np.inf)
         in_order = True
