@@ -320,3 +320,32 @@ def test_driving_dyad_bad_input():
         driving_dyad(0, 1, 2j, distance=2.0)
     with pytest.raises(InputError, match="distance"):
         driving_dyad(0, 1, 1j, distance=-1.0)
+
+
+def test_grcr_circuits_and_branches():
+    """HW 3's GRCR {6, 9, 3, 8}: the input rocks on one side of the ground (a circuit);
+    within it the two signs of phi12 meet at the rocker's limits (branches)."""
+    fb = FourBar(6, 9, 3, 8)
+    assert fb.barker_class == "GRCR"
+    up = fb.solve(np.radians([40.0, 60.0, 85.0]), form=1, branch=1)
+    other_branch = fb.solve(np.radians([60.0]), form=1, branch=-1)
+    other_circuit = fb.solve(np.radians([300.0]), form=2, branch=1)
+
+    def place(z):
+        return 2 + 1j + np.asarray(z) * np.exp(0.2j)
+
+    good = three_position(place(up.A), place(up.B))
+    assert good.ok, good.defects
+    a = place([up.A[0], other_branch.A[0], up.A[2]])
+    b = place([up.B[0], other_branch.B[0], up.B[2]])
+    assert any(d.startswith("branch defect") for d in three_position(a, b).defects)
+    a = place([up.A[0], other_circuit.A[0], up.A[2]])
+    b = place([up.B[0], other_circuit.B[0], up.B[2]])
+    assert any(d.startswith("circuit defect") for d in three_position(a, b).defects)
+
+
+def test_points_as_xy_array():
+    xy = np.column_stack([np.real(C), np.imag(C)])
+    dxy = np.column_stack([np.real(D), np.imag(D)])
+    s = three_position(xy, dxy)
+    assert round(s.O2.real, 3) == 2.178

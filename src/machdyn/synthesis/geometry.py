@@ -41,11 +41,16 @@ def as_points(field: str, value: Any, count: int | None = None) -> np.ndarray:
     --------
     >>> as_points("c", [(0, 1), 2 + 3j])
     array([0.+1.j, 2.+3.j])
+    >>> as_points("c", np.array([[0.0, 1.0], [2.0, 3.0]]))
+    array([0.+1.j, 2.+3.j])
     >>> as_points("c", [0, 1j], count=3)
     Traceback (most recent call last):
     ...
     machdyn.errors.InputError: c: expected 3 points, got 2
     """
+    is_xy = isinstance(value, np.ndarray) and value.ndim == 2 and value.shape[1] == 2
+    if is_xy and value.dtype.kind in "fiu":  # an (N, 2) array of x, y
+        value = value[:, 0].astype(float) + 1j * value[:, 1].astype(float)
     try:
         if isinstance(value, list | tuple) and not (
             len(value) == 2 and count == 1 and all(np.isscalar(v) for v in value)

@@ -406,6 +406,16 @@ def _check(
     for k in np.flatnonzero(np.abs(sin12) < _TOGGLE_SIN):
         defects.append(f"position {k + 1} is a toggle (links 3 and 4 collinear)")
     cls = classify(*fb.lengths)
+    if cls.code in ("GRCR", "GRRC"):
+        side = np.sin(theta2) >= 0.0
+        if np.any(side != side[0]):
+            defects.append(
+                "circuit defect: link 2 rocks on one side of the ground line, and positions "
+                f"{[k + 1 for k in range(n) if side[k] == side[0]]} and "
+                f"{[k + 1 for k in range(n) if side[k] != side[0]]} are on opposite sides; "
+                "the linkage would have to be taken apart to move between them"
+            )
+            return theta2, branch, 0, float("nan"), defects
     if np.any(branch != branch[0]):
         first = [k + 1 for k in range(n) if branch[k] == branch[0]]
         other = [k + 1 for k in range(n) if branch[k] != branch[0]]
