@@ -193,3 +193,25 @@ def test_quick_return_bad_input():
         quick_return(np.radians(45), 0.8)
     with pytest.raises(InputError, match="swing"):
         quick_return(np.radians(200), 1.2)
+
+
+def test_tables_and_plots():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from machdyn.synthesis import function_generator, three_position
+
+    at = atlas([2.0], [2.5], [2.0], [1.0], [0.0, 0.5], n=36)
+    assert at.plot().lines and len(at.to_pandas()) == 72
+    g = function_generator(np.log10, (1.0, 2.0), np.radians((45, 105)), np.radians((135, 225)))
+    se = g.structural_error(n=21)
+    assert se.plot().lines
+    assert list(se.to_pandas().columns[:4]) == ["x", "y_desired", "y_generated", "error"]
+    s = three_position(
+        [5.086j, 2.019 + 3.181j, 3.933 + 4.051j], [0.741 + 2.703j, 4.428 + 2.529j, 6.304 + 4.83j]
+    )
+    df = s.to_pandas(degrees=True)
+    assert "theta2_deg" in df.columns and len(df) == 3
+    plt.close("all")

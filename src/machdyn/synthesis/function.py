@@ -272,7 +272,10 @@ class FunctionGenerator:
         if x is None:
             x = np.linspace(*self.x_range, integer("n", n, minimum=2))
         x = np.ravel(finite_array("x", x))
-        x = np.union1d(x, self.x_precision) if x.size > 1 else x
+        if x.size > 1:  # include the precision points (unless a sample already is one)
+            gap = np.min(np.abs(self.x_precision[:, None] - x[None, :]), axis=1)
+            extra = self.x_precision[gap > 1e-9 * abs(self.x_range[1] - self.x_range[0])]
+            x = np.sort(np.concatenate([x, extra]))
         y_desired = np.asarray(self.func(x), dtype=float)
         theta2 = self.theta2_of(x)
         theta4_want = self.theta4_of(y_desired)
