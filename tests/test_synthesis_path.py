@@ -142,6 +142,10 @@ def test_path_synthesis_without_timing_matches_the_curve():
     curve = res.curve(20000)
     d = np.min(np.abs(curve[None, :] - targets[:, None]), axis=1)
     np.testing.assert_allclose(d, res.distance, atol=2e-3)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    assert res.plot().lines
 
 
 def test_unreachable_targets_are_reported():
