@@ -21,7 +21,7 @@ linkage is built with ``|a|`` and its input angle is ``θ2 + π``
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -414,8 +414,6 @@ def function_generator(
             f"cannot be assembled for x in {_runs(se.x, ~se.ok)}; "
             "the function range is beyond this four-bar's motion"
         )
-        from dataclasses import replace
-
         result = replace(result, defects=tuple(defects))
     return result
 

@@ -23,7 +23,7 @@ mechanism that cannot do the job.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -287,7 +287,7 @@ def three_position_fixed_pivots(
     a = _carry(c, d, a_ref, reference)
     b = _carry(c, d, b_ref, reference)
     result = _finish(O2, O4, a, b, c, strict)
-    return _replace(result, inverted_O2=inv2, inverted_O4=inv4)
+    return replace(result, inverted_O2=inv2, inverted_O4=inv4)
 
 
 def two_position(
@@ -374,12 +374,6 @@ def _finish(
     if strict:
         result.require_ok()
     return result
-
-
-def _replace(result: MotionSynthesis, **changes: Any) -> MotionSynthesis:
-    from dataclasses import replace
-
-    return replace(result, **changes)
 
 
 def _check(
