@@ -447,10 +447,10 @@ def _check(
         elif np.all(steps < 0):
             direction = -1
         else:
+            angles = ", ".join(f"{v:.2f}" for v in np.degrees(t))
             defects.append(
-                "order defect: link 2 rocks, and position "
-                f"{int(np.argmin(np.abs(t - np.median(t)))) + 1} is not between the others along "
-                "its travel, so the positions are met out of order"
+                f"order defect: link 2 rocks, and its angles at the positions ({angles} deg) do "
+                "not run one way; it would have to reverse, meeting the positions out of order"
             )
             return theta2, branch, 0, float("nan"), defects
         path = np.linspace(t[0], t[-1], _samples(abs(t[-1] - t[0])))
