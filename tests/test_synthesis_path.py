@@ -218,4 +218,5 @@ def test_tables_and_plots():
     )
     df = s.to_pandas(degrees=True)
     assert "theta2_deg" in df.columns and len(df) == 3
+    assert len(s.plot().lines) == 4  # three positions and the fixed pivots
     plt.close("all")

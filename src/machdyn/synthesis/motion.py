@@ -130,6 +130,24 @@ class MotionSynthesis:
         """
         return driving_dyad(self.O2, self.A[0], self.A[-1], distance=distance)
 
+    def plot(self, ax=None):
+        """Draw the linkage in each precision position (matplotlib imported lazily).
+
+        Returns the axes.
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        for k in range(self.A.size):
+            chain = np.array([self.O2, self.A[k], self.B[k], self.O4])
+            ax.plot(chain.real, chain.imag, "-o", lw=1.2, ms=3, label=f"position {k + 1}")
+        ground = np.array([self.O2, self.O4])
+        ax.plot(ground.real, ground.imag, "k^", ms=8, label="fixed pivots")
+        ax.set_aspect("equal")
+        ax.legend()
+        return ax
+
     def to_pandas(self, degrees: bool = False):
         """One row per precision position (pandas imported lazily)."""
         import pandas as pd
