@@ -168,7 +168,7 @@ def test_path_bad_input():
 
 
 def test_time_ratio_angle_norton():
-    # TR = 1.25 -> delta = 180 (0.25 / 2.25) = 20 deg (Norton Ex. 3-9)
+    # TR = 1.25 -> delta = 180 (0.25 / 2.25) = 20 deg (Norton sec. 3.5)
     assert math.isclose(time_ratio_angle(1.25), math.radians(20.0))
     assert time_ratio_angle(1.0) == 0.0
 

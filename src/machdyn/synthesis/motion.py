@@ -522,7 +522,7 @@ def rotopole_link(c: Any, d: Any) -> RotopoleLink:
 
     A single link pivoted at the rotopole (the intersection of the bisectors of
     ``C1C2`` and ``D1D2``) and fixed to CD carries ``C1`` to ``C2`` and
-    ``D1`` to ``D2`` (the notes, Ch. 3; Norton Ex. 3-3).
+    ``D1`` to ``D2`` (the notes, Ch. 3; Norton sec. 3.4).
 
     Raises
     ------
@@ -571,7 +571,7 @@ def driving_dyad(pivot: Any, b1: Any, b2: Any, *, distance: float) -> DrivingDya
     ``distance`` from ``b1``. At the two toggles the crank and coupler are
     folded (pin at ``b1``) and extended (pin at ``b2``), so the crank is half
     of ``|b1b2|`` and the coupler is ``distance`` plus the crank (Norton
-    Ex. 3-1). Both strokes then take half a turn of the crank (time ratio 1).
+    sec. 3.4). Both strokes then take half a turn of the crank (time ratio 1).
 
     Raises
     ------

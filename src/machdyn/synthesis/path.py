@@ -1,7 +1,7 @@
 """Path generation by optimisation: a four-bar whose coupler point passes near target points.
 
 Graphical path synthesis (the notes' Ch. 3, Norton sec. 3.6) only handles a
-few points; for N points the problem becomes a search (Norton sec. 5.x,
+few points; for N points the problem becomes a search (Norton ch. 5,
 "optimisation methods"). Each candidate is 10 numbers — the four lengths, the
 coupler point ``(p, δ)``, the placement ``O2, θ1`` and the assembly — and
 scipy's differential evolution evolves a population of them. The population

@@ -1,6 +1,6 @@
 """Quick-return and swing design: a crank-rocker for a rocker swing and a time ratio.
 
-The notes' "quick-return mechanism" (Ch. 3; Norton sec. 3.5, Ex. 3-9). A
+The notes' "quick-return mechanism" (Ch. 3; Norton sec. 3.5). A
 crank-rocker's rocker stops at the two toggles of crank and coupler: extended
 (``|O2 B1| = a + b``) and folded (``|O2 B2| = b − a``). Between them the
 crank turns ``π + δ`` one way and ``π − δ`` the other, where ``δ`` is the
@@ -35,7 +35,7 @@ def time_ratio_angle(time_ratio: float) -> float:
 
     Examples
     --------
-    >>> round(float(np.degrees(time_ratio_angle(1.25))), 6)     # Norton Ex. 3-9
+    >>> round(float(np.degrees(time_ratio_angle(1.25))), 6)     # TR = 1.25
     20.0
     """
     tr = finite_scalar("time_ratio", time_ratio)
@@ -104,7 +104,7 @@ def quick_return(
 
     Examples
     --------
-    Norton Ex. 3-9's specification: 45° of swing, time ratio 1 : 1.25.
+    45° of rocker swing with a time ratio of 1 : 1.25 (Norton sec. 3.5).
 
     >>> qr = quick_return(np.radians(45), 1.25, r4=2.0)
     >>> qr.fourbar.barker_class, round(float(np.degrees(qr.delta)), 6)
