@@ -132,9 +132,11 @@ def test_path_synthesis_with_timing_recovers_a_known_linkage():
 
 
 def test_path_synthesis_without_timing_matches_the_curve():
-    _, targets, _ = _known_targets(6)
+    _, targets, _ = _known_targets(8)
+    # a small, seeded search (the default budget is larger); the tolerance is 0.4 % of the
+    # target set's size (2.52)
     res = synthesize_path(targets, popsize=15, maxiter=150, seed=0, mu_min=0.35, tolerance=0.01)
-    assert res.distance.max() < 0.01  # 0.4 % of the target set's size (2.45)
+    assert res.distance.max() < 0.01
     assert res.ok, res.defects
     assert res.is_crank
     assert res.in_order

@@ -433,6 +433,7 @@ def synthesize_path(
         seed=seed,
         tol=1e-10,
         atol=1e-12,
+        strategy="currenttobest1bin",
         mutation=(0.5, 1.0),
         recombination=0.9,
         polish=False,
