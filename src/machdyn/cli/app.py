@@ -26,12 +26,14 @@ def _register() -> None:
     from .flywheel import flywheel as flywheel_command
     from .gear import gear_app
     from .plot import animate
+    from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
     app.add_typer(balance_app, name="balance")
     app.add_typer(cam_app, name="cam")
     app.add_typer(gear_app, name="gear")
     app.command("animate")(animate)
+    app.add_typer(synth_app, name="synth")
 
 
 _register()
