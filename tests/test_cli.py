@@ -82,3 +82,19 @@ def test_console_script_exit_status():
     )
     assert proc.returncode == 1
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+
+
+def test_unwritable_output_is_one_line(capsys, tmp_path):
+    missing = tmp_path / "no" / "such" / "dir" / "out.png"
+    code, out, err = run(capsys, "animate", "8", "4", "7", "6", "--out", str(missing))
+    assert code == 1
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert "No such file or directory" in err
+
+
+def test_non_utf8_input_is_one_line(capsys, tmp_path):
+    csv = tmp_path / "torque.csv"
+    csv.write_bytes(b"theta,torque\n0,1\n\xff\xfe,2\n")
+    code, _, err = run(capsys, "flywheel", str(csv), "--omega-avg", "10", "--k", "0.05")
+    assert code == 1
+    assert err.count("\n") == 1 and "Traceback" not in err

@@ -5,11 +5,14 @@ Each topic lives in its own module (``fourbar.py``, ``cam.py``, ``gear.py``,
 only parses, calls the library and presents; no physics lives in this package.
 
 Errors never end in a traceback: :func:`main` prints one line to stderr and
-returns a non-zero exit status (2 for usage errors, 1 for bad values).
+returns a non-zero exit status (2 for usage errors, 1 for bad values and files
+that cannot be read or written, 70 for an internal error; set
+``MACHDYN_DEBUG=1`` to see the traceback of an internal error).
 """
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Sequence
 
@@ -34,12 +37,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     except MachdynError as exc:
         return _fail(str(exc), 1)
+    except OSError as exc:  # a file that cannot be read or written
+        where = f"{exc.filename}: " if exc.filename else ""
+        return _fail(f"{where}{exc.strerror or exc}", 1)
+    except UnicodeDecodeError as exc:
+        return _fail(f"an input file is not UTF-8 text ({exc.reason} at byte {exc.start})", 1)
     except Exception as exc:
         # Usage errors of the click that typer bundles (or depends on, for older
         # typer releases): duck-typed so either one works.
         if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
             return _fail(exc.format_message(), int(exc.exit_code) or 2)
-        raise
+        if os.environ.get("MACHDYN_DEBUG"):
+            raise
+        return _fail(
+            f"internal error: {type(exc).__name__}: {exc} (set MACHDYN_DEBUG=1 for a traceback)",
+            70,
+        )
     return 0
 
 
