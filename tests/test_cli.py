@@ -86,7 +86,7 @@ def test_console_script_exit_status():
 
 def test_unwritable_output_is_one_line(capsys, tmp_path):
     missing = tmp_path / "no" / "such" / "dir" / "out.png"
-    code, out, err = run(capsys, "animate", "8", "4", "7", "6", "--out", str(missing))
+    code, _, err = run(capsys, "animate", "8", "4", "7", "6", "--out", str(missing))
     assert code == 1
     assert err.count("\n") == 1 and "Traceback" not in err
     assert "No such file or directory" in err
