@@ -58,19 +58,49 @@ def test_continuity_flags_jump_inside_constant_acceleration():
     assert all(abs(d.jump) == pytest.approx(8 / deg(60) ** 2, rel=1e-6) for d in inside)
 
 
-def test_continuity_flags_a_program_that_does_not_return():
+def test_program_that_does_not_return_is_rejected():
+    # Review finding 4: rises 1.0, falls 0.6 leave the follower 0.4 above its
+    # start at 360°, a step in the cam outline. A cam is periodic, so refuse it.
+    segments = [
+        Segment("rise", deg(90), 1.0, "cycloidal"),
+        Segment("dwell", deg(90)),
+        Segment("fall", deg(90), 0.6, "cycloidal"),
+        Segment("dwell", deg(90)),
+    ]
+    with pytest.raises(InputError) as info:
+        CamProgram(segments)
+    assert info.value.field == "segments"
+    message = str(info.value)
+    assert "rises total 1" in message
+    assert "falls total 0.6" in message
+    assert "net rise +0.4" in message
+    assert "return to its start" in message
+
+
+def test_program_falling_below_its_start_is_rejected():
+    # The reviewer's case: rise 1 then fall 2 dips the follower 1 below the prime circle.
+    with pytest.raises(InputError, match=r"net rise -1\b"):
+        CamProgram(
+            [
+                Segment("rise", deg(60), 1.0, "cycloidal"),
+                Segment("fall", deg(60), 2.0, "cycloidal"),
+                Segment("dwell", deg(240)),
+            ]
+        )
+
+
+def test_program_closing_within_rounding_is_accepted():
+    # 0.1 + 0.2 != 0.3 in binary floating point; that is not a step in the cam.
     program = CamProgram(
         [
-            Segment("rise", deg(90), 1.0, "cycloidal"),
-            Segment("dwell", deg(90)),
-            Segment("fall", deg(90), 0.6, "cycloidal"),
-            Segment("dwell", deg(90)),
+            Segment("rise", deg(60), 0.1, "cycloidal"),
+            Segment("rise", deg(60), 0.2, "cycloidal"),
+            Segment("fall", deg(60), 0.3, "cycloidal"),
+            Segment("dwell", deg(180)),
         ]
     )
-    s_jumps = [d for d in program.continuity().discontinuities if d.quantity == "s"]
-    assert len(s_jumps) == 1
-    assert s_jumps[0].theta == 0.0
-    assert s_jumps[0].jump == pytest.approx(-0.4)
+    assert abs(program.levels[-1]) < 1e-12
+    assert program.continuity().ok
 
 
 def test_single_dwell_rise_fall_with_cycloids_is_continuous():
