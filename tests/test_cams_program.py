@@ -89,6 +89,24 @@ def test_program_falling_below_its_start_is_rejected():
         )
 
 
+def test_program_that_starts_above_its_lowest_point_is_rejected():
+    # s is measured from the prime circle: a fall first would put the pitch curve
+    # inside the prime circle the cam reports. Listing the same motion from its
+    # low dwell (segment 3) is accepted.
+    segments = [
+        Segment("fall", deg(90), 1.0, "cycloidal"),
+        Segment("dwell", deg(90)),
+        Segment("rise", deg(90), 1.0, "cycloidal"),
+        Segment("dwell", deg(90)),
+    ]
+    with pytest.raises(InputError, match="starting with segment 2") as info:
+        CamProgram(segments)
+    assert info.value.field == "segments"
+    assert "θ = 90°" in str(info.value)
+    program = CamProgram(segments[1:] + segments[:1])
+    assert program.sample(360).s.min() >= 0.0
+
+
 def test_program_closing_within_rounding_is_accepted():
     # 0.1 + 0.2 != 0.3 in binary floating point; that is not a step in the cam.
     program = CamProgram(

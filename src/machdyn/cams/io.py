@@ -12,20 +12,25 @@ from .geometry import CamProfile
 
 __all__ = ["write_csv", "write_dxf"]
 
-# How to cure an undercut, per follower (Norton §8.7).
+# How to cure an undercut, per follower (Norton §8.7), and the sizing function that does it.
 _UNDERCUT_CURE = {
-    "translating roller": "enlarge the prime circle or use a smaller roller "
-    "(see machdyn.cams.size_roller)",
-    "oscillating roller": "enlarge the prime circle or use a smaller roller "
-    "(see machdyn.cams.size_oscillating_roller)",
-    "translating flat-faced": "enlarge the base circle (see machdyn.cams.size_flat_face)",
+    "translating roller": ("enlarge the prime circle or use a smaller roller", "size_roller"),
+    "oscillating roller": (
+        "enlarge the prime circle or use a smaller roller",
+        "size_oscillating_roller",
+    ),
+    "translating flat-faced": ("enlarge the base circle", "size_flat_face"),
 }
 
 
-def undercut_refusal(profile: CamProfile, override: str = "pass allow_undercut=True") -> str:
+def undercut_refusal(
+    profile: CamProfile, override: str = "pass allow_undercut=True", see: str | None = None
+) -> str:
     """Why an undercut cam's outline is refused, the cure for its follower, and ``override``.
 
-    The CLI passes its own ``override`` wording (``"pass --allow-undercut"``).
+    ``see`` points to the sizing tool (default: the ``machdyn.cams`` sizing
+    function for the follower). The CLI passes its own wording
+    (``"pass --allow-undercut"``, ``"--size"``).
 
     Examples
     --------
@@ -38,10 +43,11 @@ def undercut_refusal(profile: CamProfile, override: str = "pass allow_undercut=T
     spans = ", ".join(
         f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in profile.undercut_ranges()
     )
-    cure = _UNDERCUT_CURE.get(profile.follower, "enlarge the cam")
+    cure, function = _UNDERCUT_CURE.get(profile.follower, ("enlarge the cam", "size_roller"))
+    see = f"machdyn.cams.{function}" if see is None else see
     return (
         f"the cam is undercut at θ = {spans}; its outline self-intersects. To make it, "
-        f"{cure}, or {override} to write it anyway"
+        f"{cure} (see {see}), or {override} to write it anyway"
     )
 
 

@@ -278,7 +278,7 @@ class CamProgram:
         Their β must sum to 2π (within 1e-6 rad), and the rises must cancel
         the falls: a cam turns through whole revolutions, so the follower has
         to be back at its start at 2π (a net rise would be a step in the cam
-        outline).
+        outline). The start is the lowest position: s never goes below it.
 
     Examples
     --------
@@ -313,7 +313,8 @@ class CamProgram:
             )
         rises = sum(seg.h for seg in segments if seg.motion == "rise")
         falls = sum(seg.h for seg in segments if seg.motion == "fall")
-        if abs(rises - falls) > _CLOSURE_RTOL * max(seg.h for seg in segments):
+        tol = _CLOSURE_RTOL * max(seg.h for seg in segments)
+        if abs(rises - falls) > tol:
             raise InputError("segments", closure_message(rises, falls))
         self.segments = segments
         betas = np.array([seg.beta for seg in segments])
@@ -321,6 +322,17 @@ class CamProgram:
         self._starts = np.concatenate(([0.0], np.cumsum(betas)[:-1])) * (2.0 * np.pi / total)
         self._betas = betas * (2.0 * np.pi / total)
         self._levels = np.concatenate(([0.0], np.cumsum([seg.signed_h for seg in segments])))
+        lowest = int(np.argmin(self._levels[:-1]))
+        if self._levels[lowest] < -tol:
+            # s is measured up from the prime (base) circle: a dip below the start
+            # would put the cam inside the circles it reports.
+            raise InputError(
+                "segments",
+                f"the follower drops below its start (lowest at θ = "
+                f"{np.degrees(self._starts[lowest]):.6g}°, the start of segment {lowest + 1}); "
+                f"s is measured up from the lowest position, so list the segments starting "
+                f"with segment {lowest + 1}, keeping their order",
+            )
 
     # Constructors ---------------------------------------------------------
 
