@@ -473,3 +473,14 @@ def test_program_file_bad_segment_values_name_the_entry(tmp_path):
     assert isinstance(result.exception, InputError), result.exception
     assert result.exception.field == "segments[1].motion"
     assert "rise, fall, dwell" in str(result.exception)
+
+
+def test_program_file_booleans_and_rpm_are_checked(tmp_path):
+    text = SEGMENTS_TOML.replace("beta_deg = 180", "beta_deg = true", 1)
+    result = runner.invoke(cam_app, ["--program", str(_toml(tmp_path, text)), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "segments[0].beta_deg"
+    path = _toml(tmp_path, "rpm = -5\n" + SEGMENTS_TOML)
+    result = runner.invoke(cam_app, ["--program", str(path), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field.endswith("cam.toml: rpm")

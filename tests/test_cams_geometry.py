@@ -275,6 +275,9 @@ def test_profile_to_pandas_and_cam_profile():
     frame = cam.to_pandas()
     assert len(frame) == 90
     assert {"theta_deg", "surface_x", "pressure_angle_deg", "undercut"} <= set(frame.columns)
+    # Review finding 12: the angle in radians too, first, as Motion.to_pandas has it.
+    assert list(frame.columns[:2]) == ["theta", "theta_deg"]
+    np.testing.assert_allclose(frame["theta"], cam.theta)
     with pytest.raises(InputError, match="follower"):
         cam_profile(program(), "roller")
 

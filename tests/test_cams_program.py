@@ -194,7 +194,9 @@ def test_sample_and_pandas():
     assert list(frame.columns) == ["theta", "theta_deg", "s", "v", "a", "j"]
     assert frame.theta_deg.iloc[90] == pytest.approx(90.0)
     timed = m.in_time(10.0).to_pandas()
-    assert list(timed.columns) == ["t", "theta_deg", "s", "V", "A", "J"]
+    # Review finding 12: theta in radians as well as degrees, as Motion has.
+    assert list(timed.columns) == ["t", "theta", "theta_deg", "s", "V", "A", "J"]
+    np.testing.assert_allclose(np.radians(timed["theta_deg"]), timed["theta"])
 
 
 def test_double_dwell_constructor():

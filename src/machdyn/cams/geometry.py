@@ -446,10 +446,10 @@ class CamProfile:
     # Presentation -----------------------------------------------------------
 
     def to_pandas(self) -> Any:
-        """Return a DataFrame: θ (deg), svaj, pitch/surface x, y, φ (deg), ρ, undercut."""
+        """Return a DataFrame: θ (rad and deg), svaj, pitch/surface x, y, φ (deg), ρ, undercut."""
         import pandas as pd
 
-        return pd.DataFrame(self._columns())
+        return pd.DataFrame({"theta": self.theta, **self._columns()})
 
     def _columns(self) -> dict[str, np.ndarray]:
         nan = np.full_like(self.theta, np.nan)

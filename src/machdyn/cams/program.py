@@ -201,12 +201,13 @@ class TimeMotion:
         return {k: float(np.max(np.abs(getattr(self, k)))) for k in ("s", "V", "A", "J")}
 
     def to_pandas(self) -> Any:
-        """Return a DataFrame with t, theta_deg, s, V, A, J."""
+        """Return a DataFrame with t, theta (rad), theta_deg, s, V, A, J."""
         import pandas as pd
 
         return pd.DataFrame(
             {
                 "t": self.t,
+                "theta": self.theta,
                 "theta_deg": np.degrees(self.theta),
                 "s": self.s,
                 "V": self.V,

@@ -62,6 +62,8 @@ def _law(token: str, field: str) -> cams.MotionLaw:
 
 
 def _number(text: Any, field: str) -> float:
+    if isinstance(text, bool):  # TOML true/false would otherwise pass as 1.0/0.0
+        raise InputError(field, f"expected a number, got {str(text).lower()}")
     try:
         return float(text)
     except (TypeError, ValueError):
@@ -393,7 +395,8 @@ def cam(
             sizing = _sizing(kind, motion, opts, limit)
     omega = None
     if speed is not None:
-        omega = 2.0 * np.pi * _positive("--rpm", speed) / 60.0
+        rpm_field = "--rpm" if rpm is not None else f"{program}: rpm"
+        omega = 2.0 * np.pi * _positive(rpm_field, speed) / 60.0
 
     payload = _payload(prog, motion, profile, continuity, checks, sizing, omega, kind)
     if json:
