@@ -82,7 +82,13 @@ def _renamed(fields: dict[str, str], prefix: str = "") -> Iterator[None]:
 
 
 def _segment(
-    motion: str, beta_deg: float, h: float, law: Any, oscillating: bool, where: str, fields: Any
+    motion: str,
+    beta_deg: float,
+    h: float,
+    law: Any,
+    oscillating: bool,
+    where: str,
+    fields: dict[str, str],
 ) -> cams.Segment:
     """Build a segment from values typed in degrees, naming ``fields`` in errors."""
     if not beta_deg > 0.0:
