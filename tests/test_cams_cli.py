@@ -240,17 +240,18 @@ def test_laws_subcommand():
 @pytest.mark.parametrize(
     ("args", "field", "text"),
     [
-        (["-s", "rise:cycloidal:1:60", "-s", "dwell:120", *ROLLER], "segments", "sum to 360"),
+        (["-s", "rise:cycloidal:1:60", "-s", "dwell:120", *ROLLER], "--segment", "sum to 360"),
         (
             ["-s", "rise:parabolic:1:180", "-s", "fall:cycloidal:1:180", *ROLLER],
             "--segment",
             "valid: dwell",
         ),
-        (["-s", "rise:cycloidal:1:-60", *ROLLER], "beta", "positive"),
+        (["-s", "rise:cycloidal:1:-60", *ROLLER], "--segment", "positive"),
+        (["-s", "rise:cycloidal:-1:180", "-s", "dwell:180", *ROLLER], "--segment", "rise:"),
         (["-s", "rise:cycloidal:1", *ROLLER], "--segment", "rise:LAW:H:BETA_DEG"),
         (
             [*DOUBLE_DWELL, "--prime-radius", "3", "--roller-radius", "-0.5"],
-            "roller_radius",
+            "--roller-radius",
             "zero or positive",
         ),
         (
@@ -263,7 +264,7 @@ def test_laws_subcommand():
                 "--eccentricity",
                 "0.5",
             ],
-            "prime_radius",
+            "--prime-radius",
             "eccentricity",
         ),
         (
@@ -274,6 +275,23 @@ def test_laws_subcommand():
         ([*DOUBLE_DWELL, "--prime-radius", "3"], "--roller-radius", "required"),
         ([*ROLLER], "--segment", "--program"),
         ([*DOUBLE_DWELL, *ROLLER, "--rpm", "0"], "--rpm", "positive"),
+        ([*DOUBLE_DWELL, *ROLLER, "--points", "2"], "--points", "4"),
+        ([*DOUBLE_DWELL, *ROLLER, "--max-pressure-angle", "100"], "--max-pressure-angle", "90"),
+        ([*DOUBLE_DWELL, *ROLLER, "--max-pressure-angle", "0"], "--max-pressure-angle", "0"),
+        (
+            [
+                *DOUBLE_DWELL,
+                "--follower",
+                "flat",
+                "--base-radius",
+                "8",
+                "--size",
+                "--min-rho",
+                "-1",
+            ],
+            "--min-rho",
+            "positive",
+        ),
     ],
 )
 def test_bad_input_is_one_clear_error(args, field, text):
@@ -309,3 +327,160 @@ def test_parse_segment_scca_and_oscillating():
     assert parse_segment("rise:cycloidal:30:90", oscillating=True).h == pytest.approx(np.pi / 6)
     with pytest.raises(InputError, match="three fractions"):
         parse_segment("rise:scca(0.5,0.5):1:90")
+
+
+def test_open_program_is_refused_before_any_output(tmp_path):
+    # Review finding 4, the reviewer's command: rise 1, fall 2. The outline would
+    # have a step and dip 1 below the prime circle; no report, no DXF, an error.
+    dxf = tmp_path / "x.dxf"
+    segs = ["-s", "rise:cycloidal:1:60", "-s", "fall:cycloidal:2:60", "-s", "dwell:240"]
+    args = [*segs, "--prime-radius", "3", "--roller-radius", "0.5", "--dxf", str(dxf)]
+    result = runner.invoke(cam_app, args)
+    assert result.exit_code != 0
+    assert isinstance(result.exception, InputError)
+    assert result.exception.field == "--segment"
+    message = str(result.exception)
+    assert "rises total 1, falls total 2" in message
+    assert "net rise -1" in message
+    assert "\n" not in message
+    assert "design rules" not in result.output
+    assert not dxf.exists()
+
+
+def test_open_oscillating_program_is_reported_in_degrees():
+    segs = ["-s", "rise:cycloidal:20:90", "-s", "fall:cycloidal:15:90", "-s", "dwell:180"]
+    osc = ["--follower", "oscillating", "--prime-radius", "2", "--roller-radius", "0.3"]
+    osc += ["--pivot-distance", "4", "--arm-length", "3.5"]
+    result = runner.invoke(cam_app, [*segs, *osc])
+    assert isinstance(result.exception, InputError)
+    assert "rises total 20°, falls total 15° (net rise +5°)" in str(result.exception)
+
+
+def test_undercut_dxf_refusal_names_the_flag(tmp_path):
+    # Review finding 13: the CLI user cannot pass allow_undercut=True.
+    segs = ["-s", "rise:cycloidal:1:30", "-s", "dwell:150", "-s", "fall:cycloidal:1:30"]
+    segs += ["-s", "dwell:150"]
+    dxf = tmp_path / "cam.dxf"
+    args = [*segs, "--prime-radius", "1.5", "--roller-radius", "1.0", "--dxf", str(dxf)]
+    result = runner.invoke(cam_app, args)
+    assert isinstance(result.exception, MachdynError)
+    message = str(result.exception)
+    assert "--allow-undercut" in message
+    assert "allow_undercut=True" not in message
+    assert not dxf.exists()
+    allowed = runner.invoke(cam_app, [*args, "--allow-undercut"])
+    assert allowed.exit_code == 0, allowed.output
+    assert dxf.exists()
+
+
+@pytest.mark.parametrize("option", ["--csv", "--dxf", "--svaj-plot", "--profile-plot"])
+def test_output_into_a_missing_directory_names_the_option(tmp_path, option):
+    # Review finding 5: --svaj-plot / --profile-plot gave a FileNotFoundError traceback.
+    target = tmp_path / "missing" / ("out.png" if "plot" in option else "out.dat")
+    result = runner.invoke(cam_app, [*DOUBLE_DWELL, *ROLLER, option, str(target)])
+    assert result.exit_code != 0
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == option
+    assert "missing" in str(result.exception)
+    assert "\n" not in str(result.exception)
+
+
+def test_unknown_plot_format_names_the_option(tmp_path):
+    result = runner.invoke(
+        cam_app, [*DOUBLE_DWELL, *ROLLER, "--svaj-plot", str(tmp_path / "a.xyz")]
+    )
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "--svaj-plot"
+    assert "png" in str(result.exception)
+
+
+def _toml(tmp_path, text):
+    path = tmp_path / "cam.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+SEGMENTS_TOML = """
+[[segments]]
+motion = "rise"
+law = "cycloidal"
+h = 1.0
+beta_deg = 180
+[[segments]]
+motion = "fall"
+law = "cycloidal"
+h = 1.0
+beta_deg = 180
+"""
+
+
+def test_program_file_segments_must_be_tables(tmp_path):
+    # Review finding 5: `segments = [5]` raised TypeError: 'int' object is not iterable.
+    path = _toml(tmp_path, "segments = [5]\n")
+    result = runner.invoke(cam_app, ["--program", str(path), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "segments[0]"
+    assert "[[segments]]" in str(result.exception)
+
+
+def test_program_file_that_is_not_utf8_names_the_file(tmp_path):
+    path = tmp_path / "cam.toml"
+    path.write_bytes(b"\xff\xfe")
+    result = runner.invoke(cam_app, ["--program", str(path), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "--program"
+    assert "cam.toml" in str(result.exception) and "UTF-8" in str(result.exception)
+
+
+@pytest.mark.parametrize(
+    ("follower", "unknown"),
+    [
+        ('typ = "flat"\nbase_radius = 3.0', "typ"),
+        ("prime_radius = 3.0\nroller_radus = 0.5", "roller_radus"),
+    ],
+)
+def test_program_file_follower_typos_are_rejected(tmp_path, follower, unknown):
+    # Review finding 6: `typ = "flat"` silently analysed a roller follower.
+    path = _toml(tmp_path, f"[follower]\n{follower}\n{SEGMENTS_TOML}")
+    result = runner.invoke(cam_app, ["--program", str(path)])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "[follower]"
+    message = str(result.exception)
+    assert repr(unknown) in message
+    assert "roller_radius" in message and "type" in message and "pivot_side" in message
+
+
+def test_program_file_follower_values_are_named_by_key(tmp_path):
+    path = _toml(tmp_path, f"[follower]\nprime_radius = 3.0\nroller_radius = -1\n{SEGMENTS_TOML}")
+    result = runner.invoke(cam_app, ["--program", str(path)])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "[follower] roller_radius"
+
+
+def test_program_file_open_program_names_the_file(tmp_path):
+    path = _toml(
+        tmp_path, SEGMENTS_TOML.replace("h = 1.0\nbeta_deg = 180\n", "h = 0.5\nbeta_deg = 180\n", 1)
+    )
+    result = runner.invoke(cam_app, ["--program", str(path), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "--program"
+    assert "net rise -0.5" in str(result.exception)
+
+
+def test_program_file_bad_segment_values_name_the_entry(tmp_path):
+    text = SEGMENTS_TOML.replace('motion = "fall"', 'motion = "drop"')
+    result = runner.invoke(cam_app, ["--program", str(_toml(tmp_path, text)), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "segments[1].motion"
+    assert "rise, fall, dwell" in str(result.exception)
+
+
+def test_program_file_booleans_and_rpm_are_checked(tmp_path):
+    text = SEGMENTS_TOML.replace("beta_deg = 180", "beta_deg = true", 1)
+    result = runner.invoke(cam_app, ["--program", str(_toml(tmp_path, text)), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field == "segments[0].beta_deg"
+    path = _toml(tmp_path, "rpm = -5\n" + SEGMENTS_TOML)
+    result = runner.invoke(cam_app, ["--program", str(path), *ROLLER])
+    assert isinstance(result.exception, InputError), result.exception
+    assert result.exception.field.endswith("cam.toml: rpm")

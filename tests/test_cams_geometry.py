@@ -275,6 +275,9 @@ def test_profile_to_pandas_and_cam_profile():
     frame = cam.to_pandas()
     assert len(frame) == 90
     assert {"theta_deg", "surface_x", "pressure_angle_deg", "undercut"} <= set(frame.columns)
+    # Review finding 12: the angle in radians too, first, as Motion.to_pandas has it.
+    assert list(frame.columns[:2]) == ["theta", "theta_deg"]
+    np.testing.assert_allclose(frame["theta"], cam.theta)
     with pytest.raises(InputError, match="follower"):
         cam_profile(program(), "roller")
 
@@ -304,3 +307,37 @@ def test_oscillating_swing_through_line_of_centres_is_a_model_error():
     follower = OscillatingRoller(2.0, 0.3, pivot_distance=4.0, arm_length=3.5)
     with pytest.raises(ModelError, match="line of centres"):
         follower.profile(CamProgram.double_dwell(deg(170), deg(90), deg(90)))
+
+
+@pytest.mark.parametrize(
+    ("call", "field", "shapes"),
+    [
+        (lambda: pressure_angle([1.0, 2.0, 3.0], [1.0, 2.0], 2.0), "v", "(2,)"),
+        (lambda: radius_of_curvature([0.1, 0.2, 0.3], [0.0, 0.1, 0.2], [1, 2], 2.0), "a", "(2,)"),
+        (lambda: pitch_curve([0.0, 1.0], [0.1, 0.2, 0.3], 2.0), "s", "(3,)"),
+        (lambda: roller_surface([0.0, 1.0], [0.1, 0.2, 0.3], [0.0] * 3, 2.0, 0.5), "s", "(3,)"),
+        (lambda: flat_face_radius_of_curvature([0.0, 1.0], [0.0, 1.0, 2.0], 3.0), "a", "(3,)"),
+    ],
+)
+def test_shape_mismatch_is_an_input_error(call, field, shapes):
+    # Review finding 9: a bare numpy ValueError before; now the field and both shapes.
+    with pytest.raises(InputError) as info:
+        call()
+    assert info.value.field == field
+    assert shapes in str(info.value)
+    assert "does not broadcast" in str(info.value)
+
+
+def test_functional_core_still_broadcasts_compatible_shapes():
+    phi = pressure_angle(np.zeros((3, 1)), np.zeros((1, 4)), 2.0)
+    assert phi.shape == (3, 4)
+    z = pitch_curve(np.zeros((2, 1)), np.zeros(5), 2.0)
+    assert z.shape == (2, 5)
+    np.testing.assert_allclose(z, 2.0j)
+
+
+def test_design_check_limit_must_be_below_90_degrees():
+    cam = TranslatingRoller(3.0, 0.5).profile(program(), n=90)
+    with pytest.raises(InputError, match="90°") as info:
+        cam.checks(max_pressure_angle=deg(100))
+    assert info.value.field == "max_pressure_angle"

@@ -58,19 +58,67 @@ def test_continuity_flags_jump_inside_constant_acceleration():
     assert all(abs(d.jump) == pytest.approx(8 / deg(60) ** 2, rel=1e-6) for d in inside)
 
 
-def test_continuity_flags_a_program_that_does_not_return():
+def test_program_that_does_not_return_is_rejected():
+    # Review finding 4: rises 1.0, falls 0.6 leave the follower 0.4 above its
+    # start at 360°, a step in the cam outline. A cam is periodic, so refuse it.
+    segments = [
+        Segment("rise", deg(90), 1.0, "cycloidal"),
+        Segment("dwell", deg(90)),
+        Segment("fall", deg(90), 0.6, "cycloidal"),
+        Segment("dwell", deg(90)),
+    ]
+    with pytest.raises(InputError) as info:
+        CamProgram(segments)
+    assert info.value.field == "segments"
+    message = str(info.value)
+    assert "rises total 1" in message
+    assert "falls total 0.6" in message
+    assert "net rise +0.4" in message
+    assert "return to its start" in message
+
+
+def test_program_falling_below_its_start_is_rejected():
+    # The reviewer's case: rise 1 then fall 2 dips the follower 1 below the prime circle.
+    with pytest.raises(InputError, match=r"net rise -1\b"):
+        CamProgram(
+            [
+                Segment("rise", deg(60), 1.0, "cycloidal"),
+                Segment("fall", deg(60), 2.0, "cycloidal"),
+                Segment("dwell", deg(240)),
+            ]
+        )
+
+
+def test_program_that_starts_above_its_lowest_point_is_rejected():
+    # s is measured from the prime circle: a fall first would put the pitch curve
+    # inside the prime circle the cam reports. Listing the same motion from its
+    # low dwell (segment 3) is accepted.
+    segments = [
+        Segment("fall", deg(90), 1.0, "cycloidal"),
+        Segment("dwell", deg(90)),
+        Segment("rise", deg(90), 1.0, "cycloidal"),
+        Segment("dwell", deg(90)),
+    ]
+    with pytest.raises(InputError, match="starting with segment 2") as info:
+        CamProgram(segments)
+    assert info.value.field == "segments"
+    assert "θ = 90°" in str(info.value)
+    program = CamProgram(segments[1:] + segments[:1])
+    assert program.sample(360).s.min() >= 0.0
+
+
+def test_program_closing_within_rounding_is_accepted():
+    # 0.1 + 0.2 != 0.3 in binary floating point; that is not a step in the cam.
     program = CamProgram(
         [
-            Segment("rise", deg(90), 1.0, "cycloidal"),
-            Segment("dwell", deg(90)),
-            Segment("fall", deg(90), 0.6, "cycloidal"),
-            Segment("dwell", deg(90)),
+            Segment("rise", deg(60), 0.1, "cycloidal"),
+            Segment("rise", deg(60), 0.2, "cycloidal"),
+            Segment("fall", deg(60), 0.3, "cycloidal"),
+            Segment("dwell", deg(180)),
         ]
     )
-    s_jumps = [d for d in program.continuity().discontinuities if d.quantity == "s"]
-    assert len(s_jumps) == 1
-    assert s_jumps[0].theta == 0.0
-    assert s_jumps[0].jump == pytest.approx(-0.4)
+    assert abs(program.levels[-1]) < 1e-12
+    assert program.continuity().ok
 
 
 def test_single_dwell_rise_fall_with_cycloids_is_continuous():
@@ -146,7 +194,9 @@ def test_sample_and_pandas():
     assert list(frame.columns) == ["theta", "theta_deg", "s", "v", "a", "j"]
     assert frame.theta_deg.iloc[90] == pytest.approx(90.0)
     timed = m.in_time(10.0).to_pandas()
-    assert list(timed.columns) == ["t", "theta_deg", "s", "V", "A", "J"]
+    # Review finding 12: theta in radians as well as degrees, as Motion has.
+    assert list(timed.columns) == ["t", "theta", "theta_deg", "s", "V", "A", "J"]
+    np.testing.assert_allclose(np.radians(timed["theta_deg"]), timed["theta"])
 
 
 def test_double_dwell_constructor():

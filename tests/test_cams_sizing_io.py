@@ -143,3 +143,28 @@ def test_plots(dd):
     ax2 = TranslatingFlatFace(5.0).profile(dd, n=90).plot()
     assert "pitch curve" not in [line.get_label() for line in ax2.get_lines()]
     plt.close("all")
+
+
+def test_dxf_refusal_advice_fits_the_follower(tmp_path):
+    # Review finding 13: a flat-faced cam was told to "enlarge the prime circle
+    # (see size_roller)". Its cure is a larger base circle (Norton eq. 8.29).
+    steep = CamProgram.double_dwell(1.0, deg(30), deg(30))
+    flat = TranslatingFlatFace(0.5).profile(steep, n=360)
+    assert flat.is_undercut
+    with pytest.raises(ModelError) as info:
+        flat.to_dxf(tmp_path / "flat.dxf")
+    message = str(info.value)
+    assert "base circle" in message and "size_flat_face" in message
+    assert "size_roller" not in message
+    roller = TranslatingRoller(1.5, 1.0).profile(steep, n=360)
+    with pytest.raises(ModelError, match=r"prime circle.*size_roller"):
+        roller.to_dxf(tmp_path / "roller.dxf")
+    assert not (tmp_path / "flat.dxf").exists()
+
+
+def test_export_into_a_missing_directory_names_the_path(dd, tmp_path):
+    cam = TranslatingRoller(3.0, 0.5).profile(dd, n=36)
+    missing = tmp_path / "nope" / "cam.csv"
+    with pytest.raises(InputError, match="nope") as info:
+        cam.to_csv(missing)
+    assert info.value.field == "path"

@@ -73,6 +73,27 @@ def _offset_distance(prime_radius: Any, eccentricity: Any) -> tuple[float, float
     return rp, eps, float(np.sqrt(rp * rp - eps * eps))
 
 
+def _broadcast(**arrays: np.ndarray) -> list[np.ndarray]:
+    """Broadcast named arrays together, or say which one does not fit and why.
+
+    >>> _broadcast(s=np.zeros(3), v=np.zeros(2))
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: v: shape (2,) does not broadcast with s (3,)
+    """
+    names = list(arrays)
+    shape: tuple[int, ...] = ()
+    for k, name in enumerate(names):
+        try:
+            shape = np.broadcast_shapes(shape, arrays[name].shape)
+        except ValueError:
+            others = ", ".join(f"{n} {arrays[n].shape}" for n in names[:k])
+            raise InputError(
+                name, f"shape {arrays[name].shape} does not broadcast with {others}"
+            ) from None
+    return [np.broadcast_to(arrays[name], shape) for name in names]
+
+
 def _check_reach(s: np.ndarray, d: float) -> np.ndarray:
     reach = s + d
     if reach.size and reach.min() <= 0.0:
@@ -112,7 +133,7 @@ def pressure_angle(s: Any, v: Any, prime_radius: float, eccentricity: float = 0.
     s = finite_array("s", s)
     v = finite_array("v", v)
     _, eps, d = _offset_distance(prime_radius, eccentricity)
-    s, v = np.broadcast_arrays(s, v)
+    s, v = _broadcast(s=s, v=v)
     return np.arctan((v - eps) / _check_reach(s, d))
 
 
@@ -137,7 +158,7 @@ def radius_of_curvature(
     v = finite_array("v", v)
     a = finite_array("a", a)
     _, eps, d = _offset_distance(prime_radius, eccentricity)
-    s, v, a = np.broadcast_arrays(s, v, a)
+    s, v, a = _broadcast(s=s, v=v, a=a)
     reach = _check_reach(s, d)
     w = v - eps
     numerator = (reach * reach + w * w) ** 1.5
@@ -161,8 +182,7 @@ def pitch_curve(theta: Any, s: Any, prime_radius: float, eccentricity: float = 0
     >>> (float(z.real), float(z.imag))
     (0.0, 2.0)
     """
-    theta = finite_array("theta", theta)
-    s = finite_array("s", s)
+    theta, s = _broadcast(theta=finite_array("theta", theta), s=finite_array("s", s))
     _, eps, d = _offset_distance(prime_radius, eccentricity)
     return (eps + 1j * (d + s)) * np.exp(-1j * theta)
 
@@ -187,6 +207,7 @@ def roller_surface(
     (0.0, 1.5)
     """
     theta = finite_array("theta", theta)
+    theta, s, v = _broadcast(theta=theta, s=finite_array("s", s), v=finite_array("v", v))
     rf = nonnegative("roller_radius", roller_radius)
     phi = pressure_angle(s, v, prime_radius, eccentricity)
     pitch = pitch_curve(theta, s, prime_radius, eccentricity)
@@ -204,8 +225,7 @@ def flat_face_radius_of_curvature(s: Any, a: Any, base_radius: float) -> np.ndar
     >>> flat_face_radius_of_curvature([0.0, 1.0], [0.0, -2.0], 3.0).tolist()
     [3.0, 2.0]
     """
-    s = finite_array("s", s)
-    a = finite_array("a", a)
+    s, a = _broadcast(s=finite_array("s", s), a=finite_array("a", a))
     return positive("base_radius", base_radius) + s + a
 
 
@@ -377,6 +397,11 @@ class CamProfile:
             Flat face: the width you have, checked against the least width.
         """
         limit = positive("max_pressure_angle", max_pressure_angle, "radian")
+        if limit >= np.pi / 2.0:
+            raise InputError(
+                "max_pressure_angle",
+                f"must be below 90° (π/2 rad; the notes allow up to 30°), got {limit:g} rad",
+            )
         out = []
         deg = np.degrees
         if self.rho_pitch is not None:
@@ -421,10 +446,10 @@ class CamProfile:
     # Presentation -----------------------------------------------------------
 
     def to_pandas(self) -> Any:
-        """Return a DataFrame: θ (deg), svaj, pitch/surface x, y, φ (deg), ρ, undercut."""
+        """Return a DataFrame: θ (rad and deg), svaj, pitch/surface x, y, φ (deg), ρ, undercut."""
         import pandas as pd
 
-        return pd.DataFrame(self._columns())
+        return pd.DataFrame({"theta": self.theta, **self._columns()})
 
     def _columns(self) -> dict[str, np.ndarray]:
         nan = np.full_like(self.theta, np.nan)

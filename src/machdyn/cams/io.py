@@ -12,6 +12,44 @@ from .geometry import CamProfile
 
 __all__ = ["write_csv", "write_dxf"]
 
+# How to cure an undercut, per follower (Norton §8.7), and the sizing function that does it.
+_UNDERCUT_CURE = {
+    "translating roller": ("enlarge the prime circle or use a smaller roller", "size_roller"),
+    "oscillating roller": (
+        "enlarge the prime circle or use a smaller roller",
+        "size_oscillating_roller",
+    ),
+    "translating flat-faced": ("enlarge the base circle", "size_flat_face"),
+}
+
+
+def undercut_refusal(
+    profile: CamProfile, override: str = "pass allow_undercut=True", see: str | None = None
+) -> str:
+    """Why an undercut cam's outline is refused, the cure for its follower, and ``override``.
+
+    ``see`` points to the sizing tool (default: the ``machdyn.cams`` sizing
+    function for the follower). The CLI passes its own wording
+    (``"pass --allow-undercut"``, ``"--size"``).
+
+    Examples
+    --------
+    >>> from machdyn.cams import CamProgram, TranslatingFlatFace
+    >>> steep = CamProgram.double_dwell(1.0, np.pi / 6, np.pi / 6)
+    >>> cam = TranslatingFlatFace(0.5).profile(steep, n=360)
+    >>> "enlarge the base circle (see machdyn.cams.size_flat_face)" in undercut_refusal(cam)
+    True
+    """
+    spans = ", ".join(
+        f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in profile.undercut_ranges()
+    )
+    cure, function = _UNDERCUT_CURE.get(profile.follower, ("enlarge the cam", "size_roller"))
+    see = f"machdyn.cams.{function}" if see is None else see
+    return (
+        f"the cam is undercut at θ = {spans}; its outline self-intersects. To make it, "
+        f"{cure} (see {see}), or {override} to write it anyway"
+    )
+
 
 def write_csv(profile: CamProfile, path: Any) -> Path:
     """Write θ (deg), s, v, a, j, pitch and surface x/y, φ (deg), ρ and undercut as CSV.
@@ -61,13 +99,7 @@ def write_dxf(profile: CamProfile, path: Any, allow_undercut: bool = False) -> P
     itself and cannot be made: it is refused unless ``allow_undercut`` is true.
     """
     if profile.is_undercut and not allow_undercut:
-        spans = ", ".join(
-            f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in profile.undercut_ranges()
-        )
-        raise ModelError(
-            f"the cam is undercut at θ = {spans}; its outline self-intersects. Enlarge the "
-            "prime circle (see machdyn.cams.size_roller) or pass allow_undercut=True"
-        )
+        raise ModelError(undercut_refusal(profile))
     try:
         import ezdxf
     except ImportError:  # pragma: no cover - depends on the environment

@@ -33,6 +33,25 @@ __all__ = [
 
 MOTIONS = ("rise", "fall", "dwell")
 _FULL_TURN_TOL = 1e-6  # radians; segment angles are often typed in degrees
+_CLOSURE_RTOL = 1e-9  # net rise allowed, relative to the largest lift (rounding only)
+
+
+def closure_message(rises: float, falls: float, unit: str = "") -> str:
+    """Say that rises and falls (totals, both ≥ 0) do not cancel and what would close them.
+
+    ``unit`` is appended to every number (e.g. ``"°"`` for a rocker whose lifts
+    are typed in degrees). Used by :class:`CamProgram` and the CLI.
+
+    Examples
+    --------
+    >>> closure_message(1.0, 0.6).split("; ")[0]
+    'rises total 1, falls total 0.6 (net rise +0.4)'
+    """
+    return (
+        f"rises total {rises:.6g}{unit}, falls total {falls:.6g}{unit} "
+        f"(net rise {rises - falls:+.6g}{unit}); the follower must return to its start after "
+        f"one turn: make the falls total {rises:.6g}{unit} or the rises total {falls:.6g}{unit}"
+    )
 
 
 @dataclass(frozen=True)
@@ -182,12 +201,13 @@ class TimeMotion:
         return {k: float(np.max(np.abs(getattr(self, k)))) for k in ("s", "V", "A", "J")}
 
     def to_pandas(self) -> Any:
-        """Return a DataFrame with t, theta_deg, s, V, A, J."""
+        """Return a DataFrame with t, theta (rad), theta_deg, s, V, A, J."""
         import pandas as pd
 
         return pd.DataFrame(
             {
                 "t": self.t,
+                "theta": self.theta,
                 "theta_deg": np.degrees(self.theta),
                 "s": self.s,
                 "V": self.V,
@@ -256,7 +276,10 @@ class CamProgram:
     Parameters
     ----------
     segments : sequence of Segment
-        Their β must sum to 2π (within 1e-6 rad).
+        Their β must sum to 2π (within 1e-6 rad), and the rises must cancel
+        the falls: a cam turns through whole revolutions, so the follower has
+        to be back at its start at 2π (a net rise would be a step in the cam
+        outline). The start is the lowest position: s never goes below it.
 
     Examples
     --------
@@ -289,12 +312,28 @@ class CamProgram:
                 "segments",
                 f"segment angles must sum to 360°, they sum to {np.degrees(total):.6g}°",
             )
+        rises = sum(seg.h for seg in segments if seg.motion == "rise")
+        falls = sum(seg.h for seg in segments if seg.motion == "fall")
+        tol = _CLOSURE_RTOL * max(seg.h for seg in segments)
+        if abs(rises - falls) > tol:
+            raise InputError("segments", closure_message(rises, falls))
         self.segments = segments
         betas = np.array([seg.beta for seg in segments])
         # Scale the angles so that they close exactly on 2π.
         self._starts = np.concatenate(([0.0], np.cumsum(betas)[:-1])) * (2.0 * np.pi / total)
         self._betas = betas * (2.0 * np.pi / total)
         self._levels = np.concatenate(([0.0], np.cumsum([seg.signed_h for seg in segments])))
+        lowest = int(np.argmin(self._levels[:-1]))
+        if self._levels[lowest] < -tol:
+            # s is measured up from the prime (base) circle: a dip below the start
+            # would put the cam inside the circles it reports.
+            raise InputError(
+                "segments",
+                f"the follower drops below its start (lowest at θ = "
+                f"{np.degrees(self._starts[lowest]):.6g}°, the start of segment {lowest + 1}); "
+                f"s is measured up from the lowest position, so list the segments starting "
+                f"with segment {lowest + 1}, keeping their order",
+            )
 
     # Constructors ---------------------------------------------------------
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import re
 import tomllib
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -17,7 +19,9 @@ import numpy as np
 import typer
 
 from .. import cams
-from ..errors import InputError
+from ..cams.io import undercut_refusal
+from ..cams.program import MOTIONS, closure_message
+from ..errors import InputError, ModelError
 from ._common import dumps, print_table
 
 __all__ = ["cam_app", "load_program_file", "parse_segment"]
@@ -29,6 +33,17 @@ cam_app = typer.Typer(
 )
 
 FOLLOWERS = ("roller", "flat", "oscillating")
+FOLLOWER_KEYS = (
+    "type",
+    "prime_radius",
+    "roller_radius",
+    "base_radius",
+    "eccentricity",
+    "pivot_distance",
+    "arm_length",
+    "pivot_side",
+)
+SEGMENT_KEYS = ("motion", "law", "h", "h_deg", "beta_deg", "b", "c", "d")
 _SCCA = re.compile(r"^scca\(([^)]*)\)$", re.IGNORECASE)
 
 
@@ -47,10 +62,45 @@ def _law(token: str, field: str) -> cams.MotionLaw:
 
 
 def _number(text: Any, field: str) -> float:
+    if isinstance(text, bool):  # TOML true/false would otherwise pass as 1.0/0.0
+        raise InputError(field, f"expected a number, got {str(text).lower()}")
     try:
         return float(text)
     except (TypeError, ValueError):
         raise InputError(field, f"expected a number, got {text!r}") from None
+
+
+@contextmanager
+def _renamed(fields: dict[str, str], prefix: str = "") -> Iterator[None]:
+    """Re-raise a library :class:`InputError` under the name the user typed."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.field not in fields:
+            raise
+        raise InputError(fields[exc.field], prefix + exc.message) from None
+
+
+def _segment(
+    motion: str,
+    beta_deg: float,
+    h: float,
+    law: Any,
+    oscillating: bool,
+    where: str,
+    fields: dict[str, str],
+) -> cams.Segment:
+    """Build a segment from values typed in degrees, naming ``fields`` in errors."""
+    if not beta_deg > 0.0:
+        raise InputError(fields["beta"], f"{where}the angle must be positive, got {beta_deg:g}°")
+    if motion != "dwell" and not h > 0.0:
+        unit = "°" if oscillating else ""
+        raise InputError(fields["h"], f"{where}a {motion} needs a positive lift, got {h:g}{unit}")
+    with _renamed(fields, where):
+        if motion == "dwell":
+            return cams.Segment("dwell", np.radians(beta_deg))
+        lift = float(np.radians(h)) if oscillating else h
+        return cams.Segment(motion, np.radians(beta_deg), lift, law)
 
 
 def parse_segment(text: str, oscillating: bool = False) -> cams.Segment:
@@ -68,21 +118,22 @@ def parse_segment(text: str, oscillating: bool = False) -> cams.Segment:
     'dwell'
     """
     field = "--segment"
+    fields = dict.fromkeys(("motion", "beta", "h", "law"), field)
+    where = f"{text}: "
     parts = text.split(":")
     motion = parts[0].strip().lower()
     if motion == "dwell":
         if len(parts) != 2:
             raise InputError(field, f"a dwell is dwell:BETA_DEG, got {text!r}")
-        return cams.Segment("dwell", np.radians(_number(parts[1], field)))
+        return _segment("dwell", _number(parts[1], field), 0.0, None, oscillating, where, fields)
     if motion not in ("rise", "fall") or len(parts) != 4:
         raise InputError(
             field,
             f"expected rise:LAW:H:BETA_DEG, fall:LAW:H:BETA_DEG or dwell:BETA_DEG; got {text!r}",
         )
     h = _number(parts[2], field)
-    if oscillating:
-        h = float(np.radians(h))
-    return cams.Segment(motion, np.radians(_number(parts[3], field)), h, _law(parts[1], field))
+    beta = _number(parts[3], field)
+    return _segment(motion, beta, h, _law(parts[1], field), oscillating, where, fields)
 
 
 def load_program_file(path: Path) -> tuple[list[dict[str, Any]], dict[str, Any], dict[str, Any]]:
@@ -97,6 +148,10 @@ def load_program_file(path: Path) -> tuple[list[dict[str, Any]], dict[str, Any],
         data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except OSError as exc:
         raise InputError("--program", f"cannot read {path}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(
+            "--program", f"{path} is not UTF-8 text (byte {exc.start}); save it as UTF-8"
+        ) from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError("--program", f"{path} is not valid TOML: {exc}") from None
     segments = data.pop("segments", None)
@@ -105,6 +160,12 @@ def load_program_file(path: Path) -> tuple[list[dict[str, Any]], dict[str, Any],
     follower = data.pop("follower", {})
     if not isinstance(follower, dict):
         raise InputError("--program", "[follower] must be a table")
+    unknown_keys = sorted(set(follower) - set(FOLLOWER_KEYS))
+    if unknown_keys:
+        raise InputError(
+            "[follower]",
+            f"unknown keys {unknown_keys} in {path}; valid: {', '.join(FOLLOWER_KEYS)}",
+        )
     known = {"rpm"}
     unknown = set(data) - known
     if unknown:
@@ -112,49 +173,66 @@ def load_program_file(path: Path) -> tuple[list[dict[str, Any]], dict[str, Any],
     return segments, follower, data
 
 
-def _segment_from_table(table: dict[str, Any], index: int, oscillating: bool) -> cams.Segment:
+def _segment_from_table(table: Any, index: int, oscillating: bool) -> cams.Segment:
     field = f"segments[{index}]"
-    allowed = {"motion", "law", "h", "h_deg", "beta_deg", "b", "c", "d"}
-    unknown = set(table) - allowed
-    if unknown:
+    if not isinstance(table, dict):
         raise InputError(
-            field, f"unknown keys {sorted(unknown)}; valid: {', '.join(sorted(allowed))}"
+            field,
+            f"must be a [[segments]] table (motion, law, h, beta_deg), got {table!r}",
         )
+    unknown = set(table) - set(SEGMENT_KEYS)
+    if unknown:
+        raise InputError(field, f"unknown keys {sorted(unknown)}; valid: {', '.join(SEGMENT_KEYS)}")
     if "beta_deg" not in table or "motion" not in table:
         raise InputError(field, "needs motion and beta_deg")
-    beta = np.radians(_number(table["beta_deg"], f"{field}.beta_deg"))
     motion = str(table["motion"]).lower()
+    if motion not in MOTIONS:
+        raise InputError(
+            f"{field}.motion",
+            f"must be one of {', '.join(MOTIONS)}; got {table['motion']!r}",
+        )
+    beta = _number(table["beta_deg"], f"{field}.beta_deg")
+    key = "h_deg" if oscillating else "h"
+    fields = {
+        "motion": f"{field}.motion",
+        "beta": f"{field}.beta_deg",
+        "h": f"{field}.{key}",
+        "law": f"{field}.law",
+        **{k: f"{field}.{k}" for k in "bcd"},
+    }
     if motion == "dwell":
-        return cams.Segment("dwell", beta)
+        return _segment("dwell", beta, 0.0, None, oscillating, "", fields)
     name = str(table.get("law", ""))
     if name.lower() == "scca":
-        law = cams.get_law("scca", **{k: _number(table.get(k), f"{field}.{k}") for k in "bcd"})
+        with _renamed(fields):
+            law = cams.get_law("scca", **{k: _number(table.get(k), f"{field}.{k}") for k in "bcd"})
     else:
         law = _law(name, f"{field}.law")
-    key = "h_deg" if oscillating else "h"
     if key not in table:
         raise InputError(field, f"a {motion} needs {key}")
     h = _number(table[key], f"{field}.{key}")
-    return cams.Segment(motion, beta, float(np.radians(h)) if oscillating else h, law)
+    return _segment(motion, beta, h, law, oscillating, "", fields)
 
 
 def _pick(cli_value: Any, file: dict[str, Any], key: str, default: Any = None) -> Any:
     return cli_value if cli_value is not None else file.get(key, default)
 
 
-def _build_follower(kind: str, opts: dict[str, Any]) -> Any:
+def _build_follower(kind: str, opts: dict[str, Any], fields: dict[str, str]) -> Any:
+    """The follower object; ``fields`` names each option as the user gave it."""
+
     def need(name: str) -> float:
         if opts.get(name) is None:
-            raise InputError(f"--{name.replace('_', '-')}", f"is required for a {kind} follower")
-        return _number(opts[name], f"--{name.replace('_', '-')}")
+            raise InputError(fields[name], f"is required for a {kind} follower")
+        return _number(opts[name], fields[name])
 
-    if kind == "roller":
-        return cams.TranslatingRoller(
-            need("prime_radius"), need("roller_radius"), opts.get("eccentricity") or 0.0
-        )
-    if kind == "flat":
-        return cams.TranslatingFlatFace(need("base_radius"), opts.get("eccentricity") or 0.0)
-    try:
+    with _renamed(fields):
+        if kind == "roller":
+            return cams.TranslatingRoller(
+                need("prime_radius"), need("roller_radius"), opts.get("eccentricity") or 0.0
+            )
+        if kind == "flat":
+            return cams.TranslatingFlatFace(need("base_radius"), opts.get("eccentricity") or 0.0)
         return cams.OscillatingRoller(
             need("prime_radius"),
             need("roller_radius"),
@@ -162,10 +240,42 @@ def _build_follower(kind: str, opts: dict[str, Any]) -> Any:
             need("arm_length"),
             opts["pivot_side"],
         )
+
+
+def _option_names(file_follower: dict[str, Any], cli_values: dict[str, Any]) -> dict[str, str]:
+    """``--roller-radius``, or ``[follower] roller_radius`` when the value came from the file."""
+    flags = {key: "--" + key.replace("_", "-") for key in FOLLOWER_KEYS}
+    flags["type"] = "--follower"
+    return {
+        key: f"[follower] {key}" if cli_values.get(key) is None and key in file_follower else flag
+        for key, flag in flags.items()
+    }
+
+
+def _check_output(path: Path | None, option: str) -> None:
+    """Refuse an output path whose folder does not exist, before any work is done."""
+    if path is None:
+        return
+    folder = Path(path).parent
+    if not folder.is_dir():
+        raise InputError(option, f"cannot write {path}: the folder {folder} does not exist")
+
+
+def _build_program(
+    segs: list[cams.Segment], oscillating: bool, field: str, source: str
+) -> cams.CamProgram:
+    """The program, with its errors stated in the units and option the user typed."""
+    try:
+        return cams.CamProgram(segs)
     except InputError as exc:
-        if exc.field == "pivot_side":
-            raise InputError("--pivot-side", exc.message) from None
-        raise
+        if exc.field != "segments":
+            raise
+        message = exc.message
+        rises = sum(seg.h for seg in segs if seg.motion == "rise")
+        falls = sum(seg.h for seg in segs if seg.motion == "fall")
+        if oscillating and message == closure_message(rises, falls):
+            message = closure_message(float(np.degrees(rises)), float(np.degrees(falls)), "°")
+        raise InputError(field, source + message) from None
 
 
 @cam_app.callback(invoke_without_command=True)
@@ -222,6 +332,9 @@ def cam(
     """Analyse a cam: continuity, peak svaj, pressure angle, curvature, undercut, rules."""
     if ctx.invoked_subcommand is not None:
         return
+    outputs = {"--csv": csv, "--dxf": dxf, "--svaj-plot": svaj_plot, "--profile-plot": profile_plot}
+    for option, path in outputs.items():
+        _check_output(path, option)
     file_segments: list[dict[str, Any]] = []
     file_follower: dict[str, Any] = {}
     file_top: dict[str, Any] = {}
@@ -232,16 +345,35 @@ def cam(
     elif not segment:
         raise InputError("--segment", "give the program as --segment options or --program FILE")
 
+    cli_values = {
+        "type": follower,
+        "prime_radius": prime_radius,
+        "roller_radius": roller_radius,
+        "base_radius": base_radius,
+        "eccentricity": eccentricity,
+        "pivot_distance": pivot_distance,
+        "arm_length": arm_length,
+        "pivot_side": pivot_side,
+    }
+    fields = _option_names(file_follower, cli_values)
     kind = str(_pick(follower, file_follower, "type", "roller")).lower()
     kind = {"translating": "roller", "flat-faced": "flat", "flat_face": "flat"}.get(kind, kind)
     if kind not in FOLLOWERS:
-        raise InputError("--follower", f"must be one of {', '.join(FOLLOWERS)}; got {kind!r}")
+        raise InputError(fields["type"], f"must be one of {', '.join(FOLLOWERS)}; got {kind!r}")
     oscillating = kind == "oscillating"
     if program is not None:
         segs = [_segment_from_table(t, i, oscillating) for i, t in enumerate(file_segments)]
+        prog = _build_program(segs, oscillating, "--program", f"{program}: ")
     else:
         segs = [parse_segment(text, oscillating) for text in segment or []]
-    prog = cams.CamProgram(segs)
+        prog = _build_program(segs, oscillating, "--segment", "")
+    max_phi_deg = _number(max_pressure_angle, "--max-pressure-angle")
+    if not 0.0 < max_phi_deg < 90.0:
+        raise InputError(
+            "--max-pressure-angle",
+            f"must be between 0 and 90 degrees (the notes allow up to 30), got {max_phi_deg:g}",
+        )
+    limit = float(np.radians(max_phi_deg))
 
     opts = {
         "prime_radius": _pick(prime_radius, file_follower, "prime_radius"),
@@ -252,19 +384,25 @@ def cam(
         "arm_length": _pick(arm_length, file_follower, "arm_length"),
         "pivot_side": _pick(pivot_side, file_follower, "pivot_side", "right"),
     }
-    fol = _build_follower(kind, opts)
+    fol = _build_follower(kind, opts, fields)
     speed = _pick(rpm, file_top, "rpm")
-    limit = np.radians(_number(max_pressure_angle, "--max-pressure-angle"))
 
-    motion = prog.sample(points)
-    profile = fol.profile(motion)
+    with _renamed({"n": "--points"}):
+        motion = prog.sample(points)
+    with _renamed({"s": "--segment" if program is None else "--program"}):
+        profile = fol.profile(motion)
     continuity = prog.continuity()
-    checks = profile.checks(max_pressure_angle=limit, face_width=face_width)
+    with _renamed({"face_width": "--face-width"}):
+        checks = profile.checks(max_pressure_angle=limit, face_width=face_width)
     opts["min_rho"] = min_rho
-    sizing = _sizing(kind, motion, opts, limit) if size else None
+    sizing = None
+    if size:
+        with _renamed({"min_radius_of_curvature": "--min-rho", **fields}):
+            sizing = _sizing(kind, motion, opts, limit)
     omega = None
     if speed is not None:
-        omega = 2.0 * np.pi * _positive("--rpm", speed) / 60.0
+        rpm_field = "--rpm" if rpm is not None else f"{program}: rpm"
+        omega = 2.0 * np.pi * _positive(rpm_field, speed) / 60.0
 
     payload = _payload(prog, motion, profile, continuity, checks, sizing, omega, kind)
     if json:
@@ -273,9 +411,13 @@ def cam(
         _print_report(prog, motion, profile, continuity, checks, sizing, omega, kind)
 
     if csv is not None:
-        profile.to_csv(csv)
+        with _renamed({"path": "--csv"}):
+            profile.to_csv(csv)
     if dxf is not None:
-        profile.to_dxf(dxf, allow_undercut=allow_undercut)
+        if profile.is_undercut and not allow_undercut:
+            raise ModelError(undercut_refusal(profile, "pass --allow-undercut", see="--size"))
+        with _renamed({"path": "--dxf"}):
+            profile.to_dxf(dxf, allow_undercut=allow_undercut)
     if svaj_plot is not None or profile_plot is not None:
         _save_plots(motion, profile, svaj_plot, profile_plot)
     if strict and (not continuity.ok or not all(c.passed for c in checks)):
@@ -461,16 +603,27 @@ def _save_plots(
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     if svaj is not None:
         fig = motion.plot()
-        fig.savefig(svaj, dpi=120, bbox_inches="tight")
-        plt.close(fig)
+        _save(fig, svaj, "--svaj-plot")
     if drawing is not None:
         ax = profile.plot()
-        ax.figure.savefig(drawing, dpi=120, bbox_inches="tight")
-        plt.close(ax.figure)
+        _save(ax.figure, drawing, "--profile-plot")
+
+
+def _save(fig: Any, path: Path, option: str) -> None:
+    import matplotlib.pyplot as plt
+
+    try:
+        fig.savefig(path, dpi=120, bbox_inches="tight")
+    except OSError as exc:
+        raise InputError(option, f"cannot write {path}: {exc.strerror}") from None
+    except ValueError as exc:  # matplotlib: unknown file format
+        formats = ", ".join(sorted(fig.canvas.get_supported_filetypes()))
+        raise InputError(option, f"{exc}; use one of {formats}") from None
+    finally:
+        plt.close(fig)
 
 
 @cam_app.command("laws")
