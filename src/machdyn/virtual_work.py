@@ -70,8 +70,12 @@ def power(effort: Any, rate: Any) -> np.ndarray:
     >>> float(power(-100.0, 2.0))          # a resisting torque
     -200.0
     """
-    f = _as_complex("effort", effort)
-    v = _as_complex("rate", rate)
+    return _power(_as_complex("effort", effort), _as_complex("rate", rate))
+
+
+def _power(f: Any, v: Any) -> np.ndarray:
+    """``Re(conj(f) v)`` without checks: NaN at flagged samples stays NaN (masked later)."""
+    f, v = np.asarray(f), np.asarray(v)
     return f.real * v.real + f.imag * v.imag
 
 
@@ -220,7 +224,7 @@ class _Coefficients:
         d = complex(_as_complex(f"{field} direction", direction))
         if d == 0:
             raise InputError(f"{field} direction", "must be a non-zero complex number")
-        return power(d / abs(d), self.point_rate(link, point))
+        return _power(d / abs(d), self.point_rate(link, point))
 
 
 def fourbar_mechanical_advantage(
@@ -363,15 +367,17 @@ def fourbar_input_torque(
     alpha = {2: motion.alpha2, 3: motion.alpha3, 4: motion.alpha4}
     accel_origin = {2: 0.0, 3: A * (1j * motion.alpha2 - motion.omega2**2), 4: 0.0}
 
-    generalized = 0.0  # Σ of (applied + inertia) loads · coefficients; T12 balances it
+    # Σ of (applied + inertia) loads · coefficients; T12 balances it. The coefficients are
+    # NaN at flagged samples (unassemblable, toggle): unchecked _power, masked below.
+    generalized = 0.0
     for link, m, i_g, c in zip((2, 3, 4), props.mass, props.inertia, props.cg, strict=True):
         if m:
             a_g = accel_origin[link] + (1j * alpha[link] - omega[link] ** 2) * (c * e[link])
-            generalized = generalized + power(-m * a_g - 1j * m * g, point_rate(link, c))
+            generalized = generalized + _power(-m * a_g - 1j * m * g, point_rate(link, c))
         if i_g:
             generalized = generalized - i_g * alpha[link] * h[link]
     for load in loads:
-        generalized = generalized + power(load.force, point_rate(load.link, load.point))
+        generalized = generalized + _power(load.force, point_rate(load.link, load.point))
     for link, torque in torques:
         generalized = generalized + torque * h[link]
     generalized = generalized + load4 * h[4]
