@@ -257,3 +257,22 @@ def test_mechanical_advantage_flags_unassemblable_samples():
     fb = FourBar(8, 6, 3, 4)
     ma = fourbar_mechanical_advantage(fb, np.radians([0.0, 60.0]), 2, (3, 1.0, 1.0))
     assert np.isfinite(ma[0]) and np.isnan(ma[1])
+
+
+def test_shape_mismatch_names_the_field():
+    """Review finding 9: these raised a bare numpy ValueError."""
+    with pytest.raises(InputError) as err:
+        virtual_work([1.0, 2.0], [(1.0, [1.0, 2.0, 3.0])])
+    assert err.value.field == "loads[0] rate"
+    with pytest.raises(InputError) as err:
+        virtual_work(1.0, [(np.ones(2), 1.0), (1.0, np.ones(3))])
+    assert err.value.field == "loads[1] rate"
+    with pytest.raises(InputError) as err:
+        mechanical_advantage([1.0, 2.0], [1.0, 2.0, 3.0])
+    assert err.value.field == "output_rate"
+    with pytest.raises(InputError) as err:
+        fourbar_input_torque(FourBar(8, 4, 7, 6), [0.1, 0.2, 0.3], [1.0, 2.0])
+    assert err.value.field == "omega2"
+    # broadcasting that is legal still works: one load rate per sample
+    out = virtual_work([1.0, 2.0], [(3.0, [1.0, 1.0])])
+    np.testing.assert_allclose(out, [-3.0, -1.5])

@@ -28,6 +28,7 @@ import numpy as np
 from ._validate import choice, finite_array, nonnegative
 from .dynamics import (
     FORCE_REASONS,
+    _check_input_shapes,
     _check_sample_shapes,
     _complex_scalar,
     _point_loads,
@@ -37,6 +38,7 @@ from .dynamics import (
 )
 from .errors import InputError, SingularityError
 from .fourbar import OK, TOGGLE, FourBar, FourBarMotion, velocities
+from .massprops import _broadcast
 
 __all__ = [
     "InputTorque",
@@ -139,14 +141,19 @@ def virtual_work(
     21307 N·m
     """
     rate = _effective_rate(input_rate, direction)
+    named: dict[str, Any] = {"input_rate": rate}
     total: Any = 0.0
     for n, item in enumerate(loads):
         try:
             effort, load_rate = item
         except (TypeError, ValueError):
             raise InputError(f"loads[{n}]", f"expected (effort, rate), got {item!r}") from None
-        total = total + power(effort, load_rate)
-    total = np.broadcast_to(total, np.broadcast_shapes(np.shape(total), rate.shape))
+        effort = _as_complex(f"loads[{n}] effort", effort)
+        load_rate = _as_complex(f"loads[{n}] rate", load_rate)
+        named |= {f"loads[{n}] effort": effort, f"loads[{n}] rate": load_rate}
+        _broadcast(**named)
+        total = total + _power(effort, load_rate)
+    total = np.broadcast_to(total, _broadcast(**named))
     dead = np.broadcast_to(rate == 0.0, total.shape)
     if dead.any():
         index = int(np.flatnonzero(dead.ravel())[0])
@@ -174,6 +181,7 @@ def mechanical_advantage(input_rate: Any, output_rate: Any) -> np.ndarray:
     """
     v_in = _as_complex("input_rate", input_rate)
     v_out = _as_complex("output_rate", output_rate)
+    _broadcast(input_rate=v_in, output_rate=v_out)
     if np.any(v_in.imag) or np.any(v_out.imag):
         raise InputError(
             "input_rate",
@@ -358,6 +366,7 @@ def fourbar_input_torque(
     loads = _point_loads(external_forces, units)
     torques = list(_torques(external_torques, units))
     load4 = finite_array("load_torque4", load_torque4, units["torque"])
+    _check_input_shapes(theta2, omega2, alpha2)
     motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
     _check_sample_shapes(np.shape(motion.status), loads, torques, ("load_torque4", load4))
     coef = _Coefficients(fourbar, motion)
