@@ -96,7 +96,10 @@ def flywheel(
     except InputError as exc:
         if exc.field != "theta":
             raise
-        raise InputError("CSV", f"theta column (degrees): {exc.message}") from None
+        message = exc.message.replace(" (θ in radians here, in degrees in the CLI's CSV)", "")
+        if message != exc.message:
+            message += " with θ in degrees (not radians)"
+        raise InputError("CSV", f"theta column: {message}") from None
     disc = None
     if density is not None and thickness is not None and result.inertia > 0:
         disc = disc_flywheel(result.inertia, density, thickness)
