@@ -230,6 +230,13 @@ def test_result_object():
         (lambda: two_plane([1j], [1.0], 0.0, 2.0).masses(-1.0), "radius_a"),
         (lambda: shaking_force([1j], float("nan")), "omega"),
         (lambda: static_balance([1j]).mass(0.0), "radius"),
+        # review finding 7: one z for two masses used to be broadcast over both
+        (lambda: two_plane([1, 2j], [1.0], 0.0, 1.0), "z"),
+        (lambda: two_plane([1, 2j], 1.0, 0.0, 1.0), "z"),
+        (lambda: shaking_moment([1, 2j], [1.0], 1.0), "z"),
+        # a rotor needs two bearings to carry the moment
+        (lambda: bearing_balance([1j], [1.0], 10.0, 0.0, 1.0), "bearing_forces"),
+        (lambda: bearing_balance([1j, 1.0], [1.0], 10.0, 0.0, 1.0), "z_bearings"),
     ],
 )
 def test_bad_input(call, field):
@@ -277,3 +284,59 @@ def test_cli_rotor_and_static():
     assert static.exit_code == 0 and "275.0000" in static.output  # −(6∠30° + 6∠160°) = ·∠275°
     bad = runner.invoke(balance_app, ["static", "--mass", "2,3"])
     assert isinstance(bad.exception, InputError) and bad.exception.field == "--mass"
+
+
+RUN = ("--omega", "10", "--plane-a", "0", "--plane-b", "7")
+
+
+@pytest.mark.parametrize(
+    ("args", "field"),
+    [
+        (["static", "--mass", "-1,2,30"], "--mass"),  # used to flip 210° to 30°
+        (["static", "--mass", "0,2,30"], "--mass"),
+        (["static", "--mass", "1,-2,30"], "--mass"),
+        (["rotor", "--mass", "1,-2,0,1", "--plane-a", "0", "--plane-b", "4"], "--mass"),
+        (["rotor", "--mass", "-1,2,0,1", "--plane-a", "0", "--plane-b", "4"], "--mass"),
+        (
+            ["bearings", "--force", "-2,-120,-4", "--force", "5,45,-14", *RUN],
+            "--force",
+        ),
+        (
+            ["bearings", "--force", "5,45,-14", *RUN],
+            "--force",
+        ),
+        (
+            ["bearings", "--force", "5,45,-14", "--force", "2,-120,-4", "--force", "1,0,3", *RUN],
+            "--force",
+        ),
+        (
+            ["rotor", "--mass", "1,1,0,1", "--plane-a", "0", "--plane-b", "4", "--radius-a", "-1"],
+            "--radius-a",
+        ),
+    ],
+)
+def test_cli_rejects_negative_masses_radii_forces(args, field):
+    """Review finding 7: the CLI checked only finiteness; a negative m, R or F turned the
+    answer by 180° and exited 0, and one bearing force was accepted."""
+    from typer.testing import CliRunner
+
+    from machdyn.cli.balance import balance_app
+
+    out = CliRunner().invoke(balance_app, args)
+    assert out.exit_code != 0
+    assert isinstance(out.exception, InputError), out.output
+    assert out.exception.field == field
+
+
+def test_cli_zero_radius_mass_is_allowed():
+    """R = 0 (a mass on the axis) is legal and contributes nothing."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from machdyn.cli.balance import balance_app
+
+    args = ["static", "--mass", "2,3,30", "--mass", "5,0,90", "--json"]
+    out = CliRunner().invoke(balance_app, args)
+    assert out.exit_code == 0, out.output
+    assert json.loads(out.output)["angle_deg"] == pytest.approx(210.0)

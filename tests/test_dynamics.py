@@ -615,3 +615,19 @@ def test_docs_examples_run():
     namespace: dict = {}
     exec(compile(code, str(doc), "exec"), namespace)
     assert namespace["f"].ok.any() and namespace["table"].shape[0] == 360
+
+
+@pytest.mark.parametrize(
+    ("omega2", "alpha2", "field"),
+    [([1.0, 2.0], 0.0, "omega2"), (1.0, [1.0, 2.0], "alpha2"), (np.ones((2, 2)), 0.0, "omega2")],
+)
+def test_shape_mismatch_names_the_input(omega2, alpha2, field):
+    """Review finding 9: θ2 (3,) with ω2 (2,) raised a bare numpy ValueError."""
+    fb = FourBar(8, 4, 7, 6)
+    kw = dict(mass=(1, 1, 1), inertia=(1, 1, 1), cg=(1, 1, 1))
+    with pytest.raises(InputError, match=r"does not broadcast with theta2 \(3,\)") as err:
+        fb.dynamics([0.1, 0.2, 0.3], omega2, alpha2, **kw)
+    assert err.value.field == field
+    with pytest.raises(InputError) as err:
+        fourbar_dynamics(fb, [0.1, 0.2, 0.3], omega2, alpha2, **kw)
+    assert err.value.field == field

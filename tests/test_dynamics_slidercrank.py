@@ -180,3 +180,12 @@ def test_bad_input():
         slidercrank_dynamics(sc, 0.3, 1.0, mass=(1, 1, 1), inertia=(1, 1, 1), cg=(0, 3))
     with pytest.raises(InputError):
         slidercrank_dynamics(sc, 0.3, 1.0, mass=(1, 1, 1), inertia=(1, 1), cg=(0,))
+
+
+def test_shape_mismatch_names_the_input():
+    """Review finding 9: mismatched θ2 and ω2 give an InputError naming ω2."""
+    sc = SliderCrank(2.0, 6.0)
+    kw = dict(mass=(1, 1, 1), inertia=(1, 1), cg=(0, 3))
+    with pytest.raises(InputError) as err:
+        slidercrank_dynamics(sc, [0.1, 0.2, 0.3], [1.0, 2.0], **kw)
+    assert err.value.field == "omega2"

@@ -290,6 +290,7 @@ def test_plot_smoke():
         ([0.0, 2.0, 1.0], [1.0, 2.0, 3.0], 10.0, 0.05, "theta"),
         ([0.0, 1.0, 1.0], [1.0, 2.0, 3.0], 10.0, 0.05, "theta"),
         ([0.0, 3.0, 7.0], [1.0, 2.0, 3.0], 10.0, 0.05, "theta"),
+        ([0.0, 1.0, 2.0], [1.0, 2.0, 3.0], 10.0, 0.05, "theta"),  # 115° of a 360° cycle
         ([0.0, 1.0, 2.0], [1.0, 2.0], 10.0, 0.05, "torque"),
         ([0.0, 1.0, 2.0], [1.0, float("nan"), 3.0], 10.0, 0.05, "torque"),
     ],
@@ -298,6 +299,24 @@ def test_bad_input(theta, torque, omega, k, field):
     with pytest.raises(InputError) as info:
         size_flywheel(theta, torque, omega, k)
     assert info.value.field == field
+
+
+def test_partial_cycle_is_rejected():
+    """Review finding 3: samples covering part of the cycle used to be closed by one
+    straight line across the gap (ΔE 5.63 instead of 22.6 here). A gap of up to twice
+    the largest step (an open cycle whose last sample is one step short) is fine."""
+    theta = np.linspace(0.0, 2 * np.pi, 361)
+    torque = 50 + 10 * np.sin(theta) + 4 * np.sin(3 * theta + 0.3)
+    with pytest.raises(InputError, match="covers only 99° of a 360° cycle") as info:
+        size_flywheel(theta[:100], torque[:100], 100.0, 0.02)
+    assert info.value.field == "theta"
+    with pytest.raises(InputError, match="covers only 10°"):
+        size_flywheel(np.radians([0.0, 5.0, 10.0]), [1.0, 2.0, 3.0], 100.0, 0.02)
+    # one or two steps short of the period: still one cycle
+    for stop in (-1, -2):
+        assert size_flywheel(theta[:stop], torque[:stop], 100.0, 0.02).delta_e > 0.0
+    # and the gap check is relative to the period
+    size_flywheel(theta[:-1] * 2, torque[:-1], 100.0, 0.02, period=4 * np.pi)
 
 
 def test_disc_flywheel_round_trip():
@@ -344,6 +363,24 @@ def test_cli_table_11_1(tmp_path):
     assert (
         text.exit_code == 0 and "Table 11-1" in text.output and "disc_outer_radius" in text.output
     )
+
+
+def test_cli_theta_in_radians_is_rejected(tmp_path):
+    """Review finding 3: θ written in radians (0…6.2 in the degree column) used to be
+    sized as a full cycle (ΔE ≈ 1 instead of ≈ 20); a 3-row CSV over 0–10° too."""
+    from typer.testing import CliRunner
+
+    from machdyn.cli.flywheel import flywheel_app
+
+    theta = np.linspace(0.0, 2 * np.pi, 361)[:-1]
+    torque = 50 + 10 * np.sin(theta)
+    runner = CliRunner()
+    for name, theta_col, t in (("rad", theta, torque), ("short", [0, 5, 10], [1, 2, 3])):
+        curve = write_curve(tmp_path / f"{name}.csv", theta_col, t)
+        out = runner.invoke(flywheel_app, [str(curve), "--omega-avg", "100", "--k", "0.02"])
+        assert out.exit_code != 0
+        assert isinstance(out.exception, InputError) and out.exception.field == "CSV"
+        assert "degrees" in str(out.exception)
 
 
 def test_cli_rpm_and_bad_files(tmp_path):

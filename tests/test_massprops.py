@@ -13,6 +13,7 @@ from machdyn.errors import InputError
 from machdyn.massprops import (
     MassProperties,
     annulus,
+    cg_motion,
     composite,
     disc,
     parallel_axis,
@@ -151,6 +152,24 @@ def test_functions_broadcast():
         (lambda: composite(), "parts"),
         (lambda: radius_of_gyration(1.0, 0.0), "mass"),
         (lambda: point_mass(1.0, "here"), "at"),
+        # review findings 8 and 9: these used to return −3, nan, or raise a bare ValueError
+        (lambda: parallel_axis(-1.0, 2.0, 1.0), "inertia_g"),
+        (lambda: parallel_axis(1.0, -2.0, 1.0), "mass"),
+        (lambda: parallel_axis(float("nan"), 2.0, 1.0), "inertia_g"),
+        (lambda: parallel_axis(1.0, 2.0, complex("nan")), "d"),
+        (lambda: parallel_axis("a", 2.0, 1.0), "inertia_g"),
+        (lambda: parallel_axis([1, 2], [1, 2, 3], 1), "mass"),
+        (lambda: radius_of_gyration(float("nan"), 1.0), "inertia"),
+        (lambda: radius_of_gyration(1.0, "x"), "mass"),
+        (lambda: radius_of_gyration([1.0, 2.0], [1.0, 2.0, 3.0]), "mass"),
+        (lambda: cg_motion(float("nan"), 1.0, 0.0, 1.0), "theta"),
+        (lambda: cg_motion(0.0, "fast", 0.0, 1.0), "omega"),
+        (lambda: cg_motion([0.0, 1.0], [1.0, 2.0, 3.0], 0.0, 1.0), "omega"),
+        (lambda: cg_motion(0.0, 1.0, 0.0, 1.0, origin=complex("inf")), "origin"),
+        (
+            lambda: cg_motion([0.0, 1.0], 1.0, 0.0, 1.0, origin_velocity=[1j, 2j, 3j]),
+            "origin_velocity",
+        ),
     ],
 )
 def test_bad_input(make, field):

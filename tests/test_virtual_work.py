@@ -221,3 +221,58 @@ def test_fourbar_mechanical_advantage_by_finite_differences():
         fourbar_mechanical_advantage(fb, theta2, (3, 1.0))
     with pytest.raises(InputError):
         fourbar_mechanical_advantage(fb, theta2, (3, 1.0, 0.0))
+
+
+def test_flagged_samples_with_loads_on_links_3_and_4():
+    """Review finding 1: masses on links 3 and 4 and a point load on the coupler, over a
+    batch with an unassemblable sample (60° is outside this GCRR's input range) and a
+    toggle. The flagged samples hold NaN with a reason; the others equal Newton–Euler
+    (which does not share the virtual-work code path)."""
+    fb = FourBar(8, 6, 3, 4)
+    rng_ = fb.input_range(form=1)
+    theta2 = np.array([0.0, np.radians(30.0), np.radians(60.0), rng_.hi])
+    kw = dict(
+        mass=(1.0, 1.5, 2.0),
+        inertia=(1.0, 0.5, 0.8),
+        cg=(1.0, 1.0 + 0.5j, 2.0),
+        gravity=G,
+        external_forces=[(3, 1.0, 1j), (4, 2.0 - 0.5j, 3.0 - 2.0j)],
+        external_torques=[(4, -1.5)],
+    )
+    vw = fourbar_input_torque(fb, theta2, 1.0, 0.5, **kw)
+    ne = fourbar_dynamics(fb, theta2, 1.0, 0.5, **kw)
+    assert vw.ok.tolist() == [True, True, False, False]
+    assert "cannot be assembled" in vw.reason[2]
+    assert "singular" in vw.reason[3] or "toggle" in vw.reason[3]
+    assert np.isnan(vw.T12[2:]).all()
+    np.testing.assert_allclose(vw.T12[:2], ne.T12[:2], rtol=1e-10)
+    only_load = fourbar_input_torque(fb, theta2, external_forces=[(3, 1.0, 1j)])
+    assert only_load.ok.tolist() == [True, True, False, False]
+    assert np.isfinite(only_load.T12[:2]).all()
+
+
+def test_mechanical_advantage_flags_unassemblable_samples():
+    from machdyn.virtual_work import fourbar_mechanical_advantage
+
+    fb = FourBar(8, 6, 3, 4)
+    ma = fourbar_mechanical_advantage(fb, np.radians([0.0, 60.0]), 2, (3, 1.0, 1.0))
+    assert np.isfinite(ma[0]) and np.isnan(ma[1])
+
+
+def test_shape_mismatch_names_the_field():
+    """Review finding 9: these raised a bare numpy ValueError."""
+    with pytest.raises(InputError) as err:
+        virtual_work([1.0, 2.0], [(1.0, [1.0, 2.0, 3.0])])
+    assert err.value.field == "loads[0] rate"
+    with pytest.raises(InputError) as err:
+        virtual_work(1.0, [(np.ones(2), 1.0), (1.0, np.ones(3))])
+    assert err.value.field == "loads[1] rate"
+    with pytest.raises(InputError) as err:
+        mechanical_advantage([1.0, 2.0], [1.0, 2.0, 3.0])
+    assert err.value.field == "output_rate"
+    with pytest.raises(InputError) as err:
+        fourbar_input_torque(FourBar(8, 4, 7, 6), [0.1, 0.2, 0.3], [1.0, 2.0])
+    assert err.value.field == "omega2"
+    # broadcasting that is legal still works: one load rate per sample
+    out = virtual_work([1.0, 2.0], [(3.0, [1.0, 1.0])])
+    np.testing.assert_allclose(out, [-3.0, -1.5])

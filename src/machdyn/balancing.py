@@ -236,7 +236,8 @@ def two_plane(unbalance: Any, z: Any, plane_a: float, plane_b: float) -> TwoPlan
     unbalance : array_like of complex
         ``mᵢRᵢ`` of each mass (last axis; leading axes are a batch).
     z : array_like
-        Axial position of each mass (broadcasts against ``unbalance``).
+        Axial position of each mass: the same length as the last axis of
+        ``unbalance`` (broadcasts only over the batch axes).
     plane_a, plane_b : float
         Axial positions of the two correction planes (distinct; the masses may
         lie between, outside, or on them).
@@ -314,7 +315,14 @@ def bearing_balance(
     """
     forces = _complex_array("bearing_forces", bearing_forces)
     omega = positive("omega", omega, "rad/s")
-    return two_plane(forces / omega**2, z_bearings, plane_a, plane_b)
+    if forces.shape[-1] < 2:
+        raise InputError(
+            "bearing_forces",
+            "needs the forces of (at least) two bearings: one bearing cannot carry the "
+            "rotor's moment, so its force alone does not locate the unbalance",
+        )
+    z = _axial("z_bearings", z_bearings, forces, "bearing")
+    return two_plane(forces / omega**2, z, plane_a, plane_b)
 
 
 # -- helpers ------------------------------------------------------------------------
@@ -335,14 +343,21 @@ def _complex_array(field: str, value: Any) -> np.ndarray:
     return out
 
 
-def _axial(field: str, value: Any, unbalance: np.ndarray) -> np.ndarray:
+def _axial(field: str, value: Any, unbalance: np.ndarray, what: str = "mass") -> np.ndarray:
+    """Axial positions: one per mass (last axis), broadcasting only over the batch axes."""
     z = finite_array(field, value)
+    count = unbalance.shape[-1]
     try:
+        matches = z.ndim >= 1 and z.shape[-1] == count
         np.broadcast_shapes(z.shape, unbalance.shape)
     except ValueError:
+        matches = False
+    if not matches:
         raise InputError(
-            field, f"shape {z.shape} does not match the unbalance's shape {unbalance.shape}"
-        ) from None
+            field,
+            f"needs one axial position per {what} ({count}, the last axis of shape "
+            f"{unbalance.shape}); got shape {z.shape}",
+        )
     return z
 
 

@@ -56,6 +56,7 @@ import numpy as np
 from ._validate import choice, finite_array, finite_scalar, magnitude, nonnegative
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
+from .massprops import _broadcast
 from .slidercrank import SliderCrank, SliderCrankMotion
 
 __all__ = [
@@ -322,6 +323,11 @@ def _check_sample_shapes(
                 f"has shape {np.shape(value)}; give one value or one per sample "
                 f"(the motion has shape {shape})",
             )
+
+
+def _check_input_shapes(theta2: Any, omega2: Any, alpha2: Any) -> None:
+    """The input's angle, speed and acceleration must broadcast (InputError, not numpy's)."""
+    _broadcast(theta2=magnitude(theta2), omega2=magnitude(omega2), alpha2=magnitude(alpha2))
 
 
 def _plot_forces(result: Any, ax: Any, degrees: bool) -> Any:
@@ -688,6 +694,7 @@ def fourbar_dynamics(
     >>> bool(np.isclose(f.T12 * 1.0, 5.0 * f.motion.omega4))
     True
     """
+    _check_input_shapes(theta2, omega2, alpha2)
     motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
     return fourbar_forces(
         fourbar,
@@ -1143,6 +1150,7 @@ def slidercrank_dynamics(
     >>> bool(np.isclose(f.T12, 100.0 * f.motion.d_dot))
     True
     """
+    _check_input_shapes(theta2, omega2, alpha2)
     motion = slidercrank.solve(theta2, omega2, alpha2, form)
     return slidercrank_forces(
         slidercrank,

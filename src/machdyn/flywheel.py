@@ -234,7 +234,9 @@ def size_flywheel(
     ------
     InputError
         Shapes that differ, fewer than three samples, non-finite values, angles
-        not increasing or spanning more than one period, ``k`` out of range.
+        not increasing, spanning more than one period or too little of it (the
+        gap to ``θ₀ + period`` may be at most twice the largest step: the curve
+        is closed there by one straight segment), ``k`` out of range.
 
     Notes
     -----
@@ -254,13 +256,13 @@ def size_flywheel(
     >>> abs(fw.k_achieved - 0.05) < 1e-3
     True
     """
-    theta, torque, period = _closed_cycle(theta, torque, period)
     omega_avg = positive("omega_avg", omega_avg, "rad/s")
     k = finite_scalar("k", k)
     if not 0.0 < k < 0.5:
         raise InputError(
             "k", f"coefficient of fluctuation must be in (0, 0.5), typically 0.01-0.05; got {k}"
         )
+    theta, torque, period = _closed_cycle(theta, torque, period)
 
     torque_avg = float(_integrate(theta, torque)[-1] / period)
     fine_theta, deviation, original = _split_at_crossings(theta, torque - torque_avg)
@@ -325,12 +327,20 @@ def _closed_cycle(theta: Any, torque: Any, period: Any) -> tuple[np.ndarray, np.
         raise InputError(
             "theta",
             f"spans {math.degrees(span):.6g} deg, more than one cycle "
-            f"({math.degrees(period):.6g} deg); pass exactly one cycle, in radians",
+            f"({math.degrees(period):.6g} deg); pass exactly one cycle "
+            "(θ in radians here, in degrees in the CLI's CSV)",
         )
     if span >= period - tolerance:  # the last sample closes the cycle
         theta = theta.copy()
         theta[-1] = theta[0] + period
         return theta, torque, period
+    gap = period - span  # closed below by one straight segment back to T(θ₀)
+    if gap > 2.0 * float(steps.max()) * (1.0 + 1e-9):
+        raise InputError(
+            "theta",
+            f"covers only {math.degrees(span):.4g}° of a {math.degrees(period):.4g}° cycle; "
+            "pass one full cycle (θ in radians here, in degrees in the CLI's CSV)",
+        )
     return np.append(theta, theta[0] + period), np.append(torque, torque[0]), period
 
 

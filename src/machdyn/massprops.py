@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import finite_scalar, magnitude, positive
+from ._validate import finite_array, finite_scalar, magnitude, positive
 from .errors import InputError
 
 __all__ = [
@@ -75,7 +75,11 @@ def parallel_axis(inertia_g: Any, mass: Any, d: Any) -> Any:
     >>> parallel_axis(3.0 * 2.0**2 / 12, 3.0, 1.0)
     4.0
     """
-    return _out(np.asarray(inertia_g, dtype=float) + np.asarray(mass, dtype=float) * np.abs(d) ** 2)
+    inertia_g = _nonnegative_array("inertia_g", inertia_g)
+    mass = _nonnegative_array("mass", mass)
+    d = _complex_array("d", d)
+    _broadcast(inertia_g=inertia_g, mass=mass, d=d)
+    return _out(inertia_g + mass * np.abs(d) ** 2)
 
 
 def radius_of_gyration(inertia: Any, mass: Any) -> Any:
@@ -100,8 +104,9 @@ def radius_of_gyration(inertia: Any, mass: Any) -> Any:
     >>> round(float(radius_of_gyration(0.5 * 3.0 * 2.0**2, 3.0)), 6)
     1.414214
     """
-    inertia = np.asarray(inertia, dtype=float)
-    mass = np.asarray(mass, dtype=float)
+    inertia = finite_array("inertia", magnitude(inertia))
+    mass = finite_array("mass", magnitude(mass))
+    _broadcast(inertia=inertia, mass=mass)
     if np.any(mass <= 0):
         raise InputError("mass", "must be positive to define a radius of gyration")
     if np.any(inertia < 0):
@@ -404,17 +409,79 @@ def cg_motion(
     >>> cg_motion(0.0, 2.0, 0.0, cg=1.0)
     ((1+0j), 2j, (-4+0j))
     """
-    theta = np.asarray(magnitude(theta, "rad"), dtype=float)
-    omega = np.asarray(magnitude(omega, "rad/s"), dtype=float)
-    alpha = np.asarray(magnitude(alpha, "rad/s**2"), dtype=float)
+    theta = finite_array("theta", theta, "rad")
+    omega = finite_array("omega", omega, "rad/s")
+    alpha = finite_array("alpha", alpha, "rad/s**2")
+    origin = _complex_array("origin", origin)
+    origin_velocity = _complex_array("origin_velocity", origin_velocity)
+    origin_acceleration = _complex_array("origin_acceleration", origin_acceleration)
+    _broadcast(
+        theta=theta,
+        omega=omega,
+        alpha=alpha,
+        origin=origin,
+        origin_velocity=origin_velocity,
+        origin_acceleration=origin_acceleration,
+    )
     arm = _complex("cg", cg) * np.exp(1j * theta)
-    position = np.asarray(origin) + arm
-    velocity = np.asarray(origin_velocity) + 1j * omega * arm
-    acceleration = np.asarray(origin_acceleration) + (1j * alpha - omega**2) * arm
+    position = origin + arm
+    velocity = origin_velocity + 1j * omega * arm
+    acceleration = origin_acceleration + (1j * alpha - omega**2) * arm
     return _out_complex(position), _out_complex(velocity), _out_complex(acceleration)
 
 
 # -- helpers ------------------------------------------------------------------------
+
+
+def _broadcast(**arrays: Any) -> tuple[int, ...]:
+    """The common shape of named arrays, or :class:`InputError` naming the misfit.
+
+    Shared by the analysis modules (dynamics, virtual work, balancing, flywheel).
+
+    Examples
+    --------
+    >>> _broadcast(theta2=np.zeros(3), omega2=1.0)
+    (3,)
+    >>> _broadcast(theta2=np.zeros(3), omega2=np.ones(2))
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: omega2: shape (2,) does not broadcast with theta2 (3,)
+    """
+    shape: tuple[int, ...] = ()
+    seen: list[str] = []
+    for field, value in arrays.items():
+        value_shape = np.shape(value)
+        try:
+            shape = np.broadcast_shapes(shape, value_shape)
+        except ValueError:
+            others = ", ".join(f"{name} {np.shape(arrays[name])}" for name in seen)
+            raise InputError(
+                field, f"shape {value_shape} does not broadcast with {others}"
+            ) from None
+        seen.append(field)
+    return shape
+
+
+def _nonnegative_array(field: str, value: Any, unit: str | None = None) -> np.ndarray:
+    out = finite_array(field, value, unit)
+    if np.any(out < 0.0):
+        index = int(np.flatnonzero(out.ravel() < 0.0)[0])
+        raise InputError(field, f"must be zero or positive; entry {index} is {out.ravel()[index]}")
+    return out
+
+
+def _complex_array(field: str, value: Any) -> np.ndarray:
+    value = magnitude(value)
+    try:
+        out = np.asarray(value, dtype=complex)
+    except (TypeError, ValueError):
+        raise InputError(
+            field, f"must be a number x + jy or an array of them, got {value!r}"
+        ) from None
+    if not np.isfinite(out).all():
+        index = int(np.flatnonzero(~np.isfinite(out).ravel())[0])
+        raise InputError(field, f"must be finite; entry {index} is {out.ravel()[index]}")
+    return out
 
 
 def _out_complex(value: np.ndarray) -> Any:

@@ -28,6 +28,7 @@ import numpy as np
 from ._validate import choice, finite_array, nonnegative
 from .dynamics import (
     FORCE_REASONS,
+    _check_input_shapes,
     _check_sample_shapes,
     _complex_scalar,
     _point_loads,
@@ -37,6 +38,7 @@ from .dynamics import (
 )
 from .errors import InputError, SingularityError
 from .fourbar import OK, TOGGLE, FourBar, FourBarMotion, velocities
+from .massprops import _broadcast
 
 __all__ = [
     "InputTorque",
@@ -70,8 +72,12 @@ def power(effort: Any, rate: Any) -> np.ndarray:
     >>> float(power(-100.0, 2.0))          # a resisting torque
     -200.0
     """
-    f = _as_complex("effort", effort)
-    v = _as_complex("rate", rate)
+    return _power(_as_complex("effort", effort), _as_complex("rate", rate))
+
+
+def _power(f: Any, v: Any) -> np.ndarray:
+    """``Re(conj(f) v)`` without checks: NaN at flagged samples stays NaN (masked later)."""
+    f, v = np.asarray(f), np.asarray(v)
     return f.real * v.real + f.imag * v.imag
 
 
@@ -135,14 +141,19 @@ def virtual_work(
     21307 N·m
     """
     rate = _effective_rate(input_rate, direction)
+    named: dict[str, Any] = {"input_rate": rate}
     total: Any = 0.0
     for n, item in enumerate(loads):
         try:
             effort, load_rate = item
         except (TypeError, ValueError):
             raise InputError(f"loads[{n}]", f"expected (effort, rate), got {item!r}") from None
-        total = total + power(effort, load_rate)
-    total = np.broadcast_to(total, np.broadcast_shapes(np.shape(total), rate.shape))
+        effort = _as_complex(f"loads[{n}] effort", effort)
+        load_rate = _as_complex(f"loads[{n}] rate", load_rate)
+        named |= {f"loads[{n}] effort": effort, f"loads[{n}] rate": load_rate}
+        _broadcast(**named)
+        total = total + _power(effort, load_rate)
+    total = np.broadcast_to(total, _broadcast(**named))
     dead = np.broadcast_to(rate == 0.0, total.shape)
     if dead.any():
         index = int(np.flatnonzero(dead.ravel())[0])
@@ -170,6 +181,7 @@ def mechanical_advantage(input_rate: Any, output_rate: Any) -> np.ndarray:
     """
     v_in = _as_complex("input_rate", input_rate)
     v_out = _as_complex("output_rate", output_rate)
+    _broadcast(input_rate=v_in, output_rate=v_out)
     if np.any(v_in.imag) or np.any(v_out.imag):
         raise InputError(
             "input_rate",
@@ -220,7 +232,7 @@ class _Coefficients:
         d = complex(_as_complex(f"{field} direction", direction))
         if d == 0:
             raise InputError(f"{field} direction", "must be a non-zero complex number")
-        return power(d / abs(d), self.point_rate(link, point))
+        return _power(d / abs(d), self.point_rate(link, point))
 
 
 def fourbar_mechanical_advantage(
@@ -354,6 +366,7 @@ def fourbar_input_torque(
     loads = _point_loads(external_forces, units)
     torques = list(_torques(external_torques, units))
     load4 = finite_array("load_torque4", load_torque4, units["torque"])
+    _check_input_shapes(theta2, omega2, alpha2)
     motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
     _check_sample_shapes(np.shape(motion.status), loads, torques, ("load_torque4", load4))
     coef = _Coefficients(fourbar, motion)
@@ -363,15 +376,17 @@ def fourbar_input_torque(
     alpha = {2: motion.alpha2, 3: motion.alpha3, 4: motion.alpha4}
     accel_origin = {2: 0.0, 3: A * (1j * motion.alpha2 - motion.omega2**2), 4: 0.0}
 
-    generalized = 0.0  # Σ of (applied + inertia) loads · coefficients; T12 balances it
+    # Σ of (applied + inertia) loads · coefficients; T12 balances it. The coefficients are
+    # NaN at flagged samples (unassemblable, toggle): unchecked _power, masked below.
+    generalized = 0.0
     for link, m, i_g, c in zip((2, 3, 4), props.mass, props.inertia, props.cg, strict=True):
         if m:
             a_g = accel_origin[link] + (1j * alpha[link] - omega[link] ** 2) * (c * e[link])
-            generalized = generalized + power(-m * a_g - 1j * m * g, point_rate(link, c))
+            generalized = generalized + _power(-m * a_g - 1j * m * g, point_rate(link, c))
         if i_g:
             generalized = generalized - i_g * alpha[link] * h[link]
     for load in loads:
-        generalized = generalized + power(load.force, point_rate(load.link, load.point))
+        generalized = generalized + _power(load.force, point_rate(load.link, load.point))
     for link, torque in torques:
         generalized = generalized + torque * h[link]
     generalized = generalized + load4 * h[4]

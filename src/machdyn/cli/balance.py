@@ -44,6 +44,25 @@ def parse_numbers(field: str, text: str, count: int, names: str) -> list[float]:
     return values
 
 
+def _check_signs(field: str, text: str, values: list[float], names: str) -> None:
+    """A mass must be > 0, a radius or force magnitude >= 0 (the angle gives direction)."""
+    checks = {"m": (lambda v: v > 0.0, "> 0"), "R": (lambda v: v >= 0.0, ">= 0")}
+    checks["F"] = checks["R"]
+    for name, value in zip(names.split(","), values, strict=True):
+        if name in checks and not checks[name][0](value):
+            raise InputError(
+                field,
+                f"{name} must be {checks[name][1]} in {names} (give the direction by the "
+                f"angle, not by a sign), got {text!r}",
+            )
+
+
+def _radius(field: str, value: float | None) -> float | None:
+    if value is not None and not (math.isfinite(value) and value > 0.0):
+        raise InputError(field, f"must be a positive radius, got {value}")
+    return value
+
+
 def _phasor(magnitude: float, angle_deg: float) -> complex:
     return magnitude * complex(math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
 
@@ -78,12 +97,12 @@ def static(
     unbalance = []
     for text in mass:
         m, r, angle = parse_numbers("--mass", text, 3, "m,R,angle_deg")
+        _check_signs("--mass", text, [m, r, angle], "m,R,angle_deg")
         unbalance.append(m * _phasor(r, angle))
+    radius = _radius("--radius", radius)
     fix = static_balance(unbalance)
     rows = {"mR": abs(fix.mR), "angle_deg": fix.angle_deg}
     if radius is not None:
-        if radius <= 0:
-            raise InputError("--radius", f"must be positive, got {radius}")
         rows["mass"] = fix.mass(radius)
     if as_json:
         print(dumps(rows))
@@ -110,8 +129,10 @@ def rotor(
     unbalance, z = [], []
     for text in mass:
         m, r, angle, zi = parse_numbers("--mass", text, 4, "m,R,angle_deg,z")
+        _check_signs("--mass", text, [m, r, angle, zi], "m,R,angle_deg,z")
         unbalance.append(m * _phasor(r, angle))
         z.append(zi)
+    radius_a, radius_b = _radius("--radius-a", radius_a), _radius("--radius-b", radius_b)
     _report(two_plane(unbalance, z, plane_a, plane_b), radius_a, radius_b, as_json)
 
 
@@ -131,9 +152,16 @@ def bearings(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
     """Wheel balancer: bearing forces measured at omega -> masses in two planes."""
+    if len(force) != 2:
+        raise InputError(
+            "--force",
+            f"give exactly two (one per bearing of the balancing machine), got {len(force)}",
+        )
+    radius = _radius("--radius", radius)
     forces, z = [], []
     for text in force:
         magnitude, phase, zi = parse_numbers("--force", text, 3, "F,phase_deg,z")
+        _check_signs("--force", text, [magnitude, phase, zi], "F,phase_deg,z")
         forces.append(_phasor(magnitude, phase))
         z.append(zi)
     speed = omega * 2 * math.pi / 60 if rpm else omega

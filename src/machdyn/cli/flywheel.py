@@ -91,7 +91,15 @@ def flywheel(
         raise InputError("--thickness", "give both --density and --thickness to size a disc")
     theta, torque = read_curve(curve)
     omega = omega_avg * 2 * math.pi / 60 if rpm else omega_avg
-    result = size_flywheel(theta, torque, omega, k, period=math.radians(period_deg))
+    try:
+        result = size_flywheel(theta, torque, omega, k, period=math.radians(period_deg))
+    except InputError as exc:
+        if exc.field != "theta":
+            raise
+        message = exc.message.replace(" (θ in radians here, in degrees in the CLI's CSV)", "")
+        if message != exc.message:
+            message += " with θ in degrees (not radians)"
+        raise InputError("CSV", f"theta column: {message}") from None
     disc = None
     if density is not None and thickness is not None and result.inertia > 0:
         disc = disc_flywheel(result.inertia, density, thickness)
