@@ -529,3 +529,8 @@ def test_every_exact_rocker_limit_is_flagged_as_a_toggle(rng):
                 assert m.assembled.all() and not m.ok.any()
                 assert all("toggle" in reason for reason in m.reason)
                 count += 1
+
+
+def test_mismatched_rate_shapes_name_the_input():
+    with pytest.raises(InputError, match=r"omega2: shape \(2,\) does not broadcast with theta2"):
+        FourBar(8, 4, 7, 6).solve([0.1, 0.2, 0.3], omega2=[1.0, 2.0])

@@ -186,3 +186,8 @@ def test_inverted_slider_crank_quick_return_angles():
     assert dev.max() == pytest.approx(np.arcsin(0.5), abs=1e-8)
     with pytest.raises(AssemblyError):
         InvertedSliderCrank(2.0, 2.5, offset=1.0).solve(0.0)
+
+
+def test_mismatched_rate_shapes_name_the_input():
+    with pytest.raises(InputError, match=r"alpha2: shape \(2,\)"):
+        SliderCrank(1.0, 4.0).solve([0.1, 0.2, 0.3], alpha2=[1.0, 2.0])

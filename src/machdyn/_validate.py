@@ -16,6 +16,7 @@ from .errors import InputError
 
 __all__ = [
     "as_array",
+    "broadcast",
     "choice",
     "finite_array",
     "finite_scalar",
@@ -181,3 +182,32 @@ def common_length_unit(**lengths: Any) -> tuple[dict[str, float], str | None]:
     first = next(iter(lengths.values()))
     unit = str(first.units)
     return {k: finite_scalar(k, v, unit) for k, v in lengths.items()}, unit
+
+
+def broadcast(**arrays: Any) -> tuple[int, ...]:
+    """The common shape of named arrays, or :class:`InputError` naming the misfit.
+
+    Used by every model and analysis that takes several array arguments.
+
+    Examples
+    --------
+    >>> broadcast(theta2=np.zeros(3), omega2=1.0)
+    (3,)
+    >>> broadcast(theta2=np.zeros(3), omega2=np.ones(2))
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: omega2: shape (2,) does not broadcast with theta2 (3,)
+    """
+    shape: tuple[int, ...] = ()
+    seen: list[str] = []
+    for field, value in arrays.items():
+        value_shape = np.shape(value)
+        try:
+            shape = np.broadcast_shapes(shape, value_shape)
+        except ValueError:
+            others = ", ".join(f"{name} {np.shape(arrays[name])}" for name in seen)
+            raise InputError(
+                field, f"shape {value_shape} does not broadcast with {others}"
+            ) from None
+        seen.append(field)
+    return shape

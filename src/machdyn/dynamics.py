@@ -53,10 +53,10 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import broadcast as _broadcast
 from ._validate import choice, finite_array, finite_scalar, magnitude, nonnegative
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
-from .massprops import _broadcast
 from .slidercrank import SliderCrank, SliderCrankMotion
 
 __all__ = [

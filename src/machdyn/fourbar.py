@@ -37,7 +37,14 @@ import numpy as np
 
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._parallel import for_slices
-from ._validate import as_array, choice, common_length_unit, finite_array, finite_scalar
+from ._validate import (
+    as_array,
+    broadcast,
+    choice,
+    common_length_unit,
+    finite_array,
+    finite_scalar,
+)
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
 
@@ -780,7 +787,7 @@ class FourBar:
         jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
         branch_sign, side = self._branch_and_side(form, branch)
         order = choice("order", order, (0, 1, 2, 3))
-        shape = np.broadcast_shapes(theta2.shape, omega2.shape, alpha2.shape, jerk2.shape)
+        shape = broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2, jerk2=jerk2)
         t2, w2, a2, j2 = (
             np.broadcast_to(x, shape).ravel() for x in (theta2, omega2, alpha2, jerk2)
         )

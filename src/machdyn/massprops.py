@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import broadcast as _broadcast
 from ._validate import finite_array, finite_scalar, magnitude, positive
 from .errors import InputError
 
@@ -431,35 +432,6 @@ def cg_motion(
 
 
 # -- helpers ------------------------------------------------------------------------
-
-
-def _broadcast(**arrays: Any) -> tuple[int, ...]:
-    """The common shape of named arrays, or :class:`InputError` naming the misfit.
-
-    Shared by the analysis modules (dynamics, virtual work, balancing, flywheel).
-
-    Examples
-    --------
-    >>> _broadcast(theta2=np.zeros(3), omega2=1.0)
-    (3,)
-    >>> _broadcast(theta2=np.zeros(3), omega2=np.ones(2))
-    Traceback (most recent call last):
-    ...
-    machdyn.errors.InputError: omega2: shape (2,) does not broadcast with theta2 (3,)
-    """
-    shape: tuple[int, ...] = ()
-    seen: list[str] = []
-    for field, value in arrays.items():
-        value_shape = np.shape(value)
-        try:
-            shape = np.broadcast_shapes(shape, value_shape)
-        except ValueError:
-            others = ", ".join(f"{name} {np.shape(arrays[name])}" for name in seen)
-            raise InputError(
-                field, f"shape {value_shape} does not broadcast with {others}"
-            ) from None
-        seen.append(field)
-    return shape
 
 
 def _nonnegative_array(field: str, value: Any, unit: str | None = None) -> np.ndarray:

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ._angles import wrap_2pi
-from ._validate import choice, common_length_unit, finite_array, finite_scalar
+from ._validate import broadcast, choice, common_length_unit, finite_array, finite_scalar
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
 
@@ -50,7 +50,7 @@ def _broadcast(theta2, omega2, alpha2, jerk2):
     omega2 = finite_array("omega2", omega2, "radian / second")
     alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
     jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
-    shape = np.broadcast_shapes(theta2.shape, omega2.shape, alpha2.shape, jerk2.shape)
+    shape = broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2, jerk2=jerk2)
     out = [np.broadcast_to(x, shape).astype(float) for x in (theta2, omega2, alpha2, jerk2)]
     return theta2.ndim == 0, out
 

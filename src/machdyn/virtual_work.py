@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import broadcast as _broadcast
 from ._validate import choice, finite_array, nonnegative
 from .dynamics import (
     FORCE_REASONS,
@@ -38,7 +39,6 @@ from .dynamics import (
 )
 from .errors import InputError, SingularityError
 from .fourbar import OK, TOGGLE, FourBar, FourBarMotion, velocities
-from .massprops import _broadcast
 
 __all__ = [
     "InputTorque",
