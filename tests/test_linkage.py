@@ -1,0 +1,358 @@
+"""Tests of machdyn.linkage: mechanisms as drawn, compiled into vector loops.
+
+References that do not share the code path of Linkage:
+* FourBar / SliderCrank closed forms (machdyn.fourbar, machdyn.slidercrank);
+* the notes' worked examples (HW 6; second notes' loader example 1 and
+  trebuchet example 2), compared to the printed precision;
+* rigid-body invariants (every pair of points of one link keeps its drawn
+  distance), central finite differences, circle intersections written here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from machdyn.fourbar import FourBar
+from machdyn.linkage import Linkage
+from machdyn.massprops import rod
+from machdyn.slidercrank import SliderCrank
+
+TURN = np.radians(np.arange(0.0, 360.0, 1.0))
+
+
+def circle_meet(p: complex, r1: float, q: complex, r2: float, side: float = 1.0) -> complex:
+    """Intersection of circles (p, r1) and (q, r2); ``side`` picks left/right of p→q."""
+    d = abs(q - p)
+    a = (r1**2 - r2**2 + d**2) / (2 * d)
+    h = np.sqrt(r1**2 - a**2)
+    u = (q - p) / d
+    return p + a * u + side * h * 1j * u
+
+
+def fourbar_drawing(r1=8.0, r2=4.0, r3=7.0, r4=6.0, theta2=0.0, side=1.0, **links) -> Linkage:
+    A = r2 * np.exp(1j * theta2)
+    B = circle_meet(A, r3, r1 + 0j, r4, side)
+    lk = Linkage({"O2": 0j, "O4": r1 + 0j, "A": A, "B": B, "P": A + 0.4 * (B - A) + 1.5j})
+    lk.ground("O2", "O4")
+    lk.link("2", "O2", "A", **links.get("2", {}))
+    lk.link("3", "A", "B", "P", **links.get("3", {}))
+    lk.link("4", "O4", "B", **links.get("4", {}))
+    return lk.drive("2")
+
+
+def rigid_errors(lk: Linkage, m) -> float:
+    """Largest change of any point-to-point distance on any link (relative)."""
+    worst = 0.0
+    for name, link in lk._links.items():
+        pts = link.points
+        for i, p in enumerate(pts):
+            for q in pts[i + 1 :]:
+                d0 = abs(lk.position(q) - lk.position(p))
+                d = np.abs(m.points[q] - m.points[p])
+                worst = max(worst, float(np.nanmax(np.abs(d - d0))) / max(d0, 1.0))
+        for p in pts:
+            g0 = abs(lk.position(p) - _drawn_cg(lk, name))
+            g = np.abs(m.cg[name] - m.points[p])
+            worst = max(worst, float(np.nanmax(np.abs(g - g0))) / max(g0, 1.0))
+    return worst
+
+
+def _drawn_cg(lk: Linkage, name: str) -> complex:
+    from machdyn.linkage import _cg_drawn
+
+    return _cg_drawn(lk, lk._links[name])
+
+
+def finite_difference_check(lk: Linkage, theta: np.ndarray, omega: float, tol: float) -> None:
+    """Velocities = d/dt of positions, accelerations = d/dt of velocities (central FD)."""
+    m = lk.solve(theta, velocity=omega)
+    h = theta[1] - theta[0]
+    dt = h / omega
+    inner = slice(1, -1)
+    for name in m.theta:
+        fd = (m.theta[name][2:] - m.theta[name][:-2]) / (2 * dt)
+        scale = np.abs(m.omega[name]).max()
+        assert np.abs(fd - m.omega[name][inner]).max() <= tol * scale, name
+        fd = (m.omega[name][2:] - m.omega[name][:-2]) / (2 * dt)
+        scale = np.abs(m.alpha[name]).max()
+        assert np.abs(fd - m.alpha[name][inner]).max() <= tol * scale, name
+    for name in m.points:
+        fd = (m.points[name][2:] - m.points[name][:-2]) / (2 * dt)
+        scale = max(np.abs(m.point_velocity[name]).max(), 1e-9)
+        assert np.abs(fd - m.point_velocity[name][inner]).max() <= tol * scale, name
+        fd = (m.point_velocity[name][2:] - m.point_velocity[name][:-2]) / (2 * dt)
+        scale = max(np.abs(m.point_acceleration[name]).max(), 1e-9)
+        assert np.abs(fd - m.point_acceleration[name][inner]).max() <= tol * scale, name
+
+
+# ----------------------------------------------------------------------------- four-bar
+def test_hw6_fourbar_matches_notes_and_fourbar():
+    """HW 6 (notes), GCRR 8-4-7-6: theta3 = 58.81 deg at theta2 = 0; FourBar closed form."""
+    lk = fourbar_drawing()
+    m = lk.solve(TURN, velocity=10.0, acceleration=3.0)
+    assert np.degrees(m.theta["3"][0]) == pytest.approx(58.81, abs=0.005)
+    ref = FourBar(8, 4, 7, 6).solve(TURN, 10.0, 3.0, form=1)
+    assert m.ok.all()
+    wrap = np.angle(np.exp(1j * (m.theta["3"] - ref.theta3)))
+    assert np.abs(wrap).max() < 1e-10
+    assert np.abs(np.angle(np.exp(1j * (m.theta["4"] - ref.theta4)))).max() < 1e-10
+    for ours, theirs in ((m.omega["3"], ref.omega3), (m.omega["4"], ref.omega4)):
+        assert np.abs(ours - theirs).max() < 1e-9 * np.abs(theirs).max()
+    for ours, theirs in ((m.alpha["3"], ref.alpha3), (m.alpha["4"], ref.alpha4)):
+        assert np.abs(ours - theirs).max() < 1e-9 * np.abs(theirs).max()
+    assert np.abs(m.points["B"] - ref.B).max() < 1e-10
+    assert np.abs(m.points["A"] - ref.A).max() < 1e-12
+    assert np.abs(m.omega["2"] - 10.0).max() == 0.0
+
+
+def test_fourbar_form2_is_selected_by_the_drawing():
+    """Drawn in the crossed circuit (B below the line A-O4): FourBar form 2."""
+    lk = fourbar_drawing(theta2=np.radians(30), side=-1.0)
+    m = lk.solve(TURN, velocity=1.0)
+    ref = FourBar(8, 4, 7, 6).solve(TURN, 1.0, form=2)
+    assert np.abs(np.angle(np.exp(1j * (m.theta["4"] - ref.theta4)))).max() < 1e-10
+    assert np.abs(m.points["B"] - ref.B).max() < 1e-10
+
+
+def test_fourbar_coupler_point_and_rigid_invariants():
+    lk = fourbar_drawing(theta2=np.radians(75))
+    m = lk.solve(TURN, velocity=2.0)
+    assert rigid_errors(lk, m) < 1e-12
+    # the coupler point P follows FourBar's coupler (p, delta) from A along AB
+    A0, B0, P0 = lk.position("A"), lk.position("B"), lk.position("P")
+    rel = (P0 - A0) / (B0 - A0) * abs(B0 - A0)
+    fb = FourBar(8, 4, 7, 6, coupler=(abs(rel), float(np.angle(rel))))
+    ref = fb.solve(TURN, 2.0)
+    assert np.abs(m.points["P"] - ref.coupler).max() < 1e-10
+    assert np.abs(m.point_velocity["P"] - ref.coupler_velocity).max() < 1e-9
+
+
+def test_fourbar_drawn_pose_is_reproduced_at_the_drawn_input():
+    lk = fourbar_drawing(theta2=np.radians(200))
+    m = lk.solve(np.radians([200.0]))
+    for p in ("A", "B", "P"):
+        assert abs(m.points[p][0] - lk.position(p)) < 1e-12
+
+
+def test_fourbar_independent_samples_and_scalar_input():
+    lk = fourbar_drawing()
+    m = lk.solve(np.radians(10.0), velocity=1.0)
+    ref = FourBar(8, 4, 7, 6).solve(np.radians(10.0), 1.0)
+    assert m.theta["4"].shape == ()
+    assert float(m.omega["4"]) == pytest.approx(float(ref.omega4), rel=1e-10)
+    grid = lk.solve(np.radians([[0.0, 20.0], [40.0, 60.0]]), continuation=False)
+    assert grid.theta["3"].shape == (2, 2)
+    assert grid.ok.all()
+
+
+def test_mobility_and_loop_count():
+    lk = fourbar_drawing()
+    assert lk.mobility() == 1
+    report = lk.loop_system().check()
+    assert (len(report.variables), len(report.equations), report.dof) == (3, 2, 1)
+
+
+# ----------------------------------------------------------------------------- slider-crank
+def slider_crank_drawing(a=2.0, b=6.0, c=0.5, theta2=0.0, **links) -> Linkage:
+    A = a * np.exp(1j * theta2)
+    x = A.real + np.sqrt(b**2 - (c - A.imag) ** 2)
+    lk = Linkage({"O2": 0j, "A": A, "B": complex(x, c)})
+    lk.ground("O2")
+    lk.link("crank", "O2", "A", **links.get("crank", {}))
+    lk.link("rod", "A", "B", **links.get("rod", {}))
+    lk.link("block", "B", **links.get("block", {}))
+    return lk.slider("block", "ground", "B", 0.0, name="guide").drive("crank")
+
+
+def test_slider_crank_matches_slidercrank():
+    lk = slider_crank_drawing(theta2=np.radians(40))
+    m = lk.solve(TURN, velocity=10.0, acceleration=-2.0)
+    ref = SliderCrank(2.0, 6.0, 0.5).solve(TURN, 10.0, -2.0)
+    assert m.ok.all()
+    assert np.abs(m.lengths["guide"] - ref.d).max() < 1e-10
+    assert np.abs(m.length_rate["guide"] - ref.d_dot).max() < 1e-9 * np.abs(ref.d_dot).max()
+    acc = np.abs(ref.d_ddot).max()
+    assert np.abs(m.length_acceleration["guide"] - ref.d_ddot).max() < 1e-9 * acc
+    assert np.abs(np.angle(np.exp(1j * (m.theta["rod"] - ref.theta3 - np.pi)))).max() < 1e-10
+    assert np.abs(m.points["B"] - ref.B).max() < 1e-10
+    assert np.abs(m.omega["block"]).max() == 0.0
+
+
+def test_slider_on_a_moving_link_inverted_slider_crank():
+    """Crank O2-A; A is a block sliding on a rocker pivoted at O4 (inversion 3)."""
+    A = 2.0 * np.exp(1j * np.radians(60))
+    O4 = 5.0 + 0j
+    lk = Linkage({"O2": 0j, "O4": O4, "A": A, "T": O4 + 1.5 * (A - O4) / abs(A - O4)})
+    lk.ground("O2", "O4").link("crank", "O2", "A").link("block", "A")
+    lk.link("rocker", "O4", "T").slider("block", "rocker", "A", "T", through="O4", name="s")
+    lk.drive("crank")
+    m = lk.solve(TURN, velocity=3.0)
+    assert m.ok.all()
+    # closed form: the rocker points from O4 to A; the slide runs from A toward T
+    # (toward O4), so the displacement from O4 is -|A - O4|
+    A_t = 2.0 * np.exp(1j * TURN)
+    assert np.abs(np.exp(1j * m.theta["rocker"]) - (A_t - O4) / np.abs(A_t - O4)).max() < 1e-10
+    assert np.abs(m.lengths["s"] + np.abs(A_t - O4)).max() < 1e-10
+    assert np.abs(m.omega["block"] - m.omega["rocker"]).max() < 1e-12
+    assert rigid_errors(lk, m) < 1e-12
+    finite_difference_check(lk, np.radians(np.arange(0, 360, 0.05)), 3.0, 2e-5)
+
+
+def test_scotch_yoke_with_a_slot():
+    lk = Linkage({"O2": 0j, "A": 2.0 + 0j, "Y": 5.0 + 0j}).ground("O2")
+    lk.link("crank", "O2", "A").link("yoke", "Y")
+    lk.slider("yoke", "ground", "Y", 0.0, through="O2", name="guide")
+    lk.slot("A", "crank", "yoke", np.pi / 2, name="slot").drive("crank")
+    m = lk.solve(TURN, velocity=4.0)
+    assert np.abs(m.points["Y"] - (3.0 + 2.0 * np.cos(TURN))).max() < 1e-10
+    assert np.abs(m.point_velocity["Y"] + 8.0 * np.sin(TURN)).max() < 1e-9
+    assert np.abs(m.point_acceleration["Y"] + 32.0 * np.cos(TURN)).max() < 1e-8
+    assert np.abs(m.lengths["slot"] - 2.0 * np.sin(TURN)).max() < 1e-10
+
+
+# ----------------------------------------------------------------------------- six-bars
+def watt_ii(theta2=np.radians(30), masses=False) -> Linkage:
+    """Watt II: crank-rocker 8-2-7-6 (O2, A, B, O4); the ternary rocker (O4, B, C)
+    drives the dyad C-D-O6 (link 5: C, D; link 6: O6, D)."""
+    O4, O6 = 8.0 + 0j, 12.0 + 6.0j
+    A = 2.0 * np.exp(1j * theta2)
+    B = circle_meet(A, 7.0, O4, 6.0)
+    C = O4 + 4.0 * (B - O4) / abs(B - O4) * np.exp(1j * np.radians(-35))
+    D = circle_meet(C, 6.0, O6, 5.0, -1.0)
+    pts = {"O2": 0j, "O4": O4, "O6": O6, "A": A, "B": B, "C": C, "D": D, "E": C + 2.0 + 1j}
+    lk = Linkage(pts).ground("O2", "O4", "O6")
+    props = {}
+    if masses:
+        props = {
+            "2": {"mass": 1.0, "inertia": 0.4, "cg": 1.0 + 0.1j},
+            "3": {"mass": 2.0, "inertia": 8.0, "cg": 3.5 + 0.3j},
+            "4": {"body": rod(3.0, 6.0)},
+            "5": {"mass": 1.5, "inertia": 4.5, "cg": "E"},
+            "6": {"mass": 2.5, "inertia": 5.0, "cg": 2.5 - 0.2j},
+        }
+    lk.link("2", "O2", "A", **props.get("2", {})).link("3", "A", "B", **props.get("3", {}))
+    lk.link("4", "O4", "B", "C", **props.get("4", {}))
+    lk.link("5", "C", "D", "E", **props.get("5", {})).link("6", "O6", "D", **props.get("6", {}))
+    return lk.drive("2")
+
+
+def stephenson_iii(theta2=np.radians(30)) -> Linkage:
+    """Stephenson III: four-bar 8-2-7-6 whose coupler point P drives the dyad P-D-O6."""
+    O4, O6 = 8.0 + 0j, 4.0 - 6.0j
+    A = 2.0 * np.exp(1j * theta2)
+    B = circle_meet(A, 7.0, O4, 6.0)
+    P = A + (B - A) / 7.0 * (3.0 - 2.0j)
+    D = circle_meet(P, 7.5, O6, 6.0, -1.0)
+    lk = Linkage({"O2": 0j, "O4": O4, "O6": O6, "A": A, "B": B, "P": P, "D": D})
+    lk.ground("O2", "O4", "O6").link("2", "O2", "A").link("3", "A", "B", "P")
+    lk.link("4", "O4", "B").link("5", "P", "D").link("6", "O6", "D")
+    return lk.drive("2")
+
+
+@pytest.mark.parametrize("build", [watt_ii, stephenson_iii])
+def test_six_bars_closure_invariants_and_finite_differences(build):
+    lk = build()
+    assert lk.mobility() == 1
+    report = lk.loop_system().check()
+    # two loops (4 equations) + one constant-angle constraint; 6 angles, DOF 1
+    assert (len(report.equations), len(report.variables), report.dof) == (5, 6, 1)
+    m = lk.solve(TURN, velocity=5.0)
+    assert m.ok.all()
+    assert rigid_errors(lk, m) < 1e-11
+    # the first four links are the FourBar 8-2-7-6 (form fixed by the drawing)
+    ref = FourBar(8, 2, 7, 6).solve(TURN, 5.0, form=1)
+    assert np.abs(m.points["B"] - ref.B).max() < 1e-10
+    finite_difference_check(lk, np.radians(np.arange(0, 360, 0.05)), 5.0, 2e-5)
+
+
+def test_six_bar_solution_independent_of_the_drawn_pose():
+    """The same Watt II drawn at two crank angles gives the same motion (same circuit)."""
+    a = watt_ii(np.radians(30)).solve(TURN, velocity=1.0)
+    b = watt_ii(np.radians(250)).solve(TURN, velocity=1.0)
+    for p in ("C", "D"):
+        assert np.abs(a.points[p] - b.points[p]).max() < 1e-9
+    assert np.abs(a.alpha["6"] - b.alpha["6"]).max() < 1e-8
+
+
+def test_six_bar_ternary_link_gets_a_constant_angle_constraint():
+    """Rocker 4 sits in both loops: two of its vectors, tied by one constraint."""
+    report = watt_ii().loop_system().check()
+    constraints = [e for e in report.equations if e.startswith("constraint")]
+    assert len(constraints) == 1 and "theta_4" in constraints[0]
+
+
+# ----------------------------------------------------------------------------- second notes
+def loader(with_cylinder: bool) -> Linkage:
+    """Second notes' loader: r2 = 141 at 45 deg, r3 = 120 at 0, r4 = 100 at -90 deg,
+    r3p = 200 at 135 deg from A (examples 1 and 4); the cylinder runs from a ground
+    pivot C to a point E of link 3 (example 4's r5)."""
+    A = 141.0 * np.exp(1j * np.radians(45))
+    B = A + 120.0
+    pts = {"O2": 0j, "A": A, "B": B, "O4": B - 100j, "P": A + 200.0 * np.exp(1j * np.radians(135))}
+    pts |= {"C": 290.0 - 10.0j, "E": A + 50.0 * np.exp(1j * np.radians(-20))}
+    lk = Linkage(pts).ground("O2", "O4", "C")
+    lk.link("arm", "O2", "A").link("3", "A", "B", "P", "E").link("4", "B", "O4")
+    if with_cylinder:
+        return lk.actuator("cylinder", "C", "E").drive("cylinder")
+    return lk.drive("arm")
+
+
+def test_loader_example_1_velocities():
+    """Second notes, example 1: theta4' = .4985, theta3' = -.4154, Vp = (8.896, 108.6)."""
+    m = loader(False).solve(np.radians(45.0), velocity=0.5)
+    assert float(m.omega["4"]) == pytest.approx(0.4985, abs=5e-5)
+    assert float(m.omega["3"]) == pytest.approx(-0.4154, abs=5e-5)
+    vp = complex(m.point_velocity["P"])
+    assert vp.real == pytest.approx(8.896, abs=5e-3)
+    assert vp.imag == pytest.approx(108.6, abs=0.05)
+
+
+def test_loader_example_4_cylinder_driver():
+    """Example 4 (with the cylinder as a length driver): same velocity ratios as
+    example 1 at the drawn pose; along a stroke, closure, FD and rigid invariants."""
+    lk = loader(True)
+    assert lk.mobility() == 1  # 6 links with the cylinder's two, 7 full joints
+    L0 = abs(lk.position("E") - lk.position("C"))
+    m = lk.solve(L0, velocity=10.0)
+    w2 = float(m.omega["arm"])
+    assert float(m.omega["4"]) / w2 == pytest.approx(0.4985 / 0.5, abs=1e-4)
+    assert float(m.omega["3"]) / w2 == pytest.approx(-0.4154 / 0.5, abs=1e-4)
+    stroke = np.linspace(L0 - 50.0, L0 + 60.0, 2201)
+    ms = lk.solve(stroke, velocity=10.0)
+    assert ms.ok.all()
+    assert np.abs(ms.lengths["cylinder"] - stroke).max() < 1e-9
+    assert np.abs(np.abs(ms.points["E"] - ms.points["C"]) - stroke).max() < 1e-9
+    # Newton's tolerance is 1e-12 of the mean length (~150 here): 1.5e-10 absolute
+    assert rigid_errors(lk, ms) < 1e-9
+    dt = (stroke[1] - stroke[0]) / 10.0
+    fd = (ms.points["P"][2:] - ms.points["P"][:-2]) / (2 * dt)
+    assert np.abs(fd - ms.point_velocity["P"][1:-1]).max() < 1e-5 * np.abs(fd).max()
+
+
+def trebuchet() -> Linkage:
+    """Second notes, example 2: floating-arm trebuchet. The arm (W, H, P) has W on a
+    vertical slider (r2 = 100 below O) and H on a horizontal track (r1 = 173.2 left
+    of O); r3 = 200 at 150 deg, r3b = 300 further along the arm to P."""
+    W, H = -100j, -173.2 + 0j
+    e3 = (H - W) / abs(H - W)
+    lk = Linkage({"O": 0j, "W": W, "H": H, "P": W + 500.0 * e3}).ground("O")
+    lk.link("weight", "W").link("arm", "W", "H", "P").link("roller", "H")
+    lk.slider("weight", "ground", "W", -np.pi / 2, through="O", name="r2")
+    lk.slider("roller", "ground", "H", np.pi, through="O", name="r1")
+    return lk.drive("r2")
+
+
+def test_trebuchet_example_2_velocities():
+    """r1' = -144.3, theta3' = -1.443; Vp printed (360.75, 374.84) with the rounded
+    theta3' (exact (360.84, 375.00): compare within that rounding, 0.2 cm/s)."""
+    lk = trebuchet()
+    assert lk.mobility() == 1
+    m = lk.solve(100.0, velocity=250.0)
+    assert float(m.length_rate["r1"]) == pytest.approx(-144.3, abs=0.05)
+    assert float(m.omega["arm"]) == pytest.approx(-1.443, abs=5e-4)
+    vp = complex(m.point_velocity["P"])
+    assert vp.real == pytest.approx(360.75, abs=0.2)
+    assert vp.imag == pytest.approx(374.84, abs=0.2)
+    # closed form: theta3' = -r2' / (r3 cos 30 deg)
+    assert float(m.omega["arm"]) == pytest.approx(-250.0 / (200.0 * np.cos(np.pi / 6)), rel=1e-3)
