@@ -212,7 +212,7 @@ def test_scotch_yoke_with_a_slot():
 
 
 # ----------------------------------------------------------------------------- six-bars
-def watt_ii(theta2=np.radians(30), masses=False) -> Linkage:
+def watt_ii(theta2=np.pi / 6, masses=False) -> Linkage:
     """Watt II: crank-rocker 8-2-7-6 (O2, A, B, O4); the ternary rocker (O4, B, C)
     drives the dyad C-D-O6 (link 5: C, D; link 6: O6, D)."""
     O4, O6 = 8.0 + 0j, 12.0 + 6.0j
@@ -237,7 +237,7 @@ def watt_ii(theta2=np.radians(30), masses=False) -> Linkage:
     return lk.drive("2")
 
 
-def stephenson_iii(theta2=np.radians(30)) -> Linkage:
+def stephenson_iii(theta2=np.pi / 6) -> Linkage:
     """Stephenson III: four-bar 8-2-7-6 whose coupler point P drives the dyad P-D-O6."""
     O4, O6 = 8.0 + 0j, 4.0 - 6.0j
     A = 2.0 * np.exp(1j * theta2)
