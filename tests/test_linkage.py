@@ -15,7 +15,7 @@ import pytest
 
 from machdyn.fourbar import FourBar
 from machdyn.linkage import Linkage
-from machdyn.massprops import rod
+from machdyn.massprops import point_mass, rod
 from machdyn.slidercrank import SliderCrank
 
 TURN = np.radians(np.arange(0.0, 360.0, 1.0))
@@ -356,3 +356,225 @@ def test_trebuchet_example_2_velocities():
     assert vp.imag == pytest.approx(374.84, abs=0.2)
     # closed form: theta3' = -r2' / (r3 cos 30 deg)
     assert float(m.omega["arm"]) == pytest.approx(-250.0 / (200.0 * np.cos(np.pi / 6)), rel=1e-3)
+
+
+# ----------------------------------------------------------------------------- forces
+FB_MASS = {
+    "2": {"mass": 1.0, "inertia": 0.1, "cg": 2.0 + 0.5j},
+    "3": {"mass": 2.0, "inertia": 0.2, "cg": 3.5 - 1.0j},
+    "4": {"mass": 3.0, "inertia": 0.3, "cg": 3.0 + 0.2j},
+}
+
+
+def test_fourbar_forces_equal_machdyn_dynamics():
+    """Same four-bar, masses, gravity, loads: Linkage.forces = fourbar_forces to 1e-9."""
+    from machdyn.dynamics import fourbar_forces
+
+    lk = fourbar_drawing(theta2=np.radians(123), **FB_MASS)
+    m = lk.solve(TURN, velocity=10.0, acceleration=2.0)
+    load = 3.0 - 2.0j
+    f = lk.forces(
+        m, gravity=9.81, external_torques={"4": -5.0}, external_forces=[("3", 1.0 + 1.0j, load)]
+    )
+    fb = FourBar(8, 4, 7, 6)
+    ref = fourbar_forces(
+        fb,
+        fb.solve(TURN, 10.0, 2.0),
+        mass=(1.0, 2.0, 3.0),
+        inertia=(0.1, 0.2, 0.3),
+        cg=(2.0 + 0.5j, 3.5 - 1.0j, 3.0 + 0.2j),
+        gravity=9.81,
+        load_torque4=-5.0,
+        external_forces=[(3, 1.0 + 1.0j, load)],
+    )
+    assert f.ok.all()
+    pairs = (
+        (f.driver["2"], ref.T12),
+        (f.F("ground", "2"), ref.F12),
+        (f.F("2", "3"), ref.F32 * -1 * -1),  # F23 on 3 from 2 = -F32
+        (f.F("4", "3"), ref.F43),
+        (f.F("ground", "4"), ref.F14),
+        (f.shaking_force, ref.shaking_force),
+        (f.shaking_moment, ref.shaking_moment),
+    )
+    for ours, theirs in pairs[:2] + pairs[3:]:
+        assert np.abs(ours - theirs).max() <= 1e-9 * np.abs(theirs).max()
+    assert np.abs(f.F("3", "2") - ref.F32).max() <= 1e-9 * np.abs(ref.F32).max()
+    assert np.abs(f.F("2", "3") + ref.F32).max() <= 1e-9 * np.abs(ref.F32).max()
+
+
+def test_slider_crank_forces_equal_machdyn_dynamics_with_viscous_friction():
+    from machdyn.dynamics import slidercrank_forces
+
+    links = {
+        "crank": {"mass": 1.0, "inertia": 0.1, "cg": 1.0 + 0.2j},
+        "rod": {"mass": 2.0, "inertia": 0.5, "cg": 3.0 - 0.1j},
+        "block": {"body": point_mass(1.5)},
+    }
+    lk = slider_crank_drawing(theta2=np.radians(10), **links)
+    m = lk.solve(TURN, velocity=10.0, acceleration=3.0)
+    f = lk.forces(m, gravity=9.81, viscous={"guide": 0.7}, external_forces=[("block", "B", -50)])
+    sc = SliderCrank(2.0, 6.0, 0.5)
+    ref = slidercrank_forces(
+        sc,
+        sc.solve(TURN, 10.0, 3.0),
+        mass=(1.0, 2.0, 1.5),
+        inertia=(0.1, 0.5),
+        cg=(1.0 + 0.2j, 3.0 - 0.1j),
+        gravity=9.81,
+        friction="viscous",
+        beta=0.7,
+        load_force4=-50.0,
+    )
+    for ours, theirs in (
+        (f.driver["crank"], ref.T12),
+        (f.sliders["guide"], ref.F14),
+        (f.F("block", "rod"), ref.F43),
+        (f.F("ground", "crank"), ref.F12),
+        (f.shaking_force, ref.shaking_force),
+        (f.shaking_moment, ref.shaking_moment),
+    ):
+        assert np.abs(ours - theirs).max() <= 1e-9 * np.abs(theirs).max()
+    assert np.abs(f.couple["guide"]).max() < 1e-9  # forces concurrent at B, no rotation
+
+
+def _watt_forces():
+    lk = watt_ii(masses=True)
+    theta = np.radians(np.arange(0.0, 360.0, 0.5))
+    omega2 = 4.0 + 0.5 * np.cos(theta)  # a non-uniform input speed w2(theta2)
+    alpha2 = -0.5 * np.sin(theta) * omega2  # = dw2/dt
+    m = lk.solve(theta, velocity=omega2, acceleration=alpha2)
+    loads = [("5", "E", 20.0 - 35.0j), ("3", 2.0 + 0.5j, -10.0 + 4.0j * np.cos(theta))]
+    torques = {"6": -15.0 * np.sin(theta) - 7.0, "4": 3.0}
+    f = lk.forces(m, gravity=9.81, external_forces=loads, external_torques=torques)
+    return lk, m, f, loads, torques
+
+
+def _load_point(lk, m, link, point):
+    """World position/velocity of a load point given in the link frame (test's own)."""
+    if isinstance(point, str):
+        return m.points[point], m.point_velocity[point]
+    pts = lk._links[link].points
+    p0, p1 = lk.position(pts[0]), lk.position(pts[1])
+    e0 = (p1 - p0) / abs(p1 - p0)
+    rel = point * e0  # drawn offset from the first point
+    th0 = np.angle(e0)
+    r = rel * np.exp(1j * (m.theta[link] - th0))
+    return m.points[pts[0]] + r, m.point_velocity[pts[0]] + 1j * m.omega[link] * r
+
+
+def test_power_balance_over_a_cycle_of_a_watt_six_bar():
+    """T w + sum P_ext = d(KE)/dt + d(PE)/dt at every sample (KE, PE computed here)."""
+    lk, m, f, loads, torques = _watt_forces()
+    assert f.ok.all()
+    g = 9.81
+    dke = np.zeros(len(m))
+    dpe = np.zeros(len(m))
+    ke = np.zeros(len(m))
+    for name, link in lk._links.items():
+        v, a = m.cg_velocity[name], m.cg_acceleration[name]
+        w, al = m.omega[name], m.alpha[name]
+        dke += link.mass * (v.real * a.real + v.imag * a.imag) + link.inertia * w * al
+        ke += 0.5 * link.mass * np.abs(v) ** 2 + 0.5 * link.inertia * w**2
+        dpe += link.mass * g * v.imag
+    p_ext = f.driver["2"] * m.omega["2"]
+    for link, point, force in loads:
+        _, v = _load_point(lk, m, link, point)
+        p_ext = p_ext + (np.real(force) * v.real + np.imag(force) * v.imag)
+    for link, torque in torques.items():
+        p_ext = p_ext + torque * m.omega[link]
+    scale = np.abs(p_ext).max() + np.abs(dke).max()
+    assert np.abs(p_ext - dke - dpe).max() <= 1e-8 * scale
+    # and d(KE)/dt really is the time derivative of KE (FD along the sweep)
+    w = m.omega["2"]
+    t = np.cumsum(np.r_[0.0, np.diff(m.inputs["2"]) * 0.5 * (1 / w[1:] + 1 / w[:-1])])
+    fd = np.gradient(ke, t)
+    assert np.abs(fd[5:-5] - dke[5:-5]).max() <= 1e-3 * np.abs(dke).max()
+
+
+def test_every_link_equation_holds_with_the_returned_forces():
+    lk, m, f, loads, torques = _watt_forces()
+    g = 9.81
+    on_link = {n: [] for n in lk._links}  # (point position, force)
+    carriers = {p: [n for n, ln in lk._links.items() if p in ln.points] for p in lk._points}
+    for p in lk._ground:
+        carriers[p].insert(0, "ground")
+    for (a, b), force in f.pins.items():
+        point = next(p for p, ls in carriers.items() if a in ls and b in ls)
+        X = m.points[point]
+        if b != "ground":
+            on_link[b].append((X, force))
+        if a != "ground":
+            on_link[a].append((X, -force))
+    for link, point, force in loads:
+        X, _ = _load_point(lk, m, link, point)
+        on_link[link].append((X, np.broadcast_to(force, X.shape)))
+    for name, link in lk._links.items():
+        G = m.cg[name]
+        F = sum(fr for _, fr in on_link[name]) - 1j * link.mass * g
+        M = sum(((X - G).real * fr.imag - (X - G).imag * fr.real) for X, fr in on_link[name])
+        M = M + np.asarray(torques.get(name, 0.0)) + (f.driver["2"] if name == "2" else 0.0)
+        ma = link.mass * m.cg_acceleration[name]
+        ia = link.inertia * m.alpha[name]
+        scale = np.abs(ma).max() + max(np.abs(fr).max() for _, fr in on_link[name])
+        assert np.abs(F - ma).max() <= 1e-9 * scale, name
+        assert np.abs(M - ia).max() <= 1e-9 * scale * 10, name
+
+
+def test_shaking_force_is_the_reaction_of_the_moving_links():
+    """Fs = sum(external + gravity) - sum(m aG) (Newton on all moving links together)."""
+    lk, m, f, loads, _ = _watt_forces()
+    total = -1j * 9.81 * sum(ln.mass for ln in lk._links.values())
+    total = total + sum(np.broadcast_to(force, m.ok.shape) for _, _, force in loads)
+    ma = sum(ln.mass * m.cg_acceleration[n] for n, ln in lk._links.items())
+    assert np.abs(f.shaking_force - (total - ma)).max() <= 1e-9 * np.abs(ma).max()
+
+
+def test_virtual_work_equals_newton_euler_driving_torque():
+    """Massless Watt II: T w2 = -(sum F.v + sum T w) (virtual work, no force matrix)."""
+    lk = watt_ii()
+    theta = np.radians(np.arange(0.0, 360.0, 2.0))
+    m = lk.solve(theta, velocity=1.0)
+    f = lk.forces(m, external_forces=[("6", "D", 5.0 - 12.0j)], external_torques={"4": 8.0})
+    vw = -(
+        (5.0 * m.point_velocity["D"].real - 12.0 * m.point_velocity["D"].imag) + 8.0 * m.omega["4"]
+    )
+    assert np.abs(f.driver["2"] - vw).max() <= 1e-10 * np.abs(vw).max()
+
+
+def test_loader_lifting_torque_second_notes_example_1():
+    """Second notes (forces), example 1: torque at link 2 to lift 1000 kg at P, by
+    conservation of power with the printed Vpy = 108.6 cm/s at theta2' = .5 rad/s."""
+    lk = loader(False)
+    m = lk.solve(np.radians(45.0), velocity=0.5)
+    g = 981.0  # cm/s^2
+    f = lk.forces(m, external_forces=[("3", "P", -1000.0 * g * 1j)])
+    expected = 1000.0 * g * 108.6 / 0.5
+    assert float(f.driver["arm"]) == pytest.approx(expected, rel=5e-4)
+
+
+def test_loader_cylinder_force_by_virtual_work():
+    lk = loader(True)
+    L0 = abs(lk.position("E") - lk.position("C"))
+    stroke = np.linspace(L0 - 40.0, L0 + 40.0, 81)
+    m = lk.solve(stroke, velocity=10.0)
+    weight = -1000.0 * 981.0j
+    f = lk.forces(m, external_forces=[("3", "P", weight)])
+    vp = m.point_velocity["P"]
+    expected = -(weight.imag * vp.imag) / 10.0  # F L' + W.Vp = 0
+    assert np.abs(f.driver["cylinder"] - expected).max() <= 1e-9 * np.abs(expected).max()
+
+
+def test_trebuchet_force_at_P_second_notes():
+    """Second notes: 100 kg on the vertical slider; the force at P normal to the bar
+    that holds it, from the printed Vp = (360.75, 374.84): f = m g r2' / (n.Vp)."""
+    lk = trebuchet()
+    m = lk.solve(100.0, velocity=250.0)
+    n = 1j * np.exp(1j * np.radians(150))
+    weight = [("weight", "W", -100.0 * 981.0j)]
+    d_w = float(lk.forces(m, external_forces=weight).driver["r2"])
+    d_1 = float(lk.forces(m, external_forces=[("arm", "P", n)]).driver["r2"])
+    f_p = -d_w / d_1  # driver force zero: the weight alone is balanced by f_p at P
+    vp = 360.75 + 374.84j
+    expected = -100.0 * 981.0 * 250.0 / (n.real * vp.real + n.imag * vp.imag)
+    assert f_p == pytest.approx(expected, rel=1e-3)
