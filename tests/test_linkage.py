@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from machdyn.errors import AssemblyError, InputError, ModelError
 from machdyn.fourbar import FourBar
 from machdyn.linkage import Linkage
 from machdyn.massprops import point_mass, rod
@@ -578,3 +579,112 @@ def test_trebuchet_force_at_P_second_notes():
     vp = 360.75 + 374.84j
     expected = -100.0 * 981.0 * 250.0 / (n.real * vp.real + n.imag * vp.imag)
     assert f_p == pytest.approx(expected, rel=1e-3)
+
+
+# ----------------------------------------------------------------------------- bad input, flags
+def test_mobility_not_matching_drivers_names_both():
+    lk = fourbar_drawing()
+    with pytest.raises(ModelError, match=r"mobility .* is 1 but 2 driver\(s\) .*2, 4"):
+        lk.drive("2", "4").solve(0.0)
+    with pytest.raises(ModelError, match="no driver"):
+        fourbar_drawing().drive().solve(0.0)
+
+
+def test_a_structure_is_refused():
+    lk = Linkage({"O2": 0j, "O4": 4 + 0j, "A": 2 + 2j}).ground("O2", "O4")
+    lk.link("a", "O2", "A").link("b", "A", "O4").drive("a")
+    with pytest.raises(ModelError, match=r"mobility .* is 0 .* structure"):
+        lk.solve(0.0)
+
+
+def test_joints_naming_missing_links_or_points():
+    lk = slider_crank_drawing()
+    with pytest.raises(ModelError, match="unknown link 'nolink'"):
+        lk.slider("block", "nolink", "B")
+    with pytest.raises(ModelError, match="unknown link 'ghost'"):
+        lk.slot("B", "ghost", "ground")
+    with pytest.raises(ModelError, match="point 'Q' is not on link 'block'"):
+        lk.slider("block", "ground", "Q")
+    with pytest.raises(ModelError, match=r"driver 'ghost' is no link.*links: crank, rod, block"):
+        lk.drive("ghost")
+    with pytest.raises(ModelError, match=r"point\(s\) 'Z' without coordinates"):
+        Linkage({"A": 0j}).link("x", "A", "Z")
+    with pytest.raises(ModelError, match="not on link 'rod'"):
+        Linkage({"C": 0j, "D": 1j}).ground("C").actuator("cyl", "C", "D", links=("ground", "rod"))
+
+
+def test_a_link_with_fewer_than_two_joints():
+    lk = fourbar_drawing()
+    lk.point("F", 1 + 1j).link("flag", "A", "F")  # pinned at A only
+    with pytest.raises(ModelError, match="flag have fewer than two joints"):
+        lk.solve(0.0)
+    with pytest.raises(ModelError, match="has no points"):
+        Linkage().link("empty")
+
+
+def test_non_positive_mass_or_inertia():
+    with pytest.raises(InputError, match=r"2\.mass: must be positive"):
+        fourbar_drawing(**{"2": {"mass": 0.0, "inertia": 1.0}})
+    with pytest.raises(InputError, match=r"3\.inertia: I_G must be positive"):
+        fourbar_drawing(**{"3": {"mass": 1.0, "inertia": -1.0}})
+    with pytest.raises(InputError, match="give both mass and inertia"):
+        fourbar_drawing(**{"3": {"mass": 1.0}})
+    with pytest.raises(InputError, match="MassProperties"):
+        fourbar_drawing(**{"3": {"body": (1.0, 0j, 1.0)}})
+
+
+def test_drawing_that_cannot_be_assembled():
+    """A slide line given through a ground point that is not on it."""
+    lk = Linkage({"O2": 0j, "A": 2 + 0j, "B": 8 + 0.5j}).ground("O2")
+    lk.link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+    with pytest.raises(AssemblyError, match=r"misses the sliding point by 0\.5"):
+        lk.slider("block", "ground", "B", 0.0, through="O2")
+    with pytest.raises(InputError, match="point"):
+        Linkage({"A": (1.0, "x")})
+
+
+def test_unassemblable_inputs_and_toggles_are_flagged():
+    """Triple rocker 4-3-3-2.5: assembles while cos(theta2) >= -0.21875 (loops docs);
+    at that limit links 3 and 4 are collinear: kinematics and forces are singular."""
+    O4 = 4.0 + 0j
+    A = 3.0 * np.exp(1j * np.radians(60))
+    B = circle_meet(A, 3.0, O4, 2.5)
+    lk = Linkage({"O2": 0j, "O4": O4, "A": A, "B": B}).ground("O2", "O4")
+    lk.link("2", "O2", "A", mass=1.0, inertia=1.0).link("3", "A", "B").link("4", "O4", "B")
+    lk.drive("2")
+    limit = np.arccos(-0.21875) - 1e-11  # just inside: Newton converges, rcond tiny
+    theta = np.array([np.radians(60), limit, np.radians(150)])
+    m = lk.solve(theta, velocity=1.0, continuation=False)
+    assert m.ok.tolist() == [True, False, False]
+    assert "singular" in m.reason[1] and "cannot assemble" in m.reason[2]
+    f = lk.forces(m)
+    assert f.ok.tolist() == [True, False, False]
+    assert np.isnan(f.driver["2"][1:]).all() and np.isfinite(f.driver["2"][0])
+    assert f.reason[1] != ""
+
+
+def test_forces_need_velocities_and_known_links():
+    lk = fourbar_drawing()
+    with pytest.raises(ModelError, match="velocity"):
+        lk.forces(lk.solve(TURN))
+    m = lk.solve(TURN[:3], velocity=1.0)
+    with pytest.raises(ModelError, match="unknown link 'x'"):
+        lk.forces(m, external_torques={"x": 1.0})
+    with pytest.raises(ModelError, match="not on link '2'"):
+        lk.forces(m, external_forces=[("2", "B", 1.0)])
+    with pytest.raises(InputError, match="gravity"):
+        lk.forces(m, gravity=-9.81)
+    with pytest.raises(ModelError, match="no such slider"):
+        lk.forces(m, viscous={"guide": 1.0})
+
+
+def test_tables():
+    lk = slider_crank_drawing(block={"body": point_mass(1.0)})
+    m = lk.solve(TURN[:5], velocity=1.0)
+    df = m.to_pandas()
+    assert {"crank", "theta_rod", "omega_rod", "d_guide", "B_x", "B_ay", "ok"} <= set(df.columns)
+    f = lk.forces(m, gravity=9.81).to_pandas()
+    assert {"F_ground_crank_x", "N_guide", "driver_crank", "shaking_moment"} <= set(f.columns)
+    assert len(f) == 5
+    with pytest.raises(KeyError, match="unknown link"):
+        m.angle("nolink")

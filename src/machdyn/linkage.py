@@ -442,6 +442,8 @@ class Linkage:
         ends = tuple(links)
         if ends and len(ends) != 2:
             raise InputError(f"{name}.links", f"give two link names, got {links!r}")
+        for point, link in zip((start, end), ends, strict=False):
+            self._owner(point, link)
         self._actuators[name] = (start, end, *(ends or ("", "")))
         return self._changed()
 
@@ -549,15 +551,7 @@ class Linkage:
             return self._compiled
         if not self._ground:
             raise ModelError("no ground points: name the fixed pivots with ground('O2', ...)")
-        m = self.mobility()  # also fills _points_extra
-        if not self._drivers:
-            raise ModelError(f"mobility is {m} but no driver was named: call drive(...)")
-        if m != len(self._drivers):
-            raise ModelError(
-                f"mobility (Kutzbach–Gruebler) is {m} but {len(self._drivers)} driver(s) were "
-                f"named ({', '.join(self._drivers)}): name {m} driver(s)"
-                + (" — the drawing is a structure" if m <= 0 else "")
-            )
+        self._points_extra = {}
         edges = self._edges()
         count = {n: 0 for n in self._links}
         for e in edges:
@@ -569,6 +563,15 @@ class Linkage:
             raise ModelError(
                 f"link(s) {', '.join(few)} have fewer than two joints (a link with one joint "
                 "swings freely); check the point names shared with other links"
+            )
+        m = self.mobility()
+        if not self._drivers:
+            raise ModelError(f"mobility is {m} but no driver was named: call drive(...)")
+        if m != len(self._drivers):
+            raise ModelError(
+                f"mobility (Kutzbach–Gruebler) is {m} but {len(self._drivers)} driver(s) were "
+                f"named ({', '.join(self._drivers)}): name {m} driver(s)"
+                + (" — the drawing is a structure" if m <= 0 else "")
             )
         self._compiled = _compile(self, edges)
         return self._compiled
