@@ -47,7 +47,7 @@ import numpy as np
 
 from ._validate import finite_array, finite_scalar, nonnegative
 from .errors import AssemblyError, InputError, ModelError
-from .loops import LoopSystem
+from .loops import LoopSystem, lu_factor, lu_solve
 from .loops.result import Motion
 from .massprops import MassProperties
 from .mobility import mobility_of
@@ -1201,7 +1201,9 @@ def _cg_drawn(lk: Linkage, ln: _Link) -> complex:
 
 # ---------------------------------------------------------------------- Newton–Euler
 #: Samples are assembled and solved in blocks of this size (bounded memory).
-_CHUNK = 1 << 13
+_CHUNK = 1 << 15
+#: A force block whose pivot ratio (after equilibration) is below this is singular.
+_SINGULAR_RCOND = 1e-12
 
 FORCE_REASONS = {
     "singular": "singular force system (toggle or dead point): the joint forces are not "
@@ -1286,6 +1288,46 @@ class LinkageForces:
 
 def _cross(u, v):
     return u.real * v.imag - u.imag * v.real
+
+
+def _block_triangular(pattern: np.ndarray, labels: list, moving: list[str]) -> list:
+    """Split the force system into blocks solved one after another (Assur groups).
+
+    A perfect matching of equations to unknowns puts a structural non-zero on
+    the diagonal; the strongly connected components of the matched graph are the
+    irreducible diagonal blocks, ordered so that every block uses only unknowns
+    of blocks solved before it (block lower-triangular form). For a Watt
+    six-bar this gives the outer dyad (6 × 6), the inner dyad (6 × 6) and the
+    crank (3 × 3) instead of one 15 × 15 system.
+
+    Returns a list of ``(rows, cols)``: each block's equations and unknowns.
+    """
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components, maximum_bipartite_matching
+
+    n = pattern.shape[0]
+    match = maximum_bipartite_matching(csr_matrix(pattern.astype(np.int8)), perm_type="column")
+    if (match < 0).any():
+        lost = [moving[r // 3] for r in np.flatnonzero(match < 0)]
+        raise ModelError(
+            "the force system is structurally singular: the equations of link(s) "
+            f"{', '.join(dict.fromkeys(lost))} cannot be satisfied by the joint forces"
+        )
+    uses = pattern[:, match]  # row i uses the unknown matched to row r
+    n_comp, comp = connected_components(csr_matrix(uses), directed=True, connection="strong")
+    dep = np.zeros((n_comp, n_comp), bool)
+    ri, rr = np.nonzero(uses)
+    dep[comp[ri], comp[rr]] = True
+    np.fill_diagonal(dep, False)
+    order: list[int] = []
+    done = np.zeros(n_comp, bool)
+    while len(order) < n_comp:
+        ready = [c for c in range(n_comp) if not done[c] and not (dep[c] & ~done).any()]
+        for c in ready:
+            done[c] = True
+            order.append(c)
+    del labels, n
+    return [(np.flatnonzero(comp == c), match[comp == c]) for c in order]
 
 
 def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> LinkageForces:
@@ -1445,37 +1487,39 @@ def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> 
         apply(edge.b, X, f)
         apply(edge.a, X, -f)
 
-    # assemble and solve in chunks
+    # assemble and solve in chunks, block by block (Assur groups, found from the pattern)
     bad = ~np.ravel(motion.ok)
     x = np.full((n_s, n_eq), np.nan)
     singular = np.zeros(n_s, bool)
-    const_entries = []
-    var_entries = []
-    for k, col in enumerate(columns):
-        for r, coef in col:
-            (var_entries if np.ndim(coef) else const_entries).append((r, k, coef))
-    template = np.zeros((n_eq, n_eq))
-    for r, k, coef in const_entries:
-        template[r, k] += coef
+    entries = [(r, k, coef) for k, col in enumerate(columns) for r, coef in col]
+    pattern = np.zeros((n_eq, n_eq), bool)
+    for r, k, _ in entries:
+        pattern[r, k] = True
+    blocks = []
+    for rows, cols in _block_triangular(pattern, labels, moving):
+        ri = {r: i for i, r in enumerate(rows)}
+        cj = {k: j for j, k in enumerate(cols)}
+        inner = [(ri[r], cj[k], c) for r, k, c in entries if r in ri and k in cj]
+        coupling = [(ri[r], k, c) for r, k, c in entries if r in ri and k not in cj]
+        blocks.append((rows, cols, inner, coupling))
     for lo in range(0, n_s, _CHUNK):
         sl = slice(lo, min(lo + _CHUNK, n_s))
-        A = np.repeat(template[None], sl.stop - sl.start, axis=0)
-        for r, k, coef in var_entries:
-            A[:, r, k] += coef[sl]
-        bb = b[sl]
+        size = sl.stop - sl.start
         skip = bad[sl]
-        if skip.any():
-            A[skip] = np.eye(n_eq)
-        try:
-            xs = np.linalg.solve(A, bb[..., None])[..., 0]
-        except np.linalg.LinAlgError:
-            sign, _ = np.linalg.slogdet(A)
-            sing = sign == 0
-            A[sing] = np.eye(n_eq)
-            xs = np.linalg.solve(A, bb[..., None])[..., 0]
-            singular[sl] |= sing
-        x[sl] = xs
-    # a nearly singular system (rounding hides exact zero) is caught by the residual
+        for rows, cols, inner, coupling in blocks:
+            nb = len(rows)
+            A = np.zeros((nb, nb, size))  # layout of machdyn.loops.lu_factor
+            for i, j, coef in inner:
+                A[i, j] += coef[sl] if np.ndim(coef) else coef
+            rhs = b[sl, rows].T
+            for i, k, coef in coupling:
+                rhs[i] -= (coef[sl] if np.ndim(coef) else coef) * x[sl, k]
+            if skip.any():
+                A[:, :, skip] = np.eye(nb)[:, :, None]
+                rhs[:, skip] = 0.0
+            fac = lu_factor(A)
+            singular[sl] |= ~(fac.rcond > _SINGULAR_RCOND)
+            x[sl, cols] = lu_solve(fac, rhs).T
     bad_all = bad | singular
     x[bad_all] = np.nan
 
