@@ -688,3 +688,42 @@ def test_tables():
     assert len(f) == 5
     with pytest.raises(KeyError, match="unknown link"):
         m.angle("nolink")
+
+
+def test_slider_crank_coulomb_friction_equals_machdyn_dynamics():
+    """Coulomb friction -mu|N| sign(v) at the guide: same as slidercrank_forces."""
+    from machdyn.dynamics import slidercrank_forces
+
+    links = {
+        "crank": {"mass": 1.0, "inertia": 0.1, "cg": 1.0 + 0.2j},
+        "rod": {"mass": 2.0, "inertia": 0.5, "cg": 3.0 - 0.1j},
+        "block": {"body": point_mass(1.5)},
+    }
+    lk = slider_crank_drawing(theta2=np.radians(10), **links)
+    theta = TURN + 0.25  # avoid the dead centres, where v_slip = 0 exactly
+    m = lk.solve(theta, velocity=10.0)
+    f = lk.forces(m, gravity=9.81, coulomb={"guide": 0.3}, external_forces=[("block", "B", -80)])
+    sc = SliderCrank(2.0, 6.0, 0.5)
+    ref = slidercrank_forces(
+        sc,
+        sc.solve(theta, 10.0),
+        mass=(1.0, 2.0, 1.5),
+        inertia=(0.1, 0.5),
+        cg=(1.0 + 0.2j, 3.0 - 0.1j),
+        gravity=9.81,
+        friction="coulomb",
+        mu=0.3,
+        load_force4=-80.0,
+    )
+    assert f.ok.all() and ref.ok.all()
+    for ours, theirs in (
+        (f.driver["crank"], ref.T12),
+        (f.sliders["guide"], ref.F14),
+        (f.shaking_force, ref.shaking_force),
+    ):
+        assert np.abs(ours - theirs).max() <= 1e-9 * np.abs(theirs).max()
+    # friction opposes the slip and has magnitude mu |N|
+    friction = f.sliders["guide"].real
+    v = m.length_rate["guide"]
+    assert np.all(friction * v <= 0)
+    assert np.abs(np.abs(friction) - 0.3 * np.abs(f.normal["guide"])).max() < 1e-9

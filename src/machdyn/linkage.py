@@ -688,6 +688,7 @@ class Linkage:
         external_forces: Iterable[tuple[str, Any, Any]] = (),
         external_torques: Mapping[str, Any] | Iterable[tuple[str, Any]] = (),
         viscous: Mapping[str, float] | None = None,
+        coulomb: Mapping[str, float] | None = None,
     ) -> LinkageForces:
         """Newton–Euler joint forces and driver efforts for every sample of ``motion``.
 
@@ -713,12 +714,19 @@ class Linkage:
             CCW positive; scalars or per-sample arrays.
         viscous : mapping of slider name → β, optional
             Viscous friction at sliders, ``−β·v_slip`` along the slide on the block.
+        coulomb : mapping of slider or slot name → μ, optional
+            Coulomb friction ``−μ |N| sign(v_slip)`` along the slide (at rest the
+            impending direction, the sign of the slide acceleration). The sign of
+            ``N`` is found by re-solving until it agrees with the assumption;
+            samples where it never does are flagged.
 
         Returns
         -------
         LinkageForces
         """
-        return _forces(self, motion, gravity, external_forces, external_torques, viscous or {})
+        return _forces(
+            self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
+        )
 
 
 def _is_zero(value: Any) -> bool:
@@ -1208,6 +1216,7 @@ _SINGULAR_RCOND = 1e-12
 FORCE_REASONS = {
     "singular": "singular force system (toggle or dead point): the joint forces are not "
     "determined by Newton–Euler",
+    "coulomb": "Coulomb friction: no consistent sign of the normal force (self-locking)",
 }
 
 
@@ -1330,7 +1339,9 @@ def _block_triangular(pattern: np.ndarray, labels: list, moving: list[str]) -> l
     return [(np.flatnonzero(comp == c), match[comp == c]) for c in order]
 
 
-def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> LinkageForces:
+def _forces(
+    lk, motion, gravity, external_forces, external_torques, viscous, coulomb
+) -> LinkageForces:
     if not isinstance(motion, LinkageMotion):
         raise InputError("motion", f"must be a LinkageMotion from Linkage.solve, got {motion!r}")
     if motion.omega is None:
@@ -1351,7 +1362,12 @@ def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> 
     delta = {n: flat(np.nan_to_num(motion.theta[n])) - _ref_angle(lk, n) for n in moving}
     delta[GROUND] = np.zeros(n_s)
 
-    # columns: list of entries (row, coefficient array); ground contributions kept apart
+    drivers = set(lk._drivers)
+    one = np.ones(n_s)
+    edges = lk._edges()
+    slide_u = {
+        e.name: e.direction * np.exp(1j * delta[e.a]) for e in edges if e.kind in ("P", "slot")
+    }
     columns: list[list[tuple[int, Any]]] = []
     ground_parts: list[tuple[int, Any, Any]] = []  # (col, force unit (complex), moment coef)
     labels: list[tuple[str, str]] = []
@@ -1380,19 +1396,27 @@ def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> 
         columns.append(col)
         labels.append(label)
 
-    drivers = set(lk._drivers)
-    one = np.ones(n_s)
-    slide_u: dict[str, np.ndarray] = {}
-    for e in lk._edges():
+    def build(kappa: Mapping[str, Any]) -> None:
+        """Columns of the unknowns; ``kappa[slider]`` adds Coulomb friction κ·N·û."""
+        columns.clear()
+        ground_parts.clear()
+        labels.clear()
+        for e in edges:
+            build_edge(e, kappa)
+        for d in lk._drivers:
+            if d in lk._links:
+                couple_col([(d, 1.0), (GROUND, -1.0)], ("driver", d))
+
+    def build_edge(e: _Edge, kappa: Mapping[str, Any]) -> None:
         if e.kind == "R":
             X = P[e.pa]
             for comp, u in (("x", one + 0j), ("y", 1j * one)):
                 force_col([(e.b, X, u, 1.0), (e.a, X, u, -1.0)], ("pin", f"{e.a}|{e.b}|{comp}"))
         elif e.kind in ("P", "slot"):
             X = P[e.pb]
-            uhat = e.direction * np.exp(1j * delta[e.a])
-            slide_u[e.name] = uhat
-            force_col([(e.b, X, 1j * uhat, 1.0), (e.a, X, 1j * uhat, -1.0)], ("normal", e.name))
+            uhat = slide_u[e.name]
+            un = 1j * uhat + kappa.get(e.name, 0.0) * uhat
+            force_col([(e.b, X, un, 1.0), (e.a, X, un, -1.0)], ("normal", e.name))
             if e.kind == "P":
                 couple_col([(e.b, 1.0), (e.a, -1.0)], ("couple", e.name))
             if e.name in drivers:
@@ -1402,9 +1426,8 @@ def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> 
             d = Xb - Xa
             uhat = d / np.where(np.abs(d) > 0, np.abs(d), 1.0)
             force_col([(e.b, Xb, uhat, 1.0), (e.a, Xa, uhat, -1.0)], ("driver", e.name))
-    for d in lk._drivers:
-        if d in lk._links:
-            couple_col([(d, 1.0), (GROUND, -1.0)], ("driver", d))
+
+    build({})
     if len(columns) != n_eq:
         raise ModelError(
             f"{len(columns)} force unknowns for {n_eq} equations of {len(moving)} moving links; "
@@ -1489,39 +1512,76 @@ def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> 
 
     # assemble and solve in chunks, block by block (Assur groups, found from the pattern)
     bad = ~np.ravel(motion.ok)
-    x = np.full((n_s, n_eq), np.nan)
-    singular = np.zeros(n_s, bool)
-    entries = [(r, k, coef) for k, col in enumerate(columns) for r, coef in col]
-    pattern = np.zeros((n_eq, n_eq), bool)
-    for r, k, _ in entries:
-        pattern[r, k] = True
-    blocks = []
-    for rows, cols in _block_triangular(pattern, labels, moving):
-        ri = {r: i for i, r in enumerate(rows)}
-        cj = {k: j for j, k in enumerate(cols)}
-        inner = [(ri[r], cj[k], c) for r, k, c in entries if r in ri and k in cj]
-        coupling = [(ri[r], k, c) for r, k, c in entries if r in ri and k not in cj]
-        blocks.append((rows, cols, inner, coupling))
-    for lo in range(0, n_s, _CHUNK):
-        sl = slice(lo, min(lo + _CHUNK, n_s))
-        size = sl.stop - sl.start
-        skip = bad[sl]
-        for rows, cols, inner, coupling in blocks:
-            nb = len(rows)
-            A = np.zeros((nb, nb, size))  # layout of machdyn.loops.lu_factor
-            for i, j, coef in inner:
-                A[i, j] += coef[sl] if np.ndim(coef) else coef
-            rhs = b[sl, rows].T
-            for i, k, coef in coupling:
-                rhs[i] -= (coef[sl] if np.ndim(coef) else coef) * x[sl, k]
-            if skip.any():
-                A[:, :, skip] = np.eye(nb)[:, :, None]
-                rhs[:, skip] = 0.0
-            fac = lu_factor(A)
-            singular[sl] |= ~(fac.rcond > _SINGULAR_RCOND)
-            x[sl, cols] = lu_solve(fac, rhs).T
-    bad_all = bad | singular
-    x[bad_all] = np.nan
+
+    def solve_system() -> tuple[np.ndarray, np.ndarray]:
+        x = np.full((n_s, n_eq), np.nan)
+        singular = np.zeros(n_s, bool)
+        entries = [(r, k, coef) for k, col in enumerate(columns) for r, coef in col]
+        pattern = np.zeros((n_eq, n_eq), bool)
+        for r, k, _ in entries:
+            pattern[r, k] = True
+        blocks = []
+        for rows, cols in _block_triangular(pattern, labels, moving):
+            ri = {r: i for i, r in enumerate(rows)}
+            cj = {k: j for j, k in enumerate(cols)}
+            inner = [(ri[r], cj[k], c) for r, k, c in entries if r in ri and k in cj]
+            coupling = [(ri[r], k, c) for r, k, c in entries if r in ri and k not in cj]
+            blocks.append((rows, cols, inner, coupling))
+        for lo in range(0, n_s, _CHUNK):
+            sl = slice(lo, min(lo + _CHUNK, n_s))
+            size = sl.stop - sl.start
+            skip = bad[sl]
+            for rows, cols, inner, coupling in blocks:
+                nb = len(rows)
+                A = np.zeros((nb, nb, size))  # layout of machdyn.loops.lu_factor
+                for i, j, coef in inner:
+                    A[i, j] += coef[sl] if np.ndim(coef) else coef
+                rhs = b[sl, rows].T
+                for i, k, coef in coupling:
+                    rhs[i] -= (coef[sl] if np.ndim(coef) else coef) * x[sl, k]
+                if skip.any():
+                    A[:, :, skip] = np.eye(nb)[:, :, None]
+                    rhs[:, skip] = 0.0
+                fac = lu_factor(A)
+                singular[sl] |= ~(fac.rcond > _SINGULAR_RCOND)
+                x[sl, cols] = lu_solve(fac, rhs).T
+        x[bad | singular] = np.nan
+        return x, singular
+
+    x, singular = solve_system()
+    kappa: dict[str, Any] = {}
+    slipping = {}
+    for name, mu in coulomb.items():
+        edge = next((e for e in edges if e.name == name and e.kind in ("P", "slot")), None)
+        if edge is None:
+            raise ModelError(
+                f"Coulomb friction at {name!r}: no such slider or slot; joints: "
+                f"{', '.join([*lk._sliders, *lk._slots]) or '(none)'}"
+            )
+        mu = nonnegative(f"coulomb[{name}]", mu)
+        v = flat(np.nan_to_num(motion.length_rate[name]))
+        a = flat(np.nan_to_num(motion.length_acceleration[name]))
+        slipping[name] = (mu, np.where(v != 0, np.sign(v), np.sign(a)))  # at rest: impending
+    friction_bad = np.zeros(n_s, bool)
+    if slipping:
+        # the sign of N is unknown beforehand: start from the smooth solution and
+        # re-solve with the signs found until they agree (the notes' ±μN)
+        sign_n = {n: np.where(x[:, labels.index(("normal", n))] < 0, -1.0, 1.0) for n in slipping}
+        for _ in range(8):
+            kappa = {n: -mu * sign_n[n] * sv for n, (mu, sv) in slipping.items()}
+            build(kappa)
+            x, singular = solve_system()
+            friction_bad[:] = False
+            for n in slipping:
+                N = x[:, labels.index(("normal", n))]
+                new = np.where(N < 0, -1.0, 1.0)
+                wrong = (new != sign_n[n]) & np.isfinite(N) & (np.abs(N) > 0)
+                friction_bad |= wrong
+                sign_n[n] = new
+            if not friction_bad.any():
+                break
+        x[friction_bad] = np.nan
+    bad_all = bad | singular | friction_bad
 
     def col_of(kind: str, name: str) -> np.ndarray:
         return x[:, labels.index((kind, name))]
@@ -1536,7 +1596,7 @@ def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> 
     for e in lk._edges():
         if e.kind in ("P", "slot"):
             N = col_of("normal", e.name)
-            F = N * 1j * slide_u[e.name]
+            F = N * (1j + kappa.get(e.name, 0.0)) * slide_u[e.name]
             normal[e.name] = N.reshape(shape)
             if e.kind == "P":
                 couple[e.name] = col_of("couple", e.name).reshape(shape)
@@ -1560,6 +1620,7 @@ def _forces(lk, motion, gravity, external_forces, external_torques, viscous) -> 
             Ms -= _cross(P[edge.pb], f)
     reasons = np.array(motion.reason, dtype=object).reshape(n_s).copy()
     reasons[singular & ~bad] = FORCE_REASONS["singular"]
+    reasons[friction_bad & ~bad & ~singular] = FORCE_REASONS["coulomb"]
     return LinkageForces(
         pins=_frozen(pins),
         sliders=_frozen(sliders),
