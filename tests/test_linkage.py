@@ -727,3 +727,34 @@ def test_slider_crank_coulomb_friction_equals_machdyn_dynamics():
     v = m.length_rate["guide"]
     assert np.all(friction * v <= 0)
     assert np.abs(np.abs(friction) - 0.3 * np.abs(f.normal["guide"])).max() < 1e-9
+
+
+def test_random_crank_rockers_against_fourbar_and_dynamics(rng):
+    """Seeded random Grashof crank-rockers, drawn at a random crank angle in a random
+    circuit: kinematics = FourBar (form from the drawing), forces = fourbar_forces."""
+    from machdyn.dynamics import fourbar_forces
+
+    theta = np.radians(np.arange(0.0, 360.0, 5.0))
+    checked = 0
+    while checked < 8:
+        r1, r2, r3, r4 = rng.uniform(1.0, 10.0, 4)
+        if not (r2 < min(r1, r3, r4) and r2 + max(r1, r3, r4) < r1 + r3 + r4 - max(r1, r3, r4)):
+            continue
+        side = rng.choice([-1.0, 1.0])
+        cg = rng.normal(size=3) + 1j * rng.normal(size=3)
+        mass, inertia = rng.uniform(0.5, 2.0, 3), rng.uniform(0.1, 1.0, 3)
+        links = {
+            k: {"mass": mass[i], "inertia": inertia[i], "cg": cg[i]}
+            for i, k in enumerate(("2", "3", "4"))
+        }
+        lk = fourbar_drawing(r1, r2, r3, r4, rng.uniform(0, 2 * np.pi), side, **links)
+        m = lk.solve(theta, velocity=3.0, acceleration=1.0)
+        fb = FourBar(r1, r2, r3, r4)
+        form = 1 if side > 0 else 2
+        ref = fb.solve(theta, 3.0, 1.0, form=form)
+        assert np.abs(m.points["B"] - ref.B).max() < 1e-9 * r1
+        f = lk.forces(m, gravity=9.81)
+        rf = fourbar_forces(fb, ref, mass=mass, inertia=inertia, cg=cg, gravity=9.81)
+        assert np.abs(f.driver["2"] - rf.T12).max() <= 1e-9 * np.abs(rf.T12).max()
+        assert np.abs(f.F("4", "3") - rf.F43).max() <= 1e-9 * np.abs(rf.F43).max()
+        checked += 1
