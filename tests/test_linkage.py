@@ -758,3 +758,42 @@ def test_random_crank_rockers_against_fourbar_and_dynamics(rng):
         assert np.abs(f.driver["2"] - rf.T12).max() <= 1e-9 * np.abs(rf.T12).max()
         assert np.abs(f.F("4", "3") - rf.F43).max() <= 1e-9 * np.abs(rf.F43).max()
         checked += 1
+
+
+# ----------------------------------------------------------------------------- other drivers
+def test_five_bar_with_two_cranks():
+    """Two drivers (M = 2): C is the circle intersection of the two couplers (written
+    here); massless, the two torques balance a load at C by virtual work."""
+    O2, O5 = 0j, 6.0 + 0j
+    A, D = 2.0 * np.exp(1j * np.radians(70)), O5 + 2.0 * np.exp(1j * np.radians(110))
+    C = circle_meet(A, 5.0, D, 5.0)
+    lk = Linkage({"O2": O2, "O5": O5, "A": A, "D": D, "C": C}).ground("O2", "O5")
+    lk.link("2", "O2", "A").link("3", "A", "C").link("4", "D", "C").link("5", "O5", "D")
+    lk.drive("2", "5")
+    assert lk.mobility() == 2
+    t2 = np.radians(np.linspace(70, 130, 61))
+    t5 = np.radians(np.linspace(110, 60, 61))
+    m = lk.solve({"2": t2, "5": t5}, velocity={"2": 1.0, "5": -2.0})
+    A_t, D_t = 2.0 * np.exp(1j * t2), O5 + 2.0 * np.exp(1j * t5)
+    assert np.abs(m.points["C"] - circle_meet(A_t, 5.0, D_t, 5.0)).max() < 1e-10
+    load = -10.0 + 25.0j
+    f = lk.forces(m, external_forces=[("3", "C", load)])
+    vc = m.point_velocity["C"]
+    power = f.driver["2"] * 1.0 + f.driver["5"] * -2.0 + load.real * vc.real + load.imag * vc.imag
+    assert np.abs(power).max() < 1e-9 * np.abs(f.driver["2"]).max()
+    with pytest.raises(ModelError, match="mapping"):
+        lk.solve(t2)
+
+
+def test_slider_as_the_driver():
+    """Slider-crank driven at the piston (a linear motor): the crank follows, and the
+    motor force balances a crank load torque by virtual work."""
+    lk = slider_crank_drawing(theta2=np.radians(60)).drive("guide")
+    B0 = lk.position("B").real
+    d = np.linspace(B0 - 1.0, B0 + 0.5, 31)
+    m = lk.solve(d, velocity=2.0)
+    ref = SliderCrank(2.0, 6.0, 0.5)
+    back = ref.solve(m.theta["crank"])
+    assert np.abs(back.d - d).max() < 1e-10
+    f = lk.forces(m, external_torques={"crank": 4.0})
+    assert np.abs(f.driver["guide"] * 2.0 + 4.0 * m.omega["crank"]).max() < 1e-9

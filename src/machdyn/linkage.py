@@ -673,6 +673,8 @@ class Linkage:
             if missing and required:
                 raise ModelError(f"{field}: no value for driver(s) {', '.join(missing)}")
             return {d: finite_array(f"{field}[{d}]", value.get(d, 0.0)) for d in drivers}
+        if len(drivers) != 1 and not required and np.ndim(value) == 0:
+            return {d: finite_array(f"{field}[{d}]", value) for d in drivers}
         if len(drivers) != 1:
             raise ModelError(
                 f"{field}: give a mapping {{driver: values}} for the drivers {', '.join(drivers)}"
