@@ -797,3 +797,24 @@ def test_slider_as_the_driver():
     assert np.abs(back.d - d).max() < 1e-10
     f = lk.forces(m, external_torques={"crank": 4.0})
     assert np.abs(f.driver["guide"] * 2.0 + 4.0 * m.omega["crank"]).max() < 1e-9
+
+
+def test_single_sample_far_from_the_drawing_stays_on_the_drawn_circuit():
+    """Drawn at theta2 = 0 in form 2; a lone sample at 200 deg is still form 2."""
+    lk = fourbar_drawing(side=-1.0)
+    m = lk.solve(np.radians(200.0), velocity=1.0)
+    ref = FourBar(8, 4, 7, 6).solve(np.radians(200.0), 1.0, form=2)
+    assert abs(complex(m.points["B"]) - complex(ref.B)) < 1e-10
+
+
+def test_motion_plot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    m = fourbar_drawing().solve(TURN[::10])
+    ax = m.plot()
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+        "theta 3 [deg]",
+        "theta 4 [deg]",
+    ]
+    assert ax.get_xlabel() == "2 [deg]"

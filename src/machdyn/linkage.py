@@ -117,7 +117,8 @@ class _Compiled:
     rot_var: dict[str, str | None]  # link -> angle variable of its rotation class
     rot_offset: dict[str, float]  # link theta = var + offset (ground: offset 0)
     tree: tuple[tuple[str, _Edge, bool], ...]  # (child link, edge, child is edge.b) in BFS order
-    cross_vars: dict[str, tuple[str, str | None, float]]  # edge -> (length var, angle var, off)
+    # joint -> (length variable, angle variable or None, constant angle when None)
+    cross_vars: dict[str, tuple[str, str | None, float]]
     loops: tuple[str, ...]
 
 
@@ -648,7 +649,7 @@ class Linkage:
         cont = (
             continuation if continuation is not None else (len(shape) <= 1 and np.prod(shape) > 1)
         )
-        if cont and np.prod(shape) >= 1:
+        if cont or np.prod(shape) == 1:  # follow the drawn circuit to the first sample
             guess = _march(c, guess, {k: float(np.ravel(v)[0]) for k, v in u.items()})
         kw: dict[str, Any] = {"continuation": cont}
         if vel is not None:
@@ -739,8 +740,8 @@ def _is_zero(value: Any) -> bool:
 
 # ---------------------------------------------------------------------- compilation
 def _ident(text: str) -> str:
-    out = _IDENT.sub("_", text)
-    return out if out and not out[0].isdigit() else f"_{out}" if not out[:1].isdigit() else out
+    """A loop-variable name made of ``text`` (non-word characters become ``_``)."""
+    return _IDENT.sub("_", text)
 
 
 def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
@@ -889,7 +890,10 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
             drawn[dvar] = d0
             ang = angle_of(e.a, float(np.angle(e.direction)), f"dir_{e.name}")
             system.vector(name, dvar, ang)
-            cross_vars[e.name] = (dvar, ang if isinstance(ang, str) else None, 0.0)
+            if isinstance(ang, str):
+                cross_vars[e.name] = (dvar, ang, 0.0)
+            else:
+                cross_vars[e.name] = (dvar, None, ang)
         else:
             lvar, pvar = fresh(f"L_{e.name}"), fresh(f"phi_{e.name}")
             if abs(z) == 0:
@@ -1061,6 +1065,33 @@ class LinkageMotion:
         """Angle ``theta`` of ``link`` (radians)."""
         return _lookup(self.theta, link, "link")
 
+    def plot(self, links: Sequence[str] | None = None, ax: Any = None) -> Any:
+        """Plot link angles (degrees) against the first driver (degrees if an angle).
+
+        Parameters
+        ----------
+        links : sequence of str, optional
+            Links to plot; default all but the driven ones.
+        ax : matplotlib Axes, optional
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        driver, x = next(iter(self.inputs.items()))
+        is_angle = driver in self.theta
+        xs = np.degrees(np.ravel(x)) if is_angle else np.ravel(x)
+        names = [n for n in self.theta if n not in self.inputs] if links is None else links
+        for name in names:
+            ax.plot(xs, np.degrees(np.ravel(self.angle(name))), label=f"theta {name} [deg]")
+        ax.set_xlabel(f"{driver} [deg]" if is_angle else driver)
+        ax.legend()
+        return ax
+
     def __len__(self) -> int:
         return int(self.ok.size)
 
@@ -1128,11 +1159,9 @@ def _motion(lk: Linkage, c: _Compiled, lm: Motion, vals: dict[str, np.ndarray]) 
         return ap + r, av + 1j * w * r, aa + (1j * al - w * w) * r
 
     cross: dict[str, tuple[Any, Any, Any]] = {}
-    for e_name, (lv, av_, off) in c.cross_vars.items():
-        del off
+    for e_name, (lv, av_, fixed) in c.cross_vars.items():
         if av_ is None:  # direction fixed in the ground
-            e = next(x for x in _all_edges(lk) if x.name == e_name)
-            phi = np.full(shape, float(np.angle(e.direction)))
+            phi = np.full(shape, fixed)
             w = a = zero
         else:
             phi = pos[av_]
@@ -1194,10 +1223,6 @@ def _motion(lk: Linkage, c: _Compiled, lm: Motion, vals: dict[str, np.ndarray]) 
         reason=lm.reason,
         loop_motion=lm,
     )
-
-
-def _all_edges(lk: Linkage) -> list[_Edge]:
-    return lk._edges()
 
 
 def _cg_drawn(lk: Linkage, ln: _Link) -> complex:
