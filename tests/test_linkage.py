@@ -818,3 +818,31 @@ def test_motion_plot():
         "theta 4 [deg]",
     ]
     assert ax.get_xlabel() == "2 [deg]"
+
+
+def test_no_link_gets_more_vectors_than_its_joints_minus_one():
+    """The notes' rule: never three vectors of a ternary link (the redundant triangle).
+    Every vector of a link starts at one hub joint, so a link with k joints has at
+    most k - 1 vectors. Checked on a 9-link, 1-DOF chain with a ternary link T."""
+    # ternary link T (A, B, C) on crank 2 at A; dyads from B and C to the ground,
+    # and a binary link joining the two dyads' middle points (a loop B-..-C above T)
+    O2, O4, O6 = 0j, 9.0 + 0j, 4.0 + 8.0j
+    A = 2.0 * np.exp(1j * np.radians(40))
+    B, C = A + 4.0 + 0.5j, A + 1.0 + 3.5j
+    E = circle_meet(B, 4.0, O4, 4.5)
+    F = circle_meet(C, 3.0, O6, 3.5, -1.0)
+    pts = {"O2": O2, "O4": O4, "O6": O6, "A": A, "B": B, "C": C, "E": E, "F": F}
+    pts |= {"E2": E + 0.8j, "F2": F + 0.7}
+    lk = Linkage(pts).ground("O2", "O4", "O6")
+    lk.link("2", "O2", "A").link("T", "A", "B", "C")
+    lk.link("5", "B", "E", "E2").link("6", "O4", "E").link("7", "C", "F", "F2").link("8", "O6", "F")
+    lk.link("9", "E2", "F2").drive("2")
+    assert lk.mobility() == 1
+    text = " ".join(lk.loop_system().check().equations).replace("+", " ").replace("-", " ")
+    words = set(text.split())
+    for name, link in lk._links.items():
+        mine = {w for w in words if w.startswith(f"R_{name}_")}
+        assert len(mine) <= len(link.points) - 1, (name, mine)
+    assert len({w for w in words if w.startswith("R_T_")}) == 2
+    m = lk.solve(np.radians(np.arange(40.0, 60.0, 0.5)), velocity=1.0)
+    assert m.ok.all() and rigid_errors(lk, m) < 1e-11

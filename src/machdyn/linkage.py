@@ -856,6 +856,25 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         drawn[var] = ang0
         return var
 
+    # every vector of a moving link starts at its hub (the joint where the spanning
+    # tree enters it), so a link with k joints has at most k - 1 vectors and never
+    # the redundant triangle of a ternary link
+    hub = {child: (e.pb if child_is_b else e.pa) for child, e, child_is_b in tree}
+
+    def link_path(link: str, p: str, q: str) -> list[tuple[str, int]]:
+        """Vectors of ``link`` leading from its joint ``p`` to its joint ``q``."""
+        if p == q:
+            return []
+        if link == GROUND or hub[link] in (p, q):
+            v = link_vector(link, p, q)
+            return [] if v is None else [v]
+        out = []
+        for x, sign in ((p, -1), (q, 1)):
+            v = link_vector(link, hub[link], x)
+            if v is not None:
+                out.append((v[0], sign * v[1]))
+        return out
+
     def link_vector(link: str, p: str, q: str) -> tuple[str, int] | None:
         if p == q:
             return None
@@ -914,9 +933,7 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
                 terms.append((v, 1 if f == e.a else -1))
             nj = walk[(k + 1) % len(walk)][0]
             link = t
-            lv = link_vector(link, xy_on(link, e), xy_on(link, edges[nj]))
-            if lv is not None:
-                terms.append(lv)
+            terms += link_path(link, xy_on(link, e), xy_on(link, edges[nj]))
         merged: dict[str, int] = {}
         for n, s in terms:
             merged[n] = merged.get(n, 0) + s
