@@ -846,3 +846,57 @@ def test_no_link_gets_more_vectors_than_its_joints_minus_one():
     assert len({w for w in words if w.startswith("R_T_")}) == 2
     m = lk.solve(np.radians(np.arange(40.0, 60.0, 0.5)), velocity=1.0)
     assert m.ok.all() and rigid_errors(lk, m) < 1e-11
+
+
+def _energy_rates(lk, m, g):
+    dke = np.zeros(m.ok.shape)
+    dpe = np.zeros(m.ok.shape)
+    for name, link in lk._links.items():
+        v, a = m.cg_velocity[name], m.cg_acceleration[name]
+        dke = dke + link.mass * (v.real * a.real + v.imag * a.imag)
+        dke = dke + link.inertia * m.omega[name] * m.alpha[name]
+        dpe = dpe + link.mass * g * v.imag
+    return dke, dpe
+
+
+def test_power_balance_slider_on_a_moving_link_with_friction():
+    """Inverted slider-crank with masses, gravity, a load torque and viscous friction
+    between block and rocker: T w2 + T4 w4 - beta v_slip^2 = d(KE + PE)/dt."""
+    A = 2.0 * np.exp(1j * np.radians(60))
+    O4 = 5.0 + 0j
+    lk = Linkage({"O2": 0j, "O4": O4, "A": A, "T": O4 + 6.0 * (A - O4) / abs(A - O4)})
+    lk.ground("O2", "O4").link("crank", "O2", "A", mass=1.0, inertia=0.3, cg=1.0 + 0.2j)
+    lk.link("block", "A", mass=0.5, inertia=0.05, cg=0.1 + 0.1j)
+    lk.link("rocker", "O4", "T", mass=2.0, inertia=6.0, cg=3.0)
+    lk.slider("block", "rocker", "A", "T", through="O4", name="s").drive("crank")
+    theta = np.radians(np.arange(0.0, 360.0, 2.0))
+    m = lk.solve(theta, velocity=6.0)
+    f = lk.forces(m, gravity=9.81, external_torques={"rocker": -20.0}, viscous={"s": 0.8})
+    assert f.ok.all()
+    dke, dpe = _energy_rates(lk, m, 9.81)
+    v_slip = m.length_rate["s"]
+    power = f.driver["crank"] * 6.0 - 20.0 * m.omega["rocker"] - 0.8 * v_slip**2
+    assert np.abs(power - dke - dpe).max() <= 1e-9 * np.abs(dke).max()
+    assert np.abs(f.couple["s"]).max() > 1.0  # the block's inertia torque goes through it
+
+
+def test_power_balance_trebuchet_with_masses():
+    """Trebuchet with a 100 kg counterweight, arm and roller masses (cm, g = 981):
+    the slider's driving force times r2' balances the energy rates."""
+    W, H = -100j, -173.2 + 0j
+    e3 = (H - W) / abs(H - W)
+    lk = Linkage({"O": 0j, "W": W, "H": H, "P": W + 500.0 * e3}).ground("O")
+    lk.link("weight", "W", body=point_mass(100.0))
+    lk.link("arm", "W", "H", "P", body=rod(20.0, 500.0))
+    lk.link("roller", "H", body=point_mass(5.0))
+    lk.slider("weight", "ground", "W", -np.pi / 2, through="O", name="r2")
+    lk.slider("roller", "ground", "H", np.pi, through="O", name="r1")
+    lk.drive("r2")
+    d = np.linspace(60.0, 180.0, 121)
+    m = lk.solve(d, velocity=250.0, acceleration=-300.0)
+    f = lk.forces(m, gravity=981.0, external_forces=[("arm", "P", 2000.0 - 500.0j)])
+    assert f.ok.all()
+    dke, dpe = _energy_rates(lk, m, 981.0)
+    vp = m.point_velocity["P"]
+    power = f.driver["r2"] * 250.0 + 2000.0 * vp.real - 500.0 * vp.imag
+    assert np.abs(power - dke - dpe).max() <= 1e-9 * np.abs(dke).max()
