@@ -180,7 +180,13 @@ class Linkage:
         return self._changed()
 
     def position(self, name: str) -> complex:
-        """Drawn coordinates of point ``name`` as ``x + yj``."""
+        """Drawn coordinates of point ``name`` as ``x + yj``.
+
+        Examples
+        --------
+        >>> Linkage({"O4": (8, 0)}).position("O4")
+        (8+0j)
+        """
         if name not in self._points:
             raise ModelError(f"unknown point {name!r}; known points: {', '.join(self._points)}")
         return self._points[name]
@@ -726,6 +732,20 @@ class Linkage:
         Returns
         -------
         LinkageForces
+
+        Examples
+        --------
+        A massless slider-crank at θ2 = 90° with a load F = −50 on the piston
+        (along −x): by virtual work ``T12 ω2 + F ḋ = 0``, with ḋ = −a ω2 = −2:
+
+        >>> import numpy as np
+        >>> lk = (Linkage({"O2": (0, 0), "A": (2, 0), "B": (8, 0)}).ground("O2")
+        ...       .link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+        ...       .slider("block", "ground", "B", 0.0, name="guide").drive("crank"))
+        >>> m = lk.solve(np.radians(90.0), velocity=1.0)
+        >>> f = lk.forces(m, external_forces=[("block", "B", -50.0)])
+        >>> round(float(f.driver["crank"]), 9), round(float(m.length_rate["guide"]), 9)
+        (-100.0, -2.0)
         """
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
@@ -1059,6 +1079,16 @@ class LinkageMotion:
         Why a sample is not ok ('' where it is).
     loop_motion : machdyn.loops.Motion
         The underlying vector-loop solution (every loop variable).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0), "B": (7.625, 35.859375**0.5)})
+    ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+    ...       .link("rocker", "O4", "B").drive("crank"))
+    >>> m = lk.solve([0.0, 0.1], velocity=1.0)
+    >>> sorted(m.theta), m.points["B"].shape
+    (['coupler', 'crank', 'rocker'], (2,))
     """
 
     inputs: Mapping[str, np.ndarray]
@@ -1293,6 +1323,18 @@ class LinkageForces:
     ok, reason : ndarray
         Per-sample flags (kinematic failures and singular force systems).
     motion : LinkageMotion
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0), "B": (7.625, 35.859375**0.5)})
+    ...       .ground("O2", "O4").link("crank", "O2", "A", mass=1.0, inertia=0.1, cg=2.0)
+    ...       .link("coupler", "A", "B").link("rocker", "O4", "B").drive("crank"))
+    >>> f = lk.forces(lk.solve([0.0, 0.1], velocity=10.0))
+    >>> sorted(f.pins)  # doctest: +NORMALIZE_WHITESPACE
+    [('coupler', 'rocker'), ('crank', 'coupler'), ('ground', 'crank'), ('ground', 'rocker')]
+    >>> bool(np.allclose(f.F("rocker", "coupler"), -f.F("coupler", "rocker")))
+    True
     """
 
     pins: Mapping[tuple[str, str], np.ndarray]
