@@ -900,3 +900,12 @@ def test_power_balance_trebuchet_with_masses():
     vp = m.point_velocity["P"]
     power = f.driver["r2"] * 250.0 + 2000.0 * vp.real - 500.0 * vp.imag
     assert np.abs(power - dke - dpe).max() <= 1e-9 * np.abs(dke).max()
+
+
+def test_forces_plot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    lk = fourbar_drawing(**FB_MASS)
+    ax = lk.forces(lk.solve(TURN[::10], velocity=1.0)).plot()
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["driver 2 (torque)"]

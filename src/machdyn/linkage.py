@@ -119,7 +119,6 @@ class _Compiled:
     tree: tuple[tuple[str, _Edge, bool], ...]  # (child link, edge, child is edge.b) in BFS order
     # joint -> (length variable, angle variable or None, constant angle when None)
     cross_vars: dict[str, tuple[str, str | None, float]]
-    loops: tuple[str, ...]
 
 
 class Linkage:
@@ -943,7 +942,6 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         cross_vec[i] = name
         return name
 
-    loop_texts = []
     for walk in cycles:
         terms: list[tuple[str, int]] = []
         for k, (j, f, t) in enumerate(walk):
@@ -962,7 +960,6 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
             continue
         text = text[2:] if text.startswith("+ ") else "-" + text[1:]
         system.loop(text)
-        loop_texts.append(text)
     # crossing vectors of tree edges that are in no loop cannot happen (bridges refused)
     for e in edges:
         if e.kind == "act" and e.name not in cross_vars:
@@ -1010,7 +1007,6 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         rot_offset=rot_offset,
         tree=tuple(tree),
         cross_vars=cross_vars,
-        loops=tuple(loop_texts),
     )
 
 
@@ -1358,6 +1354,27 @@ class LinkageForces:
 
     def __len__(self) -> int:
         return int(self.ok.size)
+
+    def plot(self, ax: Any = None) -> Any:
+        """Plot the driver efforts against the first driver (degrees if an angle).
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        driver, x = next(iter(self.motion.inputs.items()))
+        is_angle = driver in self.motion.theta
+        xs = np.degrees(np.ravel(x)) if is_angle else np.ravel(x)
+        for name, effort in self.driver.items():
+            kind = "torque" if name in self.motion.theta else "force"
+            ax.plot(xs, np.ravel(effort), label=f"driver {name} ({kind})")
+        ax.set_xlabel(f"{driver} [deg]" if is_angle else driver)
+        ax.legend()
+        return ax
 
     def to_pandas(self) -> Any:
         """One row per sample: ``F_<a>_<p>_x/_y``, slider forces, drivers, shaking, flags."""
