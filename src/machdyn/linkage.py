@@ -1616,6 +1616,16 @@ def _forces(
     # assemble and solve in chunks, block by block (Assur groups, found from the pattern)
     bad = ~np.ravel(motion.ok)
 
+    # static scaling (moment rows by 1/L, couple columns by L, L a typical link
+    # size) makes every block O(1) for the LU and its singularity test
+    sizes = [
+        abs(lk._points[q] - lk._points[ln.points[0]])
+        for ln in lk._links.values()
+        for q in ln.points[1:]
+    ]
+    positive_sizes = [d for d in sizes if d > 0]
+    length = float(np.mean(positive_sizes)) if positive_sizes else 1.0
+
     def solve_system() -> tuple[np.ndarray, np.ndarray]:
         x = np.full((n_s, n_eq), np.nan)
         singular = np.zeros(n_s, bool)
@@ -1623,6 +1633,10 @@ def _forces(
         pattern = np.zeros((n_eq, n_eq), bool)
         for r, k, _ in entries:
             pattern[r, k] = True
+        row_scale = np.tile([1.0, 1.0, 1.0 / length], len(moving))
+        col_scale = np.array(
+            [length if kind == "couple" or name in lk._links else 1.0 for kind, name in labels]
+        )
         blocks = []
         for rows, cols in _block_triangular(pattern, labels, moving):
             ri = {r: i for i, r in enumerate(rows)}
@@ -1645,7 +1659,7 @@ def _forces(
                 if skip.any():
                     A[:, :, skip] = np.eye(nb)[:, :, None]
                     rhs[:, skip] = 0.0
-                fac = lu_factor(A)
+                fac = lu_factor(A, row_scale[rows], col_scale[cols])
                 singular[sl] |= ~(fac.rcond > _SINGULAR_RCOND)
                 x[sl, cols] = lu_solve(fac, rhs).T
         x[bad | singular] = np.nan
