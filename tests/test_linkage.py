@@ -909,3 +909,27 @@ def test_forces_plot():
     lk = fourbar_drawing(**FB_MASS)
     ax = lk.forces(lk.solve(TURN[::10], velocity=1.0)).plot()
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["driver 2 (torque)"]
+
+
+def test_pin_joining_three_links():
+    """The mobility docs' example: a dyad 5-6 hung from the crank pin A, which joins
+    links 2, 3 and 5 (counted as two joints). Kinematics by invariants and FD;
+    forces with masses by the power balance."""
+    O2, O4, O6 = 0j, 8.0 + 0j, -3.0 + 5.0j
+    A = 2.0 * np.exp(1j * np.radians(50))
+    B = circle_meet(A, 7.0, O4, 6.0)
+    D = circle_meet(A, 5.0, O6, 4.0)
+    lk = Linkage({"O2": O2, "O4": O4, "O6": O6, "A": A, "B": B, "D": D})
+    lk.ground("O2", "O4", "O6").link("2", "O2", "A", mass=1.0, inertia=0.2, cg=1.0)
+    lk.link("3", "A", "B", mass=2.0, inertia=8.0, cg=3.5).link("4", "O4", "B")
+    lk.link("5", "A", "D", mass=1.5, inertia=3.0, cg=2.5 + 0.3j)
+    lk.link("6", "O6", "D", mass=1.0, inertia=1.5, cg=2.0).drive("2")
+    assert lk.mobility() == 1
+    theta = np.radians(np.arange(0.0, 360.0, 0.1))
+    m = lk.solve(theta, velocity=3.0)
+    assert m.ok.all() and rigid_errors(lk, m) < 1e-11
+    finite_difference_check(lk, theta, 3.0, 2e-5)
+    f = lk.forces(m, gravity=9.81)
+    assert set(f.pins) >= {("2", "3"), ("2", "5")}  # the triple pin as two pin forces
+    dke, dpe = _energy_rates(lk, m, 9.81)
+    assert np.abs(f.driver["2"] * 3.0 - dke - dpe).max() <= 1e-9 * np.abs(dke).max()
