@@ -34,8 +34,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import choice, finite_scalar, integer, magnitude, nonnegative, positive
+from .._validate import as_array, choice, finite_scalar, integer, magnitude, nonnegative, positive
 from ..errors import InputError
+from ._checks import check_shapes, pressure_angle_array
 
 __all__ = [
     "SYSTEMS",
@@ -140,8 +141,14 @@ def base_pitch(pitch_radius: ArrayLike, teeth: ArrayLike, pressure_angle: ArrayL
     >>> round(float(base_pitch(1.5, 24, np.radians(20.0))), 4)
     0.369
     """
-    r = np.asarray(pitch_radius, dtype=np.float64)
-    return 2.0 * np.pi * r * np.cos(pressure_angle) / np.asarray(teeth, dtype=np.float64)
+    r, n = as_array("pitch_radius", pitch_radius), as_array("teeth", teeth)
+    if np.any(r <= 0) or not np.all(np.isfinite(r)):
+        raise InputError("pitch_radius", f"must be a positive, finite length, got {pitch_radius!r}")
+    if np.any(n < MIN_TEETH) or not np.all(np.isfinite(n)):
+        raise InputError("teeth", f"must be at least {MIN_TEETH}, got {teeth!r}")
+    phi = pressure_angle_array(pressure_angle)
+    check_shapes(pitch_radius=r, teeth=n, pressure_angle=phi)
+    return 2.0 * np.pi * r * np.cos(phi) / n
 
 
 def tooth_thickness_at(
