@@ -280,10 +280,11 @@ class Gear:
             s(self, "diametral_pitch", pd)
         phi = finite_scalar("pressure_angle", magnitude(pressure_angle, "radian"))
         if not 0.0 < phi < math.radians(45.0):
+            hint = f"; did you pass degrees? use math.radians({phi:g})" if phi >= 1.0 else ""
             raise InputError(
                 "pressure_angle",
-                f"must be between 0 and 45 degrees (in radians), got {math.degrees(phi):.4g}°;"
-                " did you pass degrees? use math.radians(20)",
+                f"must be in radians, between 0 and π/4 (45°); got {phi:g} rad"
+                f" ({math.degrees(phi):.4g}°){hint}",
             )
         s(self, "pressure_angle", phi)
         s(self, "system", choice("system", system, SYSTEMS))
@@ -307,6 +308,11 @@ class Gear:
             raise InputError(
                 "teeth", f"{self.teeth} teeth leave no room for the root circle; use more teeth"
             )
+        if self.thickness_reduction >= self.thickness_standard:
+            raise InputError(
+                "thickness_reduction",
+                f"must be smaller than the tooth thickness {self.thickness_standard:.4g}",
+            )
         if self.internal:
             if self.addendum_radius <= self.base_radius:
                 raise InputError(
@@ -318,11 +324,9 @@ class Gear:
             raise InputError(
                 "teeth",
                 f"{self.teeth} teeth give pointed teeth (tip thickness"
-                f" {self.tip_thickness:.4g}); use more teeth, less profile shift or a"
-                " shorter addendum",
+                f" {self.tip_thickness:.4g}); use more teeth, less profile shift, less thinning"
+                " or a shorter addendum",
             )
-        if self.thickness_reduction >= self.thickness_standard:
-            raise InputError("thickness_reduction", "must be smaller than the tooth thickness")
 
     # -- sizes -------------------------------------------------------------
     @property

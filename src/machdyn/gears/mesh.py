@@ -373,7 +373,9 @@ class GearPair:
         else:
             c_op = float(magnitude(center_distance))
             if not (math.isfinite(c_op) and c_op > 0):
-                raise InputError("center_distance", f"must be a positive length, got {c_op}")
+                raise InputError(
+                    "center_distance", f"must be a positive, finite length, got {c_op}"
+                )
         object.__setattr__(self, "center_distance", c_op)
         self._check_center_distance()
 
