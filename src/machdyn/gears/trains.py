@@ -213,6 +213,33 @@ class RevertedTrain:
         """``N2 + N3 = N4 + N5``, proportional to the centre distance."""
         return self.teeth[0] + self.teeth[1]
 
+    def to_pandas(self) -> Any:
+        """Return the train as a pandas Series (teeth, ratio, target, error, tooth sum).
+
+        Examples
+        --------
+        >>> s = RevertedTrain((18, 84, 21, 81), 18.0, 18.0, 0.0).to_pandas()
+        >>> int(s["N3"]), float(s["ratio"]), int(s["tooth_sum"])
+        (84, 18.0, 102)
+        """
+        import pandas as pd
+
+        n2, n3, n4, n5 = self.teeth
+        return pd.Series(
+            {
+                "N2": n2,
+                "N3": n3,
+                "N4": n4,
+                "N5": n5,
+                "tooth_sum": self.tooth_sum,
+                "ratio": self.ratio,
+                "train_value": self.train_value,
+                "target": self.target,
+                "error": self.error,
+            },
+            dtype=object,
+        )
+
     def center_distance(self, module: float) -> float:
         """Return the common centre distance ``m (N2 + N3) / 2`` for a module.
 
