@@ -637,3 +637,12 @@ def test_shape_mismatch_is_an_input_error(call, field):
         call()
     if field is not None:
         assert err.value.field == field
+
+
+def test_tooth_thickness_at_guards_its_arguments():
+    with pytest.raises(InputError, match="radius"):
+        gears.tooth_thickness_at(np.nan, 10.0, 1.5, 20 * DEG)
+    with pytest.raises(InputError, match="degrees"):
+        gears.tooth_thickness_at(10.0, 10.0, 1.5, 20)
+    with pytest.raises(InputError, match="pitch_radius"):
+        gears.tooth_thickness_at(10.0, -10.0, 1.5, 20 * DEG)

@@ -187,7 +187,15 @@ def tooth_thickness_at(
     >>> float(tooth_thickness_at(10.0, 10.0, 1.5, np.radians(20.0)))
     1.5
     """
-    radius = np.asarray(radius, dtype=np.float64)
+    radius = as_array("radius", radius)
+    if not np.all(np.isfinite(radius)):
+        raise InputError("radius", f"must be finite, got {radius!r}")
+    pitch_radius = positive("pitch_radius", pitch_radius)
+    thickness = finite_scalar("thickness", thickness)
+    phi = pressure_angle_array(pressure_angle)
+    if phi.ndim:
+        raise InputError("pressure_angle", "must be one angle (radians), not an array")
+    pressure_angle = float(phi)
     r_b = pitch_radius * math.cos(pressure_angle)
     if np.any(radius < r_b * (1 - 1e-12)):
         raise InputError("radius", f"the involute exists only outside the base circle r_b={r_b}")
