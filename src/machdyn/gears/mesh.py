@@ -586,14 +586,14 @@ class GearPair:
     def _check_center_distance(self) -> None:
         c = self.center_distance
         # An external pair moves out of mesh as C' grows; a pinion inside a ring as C' shrinks.
-        closer, farther = ("large", "small") if self.internal else ("small", "large")
+        too_deep, too_shallow = ("large", "small") if self.internal else ("small", "large")
         bound = "at most" if self.internal else "at least"
         clear = self.radial_clearances
         if min(clear) < -1e-12 * self.pinion.module:
             limit = c + min(clear) if self.internal else c - min(clear)
             raise InputError(
                 "center_distance",
-                f"{c:g} is too {closer}: a tooth tip hits the mating root (the clearance allows"
+                f"{c:g} is too {too_deep}: a tooth tip hits the mating root (the clearance allows"
                 f" a centre distance of {bound} {limit:g}; standard is"
                 f" {self.standard_center_distance:g})",
             )
@@ -604,14 +604,14 @@ class GearPair:
             need = "above" if self.internal else "below"
             raise InputError(
                 "center_distance",
-                f"{c:g} is too {farther}: the teeth lose contact{z_text}; contact needs a"
+                f"{c:g} is too {too_shallow}: the teeth lose contact{z_text}; contact needs a"
                 f" centre distance {need} {limit:.6g} (standard is"
                 f" {self.standard_center_distance:g})",
             )
         if self.backlash < -1e-9 * self.pinion.module:
             raise InputError(
                 "center_distance",
-                f"{c:g} is too {closer}: the teeth jam (backlash {self.backlash:.4g}); the"
+                f"{c:g} is too {too_deep}: the teeth jam (backlash {self.backlash:.4g}); the"
                 f" tight-mesh centre distance of these teeth is"
                 f" {self._zero_backlash_distance():g}",
             )
