@@ -242,6 +242,10 @@ def test_inverse_involute_round_trip(rng):
 def test_center_distance_change_keeps_velocity_ratio(n_p, n_g, stretch):
     pair = GearPair(Gear(n_p, module=2.0), Gear(n_g, module=2.0))
     c = pair.standard_center_distance
+    if c * (1 + stretch) >= pair.contact_limit:  # pulled out of contact: refused
+        with pytest.raises(InputError, match="lose contact"):
+            pair.with_center_distance(c * (1 + stretch))
+        return
     wide = pair.with_center_distance(c * (1 + stretch))
     assert wide.velocity_ratio == pytest.approx(-n_p / n_g, rel=1e-12)
     assert math.cos(wide.operating_pressure_angle) * wide.center_distance == pytest.approx(
@@ -468,3 +472,177 @@ def test_errors_are_machdyn_errors():
         contact_ratio(0.5, 0.0)
     with pytest.raises(MachdynError):
         min_pinion_teeth(20.5, 20 * DEG)
+
+
+# --------------------------------------------------------------------------
+# Review finding 2: centre distances at which the teeth no longer reach
+# --------------------------------------------------------------------------
+def _tip_circles_meet_on_line_of_action(pair, c_op):
+    """Distance from the line of action to the crossing of the two tip circles.
+
+    Plane coordinates, independent of Z: the pinion at the origin, the gear at
+    (C', 0); the tip circles cross at x = (C'^2 + r_ap^2 - r_ag^2) / (2 C'); the
+    line of action is n.x = r_bp with n_x = (r_bp +- r_bg) / C'. Zero at the
+    centre distance where contact is lost (both ends of the path of contact meet).
+    """
+    p, g = pair.pinion, pair.gear
+    rap, rag = p.addendum_radius, g.addendum_radius
+    x = (c_op**2 + rap**2 - rag**2) / (2 * c_op)
+    y = math.sqrt(rap**2 - x**2)
+    sign = -1.0 if pair.internal else 1.0
+    nx = (p.base_radius + sign * g.base_radius) / c_op
+    ny = math.sqrt(1 - nx**2)
+    return min(abs(nx * x + ny * yy - p.base_radius) for yy in (y, -y))
+
+
+@pytest.mark.parametrize(
+    ("pinion", "gear"),
+    [
+        (Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8)),
+        (Gear(20, module=2), Gear(40, module=2)),
+        (Gear(13, module=1, pressure_angle=25 * DEG), Gear(90, module=1, pressure_angle=25 * DEG)),
+        (Gear(20, module=2), Gear(60, module=2, internal=True)),
+    ],
+)
+def test_contact_limit_is_where_the_tip_circles_meet_on_the_line_of_action(pinion, gear):
+    pair = GearPair(pinion, gear)
+    limit = pair.contact_limit
+    assert _tip_circles_meet_on_line_of_action(pair, limit) == pytest.approx(0.0, abs=1e-9)
+    # Just inside the limit there is a little contact left, never a negative Z.
+    inside = limit * (0.999 if not pair.internal else 1.001)
+    if pair.internal:
+        assert inside < pair.center_distance
+    close = pair.with_center_distance(inside)
+    assert 0 < close.length_of_action < 0.1 * pair.base_pitch
+    assert close.contact_ratio_rating == "no contact"
+    # At and beyond it the pair is refused.
+    beyond = limit * (1.01 if not pair.internal else 0.99)
+    for c_op in (limit, beyond):
+        with pytest.raises(InputError, match="lose contact") as err:
+            pair.with_center_distance(c_op)
+        assert err.value.field == "center_distance"
+        assert f"{limit:.6g}" in err.value.message
+
+
+def test_review_reproducer_gear_pair_pulled_apart():
+    # 20/40 teeth, m = 2: tip radii 22 and 42; at C' = 70 they are 6 apart on the line of
+    # centres (22 + 42 = 64 < 70), so there can be no contact at all.
+    with pytest.raises(InputError, match="too large: the teeth lose contact"):
+        GearPair(Gear(20, module=2), Gear(40, module=2), center_distance=70.0)
+    # The notes' exam set at 7.5 in: addendum circles 1.625 + 3.875 = 5.5 do not touch.
+    with pytest.raises(InputError, match="lose contact"):
+        GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8), center_distance=7.5)
+
+
+def test_length_of_action_refuses_a_centre_distance_without_contact():
+    # The exam set, by hand: z_p = sqrt(1.625^2 - 1.40954^2) = 0.80859,
+    # z_g = sqrt(3.875^2 - 3.52385^2) = 1.61186, r_bp + r_bg = 4.93339, so contact ends at
+    # C' = sqrt(2.42046^2 + 4.93339^2) = 5.49518 in.
+    args = (3.75, 0.125, 1.5, 0.125, 20 * DEG)
+    assert length_of_action(*args, center_distance=5.49) > 0
+    with pytest.raises(InputError, match="lose contact") as err:
+        length_of_action(*args, center_distance=6.0)
+    assert err.value.field == "center_distance" and "5.4951" in err.value.message
+    with pytest.raises(InputError, match="lose contact"):
+        length_of_action(*args, center_distance=[5.3, 6.0])
+    for bad in (np.nan, np.inf, [5.3, np.nan]):
+        with pytest.raises(InputError, match="center_distance"):
+            length_of_action(*args, center_distance=bad)
+    with pytest.raises(InputError, match="a_pinion"):  # no addendum, no contact
+        length_of_action(3.75, 0.0, 1.5, 0.0, 20 * DEG)
+
+
+def test_contact_ratio_refuses_negative_or_nan_length_of_action():
+    for bad in (-1.0, np.nan, [0.5, -0.1], np.inf):
+        with pytest.raises(InputError, match="length_of_action"):
+            contact_ratio(bad, 1.0)
+    assert contact_ratio(0.0, 1.0) == 0.0
+    assert gears.contact_ratio_rating(0.0) == "no contact"
+    for bad in (np.nan, -0.5):
+        with pytest.raises(InputError, match="contact_ratio"):
+            gears.contact_ratio_rating(bad)
+
+
+def test_operating_pressure_angle_refuses_nan_and_degrees():
+    with pytest.raises(InputError, match="center_distance"):
+        gears.operating_pressure_angle(10.0, np.nan, 20 * DEG)
+    with pytest.raises(InputError, match="degrees"):
+        gears.operating_pressure_angle(10.0, 10.2, 20)
+
+
+def test_internal_pair_limits_are_worded_for_an_internal_pair():
+    # A pinion inside a ring is pushed deeper into mesh by a LARGER centre distance.
+    pair = GearPair(Gear(20, module=2), Gear(60, module=2, internal=True))
+    with pytest.raises(InputError, match="too large: the teeth jam"):
+        pair.with_center_distance(40.2)
+    with pytest.raises(InputError, match=r"too large: a tooth tip.*at most 40\.5"):
+        pair.with_center_distance(41.0)  # clearance 0.25 m = 0.5
+    with pytest.raises(InputError, match="too small: the teeth lose contact"):
+        pair.with_center_distance(18.0)
+
+
+# --------------------------------------------------------------------------
+# Review finding 10: unit guard of the backlash estimate (and NaN in willis)
+# --------------------------------------------------------------------------
+def test_backlash_from_center_distance_rejects_degrees_and_nan():
+    with pytest.raises(InputError, match="degrees"):
+        gears.backlash_from_center_distance(0.1, 20)
+    with pytest.raises(InputError, match="center_distance_increase"):
+        gears.backlash_from_center_distance(np.nan, 20 * DEG)
+    with pytest.raises(InputError, match="pressure_angle"):
+        gears.backlash_from_center_distance(0.1, np.nan)
+    pint = pytest.importorskip("pint")
+    ureg = pint.UnitRegistry()
+    assert gears.backlash_from_center_distance(0.1, 20 * ureg.degree) == pytest.approx(
+        0.2 * math.tan(20 * DEG)
+    )
+
+
+def test_willis_rejects_nan():
+    for kwargs in ({"first": np.nan, "arm": 1.0}, {"first": 1.0, "arm": np.nan}):
+        with pytest.raises(InputError):
+            gears.willis(-0.5, **kwargs)
+    with pytest.raises(InputError, match="train_value"):
+        gears.willis(np.nan, first=1.0, arm=0.0)
+    with pytest.raises(InputError, match="last"):
+        gears.willis(-0.5, last=np.inf, arm=0.0)
+
+
+# --------------------------------------------------------------------------
+# Review finding 9: shape mismatches are InputErrors naming the argument
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("call", "field"),
+    [
+        (lambda: length_of_action([3.75, 4], 0.125, [1.5, 2, 3], 0.125, 20 * DEG), "r_pinion"),
+        (
+            lambda: length_of_action([3.75] * 2, 0.125, 1.5, 0.125, 0.35, [5.3] * 3),
+            "center_distance",
+        ),
+        (lambda: contact_ratio([0.5, 0.6], [1.0, 1.0, 1.0]), "base_pitch"),
+        (lambda: gears.backlash_from_center_distance([0.1, 0.2], [0.3] * 3), "pressure_angle"),
+        (lambda: gears.operating_pressure_angle([10, 10], [10.1] * 3, 0.35), "center_distance"),
+        (lambda: gears.base_pitch([1, 2], [20, 30, 40], 0.35), "teeth"),
+        (lambda: onset_gear_teeth([17, 18], [0.3] * 3), "pressure_angle"),
+        (lambda: min_pinion_teeth([40, 50], [0.3] * 3), "pressure_angle"),
+        (lambda: min_profile_shift([12, 13], 0.35, [1.0] * 3), "k"),
+        (lambda: undercut([12, 13], 0.35, [0.0] * 3), "profile_shift"),
+        (lambda: gears.stage_ratio([20, 30], [40, 50, 60]), "driven"),
+        (lambda: gears.sprocket_pitch_diameter([0.5, 0.75], [17, 18, 19]), "teeth"),
+        (lambda: gears.willis([-0.5, -0.4], first=[1, 2, 3], arm=0.0), "first"),
+    ],
+)
+def test_shape_mismatch_is_an_input_error(call, field):
+    with pytest.raises(InputError, match="does not broadcast") as err:
+        call()
+    if field is not None:
+        assert err.value.field == field
+
+
+def test_tooth_thickness_at_guards_its_arguments():
+    with pytest.raises(InputError, match="radius"):
+        gears.tooth_thickness_at(np.nan, 10.0, 1.5, 20 * DEG)
+    with pytest.raises(InputError, match="degrees"):
+        gears.tooth_thickness_at(10.0, 10.0, 1.5, 20)
+    with pytest.raises(InputError, match="pitch_radius"):
+        gears.tooth_thickness_at(10.0, -10.0, 1.5, 20 * DEG)

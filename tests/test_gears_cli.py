@@ -52,7 +52,7 @@ def test_pair_operating_center_distance():
 def test_pair_bad_input_names_the_problem():
     res = _run("pair", "--np", "20", "--ng", "40", "-m", "2", "-C", "59")
     assert isinstance(res.exception, InputError)
-    assert "center_distance" in str(res.exception)
+    assert str(res.exception).startswith("--center-distance: ")
     res = _run("pair", "--np", "20", "--ng", "40")
     assert isinstance(res.exception, InputError) and "--module" in str(res.exception)
     res = _run("pair", "--np", "20.5", "--ng", "40", "-m", "2")
@@ -109,3 +109,96 @@ def test_plot_pair(tmp_path):
     res = _run("plot", "--np", "18", "--ng", "40", "-m", "1", "-o", str(out))
     assert res.exit_code == 0, res.output
     assert out.read_bytes()[:4] == b"\x89PNG"
+
+
+# --------------------------------------------------------------------------
+# Review findings 2 and 13: one line, exit 1, worded for CLI users
+# --------------------------------------------------------------------------
+def _main(capsys, *args):
+    from machdyn.cli import main
+
+    status = main(["gear", *args])
+    out = capsys.readouterr()
+    return status, out.out, out.err
+
+
+def test_pair_pulled_out_of_contact_exits_with_one_line(capsys):
+    # The review's reproducer: the notes' exam set (24/60 teeth, P_d = 8) at C' = 7.5 in,
+    # where the addendum circles (1.625 + 3.875 = 5.5) do not even touch. By hand the
+    # last centre distance with contact is sqrt(2.42046^2 + 4.93339^2) = 5.49518 in.
+    status, out, err = _main(capsys, "pair", "--np", "24", "--ng", "60", "--pd", "8", "-C", "7.5")
+    assert status == 1 and out == ""
+    assert err.count("\n") == 1
+    assert err.startswith("machdyn: error: --center-distance: 7.5 is too large")
+    assert "lose contact" in err and "5.4951" in err
+    for bad in ("nan", "inf"):
+        res = _run("pair", "--np", "24", "--ng", "60", "--pd", "8", "-C", bad)
+        assert isinstance(res.exception, InputError)
+        assert res.exception.field == "--center-distance"
+
+
+def test_pair_just_inside_the_contact_limit_is_reported_as_no_contact():
+    res = _run("pair", "--np", "24", "--ng", "60", "--pd", "8", "-C", "5.49", "--json")
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.output)
+    assert 0 < data["contact_ratio"] < 1 and data["contact_ratio_rating"] == "no contact"
+
+
+@pytest.mark.parametrize("phi", ["90", "45", "0", "-20", "nan"])
+def test_phi_out_of_range_is_explained_in_degrees(phi):
+    res = _run("pair", "--np", "20", "--ng", "40", "-m", "2", "--phi", phi)
+    assert isinstance(res.exception, InputError)
+    assert res.exception.field == "--phi"
+    assert "degrees" in res.exception.message and "radians(" not in res.exception.message
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("pair", "--np", "20", "--ng", "40", "-m", "2"),
+        ("min-teeth",),
+        ("reverted", "18"),
+        ("profile", "-N", "20", "-m", "2", "-o", "unused.svg"),
+    ],
+)
+def test_phi_typed_in_radians_is_refused_with_the_conversion(args):
+    # 0.35 rad = 20.05 deg: accepting it as 0.35 deg gave contact ratio 4.0 rated "good".
+    res = _run(*args, "--phi", "0.35")
+    assert isinstance(res.exception, InputError) and res.exception.field == "--phi"
+    assert "looks like radians (20.05°)" in res.exception.message
+
+
+@pytest.mark.parametrize(
+    ("args", "option"),
+    [
+        (("pair", "--np", "20", "--ng", "40", "-m", "2", "--thin-p", "5"), "--thin-p"),
+        (("pair", "--np", "20", "--ng", "40", "-m", "2", "--thin-p", "2.5"), "--np"),
+        (("pair", "--np", "20", "--ng", "40", "-m", "2", "--thin-g", "10"), "--thin-g"),
+        (("pair", "--np", "20", "--ng", "40", "-m", "2", "--xp", "nan"), "--xp"),
+        (("pair", "--np", "20", "--ng", "40", "-m", "2", "--pd", "8"), "--module"),
+        (("pair", "--np", "20", "--ng", "40", "-m", "-2"), "--module"),
+        (("pair", "--np", "20", "--ng", "40", "--pd", "0"), "--pd"),
+        (("pair", "--np", "20", "--ng", "40", "-m", "2", "--system", "deep"), "--system"),
+        (("pair", "--np", "20", "--ng", "20", "-m", "2", "--internal"), "--ng"),
+        (("pair", "--np", "20", "--ng", "60", "-m", "2", "--internal", "-C", "30"),
+         "--center-distance"),
+        (("min-teeth", "--k", "-1"), "--k"),
+        (("min-teeth", "--ng", "0"), "--ng"),
+        (("reverted", "18", "--min-teeth", "2"), "--min-teeth"),
+        (("reverted", "18", "--tolerance", "0"), "--tolerance"),
+        (("reverted", "5000"), "RATIO"),
+        (("profile", "-N", "20", "-m", "2", "--points", "2", "-o", "unused.svg"), "--points"),
+        (("planetary", "--sun", "40", "--planet", "20", "--ring", "81",
+          "--speed", "sun=1", "--speed", "arm=0"), "--ring"),
+        (("planetary", "--sun", "40", "--planet", "20", "--ring", "80",
+          "--speed", "moon=1", "--speed", "arm=0"), "--speed"),
+        (("train", "20:0"), "stage 1"),
+        (("train", "20:40:belt"), "stage 1"),
+        (("plot", "--np", "20", "--ng", "40", "-m", "2", "--angle", "nan", "-o", "x.png"),
+         "--angle"),
+    ],
+)  # fmt: skip
+def test_errors_name_the_command_line_option(args, option):
+    res = _run(*args)
+    assert isinstance(res.exception, InputError), res.output
+    assert res.exception.field == option

@@ -104,6 +104,11 @@ def test_reverted_18_to_1_exact_and_coaxial():
     assert t.train_value == pytest.approx(1 / 18)
     # Free of interference in both meshes (20 deg full depth).
     assert max_gear_teeth(n2, 20 * DEG) >= n3 and max_gear_teeth(n4, 20 * DEG) >= n5
+    # Review finding 12: the result has to_pandas like the other results.
+    row = t.to_pandas()
+    assert [row[k] for k in ("N2", "N3", "N4", "N5")] == [n2, n3, n4, n5]
+    assert row["ratio"] == pytest.approx(n3 * n5 / (n2 * n4))
+    assert row["tooth_sum"] == n2 + n3 and row["error"] == t.error
 
 
 def test_impossible_train_targets_rejected():
@@ -208,3 +213,17 @@ def test_planetary_bad_input():
         willis(-0.5, first=1)
     with pytest.raises(InputError, match="turn together"):
         PlanetaryTrain([("a", 20), ("b", 30, "external"), ("c", 20, "external")]).table(a=1, c=2)
+
+
+def test_trains_reject_nan_with_input_error():
+    # Review finding 10: NaN used to pass through willis (and the stage ratios).
+    from machdyn import gears
+
+    with pytest.raises(InputError, match="train_value"):
+        willis(np.nan, first=100.0, arm=-200.0)
+    with pytest.raises(InputError, match="arm"):
+        willis(-0.5, first=100.0, arm=np.nan)
+    with pytest.raises(InputError, match="driven"):
+        gears.stage_ratio(20, np.nan)
+    with pytest.raises(InputError, match="pitch"):
+        gears.sprocket_pitch_diameter(np.nan, 17)

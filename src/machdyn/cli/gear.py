@@ -1,13 +1,16 @@
 """``machdyn gear ...``: spur-gear pairs, minimum teeth, profiles and trains.
 
 Only parsing and presenting live here; every number comes from
-:mod:`machdyn.gears`. Angles are read and printed in degrees (labelled).
+:mod:`machdyn.gears`. Angles are read and printed in degrees (labelled), and
+an error names the command-line option, not the library parameter behind it.
 Register with ``app.add_typer(gear_app, name="gear")``.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -34,8 +37,46 @@ PitchOpt = Annotated[
     float | None,
     typer.Option("--pd", help="Diametral pitch P_d = N/d in teeth per inch (lengths in in)."),
 ]
-PhiOpt = Annotated[float, typer.Option("--phi", help="Pressure angle in degrees.")]
+PhiOpt = Annotated[
+    float, typer.Option("--phi", help="Pressure angle in degrees (standard: 14.5, 20, 25).")
+]
 SystemOpt = Annotated[str, typer.Option("--system", help="Tooth system: full_depth or stub.")]
+
+#: Pressure angles the CLI accepts, in degrees: from below the oldest standard
+#: (14.5°) to the library's upper limit. A value under 10 is most likely radians.
+PHI_RANGE_DEG = (10.0, 45.0)
+
+
+@contextmanager
+def _options(default: str | None = None, **flags: str) -> Iterator[None]:
+    """Re-raise the library's :class:`InputError` with the CLI option as its field.
+
+    ``flags`` maps library parameter names to option names; ``default``, if
+    given, replaces any other field.
+    """
+    try:
+        yield
+    except InputError as exc:
+        field = flags.get(exc.field, default)
+        if field is None:
+            raise
+        raise InputError(field, exc.message) from None
+
+
+def _phi_rad(phi_deg: float, option: str = "--phi") -> float:
+    """Check a pressure angle typed in degrees and return it in radians."""
+    lo, hi = PHI_RANGE_DEG
+    if not (math.isfinite(phi_deg) and lo <= phi_deg < hi):
+        hint = ""
+        if 0.0 < phi_deg < math.radians(hi):
+            as_deg = math.degrees(phi_deg)
+            hint = f", which looks like radians ({as_deg:.4g}°): type {option} {as_deg:.4g}"
+        raise InputError(
+            option,
+            f"the pressure angle in degrees must be at least {lo:g} and below {hi:g} (standard:"
+            f" 14.5, 20, 25); got {phi_deg:g}{hint}",
+        )
+    return math.radians(phi_deg)
 
 
 def _gear(
@@ -47,21 +88,37 @@ def _gear(
     shift: float = 0.0,
     internal: bool = False,
     thinning: float = 0.0,
+    *,
+    teeth_option: str = "--teeth",
+    shift_option: str = "--shift",
+    thinning_option: str = "--thin-p",
 ) -> Any:
     from ..gears import Gear
 
     if module is None and pd is None:
         raise InputError("--module", "give the size as --module M or --pd P_d")
-    return Gear(
-        teeth,
-        module=module,
-        diametral_pitch=pd,
-        pressure_angle=math.radians(phi_deg),
-        system=system,
-        profile_shift=shift,
-        internal=internal,
-        thickness_reduction=thinning,
-    )
+    if module is not None and pd is not None:
+        raise InputError("--module", "give the size as --module M or --pd P_d, not both")
+    phi = _phi_rad(phi_deg)
+    flags = {
+        "teeth": teeth_option,
+        "module": "--module",
+        "diametral_pitch": "--pd",
+        "system": "--system",
+        "profile_shift": shift_option,
+        "thickness_reduction": thinning_option,
+    }
+    with _options(**flags):
+        return Gear(
+            teeth,
+            module=module,
+            diametral_pitch=pd,
+            pressure_angle=phi,
+            system=system,
+            profile_shift=shift,
+            internal=internal,
+            thickness_reduction=thinning,
+        )
 
 
 def _pair(
@@ -80,9 +137,17 @@ def _pair(
 ) -> Any:
     from ..gears import GearPair
 
-    pinion = _gear(np_, module, pd, phi, system, xp, False, thin_p)
-    gear = _gear(ng, module, pd, phi, system, xg, internal, thin_g)
-    return GearPair(pinion, gear, center_distance)
+    pinion = _gear(
+        np_, module, pd, phi, system, xp, False, thin_p,
+        teeth_option="--np", shift_option="--xp", thinning_option="--thin-p",
+    )  # fmt: skip
+    gear = _gear(
+        ng, module, pd, phi, system, xg, internal, thin_g,
+        teeth_option="--ng", shift_option="--xg", thinning_option="--thin-g",
+    )  # fmt: skip
+    flags = {"center_distance": "--center-distance", "profile_shift": "--xp/--xg"}
+    with _options(gear="--ng", pinion="--np", **flags):
+        return GearPair(pinion, gear, center_distance)
 
 
 PinionOpt = Annotated[int, typer.Option("--np", help="Pinion teeth N_p.")]
@@ -182,15 +247,16 @@ def min_teeth_cmd(
     angles = phi or [14.5, 20.0, 25.0]
     rows = []
     for a in angles:
-        rad = math.radians(a)
-        row = {
-            "pressure_angle_deg": a,
-            "k": k,
-            "rack": min_teeth_rack(rad, k),
-            "equal_gears": min_teeth_equal_gears(rad, k),
-        }
-        if gear_teeth is not None:
-            row[f"gear_{gear_teeth}"] = min_pinion_teeth(gear_teeth, rad, k)
+        rad = _phi_rad(a)
+        with _options(k="--k", gear_teeth="--ng"):
+            row = {
+                "pressure_angle_deg": a,
+                "k": k,
+                "rack": min_teeth_rack(rad, k),
+                "equal_gears": min_teeth_equal_gears(rad, k),
+            }
+            if gear_teeth is not None:
+                row[f"gear_{gear_teeth}"] = min_pinion_teeth(gear_teeth, rad, k)
         rows.append(row)
     if json:
         print(dumps(rows))
@@ -214,7 +280,9 @@ def profile_cmd(
     """Write a gear's outline (involute flanks, tip, trochoid fillet) to a file."""
     from ..gears import gear_outline
 
-    out = gear_outline(_gear(teeth, module, pd, phi, system, shift, internal), points)
+    gear = _gear(teeth, module, pd, phi, system, shift, internal)
+    with _options(points="--points", teeth="--teeth"):
+        out = gear_outline(gear, points)
     suffix = output.suffix.lower()
     if suffix == ".svg":
         out.to_svg(output)
@@ -254,6 +322,8 @@ def plot_cmd(
 
     from ..gears import plot_mesh
 
+    if not math.isfinite(angle):
+        raise InputError("--angle", f"must be a finite angle in degrees, got {angle:g}")
     pair = _pair(np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, 0.0, 0.0)
     ax = plot_mesh(pair, math.radians(angle))
     ax.figure.savefig(output, dpi=150)
@@ -273,7 +343,7 @@ def train_cmd(
     json: JsonOpt = False,
 ) -> None:
     """Train value (signed ω_out/ω_in) of a simple or compound train."""
-    from ..gears import train_value
+    from ..gears import stage_ratio, train_value
 
     parsed: list[tuple[Any, ...]] = []
     for i, text in enumerate(stages.split(",")):
@@ -284,6 +354,10 @@ def train_cmd(
             raise InputError(
                 f"stage {i + 1}", f"expected DRIVER:DRIVEN[:KIND], got {text!r}"
             ) from None
+        if len(parts) > 3:
+            raise InputError(f"stage {i + 1}", f"expected DRIVER:DRIVEN[:KIND], got {text!r}")
+        with _options(default=f"stage {i + 1}"):
+            stage_ratio(*nums, *parts[2:3])  # checks the numbers and the kind
         parsed.append((*nums, *parts[2:3]))
     value = train_value(parsed)
     if json:
@@ -304,13 +378,12 @@ def reverted_cmd(
     """Tooth numbers of a two-stage reverted compound train for a target ratio."""
     from ..gears import reverted_compound
 
-    t = reverted_compound(
-        ratio,
-        min_teeth=min_teeth,
-        max_teeth=max_teeth,
-        tolerance=tolerance,
-        pressure_angle=math.radians(phi),
-    )
+    rad = _phi_rad(phi)
+    flags = {"min_teeth": "--min-teeth", "max_teeth": "--max-teeth", "tolerance": "--tolerance"}
+    with _options(ratio="RATIO", **flags):
+        t = reverted_compound(
+            ratio, min_teeth=min_teeth, max_teeth=max_teeth, tolerance=tolerance, pressure_angle=rad
+        )
     result = {"teeth": list(t.teeth), "ratio": t.ratio, "target": t.target, "error": t.error}
     if json:
         print(dumps(result))
@@ -348,8 +421,10 @@ def planetary_cmd(
             known[name.strip()] = float(value)
         except ValueError:
             raise InputError("--speed", f"expected MEMBER=VALUE, got {text!r}") from None
-    train = PlanetaryTrain.simple(sun=sun, planet=planet, ring=ring)
-    table = train.table(**known)
+    with _options(sun="--sun", planet="--planet", ring="--ring"):
+        train = PlanetaryTrain.simple(sun=sun, planet=planet, ring=ring)
+    with _options(default="--speed"):
+        table = train.table(**known)
     arm, first = table["arm"], table["sun"]
     check = float(willis(train.train_value, first=first, arm=arm))
     if not math.isclose(check, table["ring"], rel_tol=1e-9, abs_tol=1e-9):

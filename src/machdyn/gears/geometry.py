@@ -34,8 +34,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import choice, finite_scalar, integer, magnitude, nonnegative, positive
+from .._validate import as_array, choice, finite_scalar, integer, magnitude, nonnegative, positive
 from ..errors import InputError
+from ._checks import check_shapes, pressure_angle_array
 
 __all__ = [
     "SYSTEMS",
@@ -140,8 +141,14 @@ def base_pitch(pitch_radius: ArrayLike, teeth: ArrayLike, pressure_angle: ArrayL
     >>> round(float(base_pitch(1.5, 24, np.radians(20.0))), 4)
     0.369
     """
-    r = np.asarray(pitch_radius, dtype=np.float64)
-    return 2.0 * np.pi * r * np.cos(pressure_angle) / np.asarray(teeth, dtype=np.float64)
+    r, n = as_array("pitch_radius", pitch_radius), as_array("teeth", teeth)
+    if np.any(r <= 0) or not np.all(np.isfinite(r)):
+        raise InputError("pitch_radius", f"must be a positive, finite length, got {pitch_radius!r}")
+    if np.any(n < MIN_TEETH) or not np.all(np.isfinite(n)):
+        raise InputError("teeth", f"must be at least {MIN_TEETH}, got {teeth!r}")
+    phi = pressure_angle_array(pressure_angle)
+    check_shapes(pitch_radius=r, teeth=n, pressure_angle=phi)
+    return 2.0 * np.pi * r * np.cos(phi) / n
 
 
 def tooth_thickness_at(
@@ -180,7 +187,15 @@ def tooth_thickness_at(
     >>> float(tooth_thickness_at(10.0, 10.0, 1.5, np.radians(20.0)))
     1.5
     """
-    radius = np.asarray(radius, dtype=np.float64)
+    radius = as_array("radius", radius)
+    if not np.all(np.isfinite(radius)):
+        raise InputError("radius", f"must be finite, got {radius!r}")
+    pitch_radius = positive("pitch_radius", pitch_radius)
+    thickness = finite_scalar("thickness", thickness)
+    phi = pressure_angle_array(pressure_angle)
+    if phi.ndim:
+        raise InputError("pressure_angle", "must be one angle (radians), not an array")
+    pressure_angle = float(phi)
     r_b = pitch_radius * math.cos(pressure_angle)
     if np.any(radius < r_b * (1 - 1e-12)):
         raise InputError("radius", f"the involute exists only outside the base circle r_b={r_b}")
@@ -273,10 +288,11 @@ class Gear:
             s(self, "diametral_pitch", pd)
         phi = finite_scalar("pressure_angle", magnitude(pressure_angle, "radian"))
         if not 0.0 < phi < math.radians(45.0):
+            hint = f"; did you pass degrees? use math.radians({phi:g})" if phi >= 1.0 else ""
             raise InputError(
                 "pressure_angle",
-                f"must be between 0 and 45 degrees (in radians), got {math.degrees(phi):.4g}°;"
-                " did you pass degrees? use math.radians(20)",
+                f"must be in radians, between 0 and π/4 (45°); got {phi:g} rad"
+                f" ({math.degrees(phi):.4g}°){hint}",
             )
         s(self, "pressure_angle", phi)
         s(self, "system", choice("system", system, SYSTEMS))
@@ -300,6 +316,11 @@ class Gear:
             raise InputError(
                 "teeth", f"{self.teeth} teeth leave no room for the root circle; use more teeth"
             )
+        if self.thickness_reduction >= self.thickness_standard:
+            raise InputError(
+                "thickness_reduction",
+                f"must be smaller than the tooth thickness {self.thickness_standard:.4g}",
+            )
         if self.internal:
             if self.addendum_radius <= self.base_radius:
                 raise InputError(
@@ -311,11 +332,9 @@ class Gear:
             raise InputError(
                 "teeth",
                 f"{self.teeth} teeth give pointed teeth (tip thickness"
-                f" {self.tip_thickness:.4g}); use more teeth, less profile shift or a"
-                " shorter addendum",
+                f" {self.tip_thickness:.4g}); use more teeth, less profile shift, less thinning"
+                " or a shorter addendum",
             )
-        if self.thickness_reduction >= self.thickness_standard:
-            raise InputError("thickness_reduction", "must be smaller than the tooth thickness")
 
     # -- sizes -------------------------------------------------------------
     @property

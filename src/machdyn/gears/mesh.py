@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._validate import as_array, magnitude
 from ..errors import InputError
+from ._checks import check_shapes, finite, pressure_angle_array
 from .geometry import Gear, inverse_involute, involute
 
 __all__ = [
@@ -65,7 +66,9 @@ def operating_pressure_angle(
     Raises
     ------
     InputError
-        If ``C'`` is smaller than the sum of the base radii ``C cos φ``.
+        If ``C'`` is not above ``C cos φ`` (the sum of the base radii of an
+        external pair, their difference for an internal one), if a value is
+        not finite, or if the shapes do not broadcast.
 
     Examples
     --------
@@ -74,13 +77,18 @@ def operating_pressure_angle(
     >>> round(float(np.degrees(operating_pressure_angle(10.0, 10.2, np.radians(20)))), 2)
     22.89
     """
-    c = as_array("standard_center_distance", standard_center_distance)
-    c_op = as_array("center_distance", center_distance)
-    cos_op = c / c_op * np.cos(pressure_angle)
+    c = finite("standard_center_distance", standard_center_distance, "must be a finite length")
+    c_op = finite("center_distance", center_distance, "must be a finite length")
+    phi = pressure_angle_array(pressure_angle)
+    check_shapes(standard_center_distance=c, center_distance=c_op, pressure_angle=phi)
+    if np.any(c <= 0):
+        raise InputError("standard_center_distance", "must be a positive length")
+    cos_op = c * np.cos(phi) / np.where(c_op > 0, c_op, np.inf)
     if np.any(c_op <= 0) or np.any(cos_op > 1.0):
         raise InputError(
             "center_distance",
-            "must exceed the sum of the base radii C cos φ, where the teeth would lose mesh",
+            "must exceed C cos φ (the sum of the base radii of an external pair, their"
+            " difference for an internal one): the line of action would not exist",
         )
     return np.arccos(cos_op)
 
@@ -114,7 +122,17 @@ def length_of_action(
     Returns
     -------
     ndarray or float
-        ``Z``, in the unit of the radii (a float for scalar input).
+        ``Z``, in the unit of the radii (a float for scalar input), always > 0.
+
+    Raises
+    ------
+    InputError
+        If a value is not finite or out of range, if the shapes do not
+        broadcast, or if ``C'`` is so large that the addendum circles no longer
+        cross on the line of action (``Z <= 0``, the teeth lose contact); the
+        message gives the largest centre distance with contact,
+        ``C'_max = √((z_p + z_g)² + (r_bp + r_bg)²)`` where
+        ``z = √(r_a² − r_b²)``.
 
     Examples
     --------
@@ -123,28 +141,50 @@ def length_of_action(
 
     >>> round(float(length_of_action(3.75, 0.125, 1.5, 0.125, np.radians(20))), 4)
     0.6249
+
+    Pulled apart to 6 in, the addendum circles no longer cross on the line of
+    action:
+
+    >>> length_of_action(3.75, 0.125, 1.5, 0.125, np.radians(20), 6.0)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: center_distance: 6 is too large: the teeth lose contact ...
     """
     rg = as_array("r_gear", r_gear)
     rp = as_array("r_pinion", r_pinion)
     ag = as_array("a_gear", a_gear)
     ap = as_array("a_pinion", a_pinion)
-    phi = as_array("pressure_angle", magnitude(pressure_angle, "radian"))
+    phi = pressure_angle_array(pressure_angle)
     for name, value in (("r_gear", rg), ("r_pinion", rp)):
         if np.any(value <= 0) or not np.all(np.isfinite(value)):
             raise InputError(name, "must be a positive, finite pitch radius")
     for name, value in (("a_gear", ag), ("a_pinion", ap)):
         if np.any(value < 0) or not np.all(np.isfinite(value)):
             raise InputError(name, "must be a finite addendum >= 0")
-    if np.any(phi <= 0) or np.any(phi >= np.pi / 2):
-        raise InputError("pressure_angle", "must be between 0 and π/2 radians")
-    c = rg + rp
+    given = {"r_gear": rg, "a_gear": ag, "r_pinion": rp, "a_pinion": ap, "pressure_angle": phi}
     if center_distance is None:
-        c_op, phi_op = c, phi
+        check_shapes(**given)
+        c_op, phi_op = rg + rp, phi
     else:
-        c_op = as_array("center_distance", center_distance)
-        phi_op = operating_pressure_angle(c, c_op, phi)
+        c_op = finite("center_distance", center_distance, "must be a finite length")
+        check_shapes(**given, center_distance=c_op)
+        phi_op = operating_pressure_angle(rg + rp, c_op, phi)
     rbg, rbp = rg * np.cos(phi), rp * np.cos(phi)
-    z = np.sqrt((rp + ap) ** 2 - rbp**2) + np.sqrt((rg + ag) ** 2 - rbg**2) - c_op * np.sin(phi_op)
+    # Distances along the line of action from each base-circle tangent point to the tip circle.
+    zp, zg = np.sqrt((rp + ap) ** 2 - rbp**2), np.sqrt((rg + ag) ** 2 - rbg**2)
+    z = zp + zg - c_op * np.sin(phi_op)
+    lost = z <= 0
+    if np.any(lost):
+        i = int(np.flatnonzero(lost.ravel())[0])
+        at = np.broadcast_arrays(c_op, z, np.hypot(zp + zg, rbp + rbg))
+        c_bad, z_bad, c_max = (float(a.ravel()[i]) for a in at)
+        if center_distance is None:  # only zero addenda do this at the standard distance
+            raise InputError("a_pinion", "the teeth have no contact with zero addenda (Z = 0)")
+        raise InputError(
+            "center_distance",
+            f"{c_bad:g} is too large: the teeth lose contact (Z = {z_bad:.4g}); contact"
+            f" needs a centre distance below {c_max:.6g}",
+        )
     return z if np.ndim(z) else float(z)
 
 
@@ -163,6 +203,13 @@ def contact_ratio(length_of_action: ArrayLike, base_pitch: ArrayLike) -> Any:
     ndarray or float
         The average number of tooth pairs in contact.
 
+    Raises
+    ------
+    InputError
+        If ``Z`` is negative or not finite (teeth that do not reach each
+        other have no contact ratio), if ``p_b`` is not a positive length, or
+        if the shapes do not broadcast.
+
     Examples
     --------
     The notes' final exam, problem 10 (p_b = 0.3689 in):
@@ -171,10 +218,17 @@ def contact_ratio(length_of_action: ArrayLike, base_pitch: ArrayLike) -> Any:
     >>> round(float(contact_ratio(z, 0.3689)), 3)
     1.694
     """
-    z = as_array("length_of_action", length_of_action)
+    z = finite("length_of_action", length_of_action, "must be a finite length")
     pb = as_array("base_pitch", base_pitch)
     if np.any(pb <= 0) or not np.all(np.isfinite(pb)):
         raise InputError("base_pitch", "must be a positive, finite length")
+    check_shapes(length_of_action=z, base_pitch=pb)
+    if np.any(z < 0):
+        raise InputError(
+            "length_of_action",
+            f"must be >= 0, got {float(z.min()):g}: a negative Z means the tip circles no"
+            " longer cross on the line of action (the centre distance is too large)",
+        )
     out = z / pb
     return out if np.ndim(out) else float(out)
 
@@ -191,7 +245,9 @@ def contact_ratio_rating(contact_ratio: ArrayLike) -> Any:
     >>> contact_ratio_rating([0.9, 1.1, 1.3, 1.7]).tolist()
     ['no contact', 'unacceptable', 'acceptable', 'good']
     """
-    mp = as_array("contact_ratio", contact_ratio)
+    mp = finite("contact_ratio", contact_ratio, "must be a finite number >= 0")
+    if np.any(mp < 0):
+        raise InputError("contact_ratio", f"must be >= 0, got {float(mp.min()):g}")
     out = np.select(
         [mp < 1.0, mp < CONTACT_RATIO_MINIMUM, mp < CONTACT_RATIO_TARGET],
         ["no contact", "unacceptable", "acceptable"],
@@ -208,13 +264,35 @@ def backlash_from_center_distance(
     The first-order estimate (Norton Ch. 9, "Backlash"); :attr:`GearPair.backlash`
     gives the exact value from the involute tooth thicknesses.
 
+    Parameters
+    ----------
+    center_distance_increase : array_like
+        ``ΔC = C' − C`` (negative: the centres moved closer, the estimate is
+        the loss of backlash).
+    pressure_angle : array_like
+        Pressure angle ``φ`` in radians (a pint quantity is converted).
+
+    Returns
+    -------
+    ndarray or float
+        ``B``, in the unit of ``ΔC``.
+
+    Raises
+    ------
+    InputError
+        A value that is not finite, a pressure angle outside ``0 < φ < π/2``
+        (for example degrees passed as radians), or shapes that do not
+        broadcast.
+
     Examples
     --------
     >>> round(float(backlash_from_center_distance(0.01, np.radians(20))), 6)
     0.00728
     """
-    dc = as_array("center_distance_increase", center_distance_increase)
-    out = 2.0 * dc * np.tan(pressure_angle)
+    dc = finite("center_distance_increase", center_distance_increase, "must be a finite length")
+    phi = pressure_angle_array(pressure_angle)
+    check_shapes(center_distance_increase=dc, pressure_angle=phi)
+    out = 2.0 * dc * np.tan(phi)
     return out if np.ndim(out) else float(out)
 
 
@@ -246,7 +324,10 @@ class GearPair:
     InputError
         Mismatched module or pressure angle, two internal gears, an internal
         gear that is not larger than the pinion, or a centre distance at which
-        the teeth jam (negative backlash) or a tip hits the other root.
+        the teeth jam (negative backlash), a tip hits the other root, or the
+        teeth lose contact (the tip circles no longer cross on the line of
+        action, ``Z <= 0``: too far apart for an external pair, too close
+        together for an internal one).
 
     Examples
     --------
@@ -292,7 +373,9 @@ class GearPair:
         else:
             c_op = float(magnitude(center_distance))
             if not (math.isfinite(c_op) and c_op > 0):
-                raise InputError("center_distance", f"must be a positive length, got {c_op}")
+                raise InputError(
+                    "center_distance", f"must be a positive, finite length, got {c_op}"
+                )
         object.__setattr__(self, "center_distance", c_op)
         self._check_center_distance()
 
@@ -477,24 +560,65 @@ class GearPair:
             return g.addendum_radius - c - p.root_radius, g.root_radius - c - p.addendum_radius
         return c - g.addendum_radius - p.root_radius, c - p.addendum_radius - g.root_radius
 
+    @property
+    def contact_limit(self) -> float:
+        """Centre distance at which the teeth lose contact (``Z = 0``).
+
+        With ``z = √(r_a² − r_b²)`` for each gear and ``C' sin φ' = √(C'² − (r_bg ± r_bp)²)``,
+        ``Z = 0`` gives ``C' = √((z_p + z_g)² + (r_bp + r_bg)²)`` for an
+        external pair (an upper limit) and ``C' = √((z_g − z_p)² + (r_bg − r_bp)²)``
+        for an internal one (a lower limit; ``r_bg − r_bp`` when ``z_g <= z_p``,
+        where the line of action itself vanishes).
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> round(pair.contact_limit, 4)
+        5.4952
+        """
+        p, g = self.pinion, self.gear
+        zp = math.sqrt(p.addendum_radius**2 - p.base_radius**2)
+        zg = math.sqrt(g.addendum_radius**2 - g.base_radius**2)
+        if self.internal:
+            return math.hypot(max(zg - zp, 0.0), g.base_radius - p.base_radius)
+        return math.hypot(zp + zg, p.base_radius + g.base_radius)
+
     def _check_center_distance(self) -> None:
         c = self.center_distance
+        # An external pair moves out of mesh as C' grows; a pinion inside a ring as C' shrinks.
+        too_deep, too_shallow = ("large", "small") if self.internal else ("small", "large")
+        bound = "at most" if self.internal else "at least"
         clear = self.radial_clearances
         if min(clear) < -1e-12 * self.pinion.module:
-            lo = c - min(clear)
+            limit = c + min(clear) if self.internal else c - min(clear)
             raise InputError(
                 "center_distance",
-                f"{c:g} is too small: a tooth tip hits the mating root (the clearance allows"
-                f" a centre distance of at least {lo:g}; standard is"
+                f"{c:g} is too {too_deep}: a tooth tip hits the mating root (the clearance allows"
+                f" a centre distance of {bound} {limit:g}; standard is"
+                f" {self.standard_center_distance:g})",
+            )
+        limit = self.contact_limit
+        if (c <= limit) if self.internal else (c >= limit):
+            z = self.length_of_action if c > self._base_line() else float("nan")
+            z_text = f" (Z = {z:.4g})" if math.isfinite(z) else ""
+            need = "above" if self.internal else "below"
+            raise InputError(
+                "center_distance",
+                f"{c:g} is too {too_shallow}: the teeth lose contact{z_text}; contact needs a"
+                f" centre distance {need} {limit:.6g} (standard is"
                 f" {self.standard_center_distance:g})",
             )
         if self.backlash < -1e-9 * self.pinion.module:
             raise InputError(
                 "center_distance",
-                f"{c:g} is too small: the teeth jam (backlash {self.backlash:.4g}); the"
+                f"{c:g} is too {too_deep}: the teeth jam (backlash {self.backlash:.4g}); the"
                 f" tight-mesh centre distance of these teeth is"
                 f" {self._zero_backlash_distance():g}",
             )
+
+    def _base_line(self) -> float:
+        """``C' cos φ'``: the sum (external) or difference (internal) of the base radii."""
+        return self.gear.base_radius + self._sign * self.pinion.base_radius
 
     def _zero_backlash_distance(self) -> float:
         phi_op = self._operating_angle_for_zero_backlash(thinned=True)

@@ -28,8 +28,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import as_array, choice, finite_scalar, integer, positive
+from .._validate import choice, finite_array, finite_scalar, integer, positive
 from ..errors import InputError
+from ._checks import check_shapes
 from .interference import max_gear_teeth
 
 __all__ = [
@@ -69,9 +70,11 @@ def stage_ratio(driver: ArrayLike, driven: ArrayLike, kind: str = "external") ->
     (-0.3333333333333333, 0.3333333333333333)
     """
     sign = MESH_KINDS[choice("kind", kind, MESH_KINDS)]
-    a, b = as_array("driver", driver), as_array("driven", driven)
-    if np.any(a <= 0) or np.any(b <= 0):
-        raise InputError("driver", "tooth numbers and diameters must be positive")
+    a, b = finite_array("driver", driver), finite_array("driven", driven)
+    for name, value in (("driver", a), ("driven", b)):
+        if np.any(value <= 0):
+            raise InputError(name, "tooth numbers and diameters must be positive")
+    check_shapes(driver=a, driven=b)
     out = sign * a / b
     return out if np.ndim(out) else float(out)
 
@@ -157,9 +160,12 @@ def sprocket_pitch_diameter(pitch: ArrayLike, teeth: ArrayLike) -> Any:
     >>> round(sprocket_pitch_diameter(0.5, 17), 4)
     2.7211
     """
-    p, n = as_array("pitch", pitch), as_array("teeth", teeth)
-    if np.any(p <= 0) or np.any(n < 3):
-        raise InputError("teeth", "a sprocket needs a positive pitch and at least 3 teeth")
+    p, n = finite_array("pitch", pitch), finite_array("teeth", teeth)
+    if np.any(p <= 0):
+        raise InputError("pitch", "a sprocket needs a positive chain pitch")
+    if np.any(n < 3):
+        raise InputError("teeth", "a sprocket needs at least 3 teeth")
+    check_shapes(pitch=p, teeth=n)
     out = p / np.sin(np.pi / n)
     return out if np.ndim(out) else float(out)
 
@@ -206,6 +212,33 @@ class RevertedTrain:
     def tooth_sum(self) -> int:
         """``N2 + N3 = N4 + N5``, proportional to the centre distance."""
         return self.teeth[0] + self.teeth[1]
+
+    def to_pandas(self) -> Any:
+        """Return the train as a pandas Series (teeth, ratio, target, error, tooth sum).
+
+        Examples
+        --------
+        >>> s = RevertedTrain((18, 84, 21, 81), 18.0, 18.0, 0.0).to_pandas()
+        >>> int(s["N3"]), float(s["ratio"]), int(s["tooth_sum"])
+        (84, 18.0, 102)
+        """
+        import pandas as pd
+
+        n2, n3, n4, n5 = self.teeth
+        return pd.Series(
+            {
+                "N2": n2,
+                "N3": n3,
+                "N4": n4,
+                "N5": n5,
+                "tooth_sum": self.tooth_sum,
+                "ratio": self.ratio,
+                "train_value": self.train_value,
+                "target": self.target,
+                "error": self.error,
+            },
+            dtype=object,
+        )
 
     def center_distance(self, module: float) -> float:
         """Return the common centre distance ``m (N2 + N3) / 2`` for a module.
@@ -337,21 +370,23 @@ def willis(
     >>> float(willis(-0.5, first=100, arm=-200))
     -350.0
     """
-    r = as_array("train_value", train_value)
+    r = finite_array("train_value", train_value)
     given = {k: v for k, v in (("first", first), ("last", last), ("arm", arm)) if v is not None}
     if len(given) != 2:
         raise InputError("first", "give exactly two of first, last and arm")
+    speeds = {k: finite_array(k, v) for k, v in given.items()}
+    check_shapes(train_value=r, **speeds)
     if "arm" not in given:
-        f, lst = as_array("first", first), as_array("last", last)
+        f, lst = speeds["first"], speeds["last"]
         if np.any(r == 1.0):
             raise InputError("train_value", "R = 1 locks the train: the arm speed is undefined")
         return (lst - r * f) / (1.0 - r)
-    a = as_array("arm", arm)
+    a = speeds["arm"]
     if "last" not in given:
-        return a + r * (as_array("first", first) - a)
+        return a + r * (speeds["first"] - a)
     if np.any(r == 0.0):
         raise InputError("train_value", "R = 0 cannot be inverted")
-    return a + (as_array("last", last) - a) / r
+    return a + (speeds["last"] - a) / r
 
 
 @dataclass(frozen=True)

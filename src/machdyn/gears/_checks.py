@@ -1,0 +1,86 @@
+"""Argument checks shared by the gears modules (private).
+
+They raise :class:`machdyn.errors.InputError` naming the offending argument,
+so that a shape clash or an angle in degrees never surfaces as a bare numpy
+error or a silently wrong number.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .._validate import as_array, magnitude
+from ..errors import InputError
+
+__all__ = ["check_shapes", "finite", "pressure_angle_array"]
+
+
+def check_shapes(**arrays: Any) -> tuple[int, ...]:
+    """Return the common broadcast shape of named arrays, or raise naming the clash.
+
+    Examples
+    --------
+    >>> check_shapes(r_gear=np.ones(3), pressure_angle=0.3)
+    (3,)
+    >>> check_shapes(r_gear=np.ones(3), r_pinion=np.ones(2))
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: r_pinion: shape (2,) does not broadcast with r_gear (3,)
+    """
+    shape: tuple[int, ...] = ()
+    seen: list[str] = []
+    for name, value in arrays.items():
+        this = np.shape(value)
+        try:
+            shape = np.broadcast_shapes(shape, this)
+        except ValueError:
+            raise InputError(
+                name, f"shape {this} does not broadcast with {', '.join(seen)} {shape}"
+            ) from None
+        seen.append(name)
+    return shape
+
+
+def finite(field: str, value: Any, message: str) -> np.ndarray:
+    """Return ``value`` as a float array, raising ``InputError(field, message)`` if not finite.
+
+    Examples
+    --------
+    >>> finite("k", [1.0, 0.8], "must be finite").tolist()
+    [1.0, 0.8]
+    """
+    out = as_array(field, value)
+    if not np.all(np.isfinite(out)):
+        raise InputError(field, f"{message}, got {value!r}")
+    return out
+
+
+def pressure_angle_array(value: Any, upper_deg: float = 90.0) -> np.ndarray:
+    """Return a pressure angle in radians, ``0 < φ < upper``, or raise.
+
+    A pint quantity is converted; a plain number must be in radians, and the
+    error points out a value that looks like degrees.
+
+    Examples
+    --------
+    >>> float(pressure_angle_array(0.35))
+    0.35
+    >>> pressure_angle_array(20)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: pressure_angle: ... got 20; did you pass degrees? use np.radians(20)
+    """
+    phi = as_array("pressure_angle", magnitude(value, "radian", "pressure_angle"))
+    upper = math.radians(upper_deg)
+    bad = ~np.isfinite(phi) | (phi <= 0) | (phi >= upper)
+    if np.any(bad):
+        first = float(phi.ravel()[int(np.flatnonzero(bad.ravel())[0])])
+        hint = f"; did you pass degrees? use np.radians({first:g})" if upper <= first < 90.0 else ""
+        raise InputError(
+            "pressure_angle",
+            f"must be in radians between 0 and {upper:.4g} ({upper_deg:g}°), got {first:g}{hint}",
+        )
+    return phi
