@@ -602,7 +602,8 @@ class LoopSystem:
                 self._rates("acceleration", acceleration, inputs, shape, required=False),
                 self._rates("jerk", jerk, inputs, shape, required=False),
             ][:order]
-            rates, fac = _solve.derivatives(c, x0, u_rates)
+            reuse = pos.reuse if pos is not None else None
+            rates, fac = _solve.derivatives(c, x0, u_rates, reuse=reuse)
             det, rcond = fac.det, fac.rcond
             states += rates
         else:
@@ -623,7 +624,8 @@ class LoopSystem:
         singular = assembled & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
         code = np.where(singular, _solve.SINGULAR, code)
         ok = code == _solve.OK
-        pts = _solve.point_motion(c, states)
+        terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
+        pts = _solve.point_motion(c, states, terms)
         bad_pos = ~np.isin(code, (_solve.OK, _solve.SINGULAR))
         mask = [bad_pos] + [~ok] * (len(states) - 1)
 

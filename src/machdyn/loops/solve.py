@@ -107,6 +107,11 @@ class Compiled:
         return np.concatenate([np.full(2 * self.loops.shape[0], 1.0 / self.scale), con_w])
 
     @cached_property
+    def unknown_set(self) -> frozenset[int]:
+        """The unknowns' variable indices, for membership tests."""
+        return frozenset(int(v) for v in self.unknown)
+
+    @cached_property
     def scalar(self) -> _Scalar:
         """The plain-float twin of the equations for one pose (built once)."""
         return _Scalar(self)
@@ -314,18 +319,36 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- equations
-def _vector_terms(c: Compiled, x: np.ndarray) -> tuple[list, list, list]:
+def _vector_terms(
+    c: Compiled, x: np.ndarray, update: tuple[list, list, list] | None = None
+) -> tuple[list, list, list]:
     """Length, cos and sin of every vector for the states ``x`` (n_var, N).
 
-    Constant parts stay Python floats (broadcast for free).
+    Constant parts stay Python floats (broadcast for free); vectors sharing an
+    angle variable share its trigonometry. With ``update`` (terms of an earlier
+    state that differs only in the unknowns) the inputs' trigonometry is kept
+    and only that of unknown angles is recomputed.
     """
-    d, cos, sin = [], [], []
+    d, cos, sin = ([], [], []) if update is None else (list(t) for t in update)
+    trig: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    moving = c.unknown_set
     for k in range(len(c.length_const)):
-        lv, av = c.length_var[k], c.angle_var[k]
+        lv, av = int(c.length_var[k]), int(c.angle_var[k])
+        if update is not None:
+            if lv >= 0:
+                d[k] = x[lv]
+            if av not in moving:
+                continue
+            if av not in trig:
+                trig[av] = np.cos(x[av]), np.sin(x[av])
+            cos[k], sin[k] = trig[av]
+            continue
         d.append(x[lv] if lv >= 0 else float(c.length_const[k]))
         if av >= 0:
-            cos.append(np.cos(x[av]))
-            sin.append(np.sin(x[av]))
+            if av not in trig:
+                trig[av] = np.cos(x[av]), np.sin(x[av])
+            cos.append(trig[av][0])
+            sin.append(trig[av][1])
         else:
             cos.append(float(np.cos(c.angle_const[k])))
             sin.append(float(np.sin(c.angle_const[k])))
@@ -922,8 +945,9 @@ def _sweep_fast(
     nq = len(c.unknown)
     weight = c.row_weight[:, None]
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        terms = None
         for it in range(FAST_ITER + 1):
-            terms = _vector_terms(c, x)
+            terms = _vector_terms(c, x, update=terms)
             f, jac = residual_and_jacobian(c, x, cols, terms=terms)
             fac = lu_factor(jac[:, :nq], *c.jq_scales)
             r = np.abs(f * weight).max(axis=0)
@@ -1126,6 +1150,7 @@ def derivatives(
     c: Compiled,
     x0: np.ndarray,
     u_rates: list[np.ndarray],
+    reuse: tuple | None = None,
 ) -> tuple[list[np.ndarray], Factor]:
     """Velocity, acceleration and jerk of every variable, one linear solve each.
 
@@ -1145,6 +1170,9 @@ def derivatives(
         Positions of all variables.
     u_rates : list of ndarray, each (n_u, N)
         First, second, third time derivatives of the inputs (1 to 3 entries).
+    reuse : tuple, optional
+        ``(terms, jacobian, factor)`` already computed at exactly ``x0`` (the
+        last Newton evaluation of the position solve; ``Positions.reuse``).
 
     Returns
     -------
@@ -1153,12 +1181,15 @@ def derivatives(
     factor : Factor
         The factors of ``J_q`` (determinant and conditioning per sample).
     """
-    cols = np.concatenate([c.unknown, c.inputs])
-    terms = _vector_terms(c, x0)
-    d, cos, sin = terms
-    _, jac = residual_and_jacobian(c, x0, cols, terms=terms)
     nq = len(c.unknown)
-    fac = lu_factor(jac[:, :nq], *c.jq_scales)
+    if reuse is None:
+        cols = np.concatenate([c.unknown, c.inputs])
+        terms = _vector_terms(c, x0)
+        _, jac = residual_and_jacobian(c, x0, cols, terms=terms)
+        fac = lu_factor(jac[:, :nq], *c.jq_scales)
+    else:
+        terms, jac, fac = reuse
+    d, cos, sin = terms
     j_u = jac[:, nq:]
     rates: list[np.ndarray] = []
     n_loop = c.loops.shape[0]
@@ -1202,12 +1233,17 @@ def derivatives(
     return rates, fac
 
 
-def point_motion(c: Compiled, x: list[np.ndarray]) -> list[np.ndarray]:
+def point_motion(
+    c: Compiled, x: list[np.ndarray], terms: tuple[list, list, list] | None = None
+) -> list[np.ndarray]:
     """Positions (and derivatives) of the named points as complex arrays (n_point, N).
 
-    ``x`` holds the positions followed by as many rates as known.
+    ``x`` holds the positions followed by as many rates as known; ``terms``
+    are ``_vector_terms(c, x[0])`` when already computed.
     """
-    d, cos, sin = _vector_terms(c, x[0])
+    if not c.points.shape[0]:
+        return [np.zeros((0, x[0].shape[1]), dtype=complex) for _ in x]
+    d, cos, sin = _vector_terms(c, x[0]) if terms is None else terms
     n_samples = x[0].shape[1]
     out = []
     zero = 0.0
