@@ -146,6 +146,21 @@ class Factor:
     rcond: np.ndarray
     inv: np.ndarray | None = None  # (2, 2, N): inverse of the scaled 2x2 matrices
 
+    @cached_property
+    def interchanges(self) -> list[tuple[int, int, np.ndarray | None]]:
+        """The row interchanges ``(k, i, mask)`` in order (mask None: every sample)."""
+        out: list[tuple[int, int, np.ndarray | None]] = []
+        for k, p in enumerate(self.swaps):
+            if isinstance(p, int):
+                if p != k:
+                    out.append((k, p, None))
+                continue
+            for i in range(k + 1, len(self.swaps)):
+                m = p == i
+                if m.any():
+                    out.append((k, i, m))
+        return out
+
 
 def lu_factor(
     a: np.ndarray, row_scale: np.ndarray | None = None, col_scale: np.ndarray | None = None
@@ -218,7 +233,11 @@ def lu_factor(
                     lu[[k, p]] = lu[[p, k]]
                     det = -det
             else:
-                p = k + cand.argmax(axis=0)  # the first largest, as a strict ">" scan
+                # The first largest row, as a strict ">" scan would pick (a where-chain from
+                # the bottom: cheaper than argmax over a short axis).
+                p = np.where(cand[-2] == best, n - 2, n - 1)
+                for i in range(n - 3, k - 1, -1):
+                    p = np.where(cand[i - k] == best, i, p)
                 if n - k > 4:
                     # Many candidate rows: one gather and one scatter instead of a where-swap
                     # per candidate (O(n) instead of O(n^2) row passes per column).
@@ -254,16 +273,21 @@ def lu_factor(
 def _factor_2x2(lu: np.ndarray, row_mul: np.ndarray, col_mul: np.ndarray, det) -> Factor:
     """:func:`lu_factor` for 2x2 matrices: the closed-form inverse (a few array passes)."""
     s00, s01, s10, s11 = lu[0, 0], lu[0, 1], lu[1, 0], lu[1, 1]
-    det_s = s00 * s11 - s01 * s10
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # Partial pivoting's pivots: the larger entry of column 0, then det / that one.
+    det_s = s00 * s11
+    det_s -= s01 * s10
+    inv = np.empty_like(lu)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        # Partial pivoting's pivots: the larger entry of column 0, then |det| / that one;
+        # their ratio is |det| / first².
         first = np.maximum(np.abs(s00), np.abs(s10))
-        second = np.abs(det_s) / first
-        lo, hi = np.minimum(first, second), np.maximum(first, second)
-        rcond = np.where(hi > 0.0, lo / np.where(hi > 0.0, hi, 1.0), 0.0)
-        rcond[first == 0.0] = 0.0
+        ratio = np.abs(det_s) / (first * first)
+        rcond = np.minimum(ratio, 1.0 / ratio)
+        rcond[~(rcond >= 0.0)] = 0.0  # a zero column (0/0)
         r = 1.0 / det_s
-        inv = np.stack([np.stack([s11 * r, -s01 * r]), np.stack([-s10 * r, s00 * r])])
+        np.multiply(s11, r, out=inv[0, 0])
+        np.multiply(s01, -r, out=inv[0, 1])
+        np.multiply(s10, -r, out=inv[1, 0])
+        np.multiply(s00, r, out=inv[1, 1])
     return Factor(
         lu=lu, swaps=(), row_mul=row_mul, col_mul=col_mul, det=det_s * det, rcond=rcond, inv=inv
     )
@@ -301,18 +325,14 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
         out[1] = inv[1, 0] * x[0] + inv[1, 1] * x[1]
         return out * (f.col_mul if b.ndim == 2 else f.col_mul[:, None, :])
     with np.errstate(divide="ignore", invalid="ignore"):
-        for k in range(n):  # P b: the row interchanges, in order
-            p = f.swaps[k]
-            if isinstance(p, int):  # one interchange for every sample (or none)
-                if p != k:
-                    x[[k, p]] = x[[p, k]]
+        for k, i, m in f.interchanges:  # P b
+            if m is None:
+                x[[k, i]] = x[[i, k]]
                 continue
-            for i in range(k + 1, n):
-                m = (p == i)[extra]
-                if m.any():
-                    top = x[k].copy()
-                    x[k] = np.where(m, x[i], x[k])
-                    x[i] = np.where(m, top, x[i])
+            m = m[extra]
+            top = x[k].copy()
+            x[k] = np.where(m, x[i], x[k])
+            x[i] = np.where(m, top, x[i])
         for k in range(n):  # L y = P b
             for i in range(k + 1, n):
                 x[i] -= lu[i, k][extra] * x[k]
@@ -964,19 +984,28 @@ def _sweep_fast(
         return None
     q_c, t_c, det_c = march
 
-    # 2. One batched fill: cubic Hermite between the coarse neighbours.
+    # 2. One batched fill: cubic Hermite between the coarse neighbours, as a polynomial
+    #    per coarse interval (Horner in the interval fraction t).
     q_c_arr = np.array(q_c).T  # (nq, n_coarse)
-    t_c_arr = np.moveaxis(np.array(t_c), 0, -1)  # (nq, nu, n_coarse)
     det_c_arr = np.array(det_c)
-    seg = np.minimum(np.arange(n) // stride, len(coarse) - 2)
-    left, right = coarse[seg], coarse[seg + 1]
-    span = u[:, right] - u[:, left]
-    t = (np.arange(n) - left) / (right - left)  # even steps: index fraction = input fraction
-    t2 = t * t
-    t3 = t2 * t
-    pred = (2 * t3 - 3 * t2 + 1) * q_c_arr[:, seg] + (3 * t2 - 2 * t3) * q_c_arr[:, seg + 1]
-    pred += (t3 - 2 * t2 + t) * np.einsum("qun,un->qn", t_c_arr[:, :, seg], span)
-    pred += (t3 - t2) * np.einsum("qun,un->qn", t_c_arr[:, :, seg + 1], span)
+    du_c = np.diff(u[:, coarse], axis=1)  # (nu, n_coarse - 1)
+    t_c_arr = np.array(t_c)  # (n_coarse, nq, nu)
+    m_l = np.einsum("jqu,uj->qj", t_c_arr[:-1], du_c)
+    m_r = np.einsum("jqu,uj->qj", t_c_arr[1:], du_c)
+    dq = np.diff(q_c_arr, axis=1)
+    coef = np.stack([m_l + m_r - 2.0 * dq, 3.0 * dq - 2.0 * m_l - m_r, m_l, q_c_arr[:, :-1]])
+    index = np.arange(n)
+    seg = np.minimum(index // stride, len(coarse) - 2)
+    left = coarse[seg]
+    t = (index - left) / (coarse[seg + 1] - left)  # even steps: index fraction = input fraction
+    a3, a2, a1, a0 = coef[:, :, seg]
+    pred = a3 * t
+    pred += a2
+    pred *= t
+    pred += a1
+    pred *= t
+    pred += a0
+    span = np.abs(du_c / u_scale).max(axis=0)[seg]  # scaled input length of the interval
 
     x = np.empty((len(c.names), n))
     x[c.inputs] = u
@@ -1008,7 +1037,7 @@ def _sweep_fast(
             f, jac = residual_and_jacobian(c, x, cols, terms=terms)
             fac = lu_factor(jac[:, :nq], *c.jq_scales)
         q = x[c.unknown]
-        du = np.abs(span / u_scale).max(axis=0) * np.maximum(t, 1.0 - t)
+        du = span * np.maximum(t, 1.0 - t)
         far = np.abs((q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0)
         good = (
             (r <= tol)
