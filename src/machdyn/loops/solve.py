@@ -717,9 +717,21 @@ class _Scalar:
         return f, jac
 
     def newton(
-        self, q0: list[float], u: list[float], max_iter: int, tol: float, max_step: float
+        self,
+        q0: list[float],
+        u: list[float],
+        max_iter: int,
+        tol: float,
+        max_step: float,
+        step_tol: float = 0.0,
     ) -> tuple[list[float], bool, float, tuple | None, list[list[float]] | None]:
-        """Newton–Raphson from ``q0``: (q, converged, residual, LU of J_q, J) at the end."""
+        """Newton–Raphson from ``q0``: (q, converged, residual, LU of J_q, J) at the end.
+
+        With ``step_tol`` > 0 it also stops after a full Newton step no larger than
+        ``step_tol`` (scaled): the error left is of the order of its square, and
+        residual, LU and J are those of the last evaluation, one step back (the
+        caller verifies the pose later; this saves the confirming evaluation).
+        """
         nq = self.nq
         x = self.state(q0, u)
         resid = math.inf
@@ -738,6 +750,8 @@ class _Scalar:
             shrink = max_step / size if size > max_step else 1.0
             for i, v in zip(self.unknown, step, strict=True):
                 x[i] += v * shrink
+            if size <= step_tol:
+                return [x[i] for i in self.unknown], True, resid, fac, jac
         return [x[i] for i in self.unknown], False, resid, None, None
 
     def tangent(self, fac: tuple, jac: list[list[float]]) -> list[list[float]]:
@@ -937,6 +951,9 @@ def solve_positions(
 #: need one residual evaluation, where the single fill needs two or three Newton
 #: iterations per sample; below it the waves' fixed per-call cost dominates.
 FAST_MAX_SAMPLES = 20_000
+#: The fast march stops Newton after a step this small (scaled): the pose is then
+#: within ~1e-10 and is polished, and verified, with every other sample in the fill.
+MARCH_STEP_TOL = 1e-5
 #: Corrector steps of the fast fill (from a cubic Hermite prediction whose error
 #: is O(h⁴) for a coarse step h ≤ max_step, 2–3 suffice).
 FAST_ITER = 5
@@ -1044,7 +1061,7 @@ def _sweep_fast(
             & (fac.rcond >= well)
             & (np.sign(fac.det) == np.sign(det_c_arr[seg]))
             & (np.sign(fac.det) == np.sign(det_c_arr[seg + 1]))
-            & (far <= 0.1 * du + 1e-9)
+            & (far <= 0.1 * du + 1e-7)  # (+: the march's poses are polished here)
         )
     if not good.all():
         return None
@@ -1086,7 +1103,7 @@ def _march_fast(
                 h00 * a + h01 * b + h10 * ma + h11 * mb
                 for a, b, ma, mb in zip(q_c[-2], q, m0, m1, strict=True)
             ]
-        q, ok, _, new_fac, jac = ks.newton(pred, u_c[j], 20, tol, 0.5)
+        q, ok, _, new_fac, jac = ks.newton(pred, u_c[j], 20, tol, 0.5, MARCH_STEP_TOL)
         if not ok or not new_fac[5] >= well or (new_fac[4] > 0.0) != (fac[4] > 0.0):
             return None
         if max(abs(a - b) / sc for a, b, sc in zip(q, pred, ks.scale, strict=True)) > 0.5 * du:
