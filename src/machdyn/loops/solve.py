@@ -107,6 +107,20 @@ class Compiled:
         return np.concatenate([np.full(2 * self.loops.shape[0], 1.0 / self.scale), con_w])
 
     @cached_property
+    def jq_structure(self) -> tuple:
+        """:func:`lu_structure` of ``J_q``'s sparsity (which unknowns each row touches)."""
+        col = {int(v): i for i, v in enumerate(self.unknown)}
+        pattern = np.zeros((self.n_eq, len(col)), dtype=bool)
+        for l_idx, terms in enumerate(self.loop_terms):
+            for k, _ in terms:
+                for v in (int(self.angle_var[k]), int(self.length_var[k])):
+                    if v in col:
+                        pattern[2 * l_idx : 2 * l_idx + 2, col[v]] = True
+        if self.con.shape[0]:
+            pattern[2 * self.loops.shape[0] :] = self.con[:, self.unknown] != 0
+        return lu_structure(pattern)
+
+    @cached_property
     def unknown_set(self) -> frozenset[int]:
         """The unknowns' variable indices, for membership tests."""
         return frozenset(int(v) for v in self.unknown)
@@ -163,7 +177,10 @@ class Factor:
 
 
 def lu_factor(
-    a: np.ndarray, row_scale: np.ndarray | None = None, col_scale: np.ndarray | None = None
+    a: np.ndarray,
+    row_scale: np.ndarray | None = None,
+    col_scale: np.ndarray | None = None,
+    structure: tuple | None = None,
 ) -> Factor:
     """Factor a batch of small dense matrices ``a[:, :, i]`` (Gaussian elimination).
 
@@ -179,6 +196,9 @@ def lu_factor(
         Static multipliers that make the entries O(1) (e.g. from the model's
         units). Without them every matrix is equilibrated from its entries,
         which costs several extra passes over the batch.
+    structure : tuple, optional
+        :func:`lu_structure` of the matrices' sparsity pattern: the entries
+        known to be zero are skipped (same result, less work).
 
     Returns
     -------
@@ -217,38 +237,78 @@ def lu_factor(
         det = 1.0 / (np.prod(row_mul, axis=0) * np.prod(col_mul, axis=0))
     if n == 2:
         return _factor_2x2(lu, row_mul, col_mul, det)
+    return _eliminate(lu, row_mul, col_mul, det, structure)
+
+
+def lu_structure(pattern: np.ndarray) -> tuple[tuple[tuple[int, ...], tuple[int, ...]], ...]:
+    """Which rows can hold a pivot, and which need elimination, column by column.
+
+    ``pattern`` (n, n) marks the entries that may be non-zero; the others are
+    exactly zero in every sample (a vector-loop Jacobian is sparse: a loop's
+    rows only touch the unknowns of its own vectors). The pattern is followed
+    through partial pivoting (rows that may swap take the union of their
+    patterns) and elimination (fill-in), so skipping the zeros changes nothing
+    but the work: it gives the pivots and factors of the dense elimination.
+    """
+    s = np.array(pattern, dtype=bool)
+    n = s.shape[0]
+    out = []
+    for k in range(n):
+        cands = [i for i in range(k, n) if s[i, k]] or [k]
+        group = sorted(set(cands) | {k})
+        s[group] = s[group].any(axis=0)
+        rows = tuple(i for i in range(k + 1, n) if s[i, k])
+        for i in rows:
+            s[i, k + 1 :] |= s[k, k + 1 :]
+        out.append((tuple(cands), rows))
+    return tuple(out)
+
+
+def _eliminate(lu, row_mul, col_mul, det, structure) -> Factor:
+    """Gaussian elimination with partial pivoting on the scaled batch ``lu`` (in place)."""
+    n, n_samples = lu.shape[0], lu.shape[2]
+    if structure is None:
+        dense = tuple(range(n))
+        structure = tuple((dense[k:], dense[k + 1 :]) for k in range(n))
     swaps: list[np.ndarray | int] = []
-    piv_min = np.full(a.shape[2], np.inf)
-    piv_max = np.zeros(a.shape[2])
+    piv_min = np.full(n_samples, np.inf)
+    piv_max = np.zeros(n_samples)
     with np.errstate(divide="ignore", invalid="ignore"):
-        for k in range(n):
-            cand = np.abs(lu[k:, k])
-            best = cand.max(axis=0)
+        for k, (cands, rows) in enumerate(structure):
+            if len(cands) == 1:
+                cand = np.abs(lu[cands[0], k])[None]
+            elif cands[-1] - cands[0] == len(cands) - 1:
+                cand = np.abs(lu[cands[0] : cands[-1] + 1, k])
+            else:
+                cand = np.abs(lu[list(cands), k])
+            best = cand.max(axis=0) if len(cands) > 1 else cand[0]
             # Along a sweep the pivot row is nearly always the same in every sample: test
-            # the first sample's choice on all before paying for a per-sample argmax.
-            first = int(cand[:, 0].argmax()) if cand.shape[1] else 0
-            if n - k == 1 or (cand[first] == best).all():
-                p: np.ndarray | int = k + first
+            # the first sample's choice on all before paying for a per-sample search.
+            first = int(cand[:, 0].argmax()) if n_samples else 0
+            if len(cands) == 1 or (cand[first] == best).all():
+                p: np.ndarray | int = cands[first]
                 if p != k:  # one interchange of whole rows
                     lu[[k, p]] = lu[[p, k]]
                     det = -det
             else:
                 # The first largest row, as a strict ">" scan would pick (a where-chain from
                 # the bottom: cheaper than argmax over a short axis).
-                p = np.where(cand[-2] == best, n - 2, n - 1)
-                for i in range(n - 3, k - 1, -1):
-                    p = np.where(cand[i - k] == best, i, p)
-                if n - k > 4:
+                p = np.where(cand[-2] == best, cands[-2], cands[-1])
+                for j in range(len(cands) - 3, -1, -1):
+                    p = np.where(cand[j] == best, cands[j], p)
+                if len(cands) > 4:
                     # Many candidate rows: one gather and one scatter instead of a where-swap
                     # per candidate (O(n) instead of O(n^2) row passes per column).
                     moved = p != k
-                    cols = np.arange(a.shape[2])
+                    cols = np.arange(n_samples)
                     top = lu[k].copy()
                     lu[k] = lu[p, :, cols].T
                     lu[p, :, cols] = top.T
                     det = np.where(moved, -det, det)
                 else:
-                    for i in range(k + 1, n):
+                    for i in cands:
+                        if i == k:
+                            continue
                         m = p == i
                         if m.any():
                             top = lu[k].copy()
@@ -260,12 +320,18 @@ def lu_factor(
             det = pivot * det
             np.minimum(piv_min, best, out=piv_min)
             np.maximum(piv_max, best, out=piv_max)
-            if k == n - 1:
-                break
+            if not rows:
+                continue
             safe = np.where(pivot == 0.0, 1.0, pivot)
-            factor = lu[k + 1 :, k] / safe
-            lu[k + 1 :, k] = factor
-            lu[k + 1 :, k + 1 :] -= factor[:, None] * lu[k, k + 1 :][None]
+            if len(rows) == n - k - 1:  # dense below the pivot: one slab update
+                factor = lu[k + 1 :, k] / safe
+                lu[k + 1 :, k] = factor
+                lu[k + 1 :, k + 1 :] -= factor[:, None] * lu[k, k + 1 :][None]
+            else:
+                for i in rows:
+                    factor = lu[i, k] / safe
+                    lu[i, k] = factor
+                    lu[i, k + 1 :] -= factor * lu[k, k + 1 :]
     rcond = np.where(piv_max > 0.0, piv_min / np.where(piv_max > 0.0, piv_max, 1.0), 0.0)
     return Factor(lu=lu, swaps=tuple(swaps), row_mul=row_mul, col_mul=col_mul, det=det, rcond=rcond)
 
@@ -556,7 +622,7 @@ def newton(
             r = np.abs(f * weight).max(axis=0)
             resid[active] = r
             done = r <= tol
-        fac = lu_factor(jac[:, :nq], *c.jq_scales)
+        fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
         rhs = np.concatenate([-f[:, None, :], -jac[:, nq:]], axis=1)
         sol = lu_solve(fac, rhs)
         if done.any():
@@ -1011,18 +1077,18 @@ def _sweep_fast(
     m_r = np.einsum("jqu,uj->qj", t_c_arr[1:], du_c)
     dq = np.diff(q_c_arr, axis=1)
     coef = np.stack([m_l + m_r - 2.0 * dq, 3.0 * dq - 2.0 * m_l - m_r, m_l, q_c_arr[:, :-1]])
-    index = np.arange(n)
-    seg = np.minimum(index // stride, len(coarse) - 2)
-    left = coarse[seg]
-    t = (index - left) / (coarse[seg + 1] - left)  # even steps: index fraction = input fraction
-    a3, a2, a1, a0 = coef[:, :, seg]
+    counts = np.diff(coarse)  # samples per interval; the last one also takes sample n - 1
+    counts[-1] += 1
+    # Even steps: the fraction of the interval by index is the fraction by input.
+    t = np.repeat(1.0 / np.diff(coarse), counts) * (np.arange(n) - np.repeat(coarse[:-1], counts))
+    a3, a2, a1, a0 = np.repeat(coef, counts, axis=2)
     pred = a3 * t
     pred += a2
     pred *= t
     pred += a1
     pred *= t
     pred += a0
-    span = np.abs(du_c / u_scale).max(axis=0)[seg]  # scaled input length of the interval
+    span = np.repeat(np.abs(du_c / u_scale).max(axis=0), counts)  # scaled interval length
 
     x = np.empty((len(c.names), n))
     x[c.inputs] = u
@@ -1036,7 +1102,7 @@ def _sweep_fast(
         # error): one Jacobian and factor at the start, one more at the solution.
         terms = _vector_terms(c, x)
         f, jac = residual_and_jacobian(c, x, cols, terms=terms)
-        fac = lu_factor(jac[:, :nq], *c.jq_scales)
+        fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
         fresh = True
         for _ in range(FAST_ITER):
             r = np.abs(f * weight).max(axis=0)
@@ -1052,15 +1118,15 @@ def _sweep_fast(
             r = np.abs(f * weight).max(axis=0)
         if not fresh:  # det, rcond and the derivative stage need J at the solution
             f, jac = residual_and_jacobian(c, x, cols, terms=terms)
-            fac = lu_factor(jac[:, :nq], *c.jq_scales)
+            fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
         q = x[c.unknown]
         du = span * np.maximum(t, 1.0 - t)
         far = np.abs((q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0)
         good = (
             (r <= tol)
             & (fac.rcond >= well)
-            & (np.sign(fac.det) == np.sign(det_c_arr[seg]))
-            & (np.sign(fac.det) == np.sign(det_c_arr[seg + 1]))
+            & (np.sign(fac.det) == np.repeat(np.sign(det_c_arr[:-1]), counts))
+            & (np.sign(fac.det) == np.repeat(np.sign(det_c_arr[1:]), counts))
             & (far <= 0.1 * du + 1e-7)  # (+: the march's poses are polished here)
         )
     if not good.all():
@@ -1285,7 +1351,7 @@ def derivatives(
         cols = np.concatenate([c.unknown, c.inputs])
         terms = _vector_terms(c, x0)
         _, jac = residual_and_jacobian(c, x0, cols, terms=terms)
-        fac = lu_factor(jac[:, :nq], *c.jq_scales)
+        fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
     else:
         terms, jac, fac = reuse
     d, cos, sin = terms
