@@ -387,8 +387,9 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
     if f.inv is not None:  # 2x2: a product with the inverse
         inv = f.inv[:, :, None] if b.ndim == 3 else f.inv
         out = np.empty_like(x)
-        out[0] = inv[0, 0] * x[0] + inv[0, 1] * x[1]
-        out[1] = inv[1, 0] * x[0] + inv[1, 1] * x[1]
+        with np.errstate(invalid="ignore", over="ignore"):  # singular: inf * 0
+            out[0] = inv[0, 0] * x[0] + inv[0, 1] * x[1]
+            out[1] = inv[1, 0] * x[0] + inv[1, 1] * x[1]
         return out * (f.col_mul if b.ndim == 2 else f.col_mul[:, None, :])
     with np.errstate(divide="ignore", invalid="ignore"):
         for k, i, m in f.interchanges:  # P b
@@ -1045,13 +1046,18 @@ def _sweep_fast(
     its prediction). Returns None, leaving the sweep to the careful path of
     :func:`solve_positions`, at the first sign of trouble: an uneven sweep, a
     coarse step that fails, any sample near a toggle or failing a check.
+    "Evenly stepped" means equal steps along a straight line in input space
+    (``np.linspace`` of every input), so that a sample's fraction of a coarse
+    interval by index is its fraction by input.
     """
     n = u.shape[1]
     u_scale = c.var_scale[c.inputs][:, None]
-    steps = np.abs(np.diff(u, axis=1) / u_scale).max(axis=0)
-    biggest = float(steps.max())
+    du = np.diff(u, axis=1) / u_scale
+    biggest = float(np.abs(du).max())
     if not (0.0 < biggest < np.inf):
         return None
+    if np.abs(np.diff(du, axis=1)).max(initial=0.0) > 1e-6 * biggest:
+        return None  # not a straight sweep at constant steps (the fill interpolates by index)
     stride = int(max_step / biggest)
     if stride < 2:
         return None
