@@ -626,7 +626,7 @@ class LoopSystem:
         ok = code == _solve.OK
         terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
         pts = _solve.point_motion(c, states, terms)
-        bad_pos = ~np.isin(code, (_solve.OK, _solve.SINGULAR))
+        bad_pos = (code != _solve.OK) & (code != _solve.SINGULAR)
         mask = [bad_pos] + [~ok] * (len(states) - 1)
 
         def pack(arr: np.ndarray, bad: np.ndarray) -> np.ndarray:

@@ -512,24 +512,24 @@ def residual_and_jacobian(
     jac = np.zeros((c.n_eq, len(cols), n_samples)) if jacobian else None
     where = {int(v): i for i, v in enumerate(cols)}
     for l_idx, terms in enumerate(c.loop_terms):
-        re: np.ndarray | float = 0.0
-        im: np.ndarray | float = 0.0
+        fx, fy = f[2 * l_idx], f[2 * l_idx + 1]
+        fx[...] = 0.0
+        fy[...] = 0.0
         for k, s in terms:
             sd = s * d[k]
-            re = re + sd * cos[k]
-            im = im + sd * sin[k]
+            px, py = sd * cos[k], sd * sin[k]  # the term s d e^{jθ}, real and imaginary
+            fx += px
+            fy += py
             if jac is None:
                 continue
             a_col = where.get(int(c.angle_var[k]))
-            if a_col is not None:
-                jac[2 * l_idx, a_col] -= sd * sin[k]
-                jac[2 * l_idx + 1, a_col] += sd * cos[k]
+            if a_col is not None:  # ∂/∂θ = j s d e^{jθ}
+                jac[2 * l_idx, a_col] -= py
+                jac[2 * l_idx + 1, a_col] += px
             l_col = where.get(int(c.length_var[k]))
-            if l_col is not None:
+            if l_col is not None:  # ∂/∂d = s e^{jθ}
                 jac[2 * l_idx, l_col] += s * cos[k]
                 jac[2 * l_idx + 1, l_col] += s * sin[k]
-        f[2 * l_idx] = re
-        f[2 * l_idx + 1] = im
     if c.con.shape[0]:
         f[2 * n_loop :] = c.con @ x + c.con0[:, None]
         if jac is not None:
