@@ -110,9 +110,9 @@ def main() -> None:
         t_np = best(lambda a_np=a_np, b_np=b_np: np.linalg.solve(a_np, b_np), 3)
         rows.append((f"batched LU solve {n_unk}x{n_unk}", n, t_lu, n / t_lu))
         rows.append((f"np.linalg.solve {n_unk}x{n_unk}", n, t_np, n / t_np))
-    print(f"{'what':44s} {'size':>9s} {'time [s]':>10s} {'rate [/s]':>12s}")
+    print(f"{'what':54s} {'size':>9s} {'time [s]':>10s} {'rate [/s]':>12s}")
     for what, n, t, rate in rows:
-        print(f"{what:44s} {n:9d} {t:10.4f} {rate:12.3g}")
+        print(f"{what:54s} {n:9d} {t:10.4f} {rate:12.3g}")
 
 
 if __name__ == "__main__":
