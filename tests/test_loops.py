@@ -809,7 +809,8 @@ def _fast_taken(s: LoopSystem, theta2: np.ndarray, guess: dict) -> bool:
 
     c = s._checked(("theta2",))
     q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
-    return core._sweep_fast(c, theta2[None], q0, 0.4, 1e-12, 50, core.SINGULAR_RCOND) is not None
+    res = core._sweep_fast(c, theta2[None], q0, 0.4, 1e-12, 50, core.SINGULAR_RCOND)
+    return res is not None and bool((res.code == core.OK).all())
 
 
 @pytest.mark.parametrize(
@@ -978,3 +979,39 @@ def test_small_step_trig_rotation_is_exact_to_rounding(rng):
         _, cos_ref, sin_ref = _vector_terms(c, x2)
         for a, b in zip(cos + sin, cos_ref + sin_ref, strict=True):
             np.testing.assert_allclose(a, b, rtol=0, atol=4e-16)
+
+
+def test_failed_fill_samples_are_re_solved_carefully_on_their_stretch_only(monkeypatch):
+    """Samples the fast fill rejects (here: forced) are re-solved by the careful path over
+    the stretch that holds them; the result equals the law of cosines everywhere."""
+    from machdyn.loops import solve as core
+
+    r1, r2, r3, r4 = 8.0, 2.0, 7.0, 6.0
+    theta2 = np.linspace(0.0, 2 * np.pi, 3600)
+    t3, t4 = fourbar_closed_form(r1, r2, r3, r4, theta2)
+    s = fourbar_system(r1, r2, r3, r4)
+    fast = core._sweep_fast
+    spans = []
+
+    def failing(*args):
+        res = fast(*args)
+        code = res.code.copy()
+        code[[1000, 1001, 1500]] = core.NO_ASSEMBLY  # as if they failed a check
+        q = res.q.copy()
+        q[:, code != core.OK] = np.nan
+        return core.Positions(q, code, res.residual, res.det, res.rcond)
+
+    solve_positions = core.solve_positions
+
+    def spy(c, u, guess, continuation, **kw):
+        if kw.get("fast") is False:
+            spans.append(u.shape[1])
+        return solve_positions(c, u, guess, continuation, **kw)
+
+    monkeypatch.setattr(core, "_sweep_fast", failing)
+    monkeypatch.setattr(core, "solve_positions", spy)
+    m = s.solve({"theta2": theta2}, guess={"theta3": 0.9, "theta4": 1.5}, velocity={"theta2": 1.0})
+    assert spans == [1500 - 1000 + 3]  # from sample 999 to 1501
+    assert m.ok.all()
+    np.testing.assert_allclose(wrap(m["theta3"] - t3), 0, atol=1e-10)
+    np.testing.assert_allclose(wrap(m["theta4"] - t4), 0, atol=1e-10)

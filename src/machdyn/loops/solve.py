@@ -943,6 +943,7 @@ def solve_positions(
     tol: float = 1e-12,
     max_iter: int = 50,
     sing_tol: float = SINGULAR_RCOND,
+    fast: bool = True,
 ) -> Positions:
     """Positions of the unknowns for inputs ``u`` (n_u, N).
 
@@ -954,13 +955,20 @@ def solve_positions(
     are then filled in doubling waves, each a single batched Newton solve
     predicted from the already solved neighbours. Every solution is verified
     (:func:`_accept`); a failed verification is re-solved with smaller steps or
-    flagged.
+    flagged. Straight, evenly stepped sweeps first try :func:`_sweep_fast`
+    (unless ``fast`` is False); if only some of its samples fail, the stretch
+    holding them is re-solved this careful way (:func:`_patch`).
     """
     n_q, n_u, n_samples = guess.shape[0], u.shape[0], u.shape[1]
-    if continuation and 3 <= n_samples <= FAST_MAX_SAMPLES and n_u:
-        fast = _sweep_fast(c, u, guess, max_step, tol, max_iter, sing_tol)
-        if fast is not None:
-            return fast
+    if fast and continuation and 3 <= n_samples <= FAST_MAX_SAMPLES and n_u:
+        quick = _sweep_fast(c, u, guess, max_step, tol, max_iter, sing_tol)
+        if quick is not None and (quick.code == OK).all():
+            return quick
+        if quick is not None:  # the march held; only some samples of the fill failed
+            careful = {"max_step": max_step, "tol": tol, "max_iter": max_iter}
+            patched = _patch(c, u, guess, quick, sing_tol=sing_tol, **careful)
+            if patched is not None:
+                return patched
     if not continuation or n_samples == 1:
         q0 = np.broadcast_to(guess, (n_q, n_samples))
         res = newton(c, q0, u, max_iter=max_iter, tol=tol)
@@ -1045,8 +1053,9 @@ def _sweep_fast(
     a vectorised check of every sample (converged, well conditioned, on the side
     of det J = 0 of both coarse neighbours, within a tenth of the input step of
     its prediction). Returns None, leaving the sweep to the careful path of
-    :func:`solve_positions`, at the first sign of trouble: an uneven sweep, a
-    coarse step that fails, any sample near a toggle or failing a check.
+    :func:`solve_positions`, for an uneven sweep or a coarse step that fails;
+    when only samples of the fill fail (near a toggle, a check), they are
+    returned coded NO_ASSEMBLY for :func:`_patch` to re-solve carefully.
     "Evenly stepped" means equal steps along a straight line in input space
     (``np.linspace`` of every input), so that a sample's fraction of a coarse
     interval by index is its fraction by input.
@@ -1136,10 +1145,38 @@ def _sweep_fast(
             & (np.sign(fac.det) == np.repeat(np.sign(det_c_arr[1:]), counts))
             & (far <= 0.1 * du + 1e-7)  # (+: the march's poses are polished here)
         )
-    if not good.all():
+    code = np.where(good, OK, NO_ASSEMBLY).astype(np.int8)
+    if good.all():
+        return Positions(q, code, r, fac.det, fac.rcond, reuse=(terms, jac, fac))
+    return Positions(q, code, r, fac.det, fac.rcond)  # to be patched by the careful path
+
+
+def _patch(
+    c: Compiled, u: np.ndarray, guess: np.ndarray, fast: Positions, **careful
+) -> Positions | None:
+    """Re-solve the stretch of a fast sweep that holds its failed samples, carefully.
+
+    The span runs from the last accepted sample before the first failure to the
+    first accepted one after the last failure; the careful path marches it from
+    the accepted pose (the guess if the sweep's first sample failed). Its end
+    must agree with the fast pose there (the same branch), else None.
+    """
+    n = u.shape[1]
+    bad = np.flatnonzero(fast.code != OK)
+    lo, hi = max(int(bad[0]) - 1, 0), min(int(bad[-1]) + 1, n - 1)
+    start = fast.q[:, lo : lo + 1] if fast.code[lo] == OK else guess[:, :1]
+    sub = solve_positions(c, u[:, lo : hi + 1], start, True, fast=False, **careful)
+    if hi < n - 1 and not (
+        sub.code[-1] == OK
+        and np.abs((sub.q[:, -1] - fast.q[:, hi]) / c.var_scale[c.unknown]).max() <= 1e-8
+    ):
         return None
-    code = np.zeros(n, dtype=np.int8)
-    return Positions(q, code, r, fac.det, fac.rcond, reuse=(terms, jac, fac))
+    span = slice(lo, hi + 1)
+    q, code = fast.q.copy(), fast.code.copy()
+    residual, det, rcond = fast.residual.copy(), fast.det.copy(), fast.rcond.copy()
+    q[:, span], code[span], residual[span] = sub.q, sub.code, sub.residual
+    det[span], rcond[span] = sub.det, sub.rcond
+    return Positions(q, code, residual, det, rcond)
 
 
 def _march_fast(
