@@ -618,7 +618,7 @@ class LoopSystem:
             if todo.size:
                 x = np.nan_to_num(x0[:, todo])
                 _, jac = _solve.residual_and_jacobian(c, x, c.unknown)
-                fac = _solve.lu_factor(jac, *c.jq_scales, c.jq_structure)
+                fac = _solve._factor(jac, *c.jq_scales, c.jq_structure)
                 det[todo], rcond[todo] = fac.det, fac.rcond
         assembled = code == _solve.OK
         singular = assembled & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)

@@ -177,10 +177,7 @@ class Factor:
 
 
 def lu_factor(
-    a: np.ndarray,
-    row_scale: np.ndarray | None = None,
-    col_scale: np.ndarray | None = None,
-    structure: tuple | None = None,
+    a: np.ndarray, row_scale: np.ndarray | None = None, col_scale: np.ndarray | None = None
 ) -> Factor:
     """Factor a batch of small dense matrices ``a[:, :, i]`` (Gaussian elimination).
 
@@ -196,9 +193,6 @@ def lu_factor(
         Static multipliers that make the entries O(1) (e.g. from the model's
         units). Without them every matrix is equilibrated from its entries,
         which costs several extra passes over the batch.
-    structure : tuple, optional
-        :func:`lu_structure` of the matrices' sparsity pattern: the entries
-        known to be zero are skipped (same result, less work).
 
     Returns
     -------
@@ -212,6 +206,20 @@ def lu_factor(
     2.0
     >>> lu_solve(f, np.array([[3.0], [7.0]]))[:, 0].tolist()
     [1.0, 1.0]
+    """
+    return _factor(a, row_scale, col_scale)
+
+
+def _factor(
+    a: np.ndarray,
+    row_scale: np.ndarray | None = None,
+    col_scale: np.ndarray | None = None,
+    structure: tuple | None = None,
+) -> Factor:
+    """:func:`lu_factor`, skipping the entries known to be zero.
+
+    ``structure`` is :func:`lu_structure` of the matrices' sparsity pattern
+    (same result as without it, less work).
     """
     n = a.shape[0]
     if n == 0:
@@ -623,7 +631,7 @@ def newton(
             r = np.abs(f * weight).max(axis=0)
             resid[active] = r
             done = r <= tol
-        fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
+        fac = _factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
         rhs = np.concatenate([-f[:, None, :], -jac[:, nq:]], axis=1)
         sol = lu_solve(fac, rhs)
         if done.any():
@@ -1118,7 +1126,7 @@ def _sweep_fast(
         # error): one Jacobian and factor at the start, one more at the solution.
         terms = _vector_terms(c, x)
         f, jac = residual_and_jacobian(c, x, cols, terms=terms)
-        fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
+        fac = _factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
         fresh = True
         for _ in range(FAST_ITER):
             r = np.abs(f * weight).max(axis=0)
@@ -1134,7 +1142,7 @@ def _sweep_fast(
             r = np.abs(f * weight).max(axis=0)
         if not fresh:  # det, rcond and the derivative stage need J at the solution
             f, jac = residual_and_jacobian(c, x, cols, terms=terms)
-            fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
+            fac = _factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
         q = x[c.unknown]
         du = span * np.maximum(t, 1.0 - t)
         far = np.abs((q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0)
@@ -1395,7 +1403,7 @@ def derivatives(
         cols = np.concatenate([c.unknown, c.inputs])
         terms = _vector_terms(c, x0)
         _, jac = residual_and_jacobian(c, x0, cols, terms=terms)
-        fac = lu_factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
+        fac = _factor(jac[:, :nq], *c.jq_scales, c.jq_structure)
     else:
         terms, jac, fac = reuse
     d, cos, sin = terms
