@@ -121,11 +121,6 @@ class Compiled:
         return lu_structure(pattern)
 
     @cached_property
-    def unknown_set(self) -> frozenset[int]:
-        """The unknowns' variable indices, for membership tests."""
-        return frozenset(int(v) for v in self.unknown)
-
-    @cached_property
     def unknown_row(self) -> dict[int, int]:
         """Row of each unknown (by variable index) in ``q``."""
         return {int(v): i for i, v in enumerate(self.unknown)}
@@ -419,30 +414,16 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- equations
-def _vector_terms(
-    c: Compiled, x: np.ndarray, update: tuple[list, list, list] | None = None
-) -> tuple[list, list, list]:
+def _vector_terms(c: Compiled, x: np.ndarray) -> tuple[list, list, list]:
     """Length, cos and sin of every vector for the states ``x`` (n_var, N).
 
     Constant parts stay Python floats (broadcast for free); vectors sharing an
-    angle variable share its trigonometry. With ``update`` (terms of an earlier
-    state that differs only in the unknowns) the inputs' trigonometry is kept
-    and only that of unknown angles is recomputed.
+    angle variable share its trigonometry.
     """
-    d, cos, sin = ([], [], []) if update is None else (list(t) for t in update)
+    d, cos, sin = [], [], []
     trig: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-    moving = c.unknown_set
     for k in range(len(c.length_const)):
         lv, av = int(c.length_var[k]), int(c.angle_var[k])
-        if update is not None:
-            if lv >= 0:
-                d[k] = x[lv]
-            if av not in moving:
-                continue
-            if av not in trig:
-                trig[av] = np.cos(x[av]), np.sin(x[av])
-            cos[k], sin[k] = trig[av]
-            continue
         d.append(x[lv] if lv >= 0 else float(c.length_const[k]))
         if av >= 0:
             if av not in trig:
