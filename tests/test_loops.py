@@ -787,3 +787,231 @@ def test_notes_six_link_example_solves_along_a_sweep():
     for name in ("d3", "d6", "theta8", "theta10"):
         vel = m.velocity[name][2:-2]
         np.testing.assert_allclose(vel, 2.0 * five_point(m[name], h), atol=1e-6 * np.abs(vel).max())
+
+
+# ----------------------------------------------------------------------------- fast path
+# Short, evenly stepped sweeps take a fast path (a plain-float coarse march, one batched
+# Hermite fill, vectorised checks); anything doubtful goes to the careful path (doubling
+# waves). Both must give the same motion; the careful path is forced by setting the
+# fast path's size limit to zero.
+def _careful(monkeypatch, solve):
+    from machdyn.loops import solve as core
+
+    monkeypatch.setattr(core, "FAST_MAX_SAMPLES", 0)
+    try:
+        return solve()
+    finally:
+        monkeypatch.undo()
+
+
+def _fast_taken(s: LoopSystem, theta2: np.ndarray, guess: dict) -> bool:
+    from machdyn.loops import solve as core
+
+    c = s._checked(("theta2",))
+    q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
+    res = core._sweep_fast(c, theta2[None], q0, 0.4, 1e-12, 50, core.SINGULAR_RCOND)
+    return res is not None and bool((res.code == core.OK).all())
+
+
+@pytest.mark.parametrize(
+    "build, guess",
+    [
+        (lambda: fourbar_system(8, 2, 7, 6), {"theta3": 0.5, "theta4": 1.5}),  # crank-rocker
+        (lambda: fourbar_system(1.5, 3.0, 3.5, 3.5), {"theta3": 1.0, "theta4": 1.9}),  # drag link
+        (
+            watt_six_bar_with_slider,
+            {"theta3": 1.2, "theta4": 1.9, "theta4c": 2.2, "theta5": 0.4, "d6": 10.0},
+        ),
+    ],
+)
+def test_fast_and_careful_paths_agree(monkeypatch, build, guess):
+    s = build()
+    theta2 = np.linspace(0.0, 2 * np.pi, 3600)
+    assert _fast_taken(s, theta2, guess)
+
+    def solve():
+        return s.solve({"theta2": theta2}, guess=guess, velocity={"theta2": 3.0})
+
+    fast, careful = solve(), _careful(monkeypatch, solve)
+    assert fast.ok.all() and careful.ok.all()
+    np.testing.assert_array_equal(fast.branch, careful.branch)
+    for name in fast.positions:
+        np.testing.assert_allclose(fast[name], careful[name], rtol=0, atol=1e-10)
+        for a, b in (
+            (fast.velocity, careful.velocity),
+            (fast.acceleration, careful.acceleration),
+            (fast.jerk, careful.jerk),
+        ):
+            np.testing.assert_allclose(a[name], b[name], rtol=1e-8, atol=1e-8)
+    np.testing.assert_allclose(fast.residual, 0.0, atol=1e-12)
+
+
+def test_fast_path_four_bar_matches_the_law_of_cosines_and_finite_differences():
+    r1, r2, r3, r4 = 8.0, 2.0, 7.0, 6.0
+    theta2 = np.linspace(0.0, 2 * np.pi, 3600)
+    t3, t4 = fourbar_closed_form(r1, r2, r3, r4, theta2, form=1)
+    s = fourbar_system(r1, r2, r3, r4)
+    guess = {"theta3": float(t3[0]), "theta4": float(t4[0])}
+    assert _fast_taken(s, theta2, guess)
+    m = s.solve({"theta2": theta2}, guess=guess, velocity={"theta2": 1.0})
+    np.testing.assert_allclose(wrap(m["theta3"] - t3), 0, atol=1e-10)
+    np.testing.assert_allclose(wrap(m["theta4"] - t4), 0, atol=1e-10)
+    h = theta2[1] - theta2[0]
+    for name in ("theta3", "theta4"):
+        vel = m.velocity[name][2:-2]
+        np.testing.assert_allclose(vel, five_point(m[name], h), atol=1e-8 * np.abs(vel).max())
+
+
+def test_hard_sweeps_fall_back_to_the_careful_path(monkeypatch):
+    """An assembly gap, dead points, a reversing or uneven sweep: no fast path, same answers."""
+    tri = fourbar_system(4.0, 3.0, 3.0, 2.5)  # triple rocker: cannot pass ~102.6 deg
+    t3, t4 = fourbar_closed_form(4.0, 3.0, 3.0, 2.5, np.array([0.0]))
+    tri_guess = {"theta3": float(t3[0]), "theta4": float(t4[0])}
+    crank = fourbar_system(8, 2, 7, 6)
+    crank_guess = {"theta3": 0.5, "theta4": 1.5}
+    # Crank-rocker 4-1-4.5-3 driven by its rocker from one dead point to the other: there
+    # the crank and coupler are collinear, |O2 B| = r3 -+ r2, which fixes theta4 by the
+    # law of cosines in the triangle O2 O4 B.
+    r1, r2, r3, r4 = 4.0, 1.0, 4.5, 3.0
+    ends = [np.arccos((ln**2 - r1**2 - r4**2) / (2 * r1 * r4)) for ln in (r3 + r2, r3 - r2)]
+    rocker = fourbar_system(r1, r2, r3, r4).inputs("theta4")
+    b = r4 * np.exp(1j * ends[0]) + r1  # extended: crank and coupler both along O2 -> B
+    rocker_guess = {"theta2": float(np.angle(b)), "theta3": float(np.angle(b))}
+    there_and_back = np.concatenate([np.linspace(0, 1, 500), np.linspace(1, 0, 500)[1:]])
+    cases = [
+        (tri, "theta2", np.linspace(0, 2 * np.pi, 2000), tri_guess),  # assembly gap
+        (rocker, "theta4", np.linspace(ends[0], ends[1], 1000), rocker_guess),  # dead points
+        (crank, "theta2", there_and_back, crank_guess),  # reverses: not one straight sweep
+        (crank, "theta2", np.linspace(0, 1, 1000) ** 2, crank_guess),  # uneven steps
+    ]
+    from machdyn.loops import solve as core
+
+    for s, name, values, guess in cases:
+        c = s._checked((name,))
+        q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
+        assert core._sweep_fast(c, values[None], q0, 0.4, 1e-12, 50, 1e-4) is None
+
+        def solve(s=s, name=name, values=values, guess=guess):
+            return s.solve({name: values}, guess=guess, velocity={name: 1.0})
+
+        a, b = solve(), _careful(monkeypatch, solve)
+        assert not a.ok.all() or s is crank
+        np.testing.assert_array_equal(a.ok, b.ok)
+        np.testing.assert_array_equal(a.reason, b.reason)
+        np.testing.assert_array_equal(a.positions[name], b.positions[name])
+        for key in a.positions:
+            np.testing.assert_array_equal(a[key], b[key])
+
+
+def test_fill_that_cannot_converge_falls_back(monkeypatch):
+    """With no corrector step allowed the fast fill fails its checks; the careful path
+    then solves the sweep, so the answer is unchanged (against the law of cosines)."""
+    from machdyn.loops import solve as core
+
+    r1, r2, r3, r4 = 8.0, 2.0, 7.0, 6.0
+    theta2 = np.linspace(0.0, 2 * np.pi, 3600)
+    t3, _ = fourbar_closed_form(r1, r2, r3, r4, theta2)
+    s = fourbar_system(r1, r2, r3, r4)
+    guess = {"theta3": float(t3[0]), "theta4": 1.5}
+    monkeypatch.setattr(core, "FAST_ITER", 0)
+    assert not _fast_taken(s, theta2, guess)
+    m = s.solve({"theta2": theta2}, guess=guess)
+    assert m.ok.all()
+    np.testing.assert_allclose(wrap(m["theta3"] - t3), 0, atol=1e-10)
+
+
+def test_sparse_lu_equals_dense_lu_and_numpy(rng):
+    """lu_structure: skipping structural zeros gives the dense factors (pivots and all)."""
+    from machdyn.loops.solve import _factor, lu_structure
+
+    for n in (3, 4, 5, 6):
+        for _ in range(4):
+            pattern = rng.random((n, n)) < 0.45
+            pattern[rng.permutation(n), np.arange(n)] = True  # structurally non-singular
+            a = rng.normal(size=(n, n, 40)) * pattern[:, :, None]
+            ones = np.ones(n)
+            dense = lu_factor(a, ones, ones)
+            sparse = _factor(a, ones, ones, lu_structure(pattern))
+            np.testing.assert_allclose(sparse.lu, dense.lu, rtol=1e-12, atol=1e-12)
+            np.testing.assert_allclose(sparse.det, dense.det, rtol=1e-12)
+            np.testing.assert_allclose(sparse.rcond, dense.rcond, rtol=1e-12)
+            a_np = np.moveaxis(a, -1, 0)
+            np.testing.assert_allclose(sparse.det, np.linalg.det(a_np), rtol=1e-8, atol=1e-12)
+            b = rng.normal(size=(n, 40))
+            np.testing.assert_allclose(
+                lu_solve(sparse, b).T,
+                np.linalg.solve(a_np, b.T[..., None])[..., 0],
+                rtol=1e-7,
+                atol=1e-9,
+            )
+
+
+def test_2x2_closed_form_matches_pivoted_elimination(rng):
+    """The 2x2 inverse reports the det and the pivot-ratio rcond of partial pivoting."""
+    from machdyn.loops.solve import _eliminate
+
+    a = rng.normal(size=(2, 2, 200))
+    a[:, 0, :3] = 0.0  # a zero first column: singular, rcond 0
+    a[1, :, 3] = 2.0 * a[0, :, 3]  # dependent rows: singular
+    f = lu_factor(a, np.ones(2), np.ones(2))
+    assert f.inv is not None
+    g = _eliminate(a.copy(), np.ones((2, 1)), np.ones((2, 1)), 1.0, None)
+    np.testing.assert_allclose(f.det, g.det, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(f.rcond[4:], g.rcond[4:], rtol=1e-12)
+    assert (f.rcond[:3] == 0.0).all() and f.rcond[3] < 1e-15
+    b = rng.normal(size=(2, 3, 200))
+    np.testing.assert_allclose(
+        lu_solve(f, b)[..., 4:], lu_solve(g, b)[..., 4:], rtol=1e-9, atol=1e-12
+    )
+
+
+def test_small_step_trig_rotation_is_exact_to_rounding(rng):
+    from machdyn.loops.solve import _step_terms, _vector_terms
+
+    s = fourbar_system(8, 2, 7, 6)
+    c = s._checked(("theta2",))
+    x = rng.uniform(-np.pi, np.pi, (len(c.names), 500))
+    for size in (1e-9, 1e-5, 2e-3, 0.3):  # the last is evaluated afresh
+        step = rng.uniform(-size, size, (len(c.unknown), 500))
+        x2 = x.copy()
+        x2[c.unknown] += step
+        _, cos, sin = _step_terms(c, x2, _vector_terms(c, x), step)
+        _, cos_ref, sin_ref = _vector_terms(c, x2)
+        for a, b in zip(cos + sin, cos_ref + sin_ref, strict=True):
+            np.testing.assert_allclose(a, b, rtol=0, atol=4e-16)
+
+
+def test_failed_fill_samples_are_re_solved_carefully_on_their_stretch_only(monkeypatch):
+    """Samples the fast fill rejects (here: forced) are re-solved by the careful path over
+    the stretch that holds them; the result equals the law of cosines everywhere."""
+    from machdyn.loops import solve as core
+
+    r1, r2, r3, r4 = 8.0, 2.0, 7.0, 6.0
+    theta2 = np.linspace(0.0, 2 * np.pi, 3600)
+    t3, t4 = fourbar_closed_form(r1, r2, r3, r4, theta2)
+    s = fourbar_system(r1, r2, r3, r4)
+    fast = core._sweep_fast
+    spans = []
+
+    def failing(*args):
+        res = fast(*args)
+        code = res.code.copy()
+        code[[1000, 1001, 1500]] = core.NO_ASSEMBLY  # as if they failed a check
+        q = res.q.copy()
+        q[:, code != core.OK] = np.nan
+        return core.Positions(q, code, res.residual, res.det, res.rcond)
+
+    solve_positions = core.solve_positions
+
+    def spy(c, u, guess, continuation, **kw):
+        if kw.get("fast") is False:
+            spans.append(u.shape[1])
+        return solve_positions(c, u, guess, continuation, **kw)
+
+    monkeypatch.setattr(core, "_sweep_fast", failing)
+    monkeypatch.setattr(core, "solve_positions", spy)
+    m = s.solve({"theta2": theta2}, guess={"theta3": 0.9, "theta4": 1.5}, velocity={"theta2": 1.0})
+    assert spans == [1500 - 1000 + 3]  # from sample 999 to 1501
+    assert m.ok.all()
+    np.testing.assert_allclose(wrap(m["theta3"] - t3), 0, atol=1e-10)
+    np.testing.assert_allclose(wrap(m["theta4"] - t4), 0, atol=1e-10)

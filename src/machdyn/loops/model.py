@@ -602,7 +602,8 @@ class LoopSystem:
                 self._rates("acceleration", acceleration, inputs, shape, required=False),
                 self._rates("jerk", jerk, inputs, shape, required=False),
             ][:order]
-            rates, fac = _solve.derivatives(c, x0, u_rates)
+            reuse = pos.reuse if pos is not None else None
+            rates, fac = _solve.derivatives(c, x0, u_rates, reuse=reuse)
             det, rcond = fac.det, fac.rcond
             states += rates
         else:
@@ -617,14 +618,15 @@ class LoopSystem:
             if todo.size:
                 x = np.nan_to_num(x0[:, todo])
                 _, jac = _solve.residual_and_jacobian(c, x, c.unknown)
-                fac = _solve.lu_factor(jac, *c.jq_scales)
+                fac = _solve._factor(jac, *c.jq_scales, c.jq_structure)
                 det[todo], rcond[todo] = fac.det, fac.rcond
         assembled = code == _solve.OK
         singular = assembled & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
         code = np.where(singular, _solve.SINGULAR, code)
         ok = code == _solve.OK
-        pts = _solve.point_motion(c, states)
-        bad_pos = ~np.isin(code, (_solve.OK, _solve.SINGULAR))
+        terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
+        pts = _solve.point_motion(c, states, terms)
+        bad_pos = (code != _solve.OK) & (code != _solve.SINGULAR)
         mask = [bad_pos] + [~ok] * (len(states) - 1)
 
         def pack(arr: np.ndarray, bad: np.ndarray) -> np.ndarray:
