@@ -873,17 +873,27 @@ def _accept(
     det_ref: np.ndarray,
     rc_ref: np.ndarray,
     sing_tol: float,
+    q_from: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Continuation checks; returns (accepted, jump) masks.
 
     A converged sample is a *jump* when ``det J_q`` changed sign from its
     reference neighbour while neither is near a toggle, or when it lies farther
-    from its tangent prediction than half the (scaled) input step: on one
-    branch the prediction error is O(step²), a jump to another circuit is O(1).
+    from its prediction than half the (scaled) step: on one branch the
+    prediction error is O(step²), a jump to another circuit is O(1). The step
+    counts the input step and, when ``q_from`` (the pose predicted from) is
+    given, the predicted motion of the unknowns: next to a rocker's limit
+    ``dq/du`` is unbounded and a pose on the right branch lies many input steps
+    from the prediction.
     """
     near_sing = ~(res.rcond >= 10 * sing_tol) | ~(rc_ref >= 10 * sing_tol)  # NaN: unknown
     same_side = (np.sign(res.det) == np.sign(det_ref)) | near_sing
-    far = np.abs((res.q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0) > 0.5 * du + 1e-9
+    scale = c.var_scale[c.unknown][:, None]
+    step = du
+    if q_from is not None:
+        moved = np.abs((pred - q_from) / scale).max(axis=0)
+        step = du + np.where(np.isfinite(moved), moved, 0.0)
+    far = np.abs((res.q - pred) / scale).max(axis=0) > 0.5 * step + 1e-9
     jump = res.converged & (~same_side | far)
     return res.converged & ~jump, jump
 
@@ -1230,7 +1240,7 @@ class _March:
         if not res.converged[0]:
             return None
         du = np.abs(du_vec / c.var_scale[c.inputs][:, None]).max(axis=0)
-        ok, _ = _accept(c, res, pred, du, a.det, a.rcond, self.sing_tol)
+        ok, _ = _accept(c, res, pred, du, a.det, a.rcond, self.sing_tol, q_from=a.q)
         return res if ok[0] else None
 
     def to(
@@ -1329,13 +1339,18 @@ def _fill(c: Compiled, new, half, u, st: _Store, tol, march: _March) -> None:
     ref = np.where(has_left, left, right)
 
     res = newton(c, pred, u_new, max_iter=20, tol=tol, lazy_first=half == 1)
-    ok, jump = _accept(c, res, pred, du, st.det[ref], st.rc[ref], march.sing_tol)
+    ok, jump = _accept(
+        c, res, pred, du, st.det[ref], st.rc[ref], march.sing_tol, q_from=st.q[:, ref]
+    )
     st.put(new[ok], res, ok)
     st.code[new[~res.converged]] = NO_ASSEMBLY
-    # Suspected jumps: retry a few with the sequential march, flag the rest.
-    jumped = np.flatnonzero(jump)
-    st.code[new[jumped]] = JUMP
-    for j in jumped[:64]:
+    st.code[new[jump]] = JUMP
+    # Retry with the sequential march (small steps from a solved neighbour): suspected
+    # jumps, and samples that did not converge although solved on both sides — inside
+    # an assembly interval, so reachable; near a rocker's limit the neighbours' huge
+    # tangents can throw the Hermite prediction off. Others stay flagged.
+    retry = np.flatnonzero(jump | (~res.converged & both))
+    for j in retry[:64]:
         a_idx = int(ref[j])
         u_a, u_b = u[:, a_idx : a_idx + 1], u[:, new[j] : new[j] + 1]
         s = march.to(st.one(a_idx), u_a, u_b, False, st.q[:, a_idx : a_idx + 1])
