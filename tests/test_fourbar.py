@@ -534,3 +534,31 @@ def test_every_exact_rocker_limit_is_flagged_as_a_toggle(rng):
 def test_mismatched_rate_shapes_name_the_input():
     with pytest.raises(InputError, match=r"omega2: shape \(2,\) does not broadcast with theta2"):
         FourBar(8, 4, 7, 6).solve([0.1, 0.2, 0.3], omega2=[1.0, 2.0])
+
+
+@pytest.mark.parametrize("lengths", [(3, 3, 3, 3), (2, 2, 4, 4)])
+def test_extrema_of_change_point_linkages_with_an_indeterminate_pose(lengths):
+    # CP3X rhombus and a kite: A lands on O4 at θ2 = 0, where the pose is indeterminate.
+    fb = FourBar(*lengths)
+    ex = fb.extrema()
+    for e in ex.values():
+        assert e.full_turn or (np.isfinite(e.min) and np.isfinite(e.max))
+    assert np.isfinite(fb.transmission_angle().min)
+
+
+def test_mechanical_advantage_at_both_dead_points_agrees_between_methods():
+    fb = FourBar(6, 9, 3, 8)  # GRCR: link 2 rocks between two toggles of links 3 and 4
+    rng = fb.input_range(1)
+    for method in ("power", "instant_centres"):
+        assert fb.mechanical_advantage(np.array([rng.lo]), method=method)[0] == 0.0
+    crank_rocker = FourBar(8, 4, 7, 6)
+    stops = np.array([t.theta2 for t in crank_rocker.toggles() if t.branch == 1])
+    for method in ("power", "instant_centres"):
+        assert np.all(crank_rocker.mechanical_advantage(stops, method=method) == np.inf)
+
+
+def test_lengths_must_be_lengths():
+    pint = pytest.importorskip("pint")
+    u = pint.UnitRegistry()
+    with pytest.raises(InputError, match="r1: must be a length"):
+        FourBar(8 * u.s, 4 * u.s, 7 * u.s, 6 * u.s)

@@ -68,3 +68,18 @@ def test_bad_input_names_the_field(call, field):
 def test_unknown_joint_type_lists_valid_types():
     with pytest.raises(InputError, match="valid types: R, P, rolling"):
         Joint("weld", (1, 2))
+
+
+@pytest.mark.parametrize(
+    ("call", "field"),
+    [
+        (lambda: mobility("4", "4"), "links"),
+        (lambda: mobility(True, 0), "links"),
+        (lambda: mobility_of(None), "joints"),
+        (lambda: mobility_of([("R", ([1], 2))]), "links"),
+    ],
+)
+def test_non_numbers_are_refused(call, field):
+    with pytest.raises(InputError) as info:
+        call()
+    assert info.value.field == field

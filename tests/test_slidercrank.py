@@ -191,3 +191,16 @@ def test_inverted_slider_crank_quick_return_angles():
 def test_mismatched_rate_shapes_name_the_input():
     with pytest.raises(InputError, match=r"alpha2: shape \(2,\)"):
         SliderCrank(1.0, 4.0).solve([0.1, 0.2, 0.3], alpha2=[1.0, 2.0])
+
+
+@pytest.mark.parametrize(("a", "b", "c"), [(3.0, 2.0, 1.5), (3.0, 2.0, -1.5), (3.0, 2.0, 0.0)])
+def test_input_range_matches_where_the_rod_reaches(a, b, c):
+    sc = SliderCrank(a, b, c)
+    lo, hi = sc.input_range()
+    inside = np.linspace(lo, hi, 1001)[1:-1]
+    assert sc.solve(inside).ok.all()
+    # just outside both ends the rod cannot reach the slide
+    outside = sc.solve(np.array([lo - 1e-6, hi + 1e-6]))
+    assert not outside.assembled.any()
+    for end in (lo, hi):
+        assert abs(a * np.sin(end) - c) == pytest.approx(b)

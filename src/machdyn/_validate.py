@@ -104,6 +104,8 @@ def integer(field: str, value: Any, minimum: int | None = None) -> int:
     ...
     machdyn.errors.InputError: teeth: must be a whole number, got 20.5
     """
+    if isinstance(value, str | bytes | bool | np.bool_):
+        raise InputError(field, f"must be a whole number, got {value!r}")
     try:
         as_float = float(value)
     except (TypeError, ValueError):
@@ -179,7 +181,9 @@ def common_length_unit(**lengths: Any) -> tuple[dict[str, float], str | None]:
     missing = [k for k, u in has_unit.items() if not u]
     if missing:
         raise InputError(missing[0], "give every length with a unit, or none (others carry units)")
-    first = next(iter(lengths.values()))
+    first_name, first = next(iter(lengths.items()))
+    if str(getattr(first, "dimensionality", "[length]")) != "[length]":
+        raise InputError(first_name, f"must be a length, got a quantity in {first.units}")
     unit = str(first.units)
     return {k: finite_scalar(k, v, unit) for k, v in lengths.items()}, unit
 

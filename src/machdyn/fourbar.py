@@ -963,8 +963,8 @@ class FourBar:
                 continue
             # Represent the range as a continuous arc centred in (−π, π]: the angle
             # runs from min up to max, and one end may lie beyond ±π.
-            turns = np.unwrap(np.concatenate(values))
-            turns = turns[np.isfinite(turns)]
+            joined = np.concatenate(values)
+            turns = np.unwrap(joined[np.isfinite(joined)])  # a change point's pose is NaN
             mid = 0.5 * (turns.min() + turns.max())
             centre = float(wrap_pi(mid))
             best_min: tuple[float, float] | None = None
@@ -1006,7 +1006,7 @@ class FourBar:
         best: tuple[float, float, int] | None = None
         for grid, br in self._form_samples(form, n):
             values = _angle_of(self, "mu", grid, br)
-            i = int(np.argmin(values))
+            i = int(np.nanargmin(values))
             t, v = _refine(self, "mu", grid, i, br, 1.0, rng)
             if best is None or v < best[1]:
                 best = (t, v, br)
@@ -1099,8 +1099,9 @@ class FourBar:
 
         A force ``F_in`` at radius ``r_in`` on link 2 drives a load ``F_out``
         at radius ``r_out`` on link 4 (the notes' review lecture 2). Signed:
-        negative when link 4 turns the opposite way to link 2; infinite at a
-        toggle of links 2 and 3.
+        negative when link 4 turns the opposite way to link 2; +∞ at a toggle of
+        links 2 and 3 (the output stops), 0 at a toggle of links 3 and 4 (the
+        input's dead point), NaN where the linkage cannot be assembled.
 
         Parameters
         ----------
@@ -1122,17 +1123,20 @@ class FourBar:
         r_out = finite_scalar("r_out", r_out, self.length_unit)
         if r_out == 0.0:
             raise InputError("r_out", "must be non-zero (the output force's lever arm)")
+        m = self.solve(theta2, omega2=1.0, form=form, branch=branch, order=1)
         if method == "power":
-            m = self.solve(theta2, omega2=1.0, form=form, branch=branch)
             ratio = m.omega4  # ω4 / ω2 with ω2 = 1
-            valid = m.ok
         else:
-            ics = self.instant_centres(theta2, form=form, branch=branch)
-            ratio = ics.omega_ratio(2, 4)
-            valid = ics.valid
+            ratio = self.instant_centres(theta2, form=form, branch=branch).omega_ratio(2, 4)
         with np.errstate(divide="ignore", invalid="ignore"):
             ma = (r_in / r_out) / ratio
-        return np.where(valid, ma, np.nan)
+        # The two dead points, alike for both methods: at a toggle of links 3 and 4
+        # the input cannot move (MA = 0); where link 4 stops (links 2 and 3 aligned)
+        # the output force is unbounded.
+        ma = np.where(m.status == TOGGLE, 0.0, ma)
+        output_stops = np.abs(np.sin(m.theta3 - m.theta2)) < _TOGGLE_TOL
+        ma = np.where(output_stops & (m.status == OK), np.inf, ma)
+        return np.where(m.assembled, ma, np.nan)
 
 
 # --------------------------------------------------------------------------------------

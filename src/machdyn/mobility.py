@@ -78,10 +78,16 @@ class Joint:
         if self.kind not in FULL_JOINTS + HALF_JOINTS:
             valid = ", ".join(FULL_JOINTS + HALF_JOINTS)
             raise InputError("kind", f"unknown joint type {self.kind!r}; valid types: {valid}")
-        links = tuple(self.links)
+        try:
+            links = tuple(self.links)
+            {*links}  # link names must be hashable (numbers or strings)
+        except TypeError:
+            raise InputError(
+                "links", f"expected a sequence of link names, got {self.links!r}"
+            ) from None
         if len(links) < 2:
             raise InputError("links", f"a joint joins at least two links, got {links!r}")
-        if len(set(links)) != len(links):
+        if len(distinct) != len(links):
             raise InputError("links", f"a joint cannot join a link to itself, got {links!r}")
         if self.kind in HALF_JOINTS and len(links) != 2:
             raise InputError("links", f"a half joint joins exactly two links, got {links!r}")
@@ -114,7 +120,10 @@ def count_joints(joints: Iterable[Joint | Sequence]) -> tuple[int, int, int]:
     >>> count_joints([("R", (1, 2)), ("R", (2, 3)), ("R", (3, 4)), ("R", (4, 1))])
     (4, 4, 0)
     """
-    parsed = [_as_joint(j) for j in joints]
+    try:
+        parsed = [_as_joint(j) for j in joints]
+    except TypeError:
+        raise InputError("joints", f"expected a list of (kind, links), got {joints!r}") from None
     names = {link for j in parsed for link in j.links}
     j1 = sum(j.order for j in parsed if j.kind in FULL_JOINTS)
     j2 = sum(j.order for j in parsed if j.kind in HALF_JOINTS)

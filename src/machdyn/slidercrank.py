@@ -199,23 +199,38 @@ class SliderCrank:
         return self.a + abs(self.c) < self.b
 
     def input_range(self) -> tuple[float, float] | None:
-        """θ2 limits ``(lo, hi)`` of a rocking crank; None when it turns fully.
+        """θ2 limits ``(lo, hi)`` of a crank that cannot turn fully; None when it can.
 
-        The limits are where the rod stands perpendicular to the slide,
-        ``a sin θ2 − c = ±b``. This is the range around θ2 = 0; its mirror image
-        ``(π − hi, π − lo)`` around θ2 = π is the crank's other range.
+        The rod reaches the slide only while ``|a sin θ2 − c| ≤ b``. When the
+        crank can pass over the top (or under the bottom) the range is one arc
+        through 90° (or 270°), with ``hi`` possibly beyond π. Otherwise it rocks in
+        one of two mirror-image arcs; this returns the one around θ2 = 0 (the
+        other is ``(π − hi, π − lo)``).
 
         Examples
         --------
         >>> lo, hi = SliderCrank(3.0, 2.0).input_range()
         >>> print(f"{np.degrees(lo):.4f} {np.degrees(hi):.4f}")
         -41.8103 41.8103
+
+        A crank that clears the top but not the bottom swings through 90°:
+
+        >>> lo, hi = SliderCrank(3.0, 2.0, 1.5).input_range()
+        >>> print(f"{np.degrees(lo):.4f} {np.degrees(hi):.4f}")
+        -9.5941 189.5941
         """
         if self.crank_rotates:
             return None
-        lo = np.arcsin(np.clip((self.c - self.b) / self.a, -1, 1))
-        hi = np.arcsin(np.clip((self.c + self.b) / self.a, -1, 1))
-        return float(lo), float(hi)
+        low, high = (self.c - self.b) / self.a, (self.c + self.b) / self.a
+        if high >= 1.0 and low <= -1.0:
+            return None  # a + |c| = b exactly: turns fully, touching a toggle
+        if high >= 1.0:  # over the top: sin θ2 ≥ low
+            start = float(np.arcsin(low))
+            return start, float(np.pi - start)
+        if low <= -1.0:  # under the bottom: sin θ2 ≤ high
+            top = float(np.arcsin(high))
+            return float(np.pi - top), float(2.0 * np.pi + top)
+        return float(np.arcsin(low)), float(np.arcsin(high))
 
     def stroke(self, form: int = 1) -> tuple[float, float]:
         """Extreme slider positions ``(d_min, d_max)`` of a form (crank and rod aligned).
@@ -373,7 +388,10 @@ class SliderCrank:
             ics = self.instant_centres(theta2, form=form)
             speed, valid = -ics[2, 4].point.imag, ics.valid & ~ics[2, 4].at_infinity
         with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(valid, r_in / speed, np.nan)
+            ma = r_in / speed
+        # at a dead centre the slider stops: unbounded force, whichever sign of zero
+        ma = np.where(np.abs(speed) <= _TOGGLE_TOL * self.a, np.inf, ma)
+        return np.where(valid, ma, np.nan)
 
 
 @dataclass(frozen=True, eq=False)
