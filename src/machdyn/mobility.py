@@ -80,7 +80,7 @@ class Joint:
             raise InputError("kind", f"unknown joint type {self.kind!r}; valid types: {valid}")
         try:
             links = tuple(self.links)
-            {*links}  # link names must be hashable (numbers or strings)
+            distinct = set(links)  # link names must be hashable (numbers or strings)
         except TypeError:
             raise InputError(
                 "links", f"expected a sequence of link names, got {self.links!r}"
