@@ -136,3 +136,11 @@ def test_bad_input():
         function_generator(np.cos, (-1.0, 1.0), (0, 1), (0, 1))  # f(x0) == f(xf)
     with pytest.raises(InputError, match="x_precision"):
         function_generator(**LOG_CASE, x_precision=[1.0, 1.5, 3.0])
+
+
+def test_a_constant_function_is_refused_by_name():
+    from machdyn import InputError
+    from machdyn.synthesis import function_generator
+
+    with pytest.raises(InputError, match="func"):
+        function_generator(lambda x: 1.0, (1.0, 2.0), np.radians((45, 105)), np.radians((135, 225)))

@@ -232,6 +232,9 @@ def function_cmd(
     """Four-bar function generator by Freudenstein's equation, with its structural error."""
     from ..synthesis import function_generator
 
+    for option, value, most in (("--n", n, 10_000), ("--samples", samples, 100_000)):
+        if not 1 <= value <= most:
+            raise InputError(option, f"must be between 1 and {most:,}, got {value:,}")
     func = parse_function(f)
     x_range = _pair(x, "--x")
     t2 = np.radians(_pair(theta2, "--theta2"))

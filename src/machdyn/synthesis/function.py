@@ -276,7 +276,7 @@ class FunctionGenerator:
             gap = np.min(np.abs(self.x_precision[:, None] - x[None, :]), axis=1)
             extra = self.x_precision[gap > 1e-9 * abs(self.x_range[1] - self.x_range[0])]
             x = np.sort(np.concatenate([x, extra]))
-        y_desired = np.asarray(self.func(x), dtype=float)
+        y_desired = _evaluate(self.func, x)
         theta2 = self.theta2_of(x)
         theta4_want = self.theta4_of(y_desired)
         _, th4, ok = positions(*self.fourbar.lengths, theta2 + self.input_offset, self.branch)
@@ -288,6 +288,20 @@ class FunctionGenerator:
         return StructuralError(
             x, y_desired, np.where(ok, y_gen, np.nan), error, theta2, theta4, ok, reason
         )
+
+
+def _evaluate(func: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.ndarray:
+    """``func(x)`` as floats of x's shape, or :class:`InputError` naming ``func``.
+
+    A function that ignores its argument (a constant) is broadcast to ``x``.
+    """
+    try:
+        y = np.asarray(func(x), dtype=float)
+        return np.broadcast_to(y, x.shape).astype(float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(
+            "func", f"must map an array of x to numbers of the same shape ({exc})"
+        ) from None
 
 
 def function_generator(
@@ -351,7 +365,7 @@ def function_generator(
     t40, t4f = (finite_scalar("theta4_range", v, "radian") for v in theta4_range)
     if t20 == t2f or t40 == t4f:
         raise InputError("theta2_range", "the input and output ranges must be non-zero")
-    y0, yf = (float(v) for v in np.asarray(func(np.array([x0, xf])), dtype=float))
+    y0, yf = (float(v) for v in _evaluate(func, np.array([x0, xf])))
     if not (np.isfinite(y0) and np.isfinite(yf)) or y0 == yf:
         raise InputError(
             "func", f"f(x0) and f(xf) must be finite and differ to map onto θ4, got {y0}, {yf}"
@@ -365,7 +379,7 @@ def function_generator(
         lo, hi = min(x0, xf), max(x0, xf)
         if np.any((xp < lo) | (xp > hi)):
             raise InputError("x_precision", f"every precision point must lie in [{lo}, {hi}]")
-    yp = np.asarray(func(xp), dtype=float)
+    yp = _evaluate(func, xp)
     if not np.all(np.isfinite(yp)):
         raise InputError("func", "must be finite at every precision point")
     th2 = t20 + (xp - x0) / (xf - x0) * (t2f - t20)
