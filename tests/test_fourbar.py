@@ -562,3 +562,17 @@ def test_lengths_must_be_lengths():
     u = pint.UnitRegistry()
     with pytest.raises(InputError, match="r1: must be a length"):
         FourBar(8 * u.s, 4 * u.s, 7 * u.s, 6 * u.s)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-8, 1e8, 1e200])
+def test_angles_do_not_depend_on_the_unit_of_length(scale):
+    theta2 = np.radians(np.arange(0, 360, 15))
+    ref = FourBar(8, 4, 7, 6)
+    fb = FourBar(8 * scale, 4 * scale, 7 * scale, 6 * scale)
+    m, r = fb.solve(theta2, omega2=3.0, alpha2=1.0), ref.solve(theta2, omega2=3.0, alpha2=1.0)
+    assert m.ok.all()
+    assert np.allclose(m.theta4, r.theta4, rtol=0, atol=1e-12)
+    assert np.allclose(m.alpha3, r.alpha3, rtol=1e-12)
+    assert np.allclose(m.B / scale, r.B, rtol=1e-12)
+    assert fb.input_range().full_turn and len(fb.toggles()) == len(ref.toggles())
+    assert fb.transmission_angle().min == pytest.approx(ref.transmission_angle().min, abs=1e-12)

@@ -95,7 +95,11 @@ def _unit_vectors(
     """Unit vectors of links 3 and 4 and a status array, for cos/sin of θ2.
 
     ``branch`` = +1 puts B on the side that makes φ12 = θ4 − θ3 positive.
+    Lengths are scaled by the longest (the unit vectors do not depend on scale),
+    so squares neither overflow nor underflow for any representable lengths.
     """
+    scale = max(r1, r2, r3, r4)
+    r1, r2, r3, r4 = r1 / scale, r2 / scale, r3 / scale, r4 / scale
     ax = r2 * c2
     ay = r2 * s2
     sx = ax - r1  # diagonal O4 -> A (its y component is ay)
@@ -864,7 +868,7 @@ class FourBar:
         False 31.5863 92.1226
         """
         choice("form", form, (1, 2))
-        a, b, c, d = self.r2, self.r3, self.r4, self.r1
+        a, b, c, d = (x / max(self.lengths) for x in (self.r2, self.r3, self.r4, self.r1))
         c_lo = (a * a + d * d - (b + c) ** 2) / (2.0 * a * d)
         c_hi = (a * a + d * d - (b - c) ** 2) / (2.0 * a * d)
         if c_lo <= -1.0 and c_hi >= 1.0:
@@ -894,7 +898,7 @@ class FourBar:
          219.571 (2, 3) folded 1
          327.843 (2, 3) extended -1
         """
-        a, b, c, d = self.r2, self.r3, self.r4, self.r1
+        a, b, c, d = (x / max(self.lengths) for x in (self.r2, self.r3, self.r4, self.r1))
         found: list[Toggle] = []
         # links 3 and 4 collinear: |A − O4| = b + c or |b − c|
         for kind, diag in (("extended", b + c), ("folded", abs(b - c))):
