@@ -215,10 +215,19 @@ def positions(
 
 
 def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray | None, out: np.ndarray) -> None:
-    """``out[:] = atan2(y, x)`` wrapped to [0, 2π), NaN where not ``good`` (in place)."""
-    with np.errstate(invalid="ignore"):
-        np.arctan2(y, x, out=out)
-        np.add(out, TWO_PI, out=out, where=out < 0.0)
+    """``out[:] =`` the angle of the unit vector ``(x, y)`` in [0, 2π), NaN where not ``good``.
+
+    For a unit vector ``θ = 2 atan(y / (1 + x)) = 2 atan((1 − x) / y)``; the first
+    form is used for ``x ≥ 0`` and the second for ``x < 0``, so neither cancels,
+    and ±π comes out exactly (``(1 − x)/y = ±∞``). It agrees with ``atan2`` to a
+    few ulp and costs about two thirds as much (``arctan`` is cheaper than
+    ``arctan2`` in libm).
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(x < 0.0, (1.0 - x) / y, y / (1.0 + x))
+        np.arctan(t, out=out)
+    out *= 2.0
+    np.add(out, TWO_PI, out=out, where=out < 0.0)
     out[out >= TWO_PI] = 0.0  # −ε + 2π rounds to 2π
     if good is not None and not good.all():
         out[~good] = np.nan
