@@ -646,3 +646,13 @@ def test_tooth_thickness_at_guards_its_arguments():
         gears.tooth_thickness_at(10.0, 10.0, 1.5, 20)
     with pytest.raises(InputError, match="pitch_radius"):
         gears.tooth_thickness_at(10.0, -10.0, 1.5, 20 * DEG)
+
+
+def test_rating_of_an_interfering_pair_says_the_contact_ratio_is_overstated():
+    # A 4-tooth pinion against 40 teeth at 20°: far below the minimum teeth, so the
+    # gear's tip digs below the pinion's base circle and Z is not a real path of contact.
+    from machdyn.gears import Gear, GearPair
+
+    pair = GearPair(Gear(4, module=2), Gear(40, module=2))
+    assert pair.interferes
+    assert "interfere" in pair.contact_ratio_rating

@@ -456,6 +456,8 @@ class Linkage:
     def drive(self, *names: str) -> Linkage:
         """Name the driver(s): a link (angle), a slider/slot (displacement), an actuator (length).
 
+        The call declares the whole set of drivers; calling it again replaces them.
+
         Examples
         --------
         >>> lk = Linkage({"O2": (0, 0), "A": (1, 0)}).ground("O2").link("crank", "O2", "A")

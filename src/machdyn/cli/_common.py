@@ -91,5 +91,5 @@ def _cell(value: Any) -> str:
     if isinstance(value, float | np.floating):
         if not math.isfinite(value):
             return "-"
-        return f"{value:.4f}"
+        return f"{round(float(value), 4) + 0.0:.4f}"  # + 0.0: never print "-0.0000"
     return str(value)

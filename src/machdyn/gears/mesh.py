@@ -499,8 +499,15 @@ class GearPair:
 
     @property
     def contact_ratio_rating(self) -> str:
-        """The notes' verdict: "no contact", "unacceptable", "acceptable" or "good"."""
-        return str(contact_ratio_rating(self.contact_ratio))
+        """The notes' verdict: "no contact", "unacceptable", "acceptable" or "good".
+
+        When the pair interferes the length of action (and so the contact ratio)
+        is overstated, and the verdict says so.
+        """
+        rating = str(contact_ratio_rating(self.contact_ratio))
+        if self.interferes:
+            rating += " (but the teeth interfere: the contact ratio is overstated)"
+        return rating
 
     @property
     def path_of_approach(self) -> float:
