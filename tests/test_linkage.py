@@ -933,3 +933,14 @@ def test_pin_joining_three_links():
     assert set(f.pins) >= {("2", "3"), ("2", "5")}  # the triple pin as two pin forces
     dke, dpe = _energy_rates(lk, m, 9.81)
     assert np.abs(f.driver["2"] * 3.0 - dke - dpe).max() <= 1e-9 * np.abs(dke).max()
+
+
+def test_a_drawing_at_a_toggle_is_refused_with_the_reason():
+    # Four-bar 8-4-7-3 drawn at θ2 = 0: |A − O4| = 4 = 7 − 3, links 3 and 4 folded.
+    from machdyn import ModelError
+
+    lk = Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0), "B": (5, 0)})
+    lk.ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+    lk.link("rocker", "O4", "B").drive("crank")
+    with pytest.raises(ModelError, match="drawing is at a toggle"):
+        lk.solve(np.array([0.1, 0.2]))

@@ -657,6 +657,7 @@ class Linkage:
             continuation if continuation is not None else (len(shape) <= 1 and np.prod(shape) > 1)
         )
         if cont or np.prod(shape) == 1:  # follow the drawn circuit to the first sample
+            _check_drawn_pose(c)
             guess = _march(c, guess, {k: float(np.ravel(v)[0]) for k, v in u.items()})
         kw: dict[str, Any] = {"continuation": cont}
         if vel is not None:
@@ -1020,6 +1021,18 @@ def _ref_angle(lk: Linkage, link: str) -> float:
         return 0.0
     z = lk._points[p[1]] - lk._points[p[0]]
     return float(np.angle(z)) if abs(z) else 0.0
+
+
+def _check_drawn_pose(c: _Compiled) -> None:
+    """Refuse a drawing at a toggle: there the branches meet and it cannot pick one."""
+    at = {k: np.array([v]) for k, v in c.drawn.items()}
+    m = c.system.evaluate(at, velocity={v: 1.0 for v in c.driver_vars})
+    if not bool(m.ok[0]):
+        raise ModelError(
+            "the drawing is at a toggle (two links in line), where the mechanism's "
+            "branches meet, so it cannot say which one to follow: draw it in a pose "
+            "away from the toggle"
+        )
 
 
 def _march(c: _Compiled, guess: dict[str, float], target: dict[str, float]) -> dict[str, float]:
