@@ -99,13 +99,19 @@ class _Edge:
     slot (φ fixed in ``a``), ``L e^{jφ}`` for an actuator.
     """
 
-    kind: str  # "R", "P", "slot", "act"
+    kind: str  # "R", "P", "slot", "act", "roll"
     name: str
     a: str
     b: str
     pa: str
     pb: str
     direction: complex = 1 + 0j  # unit vector of the slide in the drawing (P, slot)
+    # rolling contact: signed radii (rho_a, rho_b) with contact = centre + rho e^{j phi},
+    # phi the angle of centre_a -> centre_b (rho_b = inf: a straight profile on b whose
+    # normal toward centre_a is ``direction`` in the drawing); ``carried``: both centres
+    # sit on one link, so their distance is fixed already and only no-slip is added
+    radii: tuple[float, float] = (0.0, 0.0)
+    carried: bool = False
 
 
 @dataclass(frozen=True)
@@ -119,6 +125,11 @@ class _Compiled:
     tree: tuple[tuple[str, _Edge, bool], ...]  # (child link, edge, child is edge.b) in BFS order
     # joint -> (length variable, angle variable or None, constant angle when None)
     cross_vars: dict[str, tuple[str, str | None, float]]
+    # rolling joint -> crossing vector centre_a -> centre_b (or contact line point) as
+    # signed parts (sign, length constant or variable, angle constant or variable)
+    roll_parts: dict[str, tuple[tuple[float, float | str, float | str], ...]] = field(
+        default_factory=dict
+    )
 
 
 class Linkage:
@@ -154,6 +165,7 @@ class Linkage:
         self._sliders: dict[str, tuple[str, str, str, complex, str | None]] = {}
         self._slots: dict[str, tuple[str, str, str, complex, str | None]] = {}
         self._actuators: dict[str, tuple[str, str, str, str]] = {}
+        self._rolls: dict[str, tuple[str, str, float, str, str, float, bool]] = {}
         self._drivers: list[str] = []
         self._compiled: _Compiled | None = None
         self._points_extra: dict[str, complex] = {}
@@ -453,6 +465,124 @@ class Linkage:
         self._actuators[name] = (start, end, *(ends or ("", "")))
         return self._changed()
 
+    def roll(
+        self,
+        link_a: str,
+        centre_a: str,
+        radius_a: float,
+        link_b: str,
+        centre_b: str,
+        radius_b: float,
+        *,
+        internal: bool = False,
+        name: str | None = None,
+    ) -> Linkage:
+        """Add a rolling contact without slip between two circular profiles.
+
+        A circle of radius ``radius_a`` about point ``centre_a`` of ``link_a``
+        rolls on a circle of radius ``radius_b`` about point ``centre_b`` of
+        ``link_b`` (either may be ``"ground"``): friction wheels, a wheel on a
+        curved track, a planet in a ring (``internal=True``). With
+        ``radius_b = inf`` the profile of ``link_b`` is straight (a wheel on
+        the ground, a pinion on a rack): ``centre_b`` is then the point of
+        ``link_b`` where the two touch in the drawing, and the straight profile
+        is the tangent there.
+
+        The profiles must touch in the drawing: ``|centre_a − centre_b|`` is
+        ``radius_a + radius_b`` (external), ``|radius_a − radius_b|``
+        (internal), or ``radius_a`` (straight profile). Kinematics: the centre
+        distance stays constant (a vector ``d e^{jφ}`` of constant length
+        between the centres) and the contact points do not slip,
+        ``ρa (θa − φ) = ρb (θb − φ) + const`` with signed radii ``ρ`` (Norton
+        §2.3: rolling without slip is a full joint). When both centres are
+        points of one link (two wheels on fixed pivots, a planet on its arm)
+        that distance is already fixed: the contact then only adds the no-slip
+        condition, counts as a half joint, and transmits only its tangential
+        force (the normal preload is statically indeterminate and taken as 0).
+        Otherwise it transmits a force with normal and tangential components
+        at the contact point (see :attr:`LinkageForces.rolling`).
+
+        Parameters
+        ----------
+        link_a, link_b : str
+            The two links (or ``"ground"``).
+        centre_a, centre_b : str
+            Centre of each circle, a point of that link (for a straight profile
+            the drawn contact point on ``link_b``).
+        radius_a, radius_b : float
+            Radii, positive; ``radius_b`` may be ``inf`` (straight profile).
+        internal : bool
+            Internal contact (one circle inside the other, like a ring gear).
+        name : str, optional
+            Joint name (default ``"link_a~link_b"``).
+
+        Examples
+        --------
+        Two friction wheels on fixed pivots, radii 2 and 3: ``ω3 = −(2/3) ω2``:
+
+        >>> import numpy as np
+        >>> lk = (Linkage({"O2": (0, 0), "O3": (5, 0), "P": (2, 0), "Q": (5, 3)})
+        ...       .ground("O2", "O3").link("w2", "O2", "P").link("w3", "O3", "Q")
+        ...       .roll("w2", "O2", 2.0, "w3", "O3", 3.0).drive("w2"))
+        >>> lk.mobility()
+        1
+        >>> m = lk.solve(np.radians([0.0, 30.0]), velocity=6.0)
+        >>> m.omega["w3"].round(12).tolist()
+        [-4.0, -4.0]
+        """
+        name = name or f"{link_a}~{link_b}"
+        if not isinstance(name, str) or not name:
+            raise InputError("roll", f"a joint name is a non-empty string, got {name!r}")
+        if name in self._sliders or name in self._slots or name in self._actuators:
+            raise ModelError(f"joint name {name!r} is used twice")
+        if name in self._rolls:
+            raise ModelError(f"joint name {name!r} is used twice")
+        for link, centre in ((link_a, centre_a), (link_b, centre_b)):
+            if link != GROUND and link not in self._links:
+                raise ModelError(f"roll {name!r}: unknown link {link!r}; links: {self._names()}")
+            self._need_points(f"roll {name!r}", [centre])
+            pts = self._ground if link == GROUND else self._links[link].points
+            if centre not in pts:
+                raise ModelError(f"roll {name!r}: point {centre!r} is not on link {link!r}")
+        if link_a == link_b:
+            raise ModelError(f"roll {name!r} joins link {link_a!r} to itself")
+        r_a = finite_scalar(f"{name}.radius_a", radius_a)
+        if r_a <= 0:
+            raise InputError(f"{name}.radius_a", f"must be a positive radius, got {r_a:g}")
+        try:
+            r_b = float(radius_b)
+        except (TypeError, ValueError):
+            raise InputError(f"{name}.radius_b", f"must be a number, got {radius_b!r}") from None
+        if np.isnan(r_b) or r_b <= 0 or r_b == -np.inf:
+            raise InputError(
+                f"{name}.radius_b",
+                f"must be a positive radius (or inf for a straight profile), got {radius_b!r}",
+            )
+        internal = bool(internal)
+        d = abs(self._points[centre_b] - self._points[centre_a])
+        if np.isinf(r_b):
+            if internal:
+                raise InputError(
+                    f"{name}.internal", "a straight profile (radius_b = inf) has no inside"
+                )
+            want, what = r_a, "radius_a (centre_b is the contact point on the straight profile)"
+        elif internal:
+            if r_a == r_b:
+                raise InputError(
+                    f"{name}.radius_b", "internal contact needs different radii (got equal ones)"
+                )
+            want, what = abs(r_a - r_b), "|radius_a - radius_b| (internal contact)"
+        else:
+            want, what = r_a + r_b, "radius_a + radius_b (external contact)"
+        if abs(d - want) > 1e-9 * max(want, d):
+            raise InputError(
+                f"{name}.centre_b",
+                f"the profiles do not touch in the drawing: |{centre_a} - {centre_b}| = {d:.10g} "
+                f"but it must equal {what} = {want:.10g}",
+            )
+        self._rolls[name] = (link_a, centre_a, r_a, link_b, centre_b, r_b, internal)
+        return self._changed()
+
     def drive(self, *names: str) -> Linkage:
         """Name the driver(s): a link (angle), a slider/slot (displacement), an actuator (length).
 
@@ -515,6 +645,20 @@ class Linkage:
             if a == b:
                 raise ModelError(f"actuator {jn!r} joins link {a!r} to itself")
             edges.append(_Edge("act", jn, a, b, start, end))
+        for jn, (a, ca, r_a, b, cb, r_b, internal) in self._rolls.items():
+            z = self._points[cb] - self._points[ca]
+            if np.isinf(r_b):
+                edges.append(_Edge("roll", jn, a, b, ca, cb, -z / abs(z), (r_a, np.inf)))
+                continue
+            if not internal:
+                radii = (r_a, -r_b)
+            elif r_a < r_b:
+                radii = (-r_a, -r_b)
+            else:
+                radii = (r_a, r_b)
+            carriers = [self._ground, *(ln.points for ln in self._links.values())]
+            carried = any(ca in pts and cb in pts for pts in carriers)
+            edges.append(_Edge("roll", jn, a, b, ca, cb, radii=radii, carried=carried))
         return edges
 
     def _first_point(self, link: str) -> complex:
@@ -546,6 +690,8 @@ class Linkage:
                 joints.append(("P", (e.a, e.b)))
             elif e.kind == "slot":
                 joints.append(("pin-in-slot", (e.a, e.b)))
+            elif e.kind == "roll":  # a carried contact only adds the no-slip condition
+                joints.append(("half" if e.carried else "rolling", (e.a, e.b)))
             else:
                 barrel, rod = f"{e.name}#barrel", f"{e.name}#rod"
                 joints += [("R", (e.a, barrel)), ("P", (barrel, rod)), ("R", (rod, e.b))]
@@ -915,14 +1061,43 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         return name, 1
 
     cross_vars: dict[str, tuple[str, str | None, float]] = {}
-    cross_vec: dict[int, str] = {}
+    cross_vec: dict[int, list[tuple[str, int]]] = {}
+    roll_parts: dict[str, tuple[tuple[float, float | str, float | str], ...]] = {}
 
-    def crossing(i: int) -> str | None:
+    def crossing(i: int) -> list[tuple[str, int]]:
+        """Vectors (with signs) crossing joint ``i`` from its point on ``a`` to ``b``'s."""
         e = edges[i]
         if e.kind == "R":
-            return None
-        if i in cross_vec:
-            return cross_vec[i]
+            return []
+        if i not in cross_vec:
+            cross_vec[i] = roll_crossing(e) if e.kind == "roll" else [(new_crossing(e), 1)]
+        return cross_vec[i]
+
+    def roll_crossing(e: _Edge) -> list[tuple[str, int]]:
+        z = lk._xy(e.pb) - lk._xy(e.pa)
+        if np.isinf(e.radii[1]):  # centre_a -> contact line point: -(s û + r n̂), fixed in b
+            n0 = e.direction
+            svar = fresh(f"s_{e.name}")
+            drawn[svar] = 0.0
+            ang_u = angle_of(e.b, float(np.angle(1j * n0)), f"tan_{e.name}")
+            ang_n = angle_of(e.b, float(np.angle(n0)), f"nor_{e.name}")
+            ru, rn = fresh(f"R_{e.name}_s"), fresh(f"R_{e.name}_n")
+            system.vector(ru, svar, ang_u)
+            system.vector(rn, e.radii[0], ang_n)
+            roll_parts[e.name] = ((-1.0, svar, ang_u), (-1.0, e.radii[0], ang_n))
+            return [(ru, -1), (rn, -1)]
+        name, pvar = fresh(f"R_{e.name}"), fresh(f"phi_{e.name}")
+        drawn[pvar] = float(np.angle(z))
+        if e.carried:  # the distance is fixed by the carrier: a free length, no redundancy
+            length: float | str = fresh(f"L_{e.name}")
+            drawn[length] = float(abs(z))
+        else:
+            length = float(abs(z))
+        system.vector(name, length, pvar)
+        roll_parts[e.name] = ((1.0, length, pvar),)
+        return [(name, 1)]
+
+    def new_crossing(e: _Edge) -> str:
         name = fresh(f"R_{e.name}")
         z = lk._xy(e.pb) - lk._xy(e.pa)
         if e.kind in ("P", "slot"):
@@ -942,16 +1117,13 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
             drawn[lvar], drawn[pvar] = float(abs(z)), float(np.angle(z))
             system.vector(name, lvar, pvar)
             cross_vars[e.name] = (lvar, pvar, 0.0)
-        cross_vec[i] = name
         return name
 
     for walk in cycles:
         terms: list[tuple[str, int]] = []
         for k, (j, f, t) in enumerate(walk):
             e = edges[j]
-            v = crossing(j)
-            if v is not None:
-                terms.append((v, 1 if f == e.a else -1))
+            terms += [(v, s if f == e.a else -s) for v, s in crossing(j)]
             nj = walk[(k + 1) % len(walk)][0]
             link = t
             terms += link_path(link, xy_on(link, e), xy_on(link, edges[nj]))
@@ -967,6 +1139,21 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
     for e in edges:
         if e.kind == "act" and e.name not in cross_vars:
             raise ModelError(f"actuator {e.name!r} is on no loop")
+    # rolling: every link in contact needs an angle variable (a wheel turning on a
+    # pivot may be in no loop: give it a reference vector, named as a point), then
+    # the no-slip condition is a linear constraint among angles (and s or φ)
+    for i, e in enumerate(edges):
+        if e.kind != "roll":
+            continue
+        for n in (e.a, e.b):
+            root = find(n)
+            if root != GROUND and root not in class_var:
+                ref = fresh(f"R_{n}_ref")
+                system.vector(ref, 1.0, angle_of(n, _ref_angle(lk, n), "ref"))
+                system.point(fresh(f"P_{n}_ref"), ref)
+        crossing(i)
+        text, consts = _no_slip(e, roll_parts[e.name], class_var, find, drawn)
+        system.constraint(text, **consts)
     # every moving rotation class must have an angle variable
     rot_var: dict[str, str | None] = {}
     rot_offset: dict[str, float] = {}
@@ -1010,7 +1197,44 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         rot_offset=rot_offset,
         tree=tuple(tree),
         cross_vars=cross_vars,
+        roll_parts=roll_parts,
     )
+
+
+def _no_slip(e: _Edge, parts, class_var, find, drawn) -> tuple[str, dict[str, float]]:
+    """The no-slip condition of rolling joint ``e`` as a linear constraint.
+
+    With the contact point ``C = A + ρa e^{jφ} = B + ρb e^{jφ}`` (A, B the centres,
+    ``φ`` the angle of ``B − A``, ``ρa − ρb = d``), equal velocities of the two
+    material points at C give ``ρa ωa − ρb ωb = d φ̇`` (the normal component holds
+    by the constant distance); for a straight profile of b with its normal ``n̂``
+    toward A and tangent ``û = j n̂``, ``ṡ = r (ωa − ωb)`` for the contact's
+    abscissa ``s``. Integrated: ``Σ k·x = c`` with ``c`` from the drawing.
+    """
+    coefs: dict[str, float] = {}
+
+    def add(link: str, k: float) -> None:
+        root = find(link)
+        if root != GROUND:
+            var = class_var[root][0]
+            coefs[var] = coefs.get(var, 0.0) + k
+
+    rho_a, rho_b = e.radii
+    if np.isinf(rho_b):
+        svar = parts[0][1]
+        coefs[svar] = 1.0
+        add(e.a, -rho_a)
+        add(e.b, rho_a)
+    else:
+        add(e.a, rho_a)
+        add(e.b, -rho_b)
+        phi = parts[0][2]
+        coefs[phi] = coefs.get(phi, 0.0) - (rho_a - rho_b)
+    terms = {v: k for v, k in coefs.items() if k != 0.0}
+    consts = {f"k_roll_{i}": k for i, k in enumerate(terms.values())}
+    consts["c_roll"] = sum(k * drawn[v] for v, k in terms.items())
+    text = " + ".join(f"k_roll_{i}*{v}" for i, v in enumerate(terms)) + " = c_roll"
+    return text, consts
 
 
 def _ref_angle(lk: Linkage, link: str) -> float:
@@ -1232,6 +1456,21 @@ def _motion(lk: Linkage, c: _Compiled, lm: Motion, vals: dict[str, np.ndarray]) 
             w,
             a,
         )
+    for e_name, parts in c.roll_parts.items():
+        total: list[Any] = [0j, 0j if rates else None, 0j if rates else None]
+        for sign, length, ang in parts:
+            lv = pos[length] if isinstance(length, str) else length
+            ph = pos[ang] if isinstance(ang, str) else np.full(shape, ang)
+            if rates:
+                dl = vel[length] if isinstance(length, str) else zero
+                ddl = acc[length] if isinstance(length, str) else zero
+                w = vel[ang] if isinstance(ang, str) else zero
+                a = acc[ang] if isinstance(ang, str) else zero
+            else:
+                dl = ddl = w = a = None
+            part = _vector_motion(lv, dl, ddl, ph, w, a)
+            total = [t if p is None else t + sign * p for t, p in zip(total, part, strict=True)]
+        cross[e_name] = tuple(total)
     for child, e, child_is_b in c.tree:
         par = e.a if child_is_b else e.b
         p_key, c_key = (e.pa, e.pb) if child_is_b else (e.pb, e.pa)
@@ -1327,6 +1566,12 @@ class LinkageForces:
     driver : mapping of driver name to ndarray
         Driving torque (of the ground on the driven link, like ``T12``) or
         force (along the slide; an actuator's push).
+    rolling : mapping of rolling-joint name to complex ndarray
+        Contact force on ``link_b`` from ``link_a`` at the contact point (on
+        ``link_a`` it is the opposite); for a contact whose centres share a
+        carrier only its tangential part (the preload is taken as 0).
+    contact : mapping of rolling-joint name to complex ndarray
+        Position of each rolling contact point.
     shaking_force : complex ndarray
         Sum of the forces the moving links exert on the ground.
     shaking_moment : ndarray
@@ -1358,6 +1603,8 @@ class LinkageForces:
     ok: np.ndarray
     reason: np.ndarray
     motion: LinkageMotion = field(repr=False)
+    rolling: Mapping[str, np.ndarray] = field(default_factory=dict)
+    contact: Mapping[str, np.ndarray] = field(default_factory=dict)
 
     def F(self, a: str, p: str) -> np.ndarray:
         """The pin force on link ``p`` from link ``a`` (``F_ap``)."""
@@ -1486,6 +1733,19 @@ def _forces(
     slide_u = {
         e.name: e.direction * np.exp(1j * delta[e.a]) for e in edges if e.kind in ("P", "slot")
     }
+    contact: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # roll -> (point, tangent)
+    for e in edges:
+        if e.kind != "roll":
+            continue
+        rho_a, rho_b = e.radii
+        if np.isinf(rho_b):  # the normal of b's straight profile, toward centre_a
+            n = e.direction * np.exp(1j * delta[e.b])
+            C = P[e.pa] - rho_a * n
+        else:
+            z = P[e.pb] - P[e.pa]
+            n = z / np.where(np.abs(z) > 0, np.abs(z), 1.0)
+            C = P[e.pa] + rho_a * n
+        contact[e.name] = (C, 1j * n)
     columns: list[list[tuple[int, Any]]] = []
     ground_parts: list[tuple[int, Any, Any]] = []  # (col, force unit (complex), moment coef)
     labels: list[tuple[str, str]] = []
@@ -1539,6 +1799,13 @@ def _forces(
                 couple_col([(e.b, 1.0), (e.a, -1.0)], ("couple", e.name))
             if e.name in drivers:
                 force_col([(e.b, X, uhat, 1.0), (e.a, X, uhat, -1.0)], ("driver", e.name))
+        elif e.kind == "roll":  # a force at the contact point, like a pin there
+            C, t = contact[e.name]
+            if e.carried:  # only the tangential force (the preload is indeterminate)
+                force_col([(e.b, C, t, 1.0), (e.a, C, t, -1.0)], ("roll", f"{e.name}|t"))
+            else:
+                for comp, u in (("x", one + 0j), ("y", 1j * one)):
+                    force_col([(e.b, C, u, 1.0), (e.a, C, u, -1.0)], ("roll", f"{e.name}|{comp}"))
         elif e.name in drivers:  # actuator
             Xa, Xb = P[e.pa], P[e.pb]
             d = Xb - Xa
@@ -1739,6 +2006,14 @@ def _forces(
             sliders[e.name] = F.reshape(shape)
     for d in lk._drivers:
         driver[d] = col_of("driver", d).reshape(shape)
+    rolling = {}
+    for e in edges:
+        if e.kind == "roll":
+            if e.carried:
+                F = col_of("roll", f"{e.name}|t") * contact[e.name][1]
+            else:
+                F = col_of("roll", f"{e.name}|x") + 1j * col_of("roll", f"{e.name}|y")
+            rolling[e.name] = F.reshape(shape)
     # shaking: forces and moments the moving links exert on the ground (reactions)
     Fs = np.zeros(n_s, complex)
     Ms = np.zeros(n_s)
@@ -1764,4 +2039,6 @@ def _forces(
         ok=(~bad_all).reshape(shape),
         reason=reasons.reshape(shape),
         motion=motion,
+        rolling=_frozen(rolling),
+        contact=_frozen({k: v[0].reshape(shape).copy() for k, v in contact.items()}),
     )
