@@ -186,17 +186,37 @@ def test_power_balance_planetary_with_masses():
         np.testing.assert_allclose((f.rolling[name] * np.conj(n)).real, 0.0, atol=1e-9)
 
 
-def test_rack_and_pinion_on_a_moving_link():
-    """A pinion (fixed pivot) drives a rack sliding on the ground, both as drawn."""
-    r = 0.5
+def rack_and_pinion(r: float = 0.5) -> Linkage:
+    """A pinion (radius r, fixed pivot O) on a rack K-S sliding along the ground."""
     lk = Linkage({"O": (0, 0), "P": (r, 0), "K": (0, -r), "S": (1.0, -r), "E": (-3.0, -r)})
     lk.ground("O", "E").link("pinion", "O", "P").link("rack", "K", "S")
     lk.slider("rack", "ground", "S", 0.0, through="E", name="guide")
-    lk.roll("pinion", "O", r, "rack", "K", np.inf, name="mesh")
-    # the centre distance to the rack line is fixed by the guide: Kutzbach counts
-    # the full rolling joint (3·2 − 2·3 = 0) although the drawing moves
-    with pytest.raises(ModelError, match="mobility"):
-        lk.drive("pinion").solve(0.0)
+    return lk.roll("pinion", "O", r, "rack", "K", np.inf, name="mesh")
+
+
+def test_rack_and_pinion_guided_rack():
+    """The guide fixes the pinion–rack distance: no-slip only, ``ḋ = r ω`` (Norton §9.x)."""
+    r = 0.5
+    lk = rack_and_pinion(r).drive("pinion")
+    assert lk.mobility() == 1
+    theta = np.linspace(-1.0, 3.0, 21)
+    m = lk.solve(theta, velocity=4.0, acceleration=1.0)
+    assert m.ok.all()
+    # the pinion's material point at the contact (0, −r) moves at ω r along +x
+    np.testing.assert_allclose(m.lengths["guide"] - 4.0, r * theta, atol=1e-10)
+    np.testing.assert_allclose(m.length_rate["guide"], r * 4.0, rtol=1e-12)
+    np.testing.assert_allclose(m.length_acceleration["guide"], r * 1.0, rtol=1e-12)
+    # massless, a load −10 on the rack: T ω = 10 · r ω (virtual work); the contact
+    # pushes the rack with +10 along the profile
+    f = lk.forces(m, external_forces=[("rack", "S", -10.0)])
+    assert f.ok.all()
+    np.testing.assert_allclose(f.driver["pinion"], 10.0 * r, rtol=1e-12)
+    np.testing.assert_allclose(f.rolling["mesh"], 10.0, atol=1e-12)
+    np.testing.assert_allclose(f.contact["mesh"], m.points["O"] - 1j * r, atol=1e-12)
+    # driven by the rack instead: the pinion turns at ḋ / r
+    m2 = rack_and_pinion(r).drive("guide").solve(np.array([4.0, 5.0]), velocity=2.0)
+    np.testing.assert_allclose(m2.theta["pinion"], [0.0, 1.0 / r], atol=1e-10)
+    np.testing.assert_allclose(m2.omega["pinion"], 2.0 / r, rtol=1e-12)
 
 
 def test_wheel_rolling_inside_fixed_ring_driven_by_arm():

@@ -648,7 +648,10 @@ class Linkage:
         for jn, (a, ca, r_a, b, cb, r_b, internal) in self._rolls.items():
             z = self._points[cb] - self._points[ca]
             if np.isinf(r_b):
-                edges.append(_Edge("roll", jn, a, b, ca, cb, -z / abs(z), (r_a, np.inf)))
+                n0 = -z / abs(z)  # normal of the straight profile toward centre_a
+                edges.append(
+                    _Edge("roll", jn, a, b, ca, cb, n0, (r_a, np.inf), self._rack_guided(ca, b, n0))
+                )
                 continue
             if not internal:
                 radii = (r_a, -r_b)
@@ -660,6 +663,25 @@ class Linkage:
             carried = any(ca in pts and cb in pts for pts in carriers)
             edges.append(_Edge("roll", jn, a, b, ca, cb, radii=radii, carried=carried))
         return edges
+
+    def _rack_guided(self, centre: str, rack: str, normal: complex) -> bool:
+        """True when ``centre`` is on a link on which ``rack`` slides parallel to its profile.
+
+        Then the distance from the centre to the straight profile is fixed by that
+        slider already (a pinion on a fixed pivot, its rack on a guide), like two
+        centres on one carrier.
+        """
+        carriers = {GROUND} if centre in self._ground else set()
+        carriers |= {n for n, ln in self._links.items() if centre in ln.points}
+        for block, on, _, u, _ in self._sliders.values():
+            pair = {block, on}
+            if (
+                rack in pair
+                and (pair - {rack}) & carriers
+                and abs((u * normal.conjugate()).real) < 1e-9
+            ):
+                return True
+        return False
 
     def _first_point(self, link: str) -> complex:
         if link == GROUND:
@@ -1083,8 +1105,12 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
             ang_n = angle_of(e.b, float(np.angle(n0)), f"nor_{e.name}")
             ru, rn = fresh(f"R_{e.name}_s"), fresh(f"R_{e.name}_n")
             system.vector(ru, svar, ang_u)
-            system.vector(rn, e.radii[0], ang_n)
-            roll_parts[e.name] = ((-1.0, svar, ang_u), (-1.0, e.radii[0], ang_n))
+            height: float | str = e.radii[0]
+            if e.carried:  # the guide fixes the height already: a free length
+                height = fresh(f"h_{e.name}")
+                drawn[height] = e.radii[0]
+            system.vector(rn, height, ang_n)
+            roll_parts[e.name] = ((-1.0, svar, ang_u), (-1.0, height, ang_n))
             return [(ru, -1), (rn, -1)]
         name, pvar = fresh(f"R_{e.name}"), fresh(f"phi_{e.name}")
         drawn[pvar] = float(np.angle(z))
@@ -1639,7 +1665,7 @@ class LinkageForces:
         return ax
 
     def to_pandas(self) -> Any:
-        """One row per sample: ``F_<a>_<p>_x/_y``, slider forces, drivers, shaking, flags."""
+        """One row per sample: pin, slider and contact forces, drivers, shaking, flags."""
         import pandas as pd
 
         cols: dict[str, np.ndarray] = {}
@@ -1651,6 +1677,8 @@ class LinkageForces:
             cols[f"N_{k}"] = np.ravel(v)
         for k, v in self.couple.items():
             cols[f"M_{k}"] = np.ravel(v)
+        for k, v in self.rolling.items():
+            cols[f"F_{k}_x"], cols[f"F_{k}_y"] = np.ravel(v).real, np.ravel(v).imag
         for k, v in self.driver.items():
             cols[f"driver_{k}"] = np.ravel(v)
         cols["shaking_force_x"] = np.ravel(self.shaking_force).real
