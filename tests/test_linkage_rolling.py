@@ -268,3 +268,83 @@ def test_bad_structure():
     lk.roll("a", "Oa", 2.0, "b", "Ob", 3.0, name="r")
     with pytest.raises(ModelError, match="twice"):
         lk.roll("a", "Oa", 2.0, "b", "Ob", 3.0, name="r")
+
+
+def sun_and_planet(**masses) -> Linkage:
+    """A sun (radius 2, pivot O) and a planet (radius 1) rolling on it outside, the
+    planet's centre C pinned to a rod whose end B slides on a guide at y = 4: two
+    freedoms (L = 5, J1 = 2 pins + roll + pin + slider), driven by the sun and the guide."""
+    C = 3.0 * np.exp(1j * np.pi / 3)
+    pts = {"O": 0j, "S": 2 + 0j, "C": C, "W": C + 1, "B": 4 + 4j, "E": -5 + 4j}
+    lk = Linkage(pts).ground("O", "E")
+    lk.link("sun", "O", "S", **masses.get("sun", {}))
+    lk.link("planet", "C", "W", **masses.get("planet", {}))
+    lk.link("rod", "C", "B", **masses.get("rod", {}))
+    lk.link("block", "B", **masses.get("block", {}))
+    lk.slider("block", "ground", "B", 0.0, through="E", name="guide")
+    lk.roll("sun", "O", 2.0, "planet", "C", 1.0, name="contact")
+    return lk.drive("sun", "guide")
+
+
+def sun_planet_inputs(n: int = 201):
+    t = np.linspace(0.0, 1.0, n)
+    values = {"sun": 2.0 * t + t**2, "guide": 9.0 - 1.5 * t + 0.5 * t**3}
+    velocity = {"sun": 2.0 + 2 * t, "guide": -1.5 + 1.5 * t**2}
+    acceleration = {"sun": 2.0 + 0 * t, "guide": 3.0 * t}
+    return t, values, velocity, acceleration
+
+
+def test_sun_and_planet_no_slip_between_moving_links():
+    lk = sun_and_planet()
+    assert lk.mobility() == 2
+    t, values, velocity, acceleration = sun_planet_inputs()
+    m = lk.solve(values, velocity=velocity, acceleration=acceleration)
+    assert m.ok.all()
+    o, C = m.points["O"], m.points["C"]
+    np.testing.assert_allclose(np.abs(C - o), 3.0, rtol=1e-12)  # constant centre distance
+    contact = o + 2.0 * (C - o) / 3.0
+    v_sun = 1j * m.omega["sun"] * (contact - o)
+    v_planet = m.point_velocity["C"] + 1j * m.omega["planet"] * (contact - C)
+    np.testing.assert_allclose(v_planet, v_sun, atol=1e-10)  # no slip
+    # rates by central finite differences in time (independent of the velocity solve)
+    dt = t[1] - t[0]
+    for name in ("planet", "rod"):
+        fd = np.gradient(m.theta[name], dt, edge_order=2)
+        np.testing.assert_allclose(fd[1:-1], m.omega[name][1:-1], atol=2e-4)
+        fd2 = np.gradient(m.omega[name], dt, edge_order=2)
+        np.testing.assert_allclose(fd2[1:-1], m.alpha[name][1:-1], atol=2e-3)
+
+
+def test_power_balance_sun_and_planet_with_masses():
+    masses = {
+        "sun": {"mass": 3.0, "inertia": 1.0, "cg": (0.3, 0.2)},
+        "planet": {"mass": 1.0, "inertia": 0.2, "cg": (0.1, -0.2)},
+        "rod": {"mass": 0.7, "inertia": 0.3, "cg": (1.2, 0.1)},
+        "block": {"mass": 1.5, "inertia": 0.05},
+    }
+    lk = sun_and_planet(**masses)
+    _, values, velocity, acceleration = sun_planet_inputs()
+    m = lk.solve(values, velocity=velocity, acceleration=acceleration)
+    f = lk.forces(m, gravity=G, external_torques={"planet": -0.7})
+    assert f.ok.all()
+    _, dke, dpe = kinetic_and_potential(lk, m, list(masses))
+    power_in = (
+        f.driver["sun"] * velocity["sun"]
+        + f.driver["guide"] * velocity["guide"]
+        - 0.7 * m.omega["planet"]
+    )
+    np.testing.assert_allclose(power_in, dke + dpe, atol=1e-8)
+    # the sun's equations rebuilt from the returned forces (moment about O)
+    X = f.contact["contact"]
+    F_on_sun = -f.rolling["contact"]
+    F_pin = f.F("ground", "sun")
+    np.testing.assert_allclose(
+        F_pin + F_on_sun - 3.0 * G * 1j, 3.0 * m.cg_acceleration["sun"], atol=1e-8
+    )
+    r_g = m.cg["sun"]
+    moment = (
+        f.driver["sun"]
+        + ((np.conj(X - r_g) * F_on_sun).imag)
+        + ((np.conj(m.points["O"] - r_g) * F_pin).imag)
+    )
+    np.testing.assert_allclose(moment, 1.0 * m.alpha["sun"], atol=1e-8)

@@ -379,7 +379,7 @@ class Linkage:
         if at not in self._links[block].points:
             raise ModelError(f"slider {name!r}: point {at!r} is not on link {block!r}")
         u = self._line(f"slider {name!r}", direction, self._points[at], through)
-        if name in self._sliders or name in self._slots or name in self._actuators:
+        if self._joint_named(name):
             raise ModelError(f"joint name {name!r} is used twice")
         self._sliders[name] = (block, on, at, u, through)
         return self._changed()
@@ -424,7 +424,7 @@ class Linkage:
         if pin not in self._links[link].points:
             raise ModelError(f"slot {name!r}: point {pin!r} is not on link {link!r}")
         u = self._line(f"slot {name!r}", direction, self._points[pin], through)
-        if name in self._sliders or name in self._slots or name in self._actuators:
+        if self._joint_named(name):
             raise ModelError(f"joint name {name!r} is used twice")
         self._slots[name] = (link, on, pin, u, through)
         return self._changed()
@@ -454,7 +454,7 @@ class Linkage:
         """
         if not isinstance(name, str) or not name:
             raise InputError("actuator", f"a name is a non-empty string, got {name!r}")
-        if name in self._sliders or name in self._slots or name in self._actuators:
+        if self._joint_named(name):
             raise ModelError(f"joint name {name!r} is used twice")
         self._need_points(f"actuator {name!r}", (start, end))
         ends = tuple(links)
@@ -533,9 +533,7 @@ class Linkage:
         name = name or f"{link_a}~{link_b}"
         if not isinstance(name, str) or not name:
             raise InputError("roll", f"a joint name is a non-empty string, got {name!r}")
-        if name in self._sliders or name in self._slots or name in self._actuators:
-            raise ModelError(f"joint name {name!r} is used twice")
-        if name in self._rolls:
+        if self._joint_named(name):
             raise ModelError(f"joint name {name!r} is used twice")
         for link, centre in ((link_a, centre_a), (link_b, centre_b)):
             if link != GROUND and link not in self._links:
@@ -603,6 +601,10 @@ class Linkage:
                 )
         self._drivers = list(dict.fromkeys(names))
         return self._changed()
+
+    def _joint_named(self, name: str) -> bool:
+        tables = (self._sliders, self._slots, self._actuators, self._rolls)
+        return any(name in t for t in tables)
 
     def _names(self) -> str:
         return ", ".join(self._links) or "(none)"
