@@ -1,11 +1,13 @@
 """Tests of rolling contact (``Linkage.roll``): two profiles rolling without slip.
 
 References that do not share the code path of Linkage:
-* pure rolling of a wheel on the ground (review lecture 1, "pure rolling"; Norton
-  §6.x): the centre moves r·θ, a rim point traces a cycloid, the contact point has
-  zero velocity, ``A_centre = r α`` and ``A_contact = r ω²`` toward the centre;
-* friction wheels on fixed pivots: ``ω_b/ω_a = −r_a/r_b`` (external) and
-  ``+r_a/r_b`` (internal);
+* pure rolling of a wheel on the ground (the main notes' "Pure rolling" page:
+  ``V_C = 0``, ``A_C = ω² R ĵ``, ``V_A = −ω R î``, ``A_A = −α R î``,
+  ``A_B = −2 α R î − ω² R ĵ`` for the top point B): the centre moves r·θ and a
+  rim point traces a cycloid;
+* friction wheels on fixed pivots (the notes' GEARS page, Norton Fig. 9-1
+  "rolling cylinders", ``r1 ω1 = r2 ω2`` in magnitude): ``ω_b/ω_a = −r_a/r_b``
+  (external) and ``+r_a/r_b`` (internal);
 * a planetary train with a fixed ring: Willis' formula
   ``(ω_s − ω_arm)/(ω_r − ω_arm) = −r_r/r_s``;
 * conservation of power ``T ω + ΣP_ext = d(KE)/dt + d(PE)/dt`` with KE and PE
@@ -59,6 +61,10 @@ def test_wheel_on_ground_pure_rolling():
     a_ct = m.point_acceleration["C"] + (1j * alpha - omega**2) * r_ct
     np.testing.assert_allclose(v_ct, 0.0, atol=1e-10)
     np.testing.assert_allclose(a_ct, 1j * R * omega**2, atol=1e-9)
+    # the top point B of the rim (the notes: A_B = −2 α R î − ω² R ĵ)
+    r_top = 1j * R
+    a_top = m.point_acceleration["C"] + (1j * alpha - omega**2) * r_top
+    np.testing.assert_allclose(a_top, -2 * alpha * R - 1j * omega**2 * R, atol=1e-9)
     # the block follows the centre (rod translates)
     np.testing.assert_allclose(m.points["B"] - m.points["C"], 2.0 + 1.5j, atol=1e-10)
 

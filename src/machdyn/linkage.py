@@ -4,8 +4,9 @@ A :class:`Linkage` is given the way a mechanism is sketched: named points with
 their coordinates in one assembled pose, the links (rigid bodies) that carry
 them, the joints and the driver(s). Every point shared by two or more links is
 a revolute joint (a pin joining several links counts once per extra link);
-prismatic joints, pin-in-slot half joints and linear actuators (hydraulic
-cylinders, collapsed into one variable-length vector) are added by name.
+prismatic joints, pin-in-slot half joints, linear actuators (hydraulic
+cylinders, collapsed into one variable-length vector) and rolling contacts
+without slip (:meth:`Linkage.roll`) are added by name.
 
 The linkage is compiled into the core's vector loops the way the notes teach
 (review lecture 3; Norton, *Design of Machinery*, §4.5 and §4.13):
