@@ -244,6 +244,9 @@ def test_wheel_rolling_inside_fixed_ring_driven_by_arm():
         ({"radius_a": -1.0}, "radius_a"),
         ({"radius_b": -3.0}, "radius_b"),
         ({"radius_b": float("nan")}, "radius_b"),
+        ({"radius_b": -np.inf}, "radius_b"),
+        ({"radius_b": "big"}, "radius_b"),
+        ({"radius_a": np.inf}, "radius_a"),  # only link_b may be straight
         ({"radius_b": 2.5}, "centre_b"),  # 2 + 2.5 != 5: not touching
         ({"internal": True}, "centre_b"),  # |2 - 3| != 5
     ],
@@ -354,3 +357,24 @@ def test_power_balance_sun_and_planet_with_masses():
         + ((np.conj(m.points["O"] - r_g) * F_pin).imag)
     )
     np.testing.assert_allclose(moment, 1.0 * m.alpha["sun"], atol=1e-8)
+
+
+def test_random_friction_wheels_seeded():
+    """Seeded random radii and layouts: the ratio is −ra/rb outside, +ra/rb inside."""
+    rng = np.random.default_rng(20261121)
+    for _ in range(12):
+        r_a, r_b = rng.uniform(0.2, 5.0, 2)
+        internal = bool(rng.integers(2)) and abs(r_a - r_b) > 0.05
+        d = abs(r_a - r_b) if internal else r_a + r_b
+        oa = complex(*rng.uniform(-3, 3, 2))
+        ob = oa + d * np.exp(1j * rng.uniform(0, 2 * np.pi))
+        pa = oa + r_a * np.exp(1j * rng.uniform(0, 2 * np.pi))
+        qb = ob + 0.7 * np.exp(1j * rng.uniform(0, 2 * np.pi))
+        lk = Linkage({"Oa": oa, "Ob": ob, "P": pa, "Q": qb}).ground("Oa", "Ob")
+        lk.link("a", "Oa", "P").link("b", "Ob", "Q")
+        lk.roll("a", "Oa", r_a, "b", "Ob", r_b, internal=internal).drive("a")
+        w = rng.uniform(-5, 5)
+        m = lk.solve(np.angle(pa - oa) + np.linspace(0, 1, 5), velocity=w)
+        assert m.ok.all()
+        ratio = (r_a / r_b) * (1.0 if internal else -1.0)
+        np.testing.assert_allclose(m.omega["b"], ratio * w, rtol=1e-10, atol=1e-12)

@@ -46,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import finite_array, finite_scalar, nonnegative
+from ._validate import finite_array, finite_scalar, magnitude, nonnegative
 from .errors import AssemblyError, InputError, ModelError
 from .loops import LoopSystem, lu_factor, lu_solve
 from .loops.result import Motion
@@ -545,13 +545,15 @@ class Linkage:
                 raise ModelError(f"roll {name!r}: point {centre!r} is not on link {link!r}")
         if link_a == link_b:
             raise ModelError(f"roll {name!r} joins link {link_a!r} to itself")
+        if _is_inf(radius_a):
+            raise InputError(
+                f"{name}.radius_a",
+                "only link_b may have a straight profile: swap the two links (radius_b = inf)",
+            )
         r_a = finite_scalar(f"{name}.radius_a", radius_a)
         if r_a <= 0:
             raise InputError(f"{name}.radius_a", f"must be a positive radius, got {r_a:g}")
-        try:
-            r_b = float(radius_b)
-        except (TypeError, ValueError):
-            raise InputError(f"{name}.radius_b", f"must be a number, got {radius_b!r}") from None
+        r_b = np.inf if _is_inf(radius_b) else finite_scalar(f"{name}.radius_b", radius_b)
         if np.isnan(r_b) or r_b <= 0 or r_b == -np.inf:
             raise InputError(
                 f"{name}.radius_b",
@@ -923,6 +925,13 @@ class Linkage:
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
+
+
+def _is_inf(value: Any) -> bool:
+    try:
+        return bool(np.isposinf(float(magnitude(value))))
+    except (TypeError, ValueError):
+        return False
 
 
 def _is_zero(value: Any) -> bool:
