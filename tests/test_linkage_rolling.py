@@ -378,3 +378,15 @@ def test_random_friction_wheels_seeded():
         assert m.ok.all()
         ratio = (r_a / r_b) * (1.0 if internal else -1.0)
         np.testing.assert_allclose(m.omega["b"], ratio * w, rtol=1e-10, atol=1e-12)
+
+
+def test_unreachable_sample_is_flagged_not_nan_silently():
+    lk = sun_and_planet()
+    values = {"sun": np.array([0.0, 0.0]), "guide": np.array([9.0, 30.0])}  # B far away
+    m = lk.solve(values, velocity={"sun": 1.0, "guide": 0.0}, continuation=False)
+    assert m.ok.tolist() == [True, False]
+    assert m.reason[1] != ""
+    f = lk.forces(m)
+    assert f.ok.tolist() == [True, False]
+    assert np.isnan(f.rolling["contact"][1]) and np.isnan(f.contact["contact"][1])
+    assert np.isfinite(f.rolling["contact"][0])

@@ -2080,5 +2080,7 @@ def _forces(
         reason=reasons.reshape(shape),
         motion=motion,
         rolling=_frozen(rolling),
-        contact=_frozen({k: v[0].reshape(shape).copy() for k, v in contact.items()}),
+        contact=_frozen(
+            {k: np.where(bad_all, np.nan, v[0]).reshape(shape) for k, v in contact.items()}
+        ),
     )
