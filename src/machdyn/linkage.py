@@ -39,7 +39,7 @@ couples, and the driver torque or force, solved for every sample at once.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
@@ -1239,7 +1239,13 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
     )
 
 
-def _no_slip(e: _Edge, parts, class_var, find, drawn) -> tuple[str, dict[str, float]]:
+def _no_slip(
+    e: _Edge,
+    parts: tuple[tuple[float, float | str, float | str], ...],
+    class_var: dict[str, tuple[str, float]],
+    find: Callable[[str], str],
+    drawn: dict[str, float],
+) -> tuple[str, dict[str, float]]:
     """The no-slip condition of rolling joint ``e`` as a linear constraint.
 
     With the contact point ``C = A + ρa e^{jφ} = B + ρb e^{jφ}`` (A, B the centres,
