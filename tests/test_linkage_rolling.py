@@ -201,7 +201,7 @@ def rack_and_pinion(r: float = 0.5) -> Linkage:
 
 
 def test_rack_and_pinion_guided_rack():
-    """The guide fixes the pinion–rack distance: no-slip only, ``ḋ = r ω`` (Norton §9.x)."""
+    """The guide fixes the pinion–rack distance: no-slip only, ``ḋ = r ω`` (no slip at C)."""
     r = 0.5
     lk = rack_and_pinion(r).drive("pinion")
     assert lk.mobility() == 1
