@@ -20,6 +20,7 @@ __all__ = [
     "choice",
     "finite_array",
     "finite_scalar",
+    "input_motion",
     "integer",
     "magnitude",
     "nonnegative",
@@ -215,3 +216,25 @@ def broadcast(**arrays: Any) -> tuple[int, ...]:
             ) from None
         seen.append(field)
     return shape
+
+
+def input_motion(
+    theta2: Any, omega2: Any, alpha2: Any, jerk2: Any
+) -> tuple[tuple[int, ...], list[np.ndarray]]:
+    """Validate an input link's angle and rates; return their common shape and the arrays.
+
+    Pint quantities are converted to radians and radians per second (squared,
+    cubed); every value must be finite, and the four must broadcast together.
+
+    Examples
+    --------
+    >>> shape, (t, w, a, j) = input_motion([0.0, 1.0], 2.0, 0.0, 0.0)
+    >>> shape, w.tolist()
+    ((2,), [2.0, 2.0])
+    """
+    theta2 = finite_array("theta2", theta2, "radian")
+    omega2 = finite_array("omega2", omega2, "radian / second")
+    alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
+    jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
+    shape = broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2, jerk2=jerk2)
+    return shape, [np.broadcast_to(x, shape).astype(float) for x in (theta2, omega2, alpha2, jerk2)]

@@ -37,14 +37,7 @@ import numpy as np
 
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._parallel import for_slices
-from ._validate import (
-    as_array,
-    broadcast,
-    choice,
-    common_length_unit,
-    finite_array,
-    finite_scalar,
-)
+from ._validate import as_array, choice, common_length_unit, finite_scalar, input_motion
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
 
@@ -794,20 +787,15 @@ class FourBar:
         >>> round(float(np.degrees(m.theta3)), 2), round(float(np.degrees(m.theta4)), 2)
         (128.25, 109.85)
         """
-        theta2 = finite_array("theta2", theta2, "radian")
-        omega2 = finite_array("omega2", omega2, "radian / second")
-        alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
-        jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
+        single = np.ndim(theta2) == 0
+        shape, arrays = input_motion(theta2, omega2, alpha2, jerk2)
         branch_sign, side = self._branch_and_side(form, branch)
         order = choice("order", order, (0, 1, 2, 3))
-        shape = broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2, jerk2=jerk2)
-        t2, w2, a2, j2 = (
-            np.broadcast_to(x, shape).ravel() for x in (theta2, omega2, alpha2, jerk2)
-        )
+        t2, w2, a2, j2 = (x.ravel() for x in arrays)
         out = _solve_flat(self, t2, w2, a2, j2, branch_sign, side, order)
-        if theta2.ndim == 0 and out["status"][0] in (NOT_ASSEMBLABLE, WRONG_FORM, INDETERMINATE):
+        if single and out["status"][0] in (NOT_ASSEMBLABLE, WRONG_FORM, INDETERMINATE):
             raise AssemblyError(
-                f"{self!r}, form {form}, theta2 = {np.degrees(float(theta2)):.6g} deg: "
+                f"{self!r}, form {form}, theta2 = {np.degrees(t2[0]):.6g} deg: "
                 f"{STATUS_REASONS[out['status'][0]]}; {self._range_hint(form)}"
             )
         reshaped = {

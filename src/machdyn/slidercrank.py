@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ._angles import wrap_2pi
-from ._validate import broadcast, choice, common_length_unit, finite_array, finite_scalar
+from ._validate import choice, common_length_unit, finite_scalar, input_motion
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
 
@@ -45,14 +45,10 @@ def _rates(theta: np.ndarray, w: np.ndarray, al: np.ndarray, je: np.ndarray):
     return e, 1j * w * e, (1j * al - w * w) * e, (1j * je - 3 * al * w - 1j * w**3) * e
 
 
-def _broadcast(theta2, omega2, alpha2, jerk2):
-    theta2 = finite_array("theta2", theta2, "radian")
-    omega2 = finite_array("omega2", omega2, "radian / second")
-    alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
-    jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")
-    shape = broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2, jerk2=jerk2)
-    out = [np.broadcast_to(x, shape).astype(float) for x in (theta2, omega2, alpha2, jerk2)]
-    return theta2.ndim == 0, out
+def _inputs(theta2, omega2, alpha2, jerk2):
+    """(theta2 was a single angle, [θ2, ω2, α2, jerk2] broadcast to one shape)."""
+    _, arrays = input_motion(theta2, omega2, alpha2, jerk2)
+    return np.ndim(theta2) == 0, arrays
 
 
 @dataclass(frozen=True, eq=False)
@@ -271,7 +267,7 @@ class SliderCrank:
             If ``theta2`` is a single angle the rod cannot reach (arrays are flagged).
         """
         choice("form", form, (1, 2))
-        scalar, (t2, w2, a2, j2) = _broadcast(theta2, omega2, alpha2, jerk2)
+        scalar, (t2, w2, a2, j2) = _inputs(theta2, omega2, alpha2, jerk2)
         a, b, c = self.a, self.b, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         s3 = (a * e2.imag - c) / b
@@ -479,7 +475,7 @@ class InvertedSliderCrank:
     ) -> InvertedSliderCrankMotion:
         """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
         choice("form", form, (1, 2))
-        scalar, (t2, w2, a2, j2) = _broadcast(theta2, omega2, alpha2, jerk2)
+        scalar, (t2, w2, a2, j2) = _inputs(theta2, omega2, alpha2, jerk2)
         a, d, c = self.a, self.d, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         S = a * e2 - d
