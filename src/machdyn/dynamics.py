@@ -53,6 +53,7 @@ from typing import Any
 
 import numpy as np
 
+from ._flags import Flagged
 from ._validate import broadcast as _broadcast
 from ._validate import choice, finite_array, finite_scalar, magnitude, nonnegative
 from .errors import InputError
@@ -356,7 +357,7 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class FourBarForces:
+class FourBarForces(Flagged):
     """Joint forces, driving torque and shaking loads of a four-bar over a motion.
 
     Attributes
@@ -379,6 +380,8 @@ class FourBarForces:
         0 where solved; otherwise an index into :data:`FORCE_REASONS`.
     """
 
+    REASONS = FORCE_REASONS
+
     T12: np.ndarray
     F12: np.ndarray
     F32: np.ndarray
@@ -391,16 +394,6 @@ class FourBarForces:
     aG4: np.ndarray
     motion: FourBarMotion
     status: np.ndarray
-
-    @property
-    def ok(self) -> np.ndarray:
-        """True where the forces were solved."""
-        return self.status == OK
-
-    @property
-    def reason(self) -> np.ndarray:
-        """Why each sample was not solved (empty string where it was)."""
-        return np.asarray(FORCE_REASONS, dtype=object)[self.status]
 
     @property
     def shaking_torque(self) -> np.ndarray:
@@ -844,7 +837,7 @@ _FRICTION_MODELS = ("smooth", "coulomb", "viscous")
 
 
 @dataclass(frozen=True, eq=False)
-class SliderCrankForces:
+class SliderCrankForces(Flagged):
     """Joint forces and driving torque of a slider-crank over a motion.
 
     Attributes
@@ -870,6 +863,8 @@ class SliderCrankForces:
         The friction model used.
     """
 
+    REASONS = SLIDER_REASONS
+
     T12: np.ndarray
     F12: np.ndarray
     F32: np.ndarray
@@ -880,16 +875,6 @@ class SliderCrankForces:
     motion: SliderCrankMotion
     status: np.ndarray
     friction: str
-
-    @property
-    def ok(self) -> np.ndarray:
-        """True where the forces were solved."""
-        return self.status == OK
-
-    @property
-    def reason(self) -> np.ndarray:
-        """Why each sample was not solved (empty string where it was)."""
-        return np.asarray(SLIDER_REASONS, dtype=object)[self.status]
 
     @property
     def shaking_torque(self) -> np.ndarray:

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
+from ._flags import Flagged
 from ._parallel import for_slices
 from ._validate import as_array, choice, common_length_unit, finite_scalar, input_motion
 from .classify import Classification, classify
@@ -352,7 +353,7 @@ def _jerk_rhs(a, b, c, e2x, e2y, e3x, e3y, e4x, e4y, w2, w3, w4, al2, al3, al4, 
 
 
 @dataclass(frozen=True, eq=False)
-class FourBarMotion:
+class FourBarMotion(Flagged):
     """Kinematics of a four-bar over a set of input angles (one form).
 
     Arrays share the broadcast shape of the inputs. Samples that could not be
@@ -380,6 +381,8 @@ class FourBarMotion:
         The form (1 or 2) these poses belong to.
     """
 
+    REASONS = STATUS_REASONS
+
     theta2: np.ndarray
     theta3: np.ndarray
     theta4: np.ndarray
@@ -404,19 +407,9 @@ class FourBarMotion:
 
     # -- flags -----------------------------------------------------------------
     @property
-    def ok(self) -> np.ndarray:
-        """True where every quantity was solved."""
-        return self.status == OK
-
-    @property
     def assembled(self) -> np.ndarray:
         """True where the positions are valid (toggles included)."""
         return (self.status == OK) | (self.status == TOGGLE)
-
-    @property
-    def reason(self) -> np.ndarray:
-        """Why each sample was not solved (empty string where it was)."""
-        return np.asarray(STATUS_REASONS, dtype=object)[self.status]
 
     # -- fundamental angles (notes: "FUNDAMENTAL POSITION ANGLES") ------------------
     @cached_property

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from ._angles import wrap_2pi
+from ._flags import Flagged
 from ._validate import choice, common_length_unit, finite_scalar, input_motion
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
@@ -30,7 +31,7 @@ from .errors import AssemblyError, InputError
 __all__ = ["InvertedSliderCrank", "InvertedSliderCrankMotion", "SliderCrank", "SliderCrankMotion"]
 
 OK, NOT_ASSEMBLABLE, TOGGLE = 0, 1, 2
-REASONS = (
+STATUS_REASONS = (
     "",
     "cannot be assembled at this input angle (outside the crank's range)",
     "toggle: the velocity solution is singular here",
@@ -52,7 +53,7 @@ def _inputs(theta2, omega2, alpha2, jerk2):
 
 
 @dataclass(frozen=True, eq=False)
-class SliderCrankMotion:
+class SliderCrankMotion(Flagged):
     """Kinematics of a slider-crank over a set of input angles.
 
     Attributes
@@ -68,8 +69,10 @@ class SliderCrankMotion:
     coupler, coupler_velocity, coupler_acceleration : ndarray of complex or None
         A point on the rod, when defined.
     status : ndarray of uint8
-        0 where solved; otherwise an index into ``REASONS``.
+        0 where solved; otherwise an index into :data:`STATUS_REASONS`.
     """
+
+    REASONS = STATUS_REASONS
 
     theta2: np.ndarray
     theta3: np.ndarray
@@ -93,19 +96,9 @@ class SliderCrankMotion:
     offset: float = field(repr=False)
 
     @property
-    def ok(self) -> np.ndarray:
-        """True where every quantity was solved."""
-        return self.status == OK
-
-    @property
     def assembled(self) -> np.ndarray:
         """True where the positions are valid (toggles included)."""
         return self.status != NOT_ASSEMBLABLE
-
-    @property
-    def reason(self) -> np.ndarray:
-        """Why each sample was not solved (empty string where it was)."""
-        return np.asarray(REASONS, dtype=object)[self.status]
 
     def to_pandas(self):
         """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily)."""
@@ -391,12 +384,14 @@ class SliderCrank:
 
 
 @dataclass(frozen=True, eq=False)
-class InvertedSliderCrankMotion:
+class InvertedSliderCrankMotion(Flagged):
     """Kinematics of an inverted slider-crank.
 
     ``theta4`` (= θ3, the block turns with link 4), ``b`` (the block's position
     along the slot) and their derivatives; ``A`` the crank pin.
     """
+
+    REASONS = STATUS_REASONS
 
     theta2: np.ndarray
     theta4: np.ndarray
@@ -418,16 +413,6 @@ class InvertedSliderCrankMotion:
     def theta3(self) -> np.ndarray:
         """The block's angle: equal to θ4."""
         return self.theta4
-
-    @property
-    def ok(self) -> np.ndarray:
-        """True where every quantity was solved."""
-        return self.status == OK
-
-    @property
-    def reason(self) -> np.ndarray:
-        """Why each sample was not solved (empty string where it was)."""
-        return np.asarray(REASONS, dtype=object)[self.status]
 
 
 class InvertedSliderCrank:

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ._flags import Flagged
 from ._validate import broadcast as _broadcast
 from ._validate import choice, finite_array, nonnegative
 from .dynamics import (
@@ -279,7 +280,7 @@ def fourbar_mechanical_advantage(
 
 
 @dataclass(frozen=True, eq=False)
-class InputTorque:
+class InputTorque(Flagged):
     """The input torque of a four-bar found by virtual work.
 
     Attributes
@@ -293,19 +294,11 @@ class InputTorque:
         :data:`machdyn.dynamics.FORCE_REASONS`.
     """
 
+    REASONS = FORCE_REASONS
+
     T12: np.ndarray
     motion: FourBarMotion
     status: np.ndarray
-
-    @property
-    def ok(self) -> np.ndarray:
-        """True where the torque was found."""
-        return self.status == OK
-
-    @property
-    def reason(self) -> np.ndarray:
-        """Why each sample was not solved (empty string where it was)."""
-        return np.asarray(FORCE_REASONS, dtype=object)[self.status]
 
     def to_pandas(self):
         """A :class:`pandas.DataFrame` with ``theta2, T12, ok, reason`` (pandas lazily)."""
