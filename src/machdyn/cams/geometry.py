@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import choice, finite_array, finite_scalar, nonnegative, positive
+from .._validate import broadcast, choice, finite_array, finite_scalar, nonnegative, positive
 from ..errors import InputError, ModelError
 from .program import CamProgram, Motion
 
@@ -81,17 +81,8 @@ def _broadcast(**arrays: np.ndarray) -> list[np.ndarray]:
     ...
     machdyn.errors.InputError: v: shape (2,) does not broadcast with s (3,)
     """
-    names = list(arrays)
-    shape: tuple[int, ...] = ()
-    for k, name in enumerate(names):
-        try:
-            shape = np.broadcast_shapes(shape, arrays[name].shape)
-        except ValueError:
-            others = ", ".join(f"{n} {arrays[n].shape}" for n in names[:k])
-            raise InputError(
-                name, f"shape {arrays[name].shape} does not broadcast with {others}"
-            ) from None
-    return [np.broadcast_to(arrays[name], shape) for name in names]
+    shape = broadcast(**arrays)
+    return [np.broadcast_to(value, shape) for value in arrays.values()]
 
 
 def _check_reach(s: np.ndarray, d: float) -> np.ndarray:

@@ -15,33 +15,7 @@ import numpy as np
 from .._validate import as_array, magnitude
 from ..errors import InputError
 
-__all__ = ["check_shapes", "finite", "pressure_angle_array"]
-
-
-def check_shapes(**arrays: Any) -> tuple[int, ...]:
-    """Return the common broadcast shape of named arrays, or raise naming the clash.
-
-    Examples
-    --------
-    >>> check_shapes(r_gear=np.ones(3), pressure_angle=0.3)
-    (3,)
-    >>> check_shapes(r_gear=np.ones(3), r_pinion=np.ones(2))
-    Traceback (most recent call last):
-    ...
-    machdyn.errors.InputError: r_pinion: shape (2,) does not broadcast with r_gear (3,)
-    """
-    shape: tuple[int, ...] = ()
-    seen: list[str] = []
-    for name, value in arrays.items():
-        this = np.shape(value)
-        try:
-            shape = np.broadcast_shapes(shape, this)
-        except ValueError:
-            raise InputError(
-                name, f"shape {this} does not broadcast with {', '.join(seen)} {shape}"
-            ) from None
-        seen.append(name)
-    return shape
+__all__ = ["finite", "pressure_angle_array"]
 
 
 def finite(field: str, value: Any, message: str) -> np.ndarray:

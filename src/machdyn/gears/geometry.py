@@ -34,9 +34,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import as_array, choice, finite_scalar, integer, magnitude, nonnegative, positive
+from .._validate import (
+    as_array,
+    broadcast,
+    choice,
+    finite_scalar,
+    integer,
+    magnitude,
+    nonnegative,
+    positive,
+)
 from ..errors import InputError
-from ._checks import check_shapes, pressure_angle_array
+from ._checks import pressure_angle_array
 
 __all__ = [
     "SYSTEMS",
@@ -147,7 +156,7 @@ def base_pitch(pitch_radius: ArrayLike, teeth: ArrayLike, pressure_angle: ArrayL
     if np.any(n < MIN_TEETH) or not np.all(np.isfinite(n)):
         raise InputError("teeth", f"must be at least {MIN_TEETH}, got {teeth!r}")
     phi = pressure_angle_array(pressure_angle)
-    check_shapes(pitch_radius=r, teeth=n, pressure_angle=phi)
+    broadcast(pitch_radius=r, teeth=n, pressure_angle=phi)
     return 2.0 * np.pi * r * np.cos(phi) / n
 
 

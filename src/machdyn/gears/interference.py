@@ -26,9 +26,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validate import as_array, magnitude
+from .._validate import as_array, broadcast, magnitude
 from ..errors import InputError
-from ._checks import check_shapes
 
 __all__ = [
     "max_gear_teeth",
@@ -99,7 +98,7 @@ def onset_gear_teeth(pinion_teeth: ArrayLike, pressure_angle: ArrayLike, k: Arra
     """
     n = _teeth("pinion_teeth", pinion_teeth)
     s, k = _sin2(pressure_angle), _k(k)
-    check_shapes(pinion_teeth=n, pressure_angle=s, k=k)
+    broadcast(pinion_teeth=n, pressure_angle=s, k=k)
     den = 4 * k - 2 * n * s
     with np.errstate(divide="ignore", invalid="ignore"):
         ng = np.where(den > 0, (n**2 * s - 4 * k**2) / np.where(den > 0, den, 1.0), np.inf)
@@ -156,7 +155,7 @@ def min_pinion_teeth(
     """
     ng = _teeth("gear_teeth", gear_teeth)
     s, k = _sin2(pressure_angle), _k(k)
-    check_shapes(gear_teeth=ng, pressure_angle=s, k=k)
+    broadcast(gear_teeth=ng, pressure_angle=s, k=k)
     with np.errstate(invalid="ignore"):
         finite = (-ng * s + np.sqrt((ng * s) ** 2 + 4 * s * k * (ng + k))) / s
     rack = 2 * k / s
@@ -174,7 +173,7 @@ def min_teeth_rack(pressure_angle: ArrayLike, k: ArrayLike = 1.0) -> Any:
     [32, 18, 12]
     """
     s, k = _sin2(pressure_angle), _k(k)
-    check_shapes(pressure_angle=s, k=k)
+    broadcast(pressure_angle=s, k=k)
     out = np.ceil(2 * k / s - _EPS)
     return _out(out.astype(int))
 
@@ -191,7 +190,7 @@ def min_teeth_equal_gears(pressure_angle: ArrayLike, k: ArrayLike = 1.0) -> Any:
     [23, 13, 9]
     """
     s, k = _sin2(pressure_angle), _k(k)
-    check_shapes(pressure_angle=s, k=k)
+    broadcast(pressure_angle=s, k=k)
     out = np.ceil(2 * k * (1 + np.sqrt(1 + 3 * s)) / (3 * s) - _EPS)
     return _out(out.astype(int))
 
@@ -210,7 +209,7 @@ def min_profile_shift(teeth: ArrayLike, pressure_angle: ArrayLike, k: ArrayLike 
     """
     n = _teeth("teeth", teeth)
     s, k = _sin2(pressure_angle), _k(k)
-    check_shapes(teeth=n, pressure_angle=s, k=k)
+    broadcast(teeth=n, pressure_angle=s, k=k)
     return _out(k - n * s / 2)
 
 
@@ -235,6 +234,6 @@ def undercut(
     x = as_array("profile_shift", profile_shift)
     if not np.all(np.isfinite(x)):
         raise InputError("profile_shift", f"must be finite, got {profile_shift!r}")
-    check_shapes(teeth=n, pressure_angle=s, k=k, profile_shift=x)
+    broadcast(teeth=n, pressure_angle=s, k=k, profile_shift=x)
     shift = k - n * s / 2  # min_profile_shift
     return _out(x < shift - _EPS)

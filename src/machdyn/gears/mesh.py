@@ -20,9 +20,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import as_array, magnitude
+from .._validate import as_array, broadcast, magnitude
 from ..errors import InputError
-from ._checks import check_shapes, finite, pressure_angle_array
+from ._checks import finite, pressure_angle_array
 from .geometry import Gear, inverse_involute, involute
 
 __all__ = [
@@ -80,7 +80,7 @@ def operating_pressure_angle(
     c = finite("standard_center_distance", standard_center_distance, "must be a finite length")
     c_op = finite("center_distance", center_distance, "must be a finite length")
     phi = pressure_angle_array(pressure_angle)
-    check_shapes(standard_center_distance=c, center_distance=c_op, pressure_angle=phi)
+    broadcast(standard_center_distance=c, center_distance=c_op, pressure_angle=phi)
     if np.any(c <= 0):
         raise InputError("standard_center_distance", "must be a positive length")
     cos_op = c * np.cos(phi) / np.where(c_op > 0, c_op, np.inf)
@@ -163,11 +163,11 @@ def length_of_action(
             raise InputError(name, "must be a finite addendum >= 0")
     given = {"r_gear": rg, "a_gear": ag, "r_pinion": rp, "a_pinion": ap, "pressure_angle": phi}
     if center_distance is None:
-        check_shapes(**given)
+        broadcast(**given)
         c_op, phi_op = rg + rp, phi
     else:
         c_op = finite("center_distance", center_distance, "must be a finite length")
-        check_shapes(**given, center_distance=c_op)
+        broadcast(**given, center_distance=c_op)
         phi_op = operating_pressure_angle(rg + rp, c_op, phi)
     rbg, rbp = rg * np.cos(phi), rp * np.cos(phi)
     # Distances along the line of action from each base-circle tangent point to the tip circle.
@@ -222,7 +222,7 @@ def contact_ratio(length_of_action: ArrayLike, base_pitch: ArrayLike) -> Any:
     pb = as_array("base_pitch", base_pitch)
     if np.any(pb <= 0) or not np.all(np.isfinite(pb)):
         raise InputError("base_pitch", "must be a positive, finite length")
-    check_shapes(length_of_action=z, base_pitch=pb)
+    broadcast(length_of_action=z, base_pitch=pb)
     if np.any(z < 0):
         raise InputError(
             "length_of_action",
@@ -291,7 +291,7 @@ def backlash_from_center_distance(
     """
     dc = finite("center_distance_increase", center_distance_increase, "must be a finite length")
     phi = pressure_angle_array(pressure_angle)
-    check_shapes(center_distance_increase=dc, pressure_angle=phi)
+    broadcast(center_distance_increase=dc, pressure_angle=phi)
     out = 2.0 * dc * np.tan(phi)
     return out if np.ndim(out) else float(out)
 

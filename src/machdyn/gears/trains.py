@@ -28,9 +28,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import choice, finite_array, finite_scalar, integer, positive
+from .._validate import broadcast, choice, finite_array, finite_scalar, integer, positive
 from ..errors import InputError
-from ._checks import check_shapes
 from .interference import max_gear_teeth
 
 __all__ = [
@@ -74,7 +73,7 @@ def stage_ratio(driver: ArrayLike, driven: ArrayLike, kind: str = "external") ->
     for name, value in (("driver", a), ("driven", b)):
         if np.any(value <= 0):
             raise InputError(name, "tooth numbers and diameters must be positive")
-    check_shapes(driver=a, driven=b)
+    broadcast(driver=a, driven=b)
     out = sign * a / b
     return out if np.ndim(out) else float(out)
 
@@ -165,7 +164,7 @@ def sprocket_pitch_diameter(pitch: ArrayLike, teeth: ArrayLike) -> Any:
         raise InputError("pitch", "a sprocket needs a positive chain pitch")
     if np.any(n < 3):
         raise InputError("teeth", "a sprocket needs at least 3 teeth")
-    check_shapes(pitch=p, teeth=n)
+    broadcast(pitch=p, teeth=n)
     out = p / np.sin(np.pi / n)
     return out if np.ndim(out) else float(out)
 
@@ -375,7 +374,7 @@ def willis(
     if len(given) != 2:
         raise InputError("first", "give exactly two of first, last and arm")
     speeds = {k: finite_array(k, v) for k, v in given.items()}
-    check_shapes(train_value=r, **speeds)
+    broadcast(train_value=r, **speeds)
     if "arm" not in given:
         f, lst = speeds["first"], speeds["last"]
         if np.any(r == 1.0):
