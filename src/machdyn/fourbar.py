@@ -92,8 +92,10 @@ def _unit_vectors(
     ``branch`` = +1 puts B on the side that makes φ12 = θ4 − θ3 positive.
     Lengths are scaled by the longest (the unit vectors do not depend on scale),
     so squares neither overflow nor underflow for any representable lengths.
+    Lengths and ``branch`` may also be arrays (one value per linkage, e.g. a
+    column against a row of input angles) that broadcast with ``c2``/``s2``.
     """
-    scale = max(r1, r2, r3, r4)
+    scale = np.maximum(np.maximum(r1, r2), np.maximum(r3, r4))
     r1, r2, r3, r4 = r1 / scale, r2 / scale, r3 / scale, r4 / scale
     ax = r2 * c2
     ay = r2 * s2
@@ -107,7 +109,7 @@ def _unit_vectors(
         cg = dd + (r4 * r4 - r3 * r3)
         cg *= inv
         cg *= 1.0 / (2.0 * r4)
-    status = np.zeros(c2.shape, dtype=np.uint8)
+    status = np.zeros(cg.shape, dtype=np.uint8)
     abs_cg = np.abs(cg)
     inside = abs_cg <= 1.0 + _CLOSE_TOL  # False for NaN too (A on O4)
     if not inside.all():  # rare: only then pay for the masks and the clip
@@ -119,7 +121,9 @@ def _unit_vectors(
     sg = cg * cg
     np.subtract(1.0, sg, out=sg)
     np.sqrt(sg, out=sg)
-    if branch < 0:
+    if np.ndim(branch):
+        sg *= np.where(branch < 0, -1.0, 1.0)
+    elif branch < 0:
         np.negative(sg, out=sg)
     sy = ay
     with np.errstate(invalid="ignore"):  # 0 · ∞ where A sits on O4 (flagged above)

@@ -24,6 +24,7 @@ import numpy as np
 
 from .._validate import finite_array, integer
 from ..errors import InputError
+from ..fourbar import OK, _unit_vectors
 
 __all__ = ["CouplerAtlas", "atlas", "coupler_points"]
 
@@ -109,37 +110,22 @@ def _kernel(
     points = np.empty((n, m), dtype=complex)
     ok = np.empty((n, m), dtype=bool)
     c2, s2 = np.cos(theta2), np.sin(theta2)
-    # per-candidate constants, as column vectors
-    half_inv_r4 = (0.5 / r4)[:, None]
-    k3 = (r4 * r4 - r3 * r3)[:, None]
-    kr = (p * np.cos(delta) / r3)[:, None]
-    ki = (p * np.sin(delta) / r3)[:, None]
+    # per-candidate constants, as column vectors: P = A + p e^{jδ} e^{jθ3}
+    pr = (p * np.cos(delta))[:, None]
+    pi = (p * np.sin(delta))[:, None]
     sign = np.where(branch >= 0, 1.0, -1.0)[:, None]
-    r1c, r2c, r4c = r1[:, None], r2[:, None], r4[:, None]
+    r1c, r2c, r3c, r4c = (r[:, None] for r in (r1, r2, r3, r4))
     rows = max(1, _CHUNK_ELEMENTS // max(m, 1))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        for i in range(0, n, rows):
-            j = min(n, i + rows)
-            sl = slice(i, j)
-            ax = r2c[sl] * c2
-            ay = r2c[sl] * s2
-            sx = ax - r1c[sl]
-            dd = sx * sx + ay * ay
-            inv = 1.0 / np.sqrt(dd)
-            cg = (k3[sl] + dd) * inv * half_inv_r4[sl]
-            good = np.abs(cg) <= 1.0
-            sg = np.sqrt(1.0 - cg * cg) * sign[sl]
-            ux = sx * inv
-            uy = ay * inv
-            # B − A = d + c e^{jθ4} − A = c e^{jθ4} − s
-            dx = r4c[sl] * (ux * cg + uy * sg) - sx
-            dy = r4c[sl] * (uy * cg - ux * sg) - ay
-            # NaN where not assembled, without a boolean scatter: add 0 or NaN
-            blank = np.where(good, 0.0, np.nan)
-            block = points[sl]
-            block.real = ax + kr[sl] * dx - ki[sl] * dy + blank
-            block.imag = ay + kr[sl] * dy + ki[sl] * dx + blank
-            ok[sl] = good
+    for i in range(0, n, rows):
+        sl = slice(i, min(n, i + rows))
+        e3x, e3y, _, _, status = _unit_vectors(r1c[sl], r2c[sl], r3c[sl], r4c[sl], c2, s2, sign[sl])
+        good = status == OK
+        # NaN where not assembled, without a boolean scatter: add 0 or NaN
+        blank = np.where(good, 0.0, np.nan)
+        block = points[sl]
+        block.real = r2c[sl] * c2 + pr[sl] * e3x - pi[sl] * e3y + blank
+        block.imag = r2c[sl] * s2 + pr[sl] * e3y + pi[sl] * e3x + blank
+        ok[sl] = good
     return points, ok
 
 
