@@ -39,6 +39,7 @@ from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._flags import Flagged
 from ._parallel import for_slices
 from ._validate import as_array, choice, common_length_unit, finite_scalar, input_motion
+from .centres import fourbar_centres
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
 
@@ -48,6 +49,7 @@ __all__ = [
     "FourBarMotion",
     "accelerations",
     "jerks",
+    "named_angle",
     "positions",
     "velocities",
 ]
@@ -419,38 +421,37 @@ class FourBarMotion(Flagged):
     @cached_property
     def phi12(self) -> np.ndarray:
         """φ12 = θ4 − θ3: the angle between links 3 and 4 (faces links 1 and 2)."""
-        return wrap_pi(self.theta4 - self.theta3)
+        return named_angle("phi12", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi13(self) -> np.ndarray:
         """φ13 = θ2 − θ4: the angle between links 2 and 4."""
-        return wrap_pi(self.theta2 - self.theta4)
+        return named_angle("phi13", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi14(self) -> np.ndarray:
         """φ14 = π − θ2 + θ3: the internal angle at A, between links 2 and 3."""
-        return wrap_pi(np.pi - self.theta2 + self.theta3)
+        return named_angle("phi14", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi23(self) -> np.ndarray:
         """φ23 = π − θ4: the internal angle at O4, between links 1 and 4."""
-        return wrap_pi(np.pi - self.theta4)
+        return named_angle("phi23", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi24(self) -> np.ndarray:
         """φ24 = θ3: the angle between links 1 and 3."""
-        return wrap_pi(self.theta3)
+        return named_angle("phi24", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi34(self) -> np.ndarray:
         """φ34 = θ2: the internal angle at O2, between links 1 and 2."""
-        return wrap_pi(self.theta2)
+        return named_angle("phi34", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def mu(self) -> np.ndarray:
         """Transmission angle μ: the acute angle between coupler and output, [0, π/2]."""
-        m = np.abs(self.phi12)
-        return np.minimum(m, np.pi - m)
+        return named_angle("mu", self.theta2, self.theta3, self.theta4)
 
     # -- presentation ------------------------------------------------------------
     def to_pandas(self, degrees: bool = False):
@@ -955,8 +956,12 @@ class FourBar:
         rng = self.input_range(form)
         result: dict[str, Extremum] = {}
         closed = rng.full_turn or len(pieces) > 1  # the motion is a closed cycle
+        poses = [positions(*self.lengths, grid, br)[:2] for grid, br in pieces]
         for name in names:
-            values = [_angle_of(self, name, grid, br) for grid, br in pieces]
+            values = [
+                named_angle(name, grid, th3, th4)
+                for (grid, _), (th3, th4) in zip(pieces, poses, strict=True)
+            ]
             if _sweeps_all_directions(np.concatenate(values), closed):
                 result[name] = Extremum(name, -np.pi, np.pi, np.nan, np.nan, True)
                 continue
@@ -1079,8 +1084,6 @@ class FourBar:
         >>> bool(ics[2, 4].at_infinity)
         False
         """
-        from .centres import fourbar_centres
-
         m = self.solve(theta2, form=form, branch=branch)
         return fourbar_centres(self.r1, m.A, m.B, m.assembled)
 
@@ -1126,7 +1129,7 @@ class FourBar:
         if method == "power":
             ratio = m.omega4  # ω4 / ω2 with ω2 = 1
         else:
-            ratio = self.instant_centres(theta2, form=form, branch=branch).omega_ratio(2, 4)
+            ratio = fourbar_centres(self.r1, m.A, m.B, m.assembled).omega_ratio(2, 4)
         with np.errstate(divide="ignore", invalid="ignore"):
             ma = (r_in / r_out) / ratio
         # The two dead points, alike for both methods: at a toggle of links 3 and 4
@@ -1264,21 +1267,40 @@ def _sweeps_all_directions(values: np.ndarray, closed: bool) -> bool:
     return bool(np.ptp(np.unwrap(values)) >= TWO_PI - 1e-9)
 
 
-def _angle_of(fb: FourBar, name: str, theta2: np.ndarray, branch: int) -> np.ndarray:
-    """One named angle (θ3, θ4, φij, μ) along a branch, from the closed form."""
-    th3, th4, _ = positions(*fb.lengths, theta2, branch)
-    values: Mapping[str, Callable[[], np.ndarray]] = {
-        "theta3": lambda: th3,
-        "theta4": lambda: th4,
-        "phi12": lambda: wrap_pi(th4 - th3),
-        "phi13": lambda: wrap_pi(theta2 - th4),
-        "phi14": lambda: wrap_pi(np.pi - theta2 + th3),
-        "phi23": lambda: wrap_pi(np.pi - th4),
-        "phi24": lambda: wrap_pi(th3),
-        "phi34": lambda: wrap_pi(theta2),
-        "mu": lambda: np.minimum(np.abs(wrap_pi(th4 - th3)), np.pi - np.abs(wrap_pi(th4 - th3))),
+def named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
+    """θ3, θ4, a fundamental angle φij or the transmission angle μ, from the link angles.
+
+    The notes' table of fundamental position angles, each wrapped to (−π, π]:
+    φ12 = θ4 − θ3, φ13 = θ2 − θ4, φ14 = π − θ2 + θ3, φ23 = π − θ4, φ24 = θ3,
+    φ34 = θ2; μ is the acute angle between coupler and output, in [0, π/2].
+
+    Examples
+    --------
+    >>> float(named_angle("phi14", 0.0, np.pi / 2, 0.0) / np.pi)
+    -0.5
+    """
+    if name == "theta3":
+        return theta3
+    if name == "theta4":
+        return theta4
+    if name == "mu":
+        m = np.abs(wrap_pi(np.subtract(theta4, theta3)))
+        return np.minimum(m, np.pi - m)
+    definitions: Mapping[str, Callable[[], np.ndarray]] = {
+        "phi12": lambda: np.subtract(theta4, theta3),
+        "phi13": lambda: np.subtract(theta2, theta4),
+        "phi14": lambda: np.pi - np.asarray(theta2) + theta3,
+        "phi23": lambda: np.pi - np.asarray(theta4),
+        "phi24": lambda: theta3,
+        "phi34": lambda: theta2,
     }
-    return values[name]()
+    return wrap_pi(definitions[name]())
+
+
+def _angle_of(fb: FourBar, name: str, theta2: np.ndarray, branch: int) -> np.ndarray:
+    """One named angle along a branch, from the closed-form positions."""
+    th3, th4, _ = positions(*fb.lengths, theta2, branch)
+    return named_angle(name, theta2, th3, th4)
 
 
 def _refine(
