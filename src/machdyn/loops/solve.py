@@ -1344,13 +1344,10 @@ def _fill(c: Compiled, new, half, u, st: _Store, tol, march: _March) -> None:
     )
     st.put(new[ok], res, ok)
     st.code[new[~res.converged]] = NO_ASSEMBLY
-    st.code[new[jump]] = JUMP
-    # Retry with the sequential march (small steps from a solved neighbour): suspected
-    # jumps, and samples that did not converge although solved on both sides — inside
-    # an assembly interval, so reachable; near a rocker's limit the neighbours' huge
-    # tangents can throw the Hermite prediction off. Others stay flagged.
-    retry = np.flatnonzero(jump | (~res.converged & both))
-    for j in retry[:64]:
+    # Suspected jumps: retry a few with the sequential march, flag the rest.
+    jumped = np.flatnonzero(jump)
+    st.code[new[jumped]] = JUMP
+    for j in jumped[:64]:
         a_idx = int(ref[j])
         u_a, u_b = u[:, a_idx : a_idx + 1], u[:, new[j] : new[j] + 1]
         s = march.to(st.one(a_idx), u_a, u_b, False, st.q[:, a_idx : a_idx + 1])
