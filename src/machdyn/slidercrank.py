@@ -46,12 +46,6 @@ def _rates(theta: np.ndarray, w: np.ndarray, al: np.ndarray, je: np.ndarray):
     return e, 1j * w * e, (1j * al - w * w) * e, (1j * je - 3 * al * w - 1j * w**3) * e
 
 
-def _inputs(theta2, omega2, alpha2, jerk2):
-    """(theta2 was a single angle, [θ2, ω2, α2, jerk2] broadcast to one shape)."""
-    _, arrays = input_motion(theta2, omega2, alpha2, jerk2)
-    return np.ndim(theta2) == 0, arrays
-
-
 @dataclass(frozen=True, eq=False)
 class SliderCrankMotion(Flagged):
     """Kinematics of a slider-crank over a set of input angles.
@@ -260,7 +254,8 @@ class SliderCrank:
             If ``theta2`` is a single angle the rod cannot reach (arrays are flagged).
         """
         choice("form", form, (1, 2))
-        scalar, (t2, w2, a2, j2) = _inputs(theta2, omega2, alpha2, jerk2)
+        scalar = np.ndim(theta2) == 0
+        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
         a, b, c = self.a, self.b, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         s3 = (a * e2.imag - c) / b
@@ -460,7 +455,8 @@ class InvertedSliderCrank:
     ) -> InvertedSliderCrankMotion:
         """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
         choice("form", form, (1, 2))
-        scalar, (t2, w2, a2, j2) = _inputs(theta2, omega2, alpha2, jerk2)
+        scalar = np.ndim(theta2) == 0
+        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
         a, d, c = self.a, self.d, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         S = a * e2 - d
