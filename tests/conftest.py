@@ -8,10 +8,16 @@ import numpy as np
 import pytest
 from hypothesis import settings
 
+from machdyn import jit
+
 # Property tests: a fixed, modest budget so the suite is repeatable and quick on CI.
 settings.register_profile("ci", max_examples=60, deadline=None, derandomize=True)
 settings.register_profile("dev", max_examples=200, deadline=None)
 settings.load_profile(os.environ.get("MACHDYN_HYPOTHESIS_PROFILE", "ci"))
+
+# The four-bar's compiled kernels: never by the "auto" rule, which would switch at some
+# unpredictable test. The `backend` fixture runs a module on both paths.
+jit.set_mode("off")
 
 # Plots are rendered off-screen.
 os.environ.setdefault("MPLBACKEND", "Agg")
@@ -21,3 +27,13 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 def rng() -> np.random.Generator:
     """A seeded generator, so random property tests are reproducible."""
     return np.random.default_rng(20101008)
+
+
+@pytest.fixture(scope="module", params=["numpy", "compiled"])
+def backend(request: pytest.FixtureRequest):
+    """Run every test of a module twice: NumPy kernels, then the compiled (numba) ones."""
+    if request.param == "compiled":
+        assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
+        jit.set_mode("on")
+    yield request.param
+    jit.set_mode("off")

@@ -13,6 +13,9 @@ import pytest
 from machdyn import FourBar, InvertedSliderCrank, SliderCrank
 from machdyn.loops import LoopSystem
 
+# The closed forms run on the NumPy kernels and again on the compiled ones.
+pytestmark = pytest.mark.usefixtures("backend")
+
 
 def same_angle(x, y, atol=1e-9):
     return np.allclose(np.angle(np.exp(1j * (np.asarray(x) - np.asarray(y)))), 0.0, atol=atol)

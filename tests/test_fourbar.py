@@ -12,6 +12,9 @@ from machdyn.centres import collinearity
 from machdyn.classify import is_assemblable
 from machdyn.fourbar import FourBar, positions
 
+# Every test runs on the NumPy kernels and again on the compiled ones.
+pytestmark = pytest.mark.usefixtures("backend")
+
 DEG = np.pi / 180.0
 
 

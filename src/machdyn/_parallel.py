@@ -18,6 +18,7 @@ from itertools import pairwise
 #: Arrays shorter than this are processed in the calling thread.
 MIN_PARALLEL = 1 << 16
 
+_CPUS = os.cpu_count() or 1
 _pool: ThreadPoolExecutor | None = None
 _pool_size = 0
 
@@ -30,7 +31,7 @@ def threads() -> int:
             return max(1, int(value))
         except ValueError:
             return 1
-    return os.cpu_count() or 1
+    return _CPUS
 
 
 def for_slices(kernel: Callable[[slice], None], n: int) -> None:

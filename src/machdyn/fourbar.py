@@ -28,6 +28,7 @@ solved by Cramer's rule, with the right-hand side from differentiating the loop
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -35,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from . import jit
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._flags import Flagged
 from ._parallel import for_slices
@@ -198,6 +200,20 @@ def positions(
     theta3 = np.empty(flat.shape)
     theta4 = np.empty(flat.shape)
     ok = np.empty(flat.shape, dtype=bool)
+    shape = theta2.shape
+    compiled = jit.kernels()
+    if compiled is not None:
+        scale = max(r1, r2, r3, r4)
+        lengths = (r1 / scale, r2 / scale, r3 / scale, r4 / scale)
+        beyond = []
+
+        def compiled_kernel(sl: slice) -> None:
+            args = (float(branch), _CLOSE_TOL, flat[sl], theta3[sl], theta4[sl], ok[sl])
+            beyond.append(compiled.positions(*lengths, *args))
+
+        for_slices(compiled_kernel, flat.size)
+        if not any(beyond):
+            return theta3.reshape(shape), theta4.reshape(shape), ok.reshape(shape)
 
     def kernel(part: slice) -> None:
         for lo in range(part.start, part.stop, _CHUNK):
@@ -211,8 +227,10 @@ def positions(
             _angle_into(e4y, e4x, good, theta4[sl])
             ok[sl] = good
 
+    start = time.perf_counter()
     for_slices(kernel, flat.size)
-    return theta3.reshape(theta2.shape), theta4.reshape(theta2.shape), ok.reshape(theta2.shape)
+    jit.charge(time.perf_counter() - start)
+    return theta3.reshape(shape), theta4.reshape(shape), ok.reshape(shape)
 
 
 def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray | None, out: np.ndarray) -> None:
@@ -1155,19 +1173,91 @@ def _solve_flat(
     side: int,
     order: int,
 ) -> dict[str, Any]:
-    """Solve flat arrays chunk by chunk (threads for large ones); the FourBarMotion fields.
+    """Solve flat arrays (threads for large ones); the FourBarMotion fields.
 
     ``order`` is the highest derivative computed (0 positions … 3 jerks);
-    quantities above it are returned as None.
+    quantities above it are returned as None. The compiled kernel serves the
+    call when :mod:`machdyn.jit` says so, NumPy otherwise.
     """
+    compiled = jit.kernels()
+    out = None
+    if compiled is not None:
+        out = _solve_compiled(compiled, fb, t2, w2, a2, j2, branch, side, order)
+    if out is None:
+        start = time.perf_counter()
+        out = _solve_numpy(fb, t2, w2, a2, j2, branch, side, order)
+        jit.charge(time.perf_counter() - start)
+    inputs = {"theta2": t2.copy(), "omega2": w2.copy(), "alpha2": a2.copy(), "jerk2": j2.copy()}
+    return {**inputs, **out}
+
+
+_RATE_NAMES = ("omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4")
+_POINT_NAMES = ("coupler", "coupler_velocity", "coupler_acceleration", "coupler_jerk")
+
+
+def _solve_compiled(
+    kernels: Any,
+    fb: FourBar,
+    t2: np.ndarray,
+    w2: np.ndarray,
+    a2: np.ndarray,
+    j2: np.ndarray,
+    branch: int,
+    side: int,
+    order: int,
+) -> dict[str, Any] | None:
+    """:func:`_solve_flat` by the compiled kernel; None if an input is beyond its range."""
     n = t2.size
-    names = ["theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4"]
+    lengths = np.array([fb.r2, fb.r3, fb.r4, fb.r1])
+    has_p = fb.coupler is not None
+    p, delta = fb.coupler if has_p else (0.0, 0.0)
+    coupler = np.array([p, np.cos(delta), np.sin(delta)])
+    tolerances = np.array([_CLOSE_TOL, _TOGGLE_TOL])
+    fixed = (lengths, lengths / lengths.max(), coupler, float(branch), float(side), tolerances)
+    groups = (  # outputs of each order, in the kernels' argument order
+        ("theta3", "theta4", "A", "B", "coupler", "status"),
+        ("omega3", "omega4", "coupler_velocity"),
+        ("alpha3", "alpha4", "coupler_acceleration"),
+        ("jerk3", "jerk4", "coupler_jerk"),
+    )[: order + 1]
+    out: dict[str, Any] = {}
+    for name in (name for group in groups for name in group):
+        point = name in _POINT_NAMES
+        dtype = np.uint8 if name == "status" else complex if point or name in "AB" else float
+        out[name] = np.empty(n, dtype=dtype) if has_p or not point else None
+    inputs = (t2, w2, a2, j2)[: order + 1]
+    solver = kernels.SOLVERS[order]
+    beyond = []
+
+    def kernel(sl: slice) -> None:
+        outputs = (None if x is None else x[sl] for x in out.values())
+        beyond.append(solver(*fixed, *(x[sl] for x in inputs), *outputs))
+
+    for_slices(kernel, n)
+    if any(beyond):
+        return None
+    return {**dict.fromkeys((*_RATE_NAMES, *_POINT_NAMES)), **out}
+
+
+def _solve_numpy(
+    fb: FourBar,
+    t2: np.ndarray,
+    w2: np.ndarray,
+    a2: np.ndarray,
+    j2: np.ndarray,
+    branch: int,
+    side: int,
+    order: int,
+) -> dict[str, Any]:
+    """:func:`_solve_flat` in NumPy, chunk by chunk (temporaries stay in cache)."""
+    n = t2.size
+    names = ["theta3", "theta4", *_RATE_NAMES]
     out: dict[str, np.ndarray | None] = {
         name: (np.empty(n) if k // 2 <= order else None) for k, name in enumerate(names)
     }
     joints = {"A": np.empty(n, dtype=complex), "B": np.empty(n, dtype=complex)}
     has_p = fb.coupler is not None
-    point_names = ("coupler", "coupler_velocity", "coupler_acceleration", "coupler_jerk")
+    point_names = _POINT_NAMES
     points: dict[str, np.ndarray | None] = {
         name: (np.empty(n, dtype=complex) if has_p and k <= order else None)
         for k, name in enumerate(point_names)
@@ -1245,8 +1335,7 @@ def _solve_flat(
                 store("coupler_jerk", sl, vx + qx, vy + qy)
 
     for_slices(kernel, n)
-    inputs = {"theta2": t2.copy(), "omega2": w2.copy(), "alpha2": a2.copy(), "jerk2": j2.copy()}
-    return {**inputs, **out, **joints, **points, "status": status}
+    return {**out, **joints, **points, "status": status}
 
 
 def _masked_pair(rhs, a, b, c, rates, unit, toggled, *args):
