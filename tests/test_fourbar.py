@@ -410,6 +410,15 @@ def test_results_have_the_input_shape_and_a_dataframe():
     assert {"theta3_deg", "omega4", "P_x", "AP_y", "ok", "reason"} <= set(df.columns)
 
 
+def test_results_do_not_share_memory_with_the_inputs():
+    theta2, omega2 = np.linspace(0.0, 1.0, 5), np.full(5, 2.0)
+    m = FourBar(8, 4, 7, 6).solve(theta2, omega2)
+    theta2[:] = 9.0
+    omega2[:] = 9.0
+    assert m.theta2.tolist() == np.linspace(0.0, 1.0, 5).tolist()
+    assert (m.omega2 == 2.0).all()
+
+
 def test_fundamental_angles_follow_the_notes_definitions():
     m = FourBar(8, 4, 7, 6).solve(np.radians(40))
     wrap = lambda x: np.angle(np.exp(1j * x))  # noqa: E731

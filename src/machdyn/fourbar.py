@@ -1187,8 +1187,8 @@ def _solve_flat(
         start = time.perf_counter()
         out = _solve_numpy(fb, t2, w2, a2, j2, branch, side, order)
         jit.charge(time.perf_counter() - start)
-    inputs = {"theta2": t2.copy(), "omega2": w2.copy(), "alpha2": a2.copy(), "jerk2": j2.copy()}
-    return {**inputs, **out}
+    # the inputs are the caller's own copies (made by input_motion)
+    return {"theta2": t2, "omega2": w2, "alpha2": a2, "jerk2": j2, **out}
 
 
 _RATE_NAMES = ("omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4")

@@ -1,6 +1,6 @@
 """When the four-bar's closed form runs compiled (numba) instead of in NumPy.
 
-The compiled kernels in :mod:`machdyn._kernels` are 3–4 times faster than the
+The compiled kernels in :mod:`machdyn._kernels` are 2–5 times faster than the
 NumPy path, but loading them costs about half a second per process (importing
 numba and reading the compiled code from its on-disk cache; the very first
 time after installation they are compiled, a few seconds once). So a short
