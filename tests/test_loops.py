@@ -11,8 +11,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from machdyn import FourBar
 from machdyn.errors import InputError, ModelError
 from machdyn.loops import LoopSystem, lu_factor, lu_solve
+from machdyn.loops.solve import REASONS, SINGULAR
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -482,6 +484,28 @@ def test_toggle_sample_is_flagged_singular():
     )
     assert not m4.ok[0]
     assert "singular" in m4.reason[0] or "cannot assemble" in m4.reason[0]
+
+
+@pytest.mark.parametrize("toward", ["lo", "hi"])
+def test_a_sweep_that_runs_into_a_toggle_ends_singular_not_jumped(toward):
+    """GRCR 6-9-3-8: link 2 rocks between toggles of links 3 and 4 (the dead points)."""
+    fb = FourBar(6, 9, 3, 8)
+    limits = fb.input_range(1)
+    far, toggle = (limits.hi, limits.lo) if toward == "lo" else (limits.lo, limits.hi)
+    theta2 = np.linspace(far + (0.2 if toward == "hi" else -0.2), toggle, 50)
+    start = fb.solve(theta2[0])
+    s = fourbar_system(6, 9, 3, 8)
+    m = s.solve(
+        {"theta2": theta2},
+        guess={"theta3": float(start.theta3), "theta4": float(start.theta4)},
+        velocity={"theta2": 1.0},
+    )
+    assert m.ok[:-1].all()
+    assert m.reason[-1] == REASONS[SINGULAR]  # the closed form says toggle too
+    assert fb.solve(theta2[-1:], 1.0).reason[0].startswith("toggle")
+    # the pose is still reported, within Newton's reach of a double root (~sqrt(tol))
+    closed = fb.solve(theta2, 1.0)
+    np.testing.assert_allclose(wrap(m["theta4"] - closed.theta4), 0, atol=1e-5)
 
 
 # ----------------------------------------------------------------------------- linear algebra

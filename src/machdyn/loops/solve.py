@@ -879,7 +879,8 @@ def _accept(
 
     A converged sample is a *jump* when ``det J_q`` changed sign from its
     reference neighbour while neither is near a toggle, or when it lies farther
-    from its prediction than half the (scaled) step: on one branch the
+    from its prediction than half the (scaled) step (unless it sits at a toggle,
+    where the branches meet): on one branch the
     prediction error is O(step²), a jump to another circuit is O(1). The step
     counts the input step and, when ``q_from`` (the pose predicted from) is
     given, the predicted motion of the unknowns: next to a rocker's limit
@@ -894,7 +895,10 @@ def _accept(
         moved = np.abs((pred - q_from) / scale).max(axis=0)
         step = du + np.where(np.isfinite(moved), moved, 0.0)
     far = np.abs((res.q - pred) / scale).max(axis=0) > 0.5 * step + 1e-9
-    jump = res.converged & (~same_side | far)
+    # At a singular pose (a toggle) the two branches meet, so it belongs to both: the
+    # prediction's error is unbounded there, but the pose is no jump.
+    at_toggle = res.rcond < sing_tol
+    jump = res.converged & (~same_side | far) & ~at_toggle
     return res.converged & ~jump, jump
 
 
