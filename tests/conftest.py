@@ -33,6 +33,7 @@ def rng() -> np.random.Generator:
 def backend(request: pytest.FixtureRequest):
     """Run every test of a module twice: NumPy kernels, then the compiled (numba) ones."""
     if request.param == "compiled":
+        pytest.importorskip("numba", reason="numba is not installed on this Python")
         assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
         jit.set_mode("on")
     yield request.param

@@ -9,6 +9,9 @@ general vector-loop solver.)
 
 from __future__ import annotations
 
+import os
+import signal
+import time
 import warnings
 
 import numpy as np
@@ -189,6 +192,77 @@ def test_positions_match_on_threads_and_beyond_the_kernels_range():
     np.testing.assert_allclose(c3, t3, atol=1e-13)
 
 
+def test_positions_checks_its_arguments_on_both_paths():
+    for mode in ("off", "on"):
+        jit.set_mode(mode)
+        with pytest.raises(InputError, match="branch: must be one of 1, -1; got 0"):
+            positions(8, 4, 7, 6, [0.5, 1.0], branch=0)
+        with pytest.raises(InputError, match="r1"):
+            positions(0, 0, 0, 0, [0.5])
+        with pytest.raises(InputError, match="r3"):
+            positions(8, 4, np.array([7.0, 8.0]), 6, [0.5])
+
+
+def test_unusual_input_arrays_give_the_same_answer_on_both_paths():
+    theta2 = np.linspace(0, 2 * np.pi, 64)
+    read_only = theta2.copy()
+    read_only.flags.writeable = False
+    for given in (read_only, theta2[::2], theta2.astype(">f8"), theta2.astype(np.float32)):
+        (t3, t4, ok), (c3, c4, cok) = both_paths(lambda g=given: positions(8, 4, 7, 6, g))
+        np.testing.assert_array_equal(cok, ok)
+        np.testing.assert_allclose(c3, t3, atol=1e-13)
+        np.testing.assert_allclose(c4, t4, atol=1e-13)
+
+
+def test_zero_angle_is_plus_zero_on_both_paths():
+    # FourBar(2, 1, 2, 1), form 2, at θ2 = 0: the links fold onto the ground line
+    (t3, t4, _), (c3, c4, _) = both_paths(lambda: positions(2, 1, 2, 1, [0.0], -1))
+    for value in (t3[0], t4[0], c3[0], c4[0]):
+        assert value == 0.0 and np.copysign(1.0, value) == 1.0
+
+
+def test_a_failing_kernel_switches_to_numpy_with_one_warning(monkeypatch):
+    monkeypatch.setattr(jit, "_failure", "")
+
+    def broken(*args):
+        raise ZeroDivisionError("simulated")
+
+    monkeypatch.setattr(kernels, "SOLVERS", (broken,) * 4)
+    jit.set_mode("on")
+    theta2 = np.linspace(0, 6, 100)
+    with pytest.warns(RuntimeWarning, match="kernel failed .ZeroDivisionError: simulated") as seen:
+        m = FourBar(8, 4, 7, 6).solve(theta2, 2.0)
+    assert seen[0].filename == __file__  # attributed to the caller, not to machdyn
+    assert not jit.active() and "simulated" in jit.reason()
+    jit.set_mode("off")
+    np.testing.assert_array_equal(FourBar(8, 4, 7, 6).solve(theta2, 2.0).omega4, m.omega4)
+    monkeypatch.setattr(jit, "_kernels", kernels)  # for the other tests
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_a_forked_child_can_solve_after_the_parent_used_threads():
+    jit.set_mode("on")
+    theta2 = np.linspace(0, 6, 200_000)  # above MIN_PARALLEL: the parent's thread pool
+    expected = FourBar(8, 4, 7, 6).solve(theta2, 1.0).omega4
+    pid = os.fork()
+    if pid == 0:  # child: must not wait forever on the parent's (absent) threads
+        try:
+            got = FourBar(8, 4, 7, 6).solve(theta2, 1.0).omega4
+            os._exit(0 if np.array_equal(got, expected, equal_nan=True) else 1)
+        finally:
+            os._exit(2)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            assert os.waitstatus_to_exitcode(status) == 0
+            return
+        time.sleep(0.05)
+    os.kill(pid, signal.SIGKILL)
+    os.waitpid(pid, 0)
+    pytest.fail("the forked child hung")
+
+
 def test_solve_beyond_the_kernels_range_falls_back_to_numpy():
     theta2 = np.array([0.3, 2e7 + 0.3])
     reference, compiled = both_paths(lambda: FourBar(8, 4, 7, 6).solve(theta2, 2.0))
@@ -201,10 +275,13 @@ def test_solve_beyond_the_kernels_range_falls_back_to_numpy():
 
 
 def test_mode_comes_from_the_environment(monkeypatch):
-    monkeypatch.setattr(jit, "_mode", None)
-    for value, expected in [("on", "on"), ("1", "on"), ("OFF", "off"), ("", "auto"), ("x", "auto")]:
+    jit.set_mode(None)
+    for value, expected in [("on", "on"), ("1", "on"), ("OFF", "off"), ("", "auto")]:
         monkeypatch.setenv("MACHDYN_JIT", value)
         assert jit.mode() == expected
+    monkeypatch.setenv("MACHDYN_JIT", "of")
+    with pytest.warns(RuntimeWarning, match="MACHDYN_JIT='of' is not one of auto, on, off"):
+        assert jit.mode() == "auto"
 
 
 def test_set_mode_names_the_choices():
@@ -216,11 +293,20 @@ def test_auto_switches_after_the_numpy_kernels_spent_the_budget(monkeypatch):
     monkeypatch.setattr(jit, "_kernels", None)  # as in a new process
     monkeypatch.setattr(jit, "BUDGET", 1e-3)
     jit.set_mode("auto")
-    assert jit.kernels() is None  # nothing spent yet: NumPy
+    assert jit.kernels(10) is None  # nothing spent yet: NumPy
     FourBar(8, 4, 7, 6).solve(np.linspace(0, 6, 50_000))  # well over a millisecond
-    assert jit.kernels() is kernels
+    assert jit.kernels(10) is kernels
     jit.set_mode("off")
-    assert jit.kernels() is None and not jit.active()
+    assert jit.kernels(10) is None and not jit.active()
+
+
+def test_auto_counts_the_call_about_to_be_made(monkeypatch):
+    # one call big enough to cost the budget in NumPy loads the kernels before it runs
+    monkeypatch.setattr(jit, "_kernels", None)
+    jit.set_mode("auto")
+    big = int(jit.BUDGET / jit.NUMPY_SECONDS_PER_POSE)
+    assert jit.kernels(big // 2) is None
+    assert jit.kernels(big) is kernels
 
 
 def test_a_failed_load_leaves_numpy_in_charge_and_says_why(monkeypatch):

@@ -36,8 +36,9 @@ from numba import njit
 
 # The solve kernels write up to 14 arrays; LLVM vectorises a loop only if it may check
 # at run time that they do not overlap, and by default allows 8 such checks (the loop
-# then runs 4x slower, scalar). These are process-wide LLVM settings: they let other
-# numba code in the process vectorise such loops too, and change nothing else.
+# then runs 4x slower, scalar). These are process-wide LLVM settings: numba code that
+# the process compiles later sees them too (it may vectorise more loops), and they
+# replace any value set before.
 llvmlite.binding.set_option("machdyn", "-runtime-memory-check-threshold=256")
 llvmlite.binding.set_option("machdyn", "-vectorize-memory-check-threshold=256")
 
@@ -240,13 +241,14 @@ def positions(r1, r2, r3, r4, branch, close_tol, theta2, theta3, theta4, ok):  #
 # FourBar.solve: one kernel per derivative order. LLVM does not vectorise a loop that
 # branches on the order or on a "has a coupler point" flag, so the order picks the
 # kernel and the coupler point's arrays are either arrays or None: numba compiles a
-# specialisation for each and prunes ``if point is not None`` at compile time.
+# specialisation for each and prunes ``if coupler is not None`` at compile time.
+# Parameters are named like the fields of FourBarMotion (the caller passes them by name).
 
 
 @_inline
-def _pose(t2, scaled, branch, side, close_tol, toggle_tol):  # pragma: no cover - compiled
+def _pose(theta2, scaled, branch, side, close_tol, toggle_tol):  # pragma: no cover - compiled
     """Unit vectors e2, e3, e4, sin(θ3 − θ4) and the status; e3, e4 NaN unless OK or TOGGLE."""
-    e2y, e2x = sincos(t2)
+    e2y, e2x = sincos(theta2)
     sa, sb, sc, sd = scaled[0], scaled[1], scaled[2], scaled[3]
     e3x, e3y, e4x, e4y, st = _unit_vectors(sd, sa, sb, sc, e2x, e2y, branch, close_tol)
     st = _WRONG_FORM if (st == _OK) & (side * e2y <= 0.0) & (side != 0.0) else st
@@ -262,22 +264,22 @@ def _pose(t2, scaled, branch, side, close_tol, toggle_tol):  # pragma: no cover 
 
 
 @_inline
-def _store_pose(i, lengths, pose, theta3, theta4, joint_a, joint_b, status):  # pragma: no cover
+def _store_pose(i, lengths, pose, theta3, theta4, A, B, status):  # pragma: no cover
     """Store the angles, joints A and B and the status of sample ``i``."""
     a, c, d = lengths[0], lengths[2], lengths[3]
     e2x, e2y, e3x, e3y, e4x, e4y, st = pose[0], pose[1], pose[2], pose[3], pose[4], pose[5], pose[7]
     status[i] = st
     theta3[i] = angle(e3y, e3x)
     theta4[i] = angle(e4y, e4x)
-    joint_a[i] = complex(a * e2x, a * e2y)
-    joint_b[i] = complex(d + c * e4x, c * e4y)
+    A[i] = complex(a * e2x, a * e2y)
+    B[i] = complex(d + c * e4x, c * e4y)
 
 
 @_inline
-def _coupler_point(lengths, coupler, pose):  # pragma: no cover - compiled
+def _coupler_point(lengths, offset, pose):  # pragma: no cover - compiled
     """The coupler point A + p e^{j(θ3 + δ)} and the unit vector e^{j(θ3 + δ)}."""
     a = lengths[0]
-    p, cdelta, sdelta = coupler[0], coupler[1], coupler[2]
+    p, cdelta, sdelta = offset[0], offset[1], offset[2]
     e2x, e2y, e3x, e3y = pose[0], pose[1], pose[2], pose[3]
     epx = cdelta * e3x - sdelta * e3y
     epy = cdelta * e3y + sdelta * e3x
@@ -303,12 +305,12 @@ def _velocity(lengths, pose, om2):  # pragma: no cover - compiled
 
 
 @_inline
-def _acceleration(lengths, pose, om2, w3, w4, al2):  # pragma: no cover - compiled
+def _acceleration(lengths, pose, om2, w3, w4, alpha2):  # pragma: no cover - compiled
     """α3, α4 from K = −a(jα2 − ω2²) e2 + b ω3² e3 − c ω4² e4; and a(jα2 − ω2²) e2."""
     a, b, c = lengths[0], lengths[1], lengths[2]
     e2x, e2y, e3x, e3y, e4x, e4y = pose[0], pose[1], pose[2], pose[3], pose[4], pose[5]
-    px = -a * om2 * om2 * e2x - a * al2 * e2y
-    py = -a * om2 * om2 * e2y + a * al2 * e2x
+    px = -a * om2 * om2 * e2x - a * alpha2 * e2y
+    py = -a * om2 * om2 * e2y + a * alpha2 * e2x
     kx = -px + b * w3 * w3 * e3x - c * w4 * w4 * e4x
     ky = -py + b * w3 * w3 * e3y - c * w4 * w4 * e4y
     a3, a4 = _cramer(lengths, pose, kx, ky)
@@ -316,14 +318,14 @@ def _acceleration(lengths, pose, om2, w3, w4, al2):  # pragma: no cover - compil
 
 
 @_inline
-def _jerk(lengths, pose, om2, w3, w4, al2, a3, a4, j2):  # pragma: no cover - compiled
+def _jerk(lengths, pose, om2, w3, w4, alpha2, a3, a4, j2):  # pragma: no cover - compiled
     """Jerks from K = −a(jφ2 − 3α2ω2 − jω2³)e2 − b(−3α3ω3 − jω3³)e3 + c(−3α4ω4 − jω4³)e4.
 
     Also returns a(jφ2 − 3α2ω2 − jω2³) e2, J_P's input part.
     """
     a, b, c = lengths[0], lengths[1], lengths[2]
     e2x, e2y, e3x, e3y, e4x, e4y = pose[0], pose[1], pose[2], pose[3], pose[4], pose[5]
-    g2r, g2i = -3.0 * al2 * om2, j2 - om2 * om2 * om2
+    g2r, g2i = -3.0 * alpha2 * om2, j2 - om2 * om2 * om2
     g3r, g3i = -3.0 * a3 * w3, -(w3 * w3 * w3)
     g4r, g4i = -3.0 * a4 * w4, -(w4 * w4 * w4)
     q2x, q2y = g2r * e2x - g2i * e2y, g2r * e2y + g2i * e2x
@@ -343,27 +345,27 @@ def _relative(p, x, y, epx, epy):  # pragma: no cover - compiled
 def solve0(  # pragma: no cover - compiled
     lengths,
     scaled,
-    coupler,
+    offset,
     branch,
     side,
     tolerances,
-    t2,
+    theta2,
     theta3,
     theta4,
-    joint_a,
-    joint_b,
-    point,
+    A,
+    B,
+    coupler,
     status,
 ):
     """Positions of every sample (see :func:`solve3` for the arguments)."""
     big = 0
-    for i in range(t2.shape[0]):
-        big += 1 if abs(t2[i]) > SINCOS_LIMIT else 0
-        pose = _pose(t2[i], scaled, branch, side, tolerances[0], tolerances[1])
-        _store_pose(i, lengths, pose, theta3, theta4, joint_a, joint_b, status)
-        if point is not None:
-            px, py, _, _ = _coupler_point(lengths, coupler, pose)
-            point[i] = complex(px, py)
+    for i in range(theta2.shape[0]):
+        big += 1 if abs(theta2[i]) > SINCOS_LIMIT else 0
+        pose = _pose(theta2[i], scaled, branch, side, tolerances[0], tolerances[1])
+        _store_pose(i, lengths, pose, theta3, theta4, A, B, status)
+        if coupler is not None:
+            px, py, _, _ = _coupler_point(lengths, offset, pose)
+            coupler[i] = complex(px, py)
     return big
 
 
@@ -371,36 +373,36 @@ def solve0(  # pragma: no cover - compiled
 def solve1(  # pragma: no cover - compiled
     lengths,
     scaled,
-    coupler,
+    offset,
     branch,
     side,
     tolerances,
-    t2,
-    w2,
+    theta2,
+    omega2,
     theta3,
     theta4,
-    joint_a,
-    joint_b,
-    point,
+    A,
+    B,
+    coupler,
     status,
     omega3,
     omega4,
-    point_v,
+    coupler_velocity,
 ):
     """Positions and velocities (see :func:`solve3` for the arguments)."""
     big = 0
-    p = coupler[0]
-    for i in range(t2.shape[0]):
-        big += 1 if abs(t2[i]) > SINCOS_LIMIT else 0
-        pose = _pose(t2[i], scaled, branch, side, tolerances[0], tolerances[1])
-        _store_pose(i, lengths, pose, theta3, theta4, joint_a, joint_b, status)
-        w3, w4, vx, vy = _velocity(lengths, pose, w2[i])
+    p = offset[0]
+    for i in range(theta2.shape[0]):
+        big += 1 if abs(theta2[i]) > SINCOS_LIMIT else 0
+        pose = _pose(theta2[i], scaled, branch, side, tolerances[0], tolerances[1])
+        _store_pose(i, lengths, pose, theta3, theta4, A, B, status)
+        w3, w4, vx, vy = _velocity(lengths, pose, omega2[i])
         omega3[i], omega4[i] = w3, w4
-        if point is not None:
-            px, py, epx, epy = _coupler_point(lengths, coupler, pose)
-            point[i] = complex(px, py)
+        if coupler is not None:
+            px, py, epx, epy = _coupler_point(lengths, offset, pose)
+            coupler[i] = complex(px, py)
             qx, qy = _relative(p, 0.0, w3, epx, epy)
-            point_v[i] = complex(vx + qx, vy + qy)
+            coupler_velocity[i] = complex(vx + qx, vy + qy)
     return big
 
 
@@ -408,44 +410,44 @@ def solve1(  # pragma: no cover - compiled
 def solve2(  # pragma: no cover - compiled
     lengths,
     scaled,
-    coupler,
+    offset,
     branch,
     side,
     tolerances,
-    t2,
-    w2,
-    al2,
+    theta2,
+    omega2,
+    alpha2,
     theta3,
     theta4,
-    joint_a,
-    joint_b,
-    point,
+    A,
+    B,
+    coupler,
     status,
     omega3,
     omega4,
-    point_v,
+    coupler_velocity,
     alpha3,
     alpha4,
-    point_a,
+    coupler_acceleration,
 ):
     """Positions, velocities and accelerations (see :func:`solve3` for the arguments)."""
     big = 0
-    p = coupler[0]
-    for i in range(t2.shape[0]):
-        big += 1 if abs(t2[i]) > SINCOS_LIMIT else 0
-        pose = _pose(t2[i], scaled, branch, side, tolerances[0], tolerances[1])
-        _store_pose(i, lengths, pose, theta3, theta4, joint_a, joint_b, status)
-        w3, w4, vx, vy = _velocity(lengths, pose, w2[i])
+    p = offset[0]
+    for i in range(theta2.shape[0]):
+        big += 1 if abs(theta2[i]) > SINCOS_LIMIT else 0
+        pose = _pose(theta2[i], scaled, branch, side, tolerances[0], tolerances[1])
+        _store_pose(i, lengths, pose, theta3, theta4, A, B, status)
+        w3, w4, vx, vy = _velocity(lengths, pose, omega2[i])
         omega3[i], omega4[i] = w3, w4
-        a3, a4, ax, ay = _acceleration(lengths, pose, w2[i], w3, w4, al2[i])
+        a3, a4, ax, ay = _acceleration(lengths, pose, omega2[i], w3, w4, alpha2[i])
         alpha3[i], alpha4[i] = a3, a4
-        if point is not None:
-            px, py, epx, epy = _coupler_point(lengths, coupler, pose)
-            point[i] = complex(px, py)
+        if coupler is not None:
+            px, py, epx, epy = _coupler_point(lengths, offset, pose)
+            coupler[i] = complex(px, py)
             qx, qy = _relative(p, 0.0, w3, epx, epy)
-            point_v[i] = complex(vx + qx, vy + qy)
+            coupler_velocity[i] = complex(vx + qx, vy + qy)
             qx, qy = _relative(p, -w3 * w3, a3, epx, epy)
-            point_a[i] = complex(ax + qx, ay + qy)
+            coupler_acceleration[i] = complex(ax + qx, ay + qy)
     return big
 
 
@@ -453,75 +455,91 @@ def solve2(  # pragma: no cover - compiled
 def solve3(  # pragma: no cover - compiled
     lengths,
     scaled,
-    coupler,
+    offset,
     branch,
     side,
     tolerances,
-    t2,
-    w2,
-    al2,
-    je2,
+    theta2,
+    omega2,
+    alpha2,
+    jerk2,
     theta3,
     theta4,
-    joint_a,
-    joint_b,
-    point,
+    A,
+    B,
+    coupler,
     status,
     omega3,
     omega4,
-    point_v,
+    coupler_velocity,
     alpha3,
     alpha4,
-    point_a,
+    coupler_acceleration,
     jerk3,
     jerk4,
-    point_j,
+    coupler_jerk,
 ):
     """Positions, velocities, accelerations and jerks of every sample, in one pass.
 
-    ``lengths`` = (a, b, c, d) = (R2, R3, R4, R1); ``scaled`` the same divided by
-    the longest; ``coupler`` = (p, cos δ, sin δ); ``branch`` ±1; ``side`` 0 or
-    the sign θ2 must have (GRCR/GRRC forms); ``tolerances`` = (close, toggle);
-    the coupler point's arrays are None when it is not wanted. Inputs θ2, ω2,
-    α2, jerk2 and the outputs are 1-D arrays of one length. Returns the number of inputs beyond
+    ``lengths`` = (a, b, c, d) = (R2, R3, R4, R1) and ``scaled`` the same divided
+    by the longest; ``offset`` = (p, cos δ, sin δ) places the coupler point;
+    ``branch`` is ±1; ``side`` is 0, or the sign θ2 must have (GRCR and GRRC
+    forms); ``tolerances`` = (close, toggle). The inputs θ2, ω2, α2, jerk2 and
+    the outputs are 1-D arrays of one length; the coupler point's outputs are
+    None when it is not wanted. Returns the number of inputs beyond
     :data:`SINCOS_LIMIT` (see :func:`positions`).
     """
     big = 0
-    p = coupler[0]
-    for i in range(t2.shape[0]):
-        big += 1 if abs(t2[i]) > SINCOS_LIMIT else 0
-        pose = _pose(t2[i], scaled, branch, side, tolerances[0], tolerances[1])
-        _store_pose(i, lengths, pose, theta3, theta4, joint_a, joint_b, status)
-        w3, w4, vx, vy = _velocity(lengths, pose, w2[i])
+    p = offset[0]
+    for i in range(theta2.shape[0]):
+        big += 1 if abs(theta2[i]) > SINCOS_LIMIT else 0
+        pose = _pose(theta2[i], scaled, branch, side, tolerances[0], tolerances[1])
+        _store_pose(i, lengths, pose, theta3, theta4, A, B, status)
+        w3, w4, vx, vy = _velocity(lengths, pose, omega2[i])
         omega3[i], omega4[i] = w3, w4
-        a3, a4, ax, ay = _acceleration(lengths, pose, w2[i], w3, w4, al2[i])
+        a3, a4, ax, ay = _acceleration(lengths, pose, omega2[i], w3, w4, alpha2[i])
         alpha3[i], alpha4[i] = a3, a4
-        j3, j4, jx, jy = _jerk(lengths, pose, w2[i], w3, w4, al2[i], a3, a4, je2[i])
+        j3, j4, jx, jy = _jerk(lengths, pose, omega2[i], w3, w4, alpha2[i], a3, a4, jerk2[i])
         jerk3[i], jerk4[i] = j3, j4
-        if point is not None:
-            px, py, epx, epy = _coupler_point(lengths, coupler, pose)
-            point[i] = complex(px, py)
+        if coupler is not None:
+            px, py, epx, epy = _coupler_point(lengths, offset, pose)
+            coupler[i] = complex(px, py)
             qx, qy = _relative(p, 0.0, w3, epx, epy)
-            point_v[i] = complex(vx + qx, vy + qy)
+            coupler_velocity[i] = complex(vx + qx, vy + qy)
             qx, qy = _relative(p, -w3 * w3, a3, epx, epy)
-            point_a[i] = complex(ax + qx, ay + qy)
+            coupler_acceleration[i] = complex(ax + qx, ay + qy)
             qx, qy = _relative(p, -3.0 * a3 * w3, j3 - w3 * w3 * w3, epx, epy)
-            point_j[i] = complex(jx + qx, jy + qy)
+            coupler_jerk[i] = complex(jx + qx, jy + qy)
     return big
 
 
 #: The kernel for each derivative order.
 SOLVERS = (solve0, solve1, solve2, solve3)
 
+#: Each solver's array parameters, in order (after the six fixed ones): the names of
+#: the inputs (theta2 …) and of FourBarMotion's fields, so the caller passes by name.
+ARRAYS = tuple(
+    solver.py_func.__code__.co_varnames[6 : solver.py_func.__code__.co_argcount]
+    for solver in SOLVERS
+)
+
 
 def warm_up() -> None:
-    """Compile (or load from numba's cache) the kernels for the types machdyn passes.
+    """Compile, or load from numba's cache, the kernels machdyn uses most.
 
-    :func:`solve` has one specialisation per derivative order and coupler
-    flag; those are compiled when first used (and cached on disk).
+    :func:`positions` and :func:`solve3` (with and without a coupler point);
+    the lower orders' kernels are compiled when first used (then cached too).
     """
     x = np.zeros(1)
-    ok = np.zeros(1, dtype=np.bool_)
-    sincos_into(x, x.copy(), x.copy())
-    angle_into(x, x + 1.0, x.copy())
-    positions(1.0, 0.5, 1.0, 1.0, 1.0, 1e-12, x, x.copy(), x.copy(), ok)
+    positions(1.0, 0.5, 1.0, 1.0, 1.0, 1e-12, x, x.copy(), x.copy(), np.zeros(1, np.bool_))
+    fixed = (np.ones(4), np.ones(4), np.zeros(3), 1.0, 0.0, np.array([1e-12, 2e-6]))
+    for point in (None, np.zeros(1, complex)):
+        solve3(
+            *fixed,
+            x, x, x, x,
+            np.empty(1), np.empty(1), np.empty(1, complex), np.empty(1, complex),
+            point, np.empty(1, np.uint8),
+            np.empty(1), np.empty(1), None if point is None else point.copy(),
+            np.empty(1), np.empty(1), None if point is None else point.copy(),
+            np.empty(1), np.empty(1), None if point is None else point.copy(),
+        )  # fmt: skip

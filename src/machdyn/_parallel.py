@@ -23,6 +23,16 @@ _pool: ThreadPoolExecutor | None = None
 _pool_size = 0
 
 
+def _forget_pool() -> None:
+    """In a forked child the pool's threads do not exist: start a new pool when needed."""
+    global _pool, _pool_size
+    _pool, _pool_size = None, 0
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
+
+
 def threads() -> int:
     """Number of threads used for large arrays (``MACHDYN_THREADS`` or the CPU count)."""
     value = os.environ.get("MACHDYN_THREADS")

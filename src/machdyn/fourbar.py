@@ -40,7 +40,14 @@ from . import jit
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._flags import Flagged
 from ._parallel import for_slices
-from ._validate import as_array, choice, common_length_unit, finite_scalar, input_motion
+from ._validate import (
+    as_array,
+    choice,
+    common_length_unit,
+    finite_scalar,
+    input_motion,
+    positive,
+)
 from .centres import fourbar_centres
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
@@ -195,33 +202,32 @@ def positions(
     >>> round(float(np.degrees(th3)), 4), round(float(np.degrees(th4)), 4), bool(ok)
     (58.8114, 93.5833, True)
     """
+    r1, r2, r3, r4 = (positive(f"r{k}", r) for k, r in enumerate((r1, r2, r3, r4), start=1))
+    sign = float(choice("branch", branch, (1, -1)))
     theta2 = as_array("theta2", theta2)
     flat = theta2.ravel()
     theta3 = np.empty(flat.shape)
     theta4 = np.empty(flat.shape)
     ok = np.empty(flat.shape, dtype=bool)
     shape = theta2.shape
-    compiled = jit.kernels()
+    compiled = jit.kernels(flat.size)
     if compiled is not None:
         scale = max(r1, r2, r3, r4)
         lengths = (r1 / scale, r2 / scale, r3 / scale, r4 / scale)
-        beyond = []
+        inputs = flat if flat.flags.writeable else flat.copy()  # one type: no recompiling
 
-        def compiled_kernel(sl: slice) -> None:
-            args = (float(branch), _CLOSE_TOL, flat[sl], theta3[sl], theta4[sl], ok[sl])
-            beyond.append(compiled.positions(*lengths, *args))
+        def compiled_kernel(sl: slice) -> int:
+            args = (sign, _CLOSE_TOL, inputs[sl], theta3[sl], theta4[sl], ok[sl])
+            return compiled.positions(*lengths, *args)
 
-        for_slices(compiled_kernel, flat.size)
-        if not any(beyond):
+        if _run_compiled(compiled_kernel, flat.size):
             return theta3.reshape(shape), theta4.reshape(shape), ok.reshape(shape)
 
     def kernel(part: slice) -> None:
         for lo in range(part.start, part.stop, _CHUNK):
             sl = slice(lo, min(lo + _CHUNK, part.stop))
             t2 = flat[sl]
-            e3x, e3y, e4x, e4y, status = _unit_vectors(
-                r1, r2, r3, r4, np.cos(t2), np.sin(t2), float(branch)
-            )
+            e3x, e3y, e4x, e4y, status = _unit_vectors(r1, r2, r3, r4, np.cos(t2), np.sin(t2), sign)
             good = status == OK
             _angle_into(e3y, e3x, good, theta3[sl])
             _angle_into(e4y, e4x, good, theta4[sl])
@@ -231,6 +237,23 @@ def positions(
     for_slices(kernel, flat.size)
     jit.charge(time.perf_counter() - start)
     return theta3.reshape(shape), theta4.reshape(shape), ok.reshape(shape)
+
+
+def _run_compiled(kernel: Callable[[slice], int], n: int) -> bool:
+    """Run a compiled kernel over ``range(n)`` in slices; False if NumPy must redo it.
+
+    The kernels return how many inputs lie beyond their sine's range (NumPy then
+    does the call). Should a kernel fail (it should not: the test suite runs every
+    four-bar test on both paths), the compiled path is switched off with a warning
+    and NumPy serves this and every later call.
+    """
+    beyond: list[int] = []
+    try:
+        for_slices(lambda sl: beyond.append(kernel(sl)), n)
+    except Exception as exc:  # anything from numba: NumPy is the reference path
+        jit.fail(exc)
+        return False
+    return not any(beyond)
 
 
 def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray | None, out: np.ndarray) -> None:
@@ -248,6 +271,7 @@ def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray | None, out: np.n
     out *= 2.0
     np.add(out, TWO_PI, out=out, where=out < 0.0)
     out[out >= TWO_PI] = 0.0  # −ε + 2π rounds to 2π
+    out += 0.0  # −0.0 (from atan(−0)) becomes +0.0
     if good is not None and not good.all():
         out[~good] = np.nan
 
@@ -1179,7 +1203,7 @@ def _solve_flat(
     quantities above it are returned as None. The compiled kernel serves the
     call when :mod:`machdyn.jit` says so, NumPy otherwise.
     """
-    compiled = jit.kernels()
+    compiled = jit.kernels(t2.size)
     out = None
     if compiled is not None:
         out = _solve_compiled(compiled, fb, t2, w2, a2, j2, branch, side, order)
@@ -1214,27 +1238,25 @@ def _solve_compiled(
     coupler = np.array([p, np.cos(delta), np.sin(delta)])
     tolerances = np.array([_CLOSE_TOL, _TOGGLE_TOL])
     fixed = (lengths, lengths / lengths.max(), coupler, float(branch), float(side), tolerances)
-    groups = (  # outputs of each order, in the kernels' argument order
-        ("theta3", "theta4", "A", "B", "coupler", "status"),
-        ("omega3", "omega4", "coupler_velocity"),
-        ("alpha3", "alpha4", "coupler_acceleration"),
-        ("jerk3", "jerk4", "coupler_jerk"),
-    )[: order + 1]
+    arrays: dict[str, Any] = {"theta2": t2, "omega2": w2, "alpha2": a2, "jerk2": j2}
     out: dict[str, Any] = {}
-    for name in (name for group in groups for name in group):
+    for name in kernels.ARRAYS[order]:
         point = name in _POINT_NAMES
-        dtype = np.uint8 if name == "status" else complex if point or name in "AB" else float
-        out[name] = np.empty(n, dtype=dtype) if has_p or not point else None
-    inputs = (t2, w2, a2, j2)[: order + 1]
+        if name not in arrays:
+            dtype = (
+                np.uint8 if name == "status" else complex if point or name in ("A", "B") else float
+            )
+            out[name] = np.empty(n, dtype=dtype) if has_p or not point else None
+    arrays.update(out)
     solver = kernels.SOLVERS[order]
-    beyond = []
 
-    def kernel(sl: slice) -> None:
-        outputs = (None if x is None else x[sl] for x in out.values())
-        beyond.append(solver(*fixed, *(x[sl] for x in inputs), *outputs))
+    def kernel(sl: slice) -> int:
+        args = (
+            None if arrays[name] is None else arrays[name][sl] for name in kernels.ARRAYS[order]
+        )
+        return solver(*fixed, *args)
 
-    for_slices(kernel, n)
-    if any(beyond):
+    if not _run_compiled(kernel, n):
         return None
     return {**dict.fromkeys((*_RATE_NAMES, *_POINT_NAMES)), **out}
 

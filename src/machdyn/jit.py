@@ -3,17 +3,25 @@
 The compiled kernels in :mod:`machdyn._kernels` are 2–5 times faster than the
 NumPy path, but loading them costs about half a second per process (importing
 numba and reading the compiled code from its on-disk cache; the very first
-time after installation they are compiled, a few seconds once). So a short
-script or a single CLI call never pays for them, and a long sweep never goes
-without them, the default (``auto``) is the ski-rental rule: NumPy serves every
-call until the NumPy kernels have spent as much time as loading would cost
-(:data:`BUDGET`), then the compiled kernels are loaded and serve every later
-call. That is never more than twice as slow as knowing the future.
+time after installation they are compiled, a few seconds once). So that a
+short script or a single CLI call never pays for them, and a long sweep never
+goes without them, the default (``auto``) is the ski-rental rule: NumPy serves
+the calls until the time NumPy has spent, counting the call about to be made
+(estimated at :data:`NUMPY_SECONDS_PER_POSE`), reaches what loading costs
+(:data:`BUDGET`); then the compiled kernels are loaded and serve every later
+call. Once numba's cache exists that is never much more than twice as slow as
+knowing the future.
 
 The environment variable ``MACHDYN_JIT`` chooses: ``auto`` (the default),
-``on`` (load at the first call) or ``off`` (NumPy only). :func:`load` loads
-now, e.g. before timing something. Both paths give the same numbers to a few
-units in the last place (the tests compare them sample by sample).
+``on`` (load at the first call) or ``off`` (NumPy only); :func:`set_mode`
+overrides it for the process. :func:`load` loads now, e.g. before timing
+something. Both paths give the same numbers up to rounding: a few units in the
+last place, more only near a toggle, where the pose itself is ill-conditioned
+(the test suite runs every four-bar test on both).
+
+Loading sets two of LLVM's process-wide options (how many run-time alias
+checks the loop vectoriser may emit; see :mod:`machdyn._kernels`): other numba
+code compiled later in the same process sees them too.
 
 Examples
 --------
@@ -25,37 +33,51 @@ True
 from __future__ import annotations
 
 import os
+import sys
 import threading
 import warnings
+from pathlib import Path
 from types import ModuleType
 
-__all__ = ["BUDGET", "active", "kernels", "load", "mode", "reason", "set_mode"]
+__all__ = ["BUDGET", "NUMPY_SECONDS_PER_POSE", "active", "load", "mode", "reason", "set_mode"]
 
 #: Seconds of NumPy kernel time after which ``auto`` loads the compiled kernels
-#: (about what loading them costs on the project's machine).
+#: (about what loading them from numba's cache costs on the project's machine).
 BUDGET = 0.5
+#: A low estimate of the NumPy path's cost per pose (it runs at 6–16 M poses/s on
+#: the project's machine), used to count a call before it is made.
+NUMPY_SECONDS_PER_POSE = 5e-8
 
 _MODES = ("auto", "on", "off")
 _ALIASES = {"1": "on", "true": "on", "yes": "on", "0": "off", "false": "off", "no": "off"}
+_PACKAGE = str(Path(__file__).resolve().parent)
 
 _lock = threading.Lock()
 _kernels: ModuleType | None = None
-_failure = ""  # why loading failed, once it has
+_failure = ""  # why the compiled kernels are unavailable, once they are
 _spent = 0.0
 _mode: str | None = None  # None: read MACHDYN_JIT
+_warned_env = ""
 
 
 def mode() -> str:
     """The current mode: ``"auto"``, ``"on"`` or ``"off"``."""
+    global _warned_env
     if _mode is not None:
         return _mode
-    value = os.environ.get("MACHDYN_JIT", "auto").strip().lower()
+    raw = os.environ.get("MACHDYN_JIT", "")
+    value = raw.strip().lower() or "auto"
     value = _ALIASES.get(value, value)
-    return value if value in _MODES else "auto"
+    if value in _MODES:
+        return value
+    if raw != _warned_env:  # once per distinct bad value
+        _warned_env = raw
+        _warn(f"MACHDYN_JIT={raw!r} is not one of auto, on, off (or 1, 0); using auto")
+    return "auto"
 
 
-def set_mode(value: str) -> None:
-    """Override ``MACHDYN_JIT`` for this process (``"auto"``, ``"on"`` or ``"off"``).
+def set_mode(value: str | None) -> None:
+    """Override ``MACHDYN_JIT`` for this process; ``None`` goes back to the variable.
 
     Examples
     --------
@@ -68,7 +90,7 @@ def set_mode(value: str) -> None:
     from ._validate import choice
 
     global _mode
-    _mode = choice("mode", value, _MODES)
+    _mode = None if value is None else choice("mode", value, _MODES)
 
 
 def active() -> bool:
@@ -77,7 +99,7 @@ def active() -> bool:
 
 
 def reason() -> str:
-    """Why the compiled kernels are not available (empty if they are or were never tried)."""
+    """Why the compiled kernels are unavailable (empty if they are, or were never tried)."""
     return _failure
 
 
@@ -104,20 +126,17 @@ def load() -> bool:
         return True
 
 
-def kernels() -> ModuleType | None:
-    """The compiled kernels if they should serve the next call, else None (use NumPy)."""
+def kernels(poses: int) -> ModuleType | None:
+    """The compiled kernels if they should serve a call of ``poses`` poses, else None."""
     if _kernels is not None:
         return _kernels if mode() != "off" else None
     current = mode()
     if current == "off" or _failure:
         return None
-    if current == "on" or _spent >= BUDGET:
+    if current == "on" or _spent + poses * NUMPY_SECONDS_PER_POSE >= BUDGET:
         if not load() and current == "on":
-            warnings.warn(
-                f"MACHDYN_JIT=on but the compiled kernels are unavailable ({_failure}); "
-                "using NumPy",
-                RuntimeWarning,
-                stacklevel=3,
+            _warn(
+                f"MACHDYN_JIT=on but the compiled kernels are unavailable ({_failure}); using NumPy"
             )
         return _kernels
     return None
@@ -127,3 +146,29 @@ def charge(seconds: float) -> None:
     """Record time spent in the NumPy kernels (the ``auto`` rule's meter)."""
     global _spent
     _spent += seconds
+
+
+def fail(exc: BaseException) -> None:
+    """A compiled kernel raised: switch the compiled path off for the process and say so."""
+    global _kernels, _failure
+    with _lock:
+        _kernels = None
+        _failure = f"{type(exc).__name__}: {exc}"
+    _warn(f"a compiled four-bar kernel failed ({_failure}); NumPy serves from now on")
+
+
+def _warn(message: str) -> None:
+    """Warn, attributed to the first caller outside machdyn (the user's line)."""
+    frame, level = sys._getframe(1), 2  # stacklevel 2: _warn's caller
+    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(_PACKAGE):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, RuntimeWarning, stacklevel=level)
+
+
+def _after_fork_in_child() -> None:
+    global _lock
+    _lock = threading.Lock()  # a fork during load() must not leave it held
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_after_fork_in_child)
