@@ -34,6 +34,8 @@ import llvmlite.binding
 import numpy as np
 from numba import njit
 
+from .fourbar import INDETERMINATE, NOT_ASSEMBLABLE, OK, TOGGLE, WRONG_FORM
+
 # The solve kernels write up to 14 arrays; LLVM vectorises a loop only if it may check
 # at run time that they do not overlap, and by default allows 8 such checks (the loop
 # then runs 4x slower, scalar). These are process-wide LLVM settings: numba code that
@@ -54,12 +56,6 @@ _PI = math.pi
 _HALF_PI = 0.5 * math.pi
 _TWO_PI = 2.0 * math.pi
 
-# Status codes (the same values as machdyn.fourbar's).
-_OK = 0
-_NOT_ASSEMBLABLE = 1
-_TOGGLE = 2
-_WRONG_FORM = 3
-_INDETERMINATE = 4
 
 _jit = njit(cache=True, nogil=True, error_model="numpy")
 _inline = njit(inline="always", error_model="numpy")
@@ -204,8 +200,8 @@ def _unit_vectors(r1, r2, r3, r4, c2, s2, branch, close_tol):  # pragma: no cove
     dd = sx * sx + ay * ay
     inv = 1.0 / math.sqrt(dd)
     cg = (dd + (r4 * r4 - r3 * r3)) * inv * (1.0 / (2.0 * r4))
-    status = _OK if abs(cg) <= 1.0 + close_tol else _NOT_ASSEMBLABLE
-    status = _INDETERMINATE if dd == 0.0 else status
+    status = OK if abs(cg) <= 1.0 + close_tol else NOT_ASSEMBLABLE
+    status = INDETERMINATE if dd == 0.0 else status
     cg = min(max(cg, -1.0), 1.0)
     sg = branch * math.sqrt(1.0 - cg * cg)
     ux = sx * inv
@@ -230,7 +226,7 @@ def positions(r1, r2, r3, r4, branch, close_tol, theta2, theta3, theta4, ok):  #
         big += 1 if abs(theta2[i]) > SINCOS_LIMIT else 0
         s2, c2 = sincos(theta2[i])
         e3x, e3y, e4x, e4y, status = _unit_vectors(r1, r2, r3, r4, c2, s2, branch, close_tol)
-        good = status == _OK
+        good = status == OK
         theta3[i] = angle(e3y, e3x) if good else nan
         theta4[i] = angle(e4y, e4x) if good else nan
         ok[i] = good
@@ -251,10 +247,10 @@ def _pose(theta2, scaled, branch, side, close_tol, toggle_tol):  # pragma: no co
     e2y, e2x = sincos(theta2)
     sa, sb, sc, sd = scaled[0], scaled[1], scaled[2], scaled[3]
     e3x, e3y, e4x, e4y, st = _unit_vectors(sd, sa, sb, sc, e2x, e2y, branch, close_tol)
-    st = _WRONG_FORM if (st == _OK) & (side * e2y <= 0.0) & (side != 0.0) else st
+    st = WRONG_FORM if (st == OK) & (side * e2y <= 0.0) & (side != 0.0) else st
     s34 = e3y * e4x - e3x * e4y
-    st = _TOGGLE if (st == _OK) & (abs(s34) < toggle_tol) else st
-    bad = (st != _OK) & (st != _TOGGLE)
+    st = TOGGLE if (st == OK) & (abs(s34) < toggle_tol) else st
+    bad = (st != OK) & (st != TOGGLE)
     nan = np.nan
     e3x = nan if bad else e3x
     e3y = nan if bad else e3y
@@ -291,7 +287,7 @@ def _cramer(lengths, pose, kx, ky):  # pragma: no cover - compiled
     """Solve ``j b x3 e3 − j c x4 e4 = K``: x3 = −Re(K e^{−jθ4})/(b s34), x4 likewise."""
     e3x, e3y, e4x, e4y, s34, st = pose[2], pose[3], pose[4], pose[5], pose[6], pose[7]
     # NaN at a toggle. (Selecting NaN after dividing would stop LLVM vectorising the loop.)
-    s34 = np.nan if st == _TOGGLE else s34
+    s34 = np.nan if st == TOGGLE else s34
     return -(kx * e4x + ky * e4y) / (lengths[1] * s34), -(kx * e3x + ky * e3y) / (lengths[2] * s34)
 
 
