@@ -202,3 +202,34 @@ def test_errors_name_the_command_line_option(args, option):
     res = _run(*args)
     assert isinstance(res.exception, InputError), res.output
     assert res.exception.field == option
+
+
+def test_pair_driver_option_swaps_approach_and_recess():
+    # The notes' exam set by hand (see tests/test_gears.py): the gear's tip path from the pitch
+    # point is 1.6119 - 1.2826 = 0.3293 in, the pinion's 0.8086 - 0.5130 = 0.2956 in.
+    args = ("pair", "--np", "24", "--ng", "60", "--pd", "8", "--json")
+    by_pinion = json.loads(_run(*args).output)
+    by_gear = json.loads(_run(*args, "--driver", "gear").output)
+    assert by_pinion["driver"] == "pinion" and by_gear["driver"] == "gear"
+    assert by_pinion["path_of_approach"] == pytest.approx(0.3293, abs=1e-4)
+    assert by_gear["path_of_approach"] == pytest.approx(0.2956, abs=1e-4)
+    for member in ("pinion", "gear"):
+        assert by_gear[f"angle_of_approach_{member}_deg"] == pytest.approx(
+            by_pinion[f"angle_of_recess_{member}_deg"], rel=1e-12
+        )
+    table = _run(*args[:-1], "--driver", "gear").output
+    row = next(s for s in table.splitlines() if "path_of_approach" in s)
+    assert row.split()[-1] == "0.2956"
+
+
+def test_driver_option_error_is_one_line(capsys, tmp_path):
+    status, out, err = _main(capsys, "pair", "--np", "24", "--ng", "60", "--pd", "8",
+                             "--driver", "ring")  # fmt: skip
+    assert status == 1 and out == "" and err.count("\n") == 1
+    assert err.startswith("machdyn: error: --driver: must be one of pinion, gear")
+    res = _run("plot", "--np", "18", "--ng", "40", "-m", "1", "--driver", "gear",
+               "-o", str(tmp_path / "m.png"))  # fmt: skip
+    assert res.exit_code == 0, res.output
+    res = _run("plot", "--np", "18", "--ng", "40", "-m", "1", "--driver", "wheel",
+               "-o", str(tmp_path / "m.png"))  # fmt: skip
+    assert isinstance(res.exception, InputError) and res.exception.field == "--driver"

@@ -270,3 +270,32 @@ def test_plots():
     assert "m_p" in ax.get_title()
     assert len(ax.lines) >= 1
     plt.close("all")
+
+
+@pytest.mark.parametrize("internal", [False, True])
+@pytest.mark.parametrize("driver", ["pinion", "gear"])
+def test_plot_mesh_marks_first_contact_on_the_driven_tip_circle(internal, driver):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    gear = Gear(72 if internal else 40, module=1.0, internal=internal)
+    pair = GearPair(Gear(18, module=1.0), gear, driver=driver)
+    ax = plot_mesh(pair, points=8)
+    lines = {line.get_label(): line.get_xydata() for line in ax.lines}
+    plt.close("all")
+    (first,) = lines["first contact"]
+    approach, recess = lines[f"approach ({driver} drives)"], lines["recess"]
+    gear_centre = np.array([-pair.center_distance if internal else pair.center_distance, 0.0])
+    # Norton: contact starts on the driven member's tip circle and ends on the driver's.
+    on_circle = {
+        "pinion": lambda q: np.hypot(*q) - pair.pinion.addendum_radius,
+        "gear": lambda q: np.hypot(*(q - gear_centre)) - gear.addendum_radius,
+    }
+    driven = "gear" if driver == "pinion" else "pinion"
+    assert on_circle[driven](first) == pytest.approx(0.0, abs=1e-9)
+    assert on_circle[driver](recess[-1]) == pytest.approx(0.0, abs=1e-9)
+    assert approach[0] == pytest.approx(first) and approach[-1] == pytest.approx(recess[0])
+    # Both parts meet at the pitch point, on the line of centres.
+    assert recess[0][1] == pytest.approx(0.0, abs=1e-12)

@@ -134,6 +134,7 @@ def _pair(
     center_distance: float | None,
     thin_p: float,
     thin_g: float,
+    driver: str = "pinion",
 ) -> Any:
     from ..gears import GearPair
 
@@ -146,8 +147,8 @@ def _pair(
         teeth_option="--ng", shift_option="--xg", thinning_option="--thin-g",
     )  # fmt: skip
     flags = {"center_distance": "--center-distance", "profile_shift": "--xp/--xg"}
-    with _options(gear="--ng", pinion="--np", **flags):
-        return GearPair(pinion, gear, center_distance)
+    with _options(gear="--ng", pinion="--np", driver="--driver", **flags):
+        return GearPair(pinion, gear, center_distance, driver=driver)
 
 
 PinionOpt = Annotated[int, typer.Option("--np", help="Pinion teeth N_p.")]
@@ -163,6 +164,12 @@ CenterOpt = Annotated[
 ]
 ThinPOpt = Annotated[float, typer.Option("--thin-p", help="Pinion tooth-thickness reduction.")]
 ThinGOpt = Annotated[float, typer.Option("--thin-g", help="Gear tooth-thickness reduction.")]
+DriverOpt = Annotated[
+    str,
+    typer.Option(
+        "--driver", help="Which member drives: pinion or gear (splits approach and recess)."
+    ),
+]
 
 
 @gear_app.command("pair")
@@ -179,14 +186,16 @@ def pair_cmd(
     center_distance: CenterOpt = None,
     thin_p: ThinPOpt = 0.0,
     thin_g: ThinGOpt = 0.0,
+    driver: DriverOpt = "pinion",
     json: JsonOpt = False,
 ) -> None:
     """Geometry, contact ratio and interference check of a pinion and gear."""
     from ..gears import undercut
 
     pair = _pair(
-        np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, thin_p, thin_g
-    )
+        np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, thin_p, thin_g,
+        driver,
+    )  # fmt: skip
     summary = pair.summary()
     summary["length_unit"] = "in" if pd is not None else "mm"
     p, g = pair.pinion, pair.gear
@@ -215,8 +224,13 @@ def pair_cmd(
         "base_pitch",
         "contact_ratio",
         "contact_ratio_rating",
+        "driver",
+        "path_of_approach",
+        "path_of_recess",
         "angle_of_approach_pinion_deg",
         "angle_of_recess_pinion_deg",
+        "angle_of_approach_gear_deg",
+        "angle_of_recess_gear_deg",
         "backlash",
         "interference_gear_tip",
         "interference_pinion_tip",
@@ -316,6 +330,7 @@ def plot_cmd(
     internal: InternalOpt = False,
     center_distance: CenterOpt = None,
     angle: Annotated[float, typer.Option("--angle", help="Pinion angle in degrees.")] = 0.0,
+    driver: DriverOpt = "pinion",
 ) -> None:
     """Draw a meshing pair with its pitch and base circles and path of contact."""
     import matplotlib.pyplot as plt
@@ -324,7 +339,9 @@ def plot_cmd(
 
     if not math.isfinite(angle):
         raise InputError("--angle", f"must be a finite angle in degrees, got {angle:g}")
-    pair = _pair(np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, 0.0, 0.0)
+    pair = _pair(
+        np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, 0.0, 0.0, driver
+    )
     ax = plot_mesh(pair, math.radians(angle))
     ax.figure.savefig(output, dpi=150)
     plt.close(ax.figure)

@@ -36,6 +36,7 @@ from .interference import (
 from .mesh import (
     CONTACT_RATIO_MINIMUM,
     CONTACT_RATIO_TARGET,
+    DRIVERS,
     GearPair,
     backlash_from_center_distance,
     contact_ratio,
@@ -62,6 +63,7 @@ from .trains import (
 __all__ = [
     "CONTACT_RATIO_MINIMUM",
     "CONTACT_RATIO_TARGET",
+    "DRIVERS",
     "MESH_KINDS",
     "SYSTEMS",
     "Gear",

@@ -566,7 +566,10 @@ def mesh_outlines(pair: Any, pinion_angle: float = 0.0, points: int = 40) -> tup
 
 
 def plot_mesh(pair: Any, pinion_angle: float = 0.0, ax: Any = None, points: int = 40) -> Any:
-    """Plot a meshing pair with pitch and base circles and the line of action.
+    """Plot a meshing pair with pitch and base circles and the path of contact.
+
+    The path of contact is drawn in two parts, approach (solid, from the
+    first contact, marked) and recess (dashed), according to ``pair.driver``.
 
     Parameters
     ----------
@@ -609,9 +612,21 @@ def plot_mesh(pair: Any, pinion_angle: float = 0.0, ax: Any = None, points: int 
         ax.add_patch(Circle((xc, 0.0), r_pitch, fill=False, ls="--", lw=0.6, color="gray"))
         ax.add_patch(Circle((xc, 0.0), r_base, fill=False, ls=":", lw=0.6, color="gray"))
     phi = pair.operating_pressure_angle
-    d = np.array([math.sin(phi), math.cos(phi)])  # tangent to both base circles
-    ends = np.array([rp_op, 0.0]) + np.outer([-pair.path_of_approach, pair.path_of_recess], d)
-    ax.plot(ends[:, 0], ends[:, 1], color="k", lw=0.8, label="path of contact")
+    # The line of action through the pitch point, tangent to both base circles: the pinion's
+    # tangent point is at -r_p' sin φ' along d, so its tip point is beyond the pitch point
+    # (+d) and the gear's tip point short of it (-d), external or internal. Contact starts at
+    # the driven member's tip point.
+    d = np.array([math.sin(phi), math.cos(phi)])
+    pitch = np.array([rp_op, 0.0])
+    toward_first = -1.0 if pair.driver == "pinion" else 1.0
+    first = pitch + toward_first * pair.path_of_approach * d
+    last = pitch - toward_first * pair.path_of_recess * d
+    for (a, b), style, label in (
+        ((first, pitch), "-", f"approach ({pair.driver} drives)"),
+        ((pitch, last), "--", "recess"),
+    ):
+        ax.plot([a[0], b[0]], [a[1], b[1]], color="k", ls=style, lw=1.0, label=label)
+    ax.plot(*first, "o", color="k", ms=3, label="first contact")
     span = pair.pinion.addendum_radius * 1.6
     ax.set_xlim(-span * 0.6, rp_op + span)
     ax.set_ylim(-span, span)
