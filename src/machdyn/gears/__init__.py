@@ -44,7 +44,15 @@ from .mesh import (
     length_of_action,
     operating_pressure_angle,
 )
-from .profile import GearOutline, default_tip_radius, gear_outline, mesh_outlines, plot_mesh
+from .profile import (
+    GearOutline,
+    cutter_teeth_range,
+    default_cutter_teeth,
+    default_tip_radius,
+    gear_outline,
+    mesh_outlines,
+    plot_mesh,
+)
 from .trains import (
     MESH_KINDS,
     PlanetaryTable,
@@ -78,6 +86,8 @@ __all__ = [
     "chain_ratio",
     "contact_ratio",
     "contact_ratio_rating",
+    "cutter_teeth_range",
+    "default_cutter_teeth",
     "default_tip_radius",
     "gear_outline",
     "inverse_involute",

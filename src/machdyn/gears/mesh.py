@@ -740,7 +740,13 @@ class GearPair:
         """True if either tip interferes (see :attr:`interference`)."""
         return any(self.interference)
 
-    def plot(self, pinion_angle: float = 0.0, ax: Any = None, points: int = 40) -> Any:
+    def plot(
+        self,
+        pinion_angle: float = 0.0,
+        ax: Any = None,
+        points: int = 40,
+        cutter_teeth: int | None = None,
+    ) -> Any:
         """Draw the pair in mesh (see :func:`machdyn.gears.profile.plot_mesh`).
 
         Examples
@@ -751,7 +757,7 @@ class GearPair:
         """
         from .profile import plot_mesh
 
-        return plot_mesh(self, pinion_angle, ax, points)
+        return plot_mesh(self, pinion_angle, ax, points, cutter_teeth)
 
     def to_pandas(self) -> Any:
         """Return :meth:`summary` flattened into a pandas Series (``pinion.*``, ``gear.*``).
