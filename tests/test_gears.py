@@ -810,3 +810,60 @@ def test_approach_and_recess_final_exam_set_by_hand():
 def test_driver_must_be_pinion_or_gear(driver):
     with pytest.raises(InputError, match="driver: must be one of pinion, gear"):
         GearPair(Gear(20, module=1.0), Gear(40, module=1.0), driver=driver)
+
+
+# --------------------------------------------------------------------------
+# Profile-shifted internal gears
+# --------------------------------------------------------------------------
+def test_shifted_internal_pair_published_worksheet():
+    # A published centre-distance worksheet for a profile-shifted internal pair (the KHK /
+    # SDP-SI relation inv a_w = inv a + 2 tan a (x2 - x1) / (z2 - z1)): z1 = 17, z2 = 96,
+    # m = 14 mm, x1 = 0.2, x2 = 0.5, a = 20 deg -> inv a_w = 0.01766871, a_w = 21.1251 deg,
+    # centre distance 557.0887 mm.
+    pair = GearPair(
+        Gear(17, module=14.0, profile_shift=0.2), Gear(96, module=14.0, internal=True,
+                                                       profile_shift=0.5)
+    )  # fmt: skip
+    phi_w = pair.operating_pressure_angle
+    assert math.tan(phi_w) - phi_w == pytest.approx(0.01766871, abs=1e-8)
+    assert math.degrees(phi_w) == pytest.approx(21.1251, abs=1e-4)
+    assert pair.center_distance == pytest.approx(557.0887, abs=1e-4)
+    assert pair.backlash == pytest.approx(0.0, abs=1e-9)
+    # The ring: tip circle r - (1 - x) m = 672 - 7 = 665, root r + (1.25 + x) m = 696.5,
+    # pitch-circle tooth 14 (1.570796 - 0.363970) = 16.8956 mm.
+    ring = pair.gear
+    assert ring.addendum_radius == pytest.approx(665.0)
+    assert ring.root_radius == pytest.approx(696.5)
+    assert ring.tooth_thickness == pytest.approx(16.8956, abs=1e-4)
+
+
+@given(
+    n_p=st.integers(14, 40),
+    diff=st.integers(14, 80),
+    x_p=st.floats(-0.2, 0.5),
+    x_g=st.floats(-0.3, 0.8),
+    stretch=st.floats(0.0, 0.01),
+)
+def test_shifted_internal_pair_tight_mesh_and_line_of_action(n_p, diff, x_p, x_g, stretch):
+    n_g = n_p + diff
+    try:
+        p = Gear(n_p, module=1.0, profile_shift=x_p)
+        g = Gear(n_g, module=1.0, internal=True, profile_shift=x_g)
+        pair = GearPair(p, g)
+    except InputError:  # pointed, tip inside the base circle, or tips that hit: not a pair
+        assume(False)
+    inv = math.tan(20 * DEG) - 20 * DEG + 2 * math.tan(20 * DEG) * (x_g - x_p) / (n_g - n_p)
+    phi_op = pair.operating_pressure_angle
+    assert math.tan(phi_op) - phi_op == pytest.approx(inv, rel=1e-10)
+    assert pair.backlash == pytest.approx(0.0, abs=1e-10)
+    # Pulled apart (for a ring: centres closer), the backlash is about 2 |dC| tan(phi').
+    try:
+        wide = pair.with_center_distance(pair.center_distance * (1 - stretch))
+    except InputError:  # the teeth lose contact
+        assume(False)
+    expected = _contact_segment(
+        p.base_radius, p.addendum_radius, g.base_radius, g.addendum_radius,
+        wide.center_distance, True,
+    )  # fmt: skip
+    assert wide.length_of_action == pytest.approx(expected, rel=1e-9)
+    assert wide.backlash >= -1e-12

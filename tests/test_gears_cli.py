@@ -288,3 +288,21 @@ def test_cutter_teeth_needs_an_integer_and_an_internal_gear(capsys, tmp_path):
     res = _run("plot", "--np", "18", "--ng", "72", "-m", "1", "--internal",
                "--cutter-teeth", "40", "-o", str(tmp_path / "m.png"))  # fmt: skip
     assert res.exit_code == 0, res.output
+
+
+def test_shifted_internal_gear_through_the_cli(tmp_path):
+    # The published worksheet pair (see tests/test_gears.py): a_w = 21.1251 deg, a = 557.0887.
+    res = _run("pair", "--np", "17", "--ng", "96", "-m", "14", "--xp", "0.2", "--xg", "0.5",
+               "--internal", "--json")  # fmt: skip
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.output)
+    assert data["operating_pressure_angle_deg"] == pytest.approx(21.1251, abs=1e-4)
+    assert data["center_distance"] == pytest.approx(557.0887, abs=1e-4)
+    assert data["gear"]["addendum_radius"] == pytest.approx(672 - (1 - 0.5) * 14)
+    out = tmp_path / "ring.csv"
+    res = _run("profile", "-N", "60", "-m", "2", "--internal", "--shift", "0.3", "-o", str(out))
+    assert res.exit_code == 0, res.output
+    r = [math.hypot(*map(float, row.split(",")[:2])) for row in out.read_text().split()[1:]]
+    assert min(r) == pytest.approx(60 - 0.7 * 2) and max(r) == pytest.approx(60 + 1.55 * 2)
+    res = _run("profile", "-N", "60", "-m", "2", "--internal", "--shift", "2", "-o", str(out))
+    assert isinstance(res.exception, InputError) and res.exception.field == "--shift"

@@ -368,3 +368,69 @@ def test_pointed_cutter_teeth_are_refused():
     gear_outline(ring, points=10, cutter_teeth=15)  # cuts
     with pytest.raises(InputError, match="cutter_teeth: must be from 15 to 72"):
         gear_outline(ring, points=10, cutter_teeth=14)
+
+
+# --------------------------------------------------------------------------
+# Profile-shifted internal gears
+# --------------------------------------------------------------------------
+def _pitch_circle_crossings(out, radius):
+    """Polar angles where a one-tooth outline crosses the circle ``radius``."""
+    r = np.hypot(out.x, out.y)
+    psi = np.arctan2(out.y, out.x)
+    above = r >= radius
+    idx = np.flatnonzero(above[1:] != above[:-1])
+    w = (radius - r[idx]) / (r[idx + 1] - r[idx])
+    return psi[idx] + w * (psi[idx + 1] - psi[idx])
+
+
+@pytest.mark.parametrize("shift", [-0.4, -0.1, 0.0, 0.25, 0.6])
+@pytest.mark.parametrize(("teeth", "phi_deg"), [(60, 20.0), (45, 25.0), (120, 14.5)])
+def test_internal_tooth_thickness_read_from_polygon(teeth, phi_deg, shift):
+    # Sign convention (ISO 21771, KHK, SDP/SI): +x moves the profile x m away from the axis;
+    # the ring's pitch-circle tooth is s = m (pi/2 - 2 x tan phi), its tip circle
+    # r - (1 - x) m, its root circle r + (1.25 + x) m.
+    m, phi = 2.0, phi_deg * DEG
+    ring = Gear(teeth, module=m, internal=True, profile_shift=shift, pressure_angle=phi)
+    out = gear_outline(ring, points=400, single_tooth=True)
+    r_pitch = m * teeth / 2
+    angles = _pitch_circle_crossings(out, r_pitch)
+    assert angles.size == 2
+    arc = (angles.max() - angles.min()) * r_pitch
+    assert arc == pytest.approx(m * (math.pi / 2 - 2 * shift * math.tan(phi)), rel=1e-5)
+    r = np.hypot(out.x, out.y)
+    assert r.min() == pytest.approx(r_pitch - (1 - shift) * m, rel=1e-12)
+    assert r.max() == pytest.approx(r_pitch + (1.25 + shift) * m, rel=1e-12)
+
+
+def test_shifted_ring_meshes_without_overlap_and_jams_when_turned():
+    # A shifted pinion in a shifted ring at the tight-mesh distance of the involute relation:
+    # with a little thinning the pinion stays in the ring's bore through a whole pitch, and
+    # without it, turning the ring 0.01 rad against the pinion makes them overlap. A wrong
+    # sign of the ring's shift would misplace the flanks by 2 x m tan(phi) = 0.36 mm.
+    from matplotlib.path import Path
+
+    p = Gear(18, module=1.0, profile_shift=0.3, thickness_reduction=0.02)
+    ring = Gear(54, module=1.0, internal=True, profile_shift=0.5, thickness_reduction=0.02)
+    pair = GearPair(p, ring)
+    assert pair.center_distance != pytest.approx(18.0)  # not the standard distance
+    x_pitch, window = pair.operating_pitch_radii[0], 4.0
+    for angle in np.linspace(0, 2 * math.pi / 18, 7):
+        pin, gear = mesh_outlines(pair, angle, points=40)
+        bore = Path(np.column_stack([gear.x, gear.y]))
+        assert bore.contains_points(_near_pitch_point(pin, x_pitch, window)).all()
+    tight = GearPair(Gear(18, module=1.0, profile_shift=0.3),
+                     Gear(54, module=1.0, internal=True, profile_shift=0.5))  # fmt: skip
+    pin, _ = mesh_outlines(tight, 0.0, points=40)
+    for turn in (0.01, -0.01):
+        turned = gear_outline(
+            tight.gear, 40, rotation=math.pi / 54 + turn, center=(-tight.center_distance, 0)
+        )
+        bore = Path(np.column_stack([turned.x, turned.y]))
+        assert not bore.contains_points(_near_pitch_point(pin, x_pitch, window)).all()
+
+
+def test_internal_shift_bad_input():
+    with pytest.raises(InputError, match="profile_shift: 2 closes the spaces"):
+        Gear(60, module=1.0, internal=True, profile_shift=2.0)
+    with pytest.raises(InputError, match="tip circle inside its base circle"):
+        Gear(40, module=1.0, internal=True, profile_shift=-0.4)

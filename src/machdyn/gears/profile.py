@@ -15,8 +15,13 @@ with ``C`` the tip-round centre in the gear frame.
 
 An internal gear is generated the same way by a pinion-type shaper cutter
 (a small external gear with rounded tips) rolling inside it; its fillet is
-the envelope of the cutter's tip rounds. (Undercut of internal gears is not
-checked.)
+the envelope of the cutter's tip rounds. A profile-shifted ring (shift ``x``)
+is cut by a cutter carrying the same shift — tooth ``π m / 2 + 2 x m tan φ``,
+addendum ``(k_d + x) m`` — at the standard cutting distance ``R − r_c``; the
+ring's involute is the same as from an unshifted cutter fed to the
+corresponding distance, and its root circle is the ring's nominal
+``R + (k_d + x) m``. :func:`cutter_teeth_range` says which cutters can cut a
+ring. (Undercut of internal gears is not checked.)
 
 Everything is vectorised: one tooth is built from arrays of parameters, the
 gear by broadcasting the tooth over the ``N`` angular positions.
