@@ -743,6 +743,11 @@ def test_approach_and_recess_from_line_of_action_coordinates(pinion, gear, c_op,
         roll = [_roll_angle(q, centre, r_b) for q in (first, pitch, last)]
         assert app[k] == pytest.approx(abs(roll[1] - roll[0]), rel=1e-9)
         assert rec[k] == pytest.approx(abs(roll[2] - roll[1]), rel=1e-9)
+        # The pitch circles roll without slip: the arcs (angle x operating pitch radius,
+        # the radius read from the pitch point's position) are the same on both members.
+        r_pitch = np.linalg.norm(pitch - centre)
+        assert pair.arc_of_approach == pytest.approx(app[k] * r_pitch, rel=1e-9)
+        assert pair.arc_of_recess == pytest.approx(rec[k] * r_pitch, rel=1e-9)
 
 
 @given(

@@ -601,6 +601,33 @@ class GearPair:
         return pinion_tip if self.driver == "pinion" else gear_tip
 
     @property
+    def arc_of_approach(self) -> float:
+        """Arc of approach on the operating pitch circles, ``path of approach / cos φ'``.
+
+        The pitch circles roll on each other, so the arc is the same on both
+        (Norton Figure 9-7); over each pitch radius it is that member's angle.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> round(pair.arc_of_approach, 4)  # 0.3293 / cos 20°
+        0.3504
+        """
+        return self.path_of_approach / math.cos(self.operating_pressure_angle)
+
+    @property
+    def arc_of_recess(self) -> float:
+        """Arc of recess on the operating pitch circles, ``path of recess / cos φ'``.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> round(pair.arc_of_recess, 4)  # 0.2956 / cos 20°
+        0.3146
+        """
+        return self.path_of_recess / math.cos(self.operating_pressure_angle)
+
+    @property
     def angles_of_approach(self) -> tuple[float, float]:
         """Angles (rad) turned by ``(pinion, gear)`` during approach, by :attr:`driver`.
 
@@ -804,6 +831,8 @@ class GearPair:
             "length_of_action": self.length_of_action,
             "path_of_approach": self.path_of_approach,
             "path_of_recess": self.path_of_recess,
+            "arc_of_approach": self.arc_of_approach,
+            "arc_of_recess": self.arc_of_recess,
             "base_pitch": self.base_pitch,
             "contact_ratio": self.contact_ratio,
             "contact_ratio_rating": self.contact_ratio_rating,
