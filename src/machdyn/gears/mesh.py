@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -465,9 +466,13 @@ class GearPair:
         """Reference (cutting) pressure angle ``φ``."""
         return self.pinion.pressure_angle
 
-    @property
+    @cached_property
     def operating_pressure_angle(self) -> float:
-        """``φ'`` from ``cos φ' = (C / C') cos φ`` (Figure 9-8)."""
+        """``φ'`` from ``cos φ' = (C / C') cos φ`` (Figure 9-8).
+
+        Computed once per pair (the pair is immutable); every contact
+        property uses it.
+        """
         return float(
             operating_pressure_angle(
                 self.standard_center_distance, self.center_distance, self.pressure_angle
