@@ -572,7 +572,7 @@ class GearPair:
         """Length of the line of action from first contact to the pitch point.
 
         Contact begins where the *driven* member's tip circle crosses the line
-        of action (Norton §9.4, Figure 9-7): the driver's flank first touches the
+        of action (the notes' Figure 9-7; Norton Ch. 9): the driver's flank first touches the
         driven tooth's tip, low on its own flank. With the pinion driving (the
         default) that is the gear's tip circle; with the gear driving, the
         pinion's — approach and recess swap ends.
