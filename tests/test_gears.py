@@ -656,3 +656,219 @@ def test_rating_of_an_interfering_pair_says_the_contact_ratio_is_overstated():
     pair = GearPair(Gear(4, module=2), Gear(40, module=2))
     assert pair.interferes
     assert "interfere" in pair.contact_ratio_rating
+
+
+# --------------------------------------------------------------------------
+# Which member drives: approach and recess
+# --------------------------------------------------------------------------
+def _contact_by_driver(pair):
+    """First contact, pitch point and last contact, found in the plane.
+
+    Independent of ``GearPair``'s rule ("contact starts at the driven
+    member's tip circle"): the test places the centres (pinion at the origin,
+    gear at (C', 0)), builds the line of action tangent to both base circles,
+    intersects it with both addendum circles, and orders the ends by the
+    driver's motion. A flank is pushed along its normal, away from the
+    driver's material: an external tooth's convex involute has its material
+    on the side of its centre of curvature, the base-circle tangent point;
+    a ring's tooth lies on the far side of its (concave) flank. So contact
+    travels away from the driver's material, and the first contact is the
+    end of the segment furthest towards it.
+    """
+    p, g, c_op = pair.pinion, pair.gear, pair.center_distance
+    rbp, rbg = p.base_radius, g.base_radius
+    og = np.array([c_op, 0.0])
+    nx = (rbp - rbg if pair.internal else rbp + rbg) / c_op
+    n = np.array([nx, math.sqrt(1 - nx**2)])
+    d = np.array([-n[1], n[0]])
+    t_p = rbp * n  # pinion tangent point
+    t_g = t_p + (d @ (og - t_p)) * d  # gear tangent point: foot of the gear centre
+
+    def hit(center, radius):
+        q = t_p - center
+        roots = np.real(np.roots([1.0, 2 * d @ q, q @ q - radius**2]))
+        return [t_p + t * d for t in roots]
+
+    # The pitch point: where the line crosses the line of centres (y = 0).
+    pitch = t_p - (t_p[1] / d[1]) * d
+
+    # A tip circle cuts the line twice, symmetrically about the member's own tangent point;
+    # the tip point of the contact is the one on the pitch point's side.
+    def tip_point(center, radius, tangent):
+        return next(q for q in hit(center, radius) if (q - tangent) @ (pitch - tangent) > 0)
+
+    gear_tip = tip_point(og, g.addendum_radius, t_g)
+    pinion_tip = tip_point(np.zeros(2), p.addendum_radius, t_p)
+    if pair.driver == "pinion":
+        towards_material = t_p - pitch
+    else:
+        towards_material = (pitch - t_g) if pair.internal else (t_g - pitch)
+    ends = sorted([gear_tip, pinion_tip], key=lambda q: -(q @ towards_material))
+    return ends[0], pitch, ends[1], (np.zeros(2), og)
+
+
+def _roll_angle(point, center, r_base):
+    """``tan φ_Q`` of the contact point Q on an involute: the angle unwound from the base."""
+    return math.tan(math.acos(r_base / np.linalg.norm(point - center)))
+
+
+PAIRS = [
+    (Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8), None),  # notes' exam set
+    (Gear(18, module=2.0), Gear(41, module=2.0), 59.6),  # pulled apart: φ' ≠ φ
+    (Gear(14, module=1.0, profile_shift=0.35), Gear(31, module=1.0, profile_shift=-0.1), None),
+    (Gear(25, module=3.0, pressure_angle=25 * DEG), Gear(25, module=3.0, pressure_angle=25 * DEG),
+     None),
+    (Gear(20, module=2.0), Gear(80, module=2.0, internal=True), None),
+    (Gear(28, module=1.5, profile_shift=0.2), Gear(70, module=1.5, internal=True), None),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("pinion", "gear", "c_op"), PAIRS)
+@pytest.mark.parametrize("driver", ["pinion", "gear"])
+def test_approach_and_recess_from_line_of_action_coordinates(pinion, gear, c_op, driver):
+    pair = GearPair(pinion, gear, c_op, driver=driver)
+    first, pitch, last, (o_p, o_g) = _contact_by_driver(pair)
+    assert pair.path_of_approach == pytest.approx(np.linalg.norm(first - pitch), rel=1e-9)
+    assert pair.path_of_recess == pytest.approx(np.linalg.norm(last - pitch), rel=1e-9)
+    # Norton: approach starts on the driven member's tip circle, recess ends on the driver's.
+    driven_centre, driven_tip = (
+        (o_g, gear.addendum_radius) if driver == "pinion" else (o_p, pinion.addendum_radius)
+    )
+    assert np.linalg.norm(first - driven_centre) == pytest.approx(driven_tip, rel=1e-12)
+    # Angles turned: the difference of the roll angles tan φ_Q of the involutes through the
+    # first contact and the pitch point (and the pitch point and the last contact).
+    app = pair.angles_of_approach
+    rec = pair.angles_of_recess
+    for k, (centre, r_b) in enumerate(((o_p, pinion.base_radius), (o_g, gear.base_radius))):
+        roll = [_roll_angle(q, centre, r_b) for q in (first, pitch, last)]
+        assert app[k] == pytest.approx(abs(roll[1] - roll[0]), rel=1e-9)
+        assert rec[k] == pytest.approx(abs(roll[2] - roll[1]), rel=1e-9)
+        # The pitch circles roll without slip: the arcs (angle x operating pitch radius,
+        # the radius read from the pitch point's position) are the same on both members.
+        r_pitch = np.linalg.norm(pitch - centre)
+        assert pair.arc_of_approach == pytest.approx(app[k] * r_pitch, rel=1e-9)
+        assert pair.arc_of_recess == pytest.approx(rec[k] * r_pitch, rel=1e-9)
+
+
+@given(
+    n_p=st.integers(12, 40),
+    extra=st.integers(1, 90),
+    x_p=st.floats(0.0, 0.5),
+    stretch=st.floats(0.0, 0.015),
+    internal=st.booleans(),
+)
+def test_gear_driving_swaps_approach_and_recess(n_p, extra, x_p, stretch, internal):
+    n_g = n_p + extra + (12 if internal else 0)
+    try:
+        p = Gear(n_p, module=1.0, profile_shift=x_p)
+        g = Gear(n_g, module=1.0, internal=internal)
+        pair = GearPair(p, g)
+        pair = pair.with_center_distance(
+            pair.center_distance * ((1 - stretch) if internal else (1 + stretch))
+        )
+    except InputError:  # pointed or out of contact: not a pair to mesh
+        assume(False)
+    back = pair.with_driver("gear")
+    assert back.driver == "gear" and pair.driver == "pinion"
+    assert back.path_of_approach == pytest.approx(pair.path_of_recess, rel=1e-12)
+    assert back.path_of_recess == pytest.approx(pair.path_of_approach, rel=1e-12)
+    assert back.angles_of_approach == pytest.approx(pair.angles_of_recess, rel=1e-12)
+    assert back.angles_of_recess == pytest.approx(pair.angles_of_approach, rel=1e-12)
+    # Only the split changes.
+    z = pair.length_of_action
+    assert back.path_of_approach + back.path_of_recess == pytest.approx(z, rel=1e-9)
+    assert back.contact_ratio == pair.contact_ratio
+    assert back.with_center_distance(pair.center_distance).driver == "gear"
+    # Roles mirrored: an external pair with the gear driving is the same mesh as the gear
+    # taken for the "pinion" and driving; the (pinion, gear) angle pairs swap places.
+    if not internal:
+        mirrored = GearPair(g, p, pair.center_distance)
+        assert back.path_of_approach == pytest.approx(mirrored.path_of_approach, rel=1e-9)
+        assert back.path_of_recess == pytest.approx(mirrored.path_of_recess, rel=1e-9)
+        assert back.angles_of_approach[::-1] == pytest.approx(mirrored.angles_of_approach, rel=1e-9)
+        assert back.angles_of_recess[::-1] == pytest.approx(mirrored.angles_of_recess, rel=1e-9)
+
+
+def test_approach_and_recess_final_exam_set_by_hand():
+    # The notes' final exam, problem 10, intermediate values worked by hand: the gear's tip
+    # circle cuts the line of action sqrt(3.875^2 - 3.52385^2) = 1.6119 in from the gear's
+    # tangent point, the pinion's 0.8086 in from its own; r_g sin 20 = 1.2826,
+    # r_p sin 20 = 0.5130. Pinion driving: approach 1.6119 - 1.2826 = 0.3293 in,
+    # recess 0.8086 - 0.5130 = 0.2956 in; pinion angles 0.3293 / 1.40954 = 13.39 deg and
+    # 0.2956 / 1.40954 = 12.02 deg. Gear driving: the two swap.
+    pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+    assert pair.path_of_approach == pytest.approx(0.3293, abs=1e-4)
+    assert pair.path_of_recess == pytest.approx(0.2956, abs=1e-4)
+    assert math.degrees(pair.angles_of_approach[0]) == pytest.approx(13.39, abs=0.01)
+    assert math.degrees(pair.angles_of_recess[0]) == pytest.approx(12.02, abs=0.01)
+    up = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8), driver="gear")
+    assert up.path_of_approach == pytest.approx(0.2956, abs=1e-4)
+    assert up.path_of_recess == pytest.approx(0.3293, abs=1e-4)
+    summary = up.summary()
+    assert summary["driver"] == "gear"
+    assert summary["path_of_approach"] == pytest.approx(0.2956, abs=1e-4)
+    assert summary["angle_of_approach_pinion_deg"] == pytest.approx(12.02, abs=0.01)
+    assert summary["angle_of_recess_gear_deg"] == pytest.approx(13.39 * 24 / 60, abs=0.01)
+
+
+@pytest.mark.parametrize("driver", ["ring", "Gear", None, 1])
+def test_driver_must_be_pinion_or_gear(driver):
+    with pytest.raises(InputError, match="driver: must be one of pinion, gear"):
+        GearPair(Gear(20, module=1.0), Gear(40, module=1.0), driver=driver)
+
+
+# --------------------------------------------------------------------------
+# Profile-shifted internal gears
+# --------------------------------------------------------------------------
+def test_shifted_internal_pair_published_worksheet():
+    # A published centre-distance worksheet for a profile-shifted internal pair (the KHK /
+    # SDP-SI relation inv a_w = inv a + 2 tan a (x2 - x1) / (z2 - z1)): z1 = 17, z2 = 96,
+    # m = 14 mm, x1 = 0.2, x2 = 0.5, a = 20 deg -> inv a_w = 0.01766871, a_w = 21.1251 deg,
+    # centre distance 557.0887 mm.
+    pair = GearPair(
+        Gear(17, module=14.0, profile_shift=0.2), Gear(96, module=14.0, internal=True,
+                                                       profile_shift=0.5)
+    )  # fmt: skip
+    phi_w = pair.operating_pressure_angle
+    assert math.tan(phi_w) - phi_w == pytest.approx(0.01766871, abs=1e-8)
+    assert math.degrees(phi_w) == pytest.approx(21.1251, abs=1e-4)
+    assert pair.center_distance == pytest.approx(557.0887, abs=1e-4)
+    assert pair.backlash == pytest.approx(0.0, abs=1e-9)
+    # The ring: tip circle r - (1 - x) m = 672 - 7 = 665, root r + (1.25 + x) m = 696.5,
+    # pitch-circle tooth 14 (1.570796 - 0.363970) = 16.8956 mm.
+    ring = pair.gear
+    assert ring.addendum_radius == pytest.approx(665.0)
+    assert ring.root_radius == pytest.approx(696.5)
+    assert ring.tooth_thickness == pytest.approx(16.8956, abs=1e-4)
+
+
+@given(
+    n_p=st.integers(14, 40),
+    diff=st.integers(14, 80),
+    x_p=st.floats(-0.2, 0.5),
+    x_g=st.floats(-0.3, 0.8),
+    stretch=st.floats(0.0, 0.01),
+)
+def test_shifted_internal_pair_tight_mesh_and_line_of_action(n_p, diff, x_p, x_g, stretch):
+    n_g = n_p + diff
+    try:
+        p = Gear(n_p, module=1.0, profile_shift=x_p)
+        g = Gear(n_g, module=1.0, internal=True, profile_shift=x_g)
+        pair = GearPair(p, g)
+    except InputError:  # pointed, tip inside the base circle, or tips that hit: not a pair
+        assume(False)
+    inv = math.tan(20 * DEG) - 20 * DEG + 2 * math.tan(20 * DEG) * (x_g - x_p) / (n_g - n_p)
+    phi_op = pair.operating_pressure_angle
+    assert math.tan(phi_op) - phi_op == pytest.approx(inv, rel=1e-10)
+    assert pair.backlash == pytest.approx(0.0, abs=1e-10)
+    # Pulled apart (for a ring: centres closer), the backlash is about 2 |dC| tan(phi').
+    try:
+        wide = pair.with_center_distance(pair.center_distance * (1 - stretch))
+    except InputError:  # the teeth lose contact
+        assume(False)
+    expected = _contact_segment(
+        p.base_radius, p.addendum_radius, g.base_radius, g.addendum_radius,
+        wide.center_distance, True,
+    )  # fmt: skip
+    assert wide.length_of_action == pytest.approx(expected, rel=1e-9)
+    assert wide.backlash >= -1e-12

@@ -3,6 +3,7 @@
 import json
 import math
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -202,3 +203,106 @@ def test_errors_name_the_command_line_option(args, option):
     res = _run(*args)
     assert isinstance(res.exception, InputError), res.output
     assert res.exception.field == option
+
+
+def test_pair_driver_option_swaps_approach_and_recess():
+    # The notes' exam set by hand (see tests/test_gears.py): the gear's tip path from the pitch
+    # point is 1.6119 - 1.2826 = 0.3293 in, the pinion's 0.8086 - 0.5130 = 0.2956 in.
+    args = ("pair", "--np", "24", "--ng", "60", "--pd", "8", "--json")
+    by_pinion = json.loads(_run(*args).output)
+    by_gear = json.loads(_run(*args, "--driver", "gear").output)
+    assert by_pinion["driver"] == "pinion" and by_gear["driver"] == "gear"
+    assert by_pinion["path_of_approach"] == pytest.approx(0.3293, abs=1e-4)
+    assert by_gear["path_of_approach"] == pytest.approx(0.2956, abs=1e-4)
+    for member in ("pinion", "gear"):
+        assert by_gear[f"angle_of_approach_{member}_deg"] == pytest.approx(
+            by_pinion[f"angle_of_recess_{member}_deg"], rel=1e-12
+        )
+    table = _run(*args[:-1], "--driver", "gear").output
+    row = next(s for s in table.splitlines() if "path_of_approach" in s)
+    assert row.split()[-1] == "0.2956"
+
+
+def test_driver_option_error_is_one_line(capsys, tmp_path):
+    status, out, err = _main(capsys, "pair", "--np", "24", "--ng", "60", "--pd", "8",
+                             "--driver", "ring")  # fmt: skip
+    assert status == 1 and out == "" and err.count("\n") == 1
+    assert err.startswith("machdyn: error: --driver: must be one of pinion, gear")
+    res = _run("plot", "--np", "18", "--ng", "40", "-m", "1", "--driver", "gear",
+               "-o", str(tmp_path / "m.png"))  # fmt: skip
+    assert res.exit_code == 0, res.output
+    res = _run("plot", "--np", "18", "--ng", "40", "-m", "1", "--driver", "wheel",
+               "-o", str(tmp_path / "m.png"))  # fmt: skip
+    assert isinstance(res.exception, InputError) and res.exception.field == "--driver"
+
+
+def test_profile_cutter_teeth_for_an_internal_gear(tmp_path):
+    out = tmp_path / "ring.csv"
+    res = _run("profile", "-N", "60", "-m", "1", "--internal", "--cutter-teeth", "30",
+               "-o", str(out))  # fmt: skip
+    assert res.exit_code == 0, res.output
+    assert "shaper cutter of 30 teeth" in res.output
+    # The outline really is the one this cutter generates (not the default cutter's).
+    from machdyn.gears import Gear, gear_outline
+
+    ring = Gear(60, module=1.0, internal=True)
+    rows = out.read_text().splitlines()[1:]
+    expected = gear_outline(ring, 60, cutter_teeth=30)
+    default = gear_outline(ring, 60)
+    xs = np.array([float(r.split(",")[0]) for r in rows])
+    assert xs == pytest.approx(expected.x, abs=1e-12)
+    differs = default.x.size != expected.x.size or not np.allclose(default.x, expected.x)
+    assert differs  # the cutter changes the fillet
+    res = _run("profile", "-N", "60", "-m", "1", "--internal", "-o", str(out))
+    assert "shaper cutter of 25 teeth" in res.output  # the default
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        # 20 deg full depth, 40 teeth: r_a = 19, r_b = 18.7939, sqrt(19^2 - r_b^2) = 2.7913;
+        # 2 (20 - 2.7913 / sin 20) = 23.68, so at least 24 teeth; at most 40 - 8 = 32.
+        (("--cutter-teeth", "23"), "must be from 24 to 32 to cut this 40-tooth ring, got 23"),
+        (("--cutter-teeth", "33"), "must be from 24 to 32 to cut this 40-tooth ring, got 33"),
+        (("--cutter-teeth", "0"), "must be from 24 to 32"),
+        (("--cutter-teeth", "-5"), "must be from 24 to 32"),
+    ],
+)
+def test_cutter_teeth_out_of_range_is_one_line(capsys, tmp_path, args, message):
+    out = str(tmp_path / "r.svg")
+    for command in (("profile", "-N", "40"), ("plot", "--np", "12", "--ng", "40")):
+        status, stdout, err = _main(capsys, *command, "-m", "1", "--internal", *args, "-o", out)
+        assert status == 1 and stdout == "" and err.count("\n") == 1, err
+        assert err.startswith(f"machdyn: error: --cutter-teeth: {message}")
+
+
+def test_cutter_teeth_needs_an_integer_and_an_internal_gear(capsys, tmp_path):
+    out = str(tmp_path / "r.svg")
+    status, _, err = _main(capsys, "profile", "-N", "40", "-m", "1", "--internal",
+                           "--cutter-teeth", "24.5", "-o", out)  # fmt: skip
+    assert status == 2 and err.count("\n") == 1 and "--cutter-teeth" in err
+    for command in (("profile", "-N", "40"), ("plot", "--np", "12", "--ng", "40")):
+        status, _, err = _main(capsys, *command, "-m", "1", "--cutter-teeth", "24", "-o", out)
+        assert status == 1 and err.count("\n") == 1
+        assert err.startswith("machdyn: error: --cutter-teeth: only an internal gear")
+    res = _run("plot", "--np", "18", "--ng", "72", "-m", "1", "--internal",
+               "--cutter-teeth", "40", "-o", str(tmp_path / "m.png"))  # fmt: skip
+    assert res.exit_code == 0, res.output
+
+
+def test_shifted_internal_gear_through_the_cli(tmp_path):
+    # The published worksheet pair (see tests/test_gears.py): a_w = 21.1251 deg, a = 557.0887.
+    res = _run("pair", "--np", "17", "--ng", "96", "-m", "14", "--xp", "0.2", "--xg", "0.5",
+               "--internal", "--json")  # fmt: skip
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.output)
+    assert data["operating_pressure_angle_deg"] == pytest.approx(21.1251, abs=1e-4)
+    assert data["center_distance"] == pytest.approx(557.0887, abs=1e-4)
+    assert data["gear"]["addendum_radius"] == pytest.approx(672 - (1 - 0.5) * 14)
+    out = tmp_path / "ring.csv"
+    res = _run("profile", "-N", "60", "-m", "2", "--internal", "--shift", "0.3", "-o", str(out))
+    assert res.exit_code == 0, res.output
+    r = [math.hypot(*map(float, row.split(",")[:2])) for row in out.read_text().split()[1:]]
+    assert min(r) == pytest.approx(60 - 0.7 * 2) and max(r) == pytest.approx(60 + 1.55 * 2)
+    res = _run("profile", "-N", "60", "-m", "2", "--internal", "--shift", "2", "-o", str(out))
+    assert isinstance(res.exception, InputError) and res.exception.field == "--shift"

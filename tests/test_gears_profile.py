@@ -16,8 +16,15 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from machdyn import InputError
-from machdyn.gears import Gear, GearPair, min_profile_shift, undercut
-from machdyn.gears.profile import default_tip_radius, gear_outline, mesh_outlines, plot_mesh
+from machdyn.gears import Gear, GearPair, min_profile_shift, min_teeth_rack, undercut
+from machdyn.gears.profile import (
+    cutter_teeth_range,
+    default_cutter_teeth,
+    default_tip_radius,
+    gear_outline,
+    mesh_outlines,
+    plot_mesh,
+)
 
 DEG = math.pi / 180
 
@@ -159,7 +166,7 @@ def test_extreme_profile_shift_rejected():
         gear_outline(Gear(60, module=1.0, profile_shift=0.95))
 
 
-@pytest.mark.parametrize(("teeth", "cutter"), [(60, None), (40, 18), (120, 30), (300, 25)])
+@pytest.mark.parametrize(("teeth", "cutter"), [(60, None), (40, 24), (120, 30), (300, 25)])
 def test_internal_gear_outline_generated_by_shaper_cutter(teeth, cutter):
     ring = Gear(teeth, module=1.0, internal=True)
     out = gear_outline(ring, points=400, single_tooth=True, cutter_teeth=cutter)
@@ -185,8 +192,14 @@ def test_internal_gear_outline_generated_by_shaper_cutter(teeth, cutter):
 
 
 def test_shaper_cutter_bad_input():
-    with pytest.raises(InputError, match="cutter_teeth"):
+    with pytest.raises(InputError, match=r"cutter_teeth: must be from 24 to 32 .* got 35"):
         gear_outline(Gear(40, module=1.0, internal=True), cutter_teeth=35)
+    with pytest.raises(InputError, match="got 18: a smaller cutter has pointed teeth"):
+        gear_outline(Gear(40, module=1.0, internal=True), cutter_teeth=18)
+    with pytest.raises(InputError, match="cutter_teeth: must be a whole number"):
+        gear_outline(Gear(40, module=1.0, internal=True), cutter_teeth=25.5)
+    with pytest.raises(InputError, match="only an internal gear"):
+        cutter_teeth_range(Gear(40, module=1.0))
     with pytest.raises(InputError, match="tip_radius"):
         gear_outline(Gear(40, module=1.0, internal=True), tip_radius=1.2)
 
@@ -270,3 +283,154 @@ def test_plots():
     assert "m_p" in ax.get_title()
     assert len(ax.lines) >= 1
     plt.close("all")
+
+
+@pytest.mark.parametrize("internal", [False, True])
+@pytest.mark.parametrize("driver", ["pinion", "gear"])
+def test_plot_mesh_marks_first_contact_on_the_driven_tip_circle(internal, driver):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    gear = Gear(72 if internal else 40, module=1.0, internal=internal)
+    pair = GearPair(Gear(18, module=1.0), gear, driver=driver)
+    ax = plot_mesh(pair, points=8)
+    lines = {line.get_label(): line.get_xydata() for line in ax.lines}
+    plt.close("all")
+    (first,) = lines["first contact"]
+    approach, recess = lines[f"approach ({driver} drives)"], lines["recess"]
+    gear_centre = np.array([-pair.center_distance if internal else pair.center_distance, 0.0])
+    # Norton: contact starts on the driven member's tip circle and ends on the driver's.
+    on_circle = {
+        "pinion": lambda q: np.hypot(*q) - pair.pinion.addendum_radius,
+        "gear": lambda q: np.hypot(*(q - gear_centre)) - gear.addendum_radius,
+    }
+    driven = "gear" if driver == "pinion" else "pinion"
+    assert on_circle[driven](first) == pytest.approx(0.0, abs=1e-9)
+    assert on_circle[driver](recess[-1]) == pytest.approx(0.0, abs=1e-9)
+    assert approach[0] == pytest.approx(first) and approach[-1] == pytest.approx(recess[0])
+    # Both parts meet at the pitch point, on the line of centres.
+    assert recess[0][1] == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize(("phi_deg", "rack"), [(14.5, 32), (20.0, 18), (25.0, 12)])
+def test_cutter_for_a_very_large_ring_is_the_minimum_pinion_against_a_rack(phi_deg, rack):
+    # Norton Table 9-4: a full-depth pinion meshing with a rack without interference needs
+    # 32, 18, 12 teeth at 14.5, 20, 25 deg; a ring of many teeth is nearly a rack.
+    ring = Gear(20000, module=1.0, internal=True, pressure_angle=phi_deg * DEG)
+    assert cutter_teeth_range(ring)[0] == rack
+    assert cutter_teeth_range(ring)[0] == min_teeth_rack(phi_deg * DEG)
+
+
+@pytest.mark.parametrize("teeth", [40, 47, 60, 90, 150])
+@pytest.mark.parametrize("system", ["full_depth", "stub"])
+def test_fewest_cutter_teeth_is_where_the_cutter_as_a_pinion_stops_interfering(teeth, system):
+    # The cutter meshing with the ring at the standard centre distance is an internal pair;
+    # GearPair's tip-interference check (its own line-of-action construction) must flip
+    # exactly at the smallest accepted cutter. The cutter's tip does not matter for that.
+    ring = Gear(teeth, module=2.0, internal=True, system=system)
+    low, high = cutter_teeth_range(ring)
+    assert high == teeth - 8
+    assert low <= default_cutter_teeth(ring) <= high
+
+    def ring_tip_interferes(n_c):
+        cutter = Gear(n_c, module=2.0, system=system)
+        return GearPair(cutter, ring, ring.pitch_radius - cutter.pitch_radius).interference[0]
+
+    assert not ring_tip_interferes(low)
+    assert ring_tip_interferes(low - 1)
+
+
+def test_no_cutter_fits_a_small_ring():
+    # 25 deg full depth, 24 teeth: generating the flanks to the tip needs 17 cutter teeth,
+    # the ring allows at most 24 - 8 = 16.
+    ring = Gear(24, module=1.0, internal=True, pressure_angle=25 * DEG)
+    with pytest.raises(InputError, match="no shaper cutter can cut this 24-tooth ring"):
+        cutter_teeth_range(ring)
+    with pytest.raises(InputError, match="cutter_teeth"):
+        gear_outline(ring)
+
+
+def test_pointed_cutter_teeth_are_refused():
+    # 25 deg, a ring of 80 teeth with addendum 1.0 m and a deep dedendum 1.3 m: the cutter
+    # carries 1.3 m as its addendum and a tooth as thick as the ring's space, pi m / 2.
+    # By hand for N_c = 14: r_c = 7, r_b = 6.34415, tip 8.3, phi_tip = 40.15 deg,
+    # inv = 0.14282; the tip half-angle pi/28 + 0.029975 - 0.14282 = -0.0006 < 0: pointed.
+    # N_c = 15: r_b = 6.79731, tip 8.8, phi_tip = 39.428 deg, inv = 0.13408;
+    # pi/30 + 0.029975 - 0.13408 = +0.0006. Interference alone would allow 12 (the rack's
+    # 25 deg minimum, Norton Table 9-4, as the ring's tip circle is the standard one).
+    ring = Gear(80, module=1.0, internal=True, pressure_angle=25 * DEG, addendum=1.0,
+                dedendum=1.3)  # fmt: skip
+    assert cutter_teeth_range(ring)[0] == 15
+    standard = Gear(80, module=1.0, internal=True, pressure_angle=25 * DEG)
+    assert cutter_teeth_range(standard)[0] == 12
+    gear_outline(ring, points=10, cutter_teeth=15)  # cuts
+    with pytest.raises(InputError, match="cutter_teeth: must be from 15 to 72"):
+        gear_outline(ring, points=10, cutter_teeth=14)
+
+
+# --------------------------------------------------------------------------
+# Profile-shifted internal gears
+# --------------------------------------------------------------------------
+def _pitch_circle_crossings(out, radius):
+    """Polar angles where a one-tooth outline crosses the circle ``radius``."""
+    r = np.hypot(out.x, out.y)
+    psi = np.arctan2(out.y, out.x)
+    above = r >= radius
+    idx = np.flatnonzero(above[1:] != above[:-1])
+    w = (radius - r[idx]) / (r[idx + 1] - r[idx])
+    return psi[idx] + w * (psi[idx + 1] - psi[idx])
+
+
+@pytest.mark.parametrize("shift", [-0.4, -0.1, 0.0, 0.25, 0.6])
+@pytest.mark.parametrize(("teeth", "phi_deg"), [(60, 20.0), (45, 25.0), (120, 14.5)])
+def test_internal_tooth_thickness_read_from_polygon(teeth, phi_deg, shift):
+    # Sign convention (ISO 21771, KHK, SDP/SI): +x moves the profile x m away from the axis;
+    # the ring's pitch-circle tooth is s = m (pi/2 - 2 x tan phi), its tip circle
+    # r - (1 - x) m, its root circle r + (1.25 + x) m.
+    m, phi = 2.0, phi_deg * DEG
+    ring = Gear(teeth, module=m, internal=True, profile_shift=shift, pressure_angle=phi)
+    out = gear_outline(ring, points=400, single_tooth=True)
+    r_pitch = m * teeth / 2
+    angles = _pitch_circle_crossings(out, r_pitch)
+    assert angles.size == 2
+    arc = (angles.max() - angles.min()) * r_pitch
+    assert arc == pytest.approx(m * (math.pi / 2 - 2 * shift * math.tan(phi)), rel=1e-5)
+    r = np.hypot(out.x, out.y)
+    assert r.min() == pytest.approx(r_pitch - (1 - shift) * m, rel=1e-12)
+    assert r.max() == pytest.approx(r_pitch + (1.25 + shift) * m, rel=1e-12)
+
+
+def test_shifted_ring_meshes_without_overlap_and_jams_when_turned():
+    # A shifted pinion in a shifted ring at the tight-mesh distance of the involute relation:
+    # with a little thinning the pinion stays in the ring's bore through a whole pitch, and
+    # without it, turning the ring 0.01 rad against the pinion makes them overlap. A wrong
+    # sign of the ring's shift would misplace the flanks by 2 x m tan(phi) = 0.36 mm.
+    from matplotlib.path import Path
+
+    p = Gear(18, module=1.0, profile_shift=0.3, thickness_reduction=0.02)
+    ring = Gear(54, module=1.0, internal=True, profile_shift=0.5, thickness_reduction=0.02)
+    pair = GearPair(p, ring)
+    assert pair.center_distance != pytest.approx(18.0)  # not the standard distance
+    x_pitch, window = pair.operating_pitch_radii[0], 4.0
+    for angle in np.linspace(0, 2 * math.pi / 18, 7):
+        pin, gear = mesh_outlines(pair, angle, points=40)
+        bore = Path(np.column_stack([gear.x, gear.y]))
+        assert bore.contains_points(_near_pitch_point(pin, x_pitch, window)).all()
+    tight = GearPair(Gear(18, module=1.0, profile_shift=0.3),
+                     Gear(54, module=1.0, internal=True, profile_shift=0.5))  # fmt: skip
+    pin, _ = mesh_outlines(tight, 0.0, points=40)
+    for turn in (0.01, -0.01):
+        turned = gear_outline(
+            tight.gear, 40, rotation=math.pi / 54 + turn, center=(-tight.center_distance, 0)
+        )
+        bore = Path(np.column_stack([turned.x, turned.y]))
+        assert not bore.contains_points(_near_pitch_point(pin, x_pitch, window)).all()
+
+
+def test_internal_shift_bad_input():
+    with pytest.raises(InputError, match="profile_shift: 2 closes the spaces"):
+        Gear(60, module=1.0, internal=True, profile_shift=2.0)
+    with pytest.raises(InputError, match="tip circle inside its base circle"):
+        Gear(40, module=1.0, internal=True, profile_shift=-0.4)

@@ -36,6 +36,7 @@ from .interference import (
 from .mesh import (
     CONTACT_RATIO_MINIMUM,
     CONTACT_RATIO_TARGET,
+    DRIVERS,
     GearPair,
     backlash_from_center_distance,
     contact_ratio,
@@ -43,7 +44,15 @@ from .mesh import (
     length_of_action,
     operating_pressure_angle,
 )
-from .profile import GearOutline, default_tip_radius, gear_outline, mesh_outlines, plot_mesh
+from .profile import (
+    GearOutline,
+    cutter_teeth_range,
+    default_cutter_teeth,
+    default_tip_radius,
+    gear_outline,
+    mesh_outlines,
+    plot_mesh,
+)
 from .trains import (
     MESH_KINDS,
     PlanetaryTable,
@@ -62,6 +71,7 @@ from .trains import (
 __all__ = [
     "CONTACT_RATIO_MINIMUM",
     "CONTACT_RATIO_TARGET",
+    "DRIVERS",
     "MESH_KINDS",
     "SYSTEMS",
     "Gear",
@@ -76,6 +86,8 @@ __all__ = [
     "chain_ratio",
     "contact_ratio",
     "contact_ratio_rating",
+    "cutter_teeth_range",
+    "default_cutter_teeth",
     "default_tip_radius",
     "gear_outline",
     "inverse_involute",

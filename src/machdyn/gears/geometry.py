@@ -23,6 +23,16 @@ A profile shift ``x`` (coefficient of the module) moves the generating rack
 outward by ``x m``: the addendum becomes ``(k_a + x) m``, the dedendum
 ``(k_d − x) m`` and the pitch-circle tooth thickness ``π m / 2 + 2 x m tan φ``
 (Norton Figure 9-13, "long and short addendum" teeth).
+
+An internal gear follows the same sign rule — a positive ``x`` moves its
+whole profile ``x m`` away from the axis (ISO 21771, the KHK and SDP/SI
+tables) — and, its material lying outside, that thins its teeth: its tip
+(inner) circle is ``r − (k_a − x) m``, its root circle ``r + (k_d + x) m``
+and its pitch-circle tooth thickness ``π m / 2 − 2 x m tan φ``. The ring's
+space is the tooth of the external gear of the same pitch and shift, which
+is also the shaper cutter that generates it at the standard cutting
+distance. With these, the tight mesh of a pinion ``x_p`` in a ring ``x_g``
+runs at ``inv φ' = inv φ + 2 tan φ (x_g − x_p) / (N_g − N_p)``.
 """
 
 from __future__ import annotations
@@ -238,7 +248,9 @@ class Gear:
     addendum, dedendum : float, optional
         Explicit addendum and dedendum lengths (before profile shift).
     profile_shift : float, default 0
-        Profile-shift coefficient ``x`` (external gears only).
+        Profile-shift coefficient ``x``: positive moves the profile ``x m``
+        away from the axis (thicker external teeth, thinner internal teeth;
+        see the module notes).
     internal : bool, default False
         An internal (ring) gear: its addendum circle lies inside the pitch
         circle and its root circle outside.
@@ -315,8 +327,6 @@ class Gear:
         self._check()
 
     def _check(self) -> None:
-        if self.internal and self.profile_shift != 0.0:
-            raise InputError("profile_shift", "profile shift is supported for external gears only")
         if self.clearance <= 0.0:
             raise InputError(
                 "dedendum", "must exceed the addendum so that there is tip-to-root clearance"
@@ -330,14 +340,24 @@ class Gear:
                 "thickness_reduction",
                 f"must be smaller than the tooth thickness {self.thickness_standard:.4g}",
             )
+        if self.internal and self.addendum_radius <= self.base_radius:
+            shift = " or a larger profile shift" if self.profile_shift <= 0 else ""
+            raise InputError(
+                "teeth",
+                f"an internal gear of {self.teeth} teeth has its tip circle inside its base"
+                f" circle; use more teeth, a shorter addendum{shift}",
+            )
         if self.internal:
-            if self.addendum_radius <= self.base_radius:
+            space_at_root = tooth_thickness_at(
+                self.root_radius, self.pitch_radius, self.space_width, self.pressure_angle
+            )
+            if space_at_root <= 0.0:
                 raise InputError(
-                    "teeth",
-                    f"an internal gear of {self.teeth} teeth has its tip circle inside its base"
-                    " circle; use more teeth or a shorter addendum",
+                    "profile_shift",
+                    f"{self.profile_shift:g} closes the spaces of this internal gear before its"
+                    " root circle (no cutter can cut them); use a smaller shift",
                 )
-        elif self.tip_thickness <= 0.0:
+        if self.tip_thickness <= 0.0:
             raise InputError(
                 "teeth",
                 f"{self.teeth} teeth give pointed teeth (tip thickness"
@@ -346,6 +366,11 @@ class Gear:
             )
 
     # -- sizes -------------------------------------------------------------
+    @property
+    def _shift(self) -> float:
+        """``x m`` towards the tip: ``+x m`` outside, ``−x m`` for an internal gear."""
+        return (-1.0 if self.internal else 1.0) * self.profile_shift * self.module
+
     @property
     def pitch_radius(self) -> float:
         """Reference pitch radius ``r = m N / 2``."""
@@ -363,33 +388,36 @@ class Gear:
 
     @property
     def addendum(self) -> float:
-        """Addendum after profile shift, ``(k_a + x) m`` or the given value plus ``x m``."""
+        """Addendum after profile shift: ``(k_a + x) m``, internal ``(k_a − x) m``.
+
+        With explicit proportions, the given addendum plus (internal: minus) ``x m``.
+        """
         base = (
             SYSTEMS[self.system][0] * self.module
             if self.given_addendum is None
             else self.given_addendum
         )
-        return base + self.profile_shift * self.module
+        return base + self._shift
 
     @property
     def dedendum(self) -> float:
-        """Dedendum after profile shift, ``(k_d − x) m`` or the given value minus ``x m``."""
+        """Dedendum after profile shift: ``(k_d − x) m``, internal ``(k_d + x) m``."""
         base = (
             SYSTEMS[self.system][1] * self.module
             if self.given_dedendum is None
             else self.given_dedendum
         )
-        return base - self.profile_shift * self.module
+        return base - self._shift
 
     @property
     def clearance(self) -> float:
         """Tip-to-root clearance ``c = b − a`` of the unshifted proportions."""
-        return self.dedendum - self.addendum + 2 * self.profile_shift * self.module
+        return self.dedendum - self.addendum + 2 * self._shift
 
     @property
     def addendum_constant(self) -> float:
         """Addendum constant ``k = a / m = P_d a`` (the notes, unshifted)."""
-        return (self.addendum - self.profile_shift * self.module) / self.module
+        return (self.addendum - self._shift) / self.module
 
     @property
     def addendum_radius(self) -> float:
@@ -416,10 +444,19 @@ class Gear:
     # -- thicknesses -------------------------------------------------------
     @property
     def thickness_standard(self) -> float:
-        """Pitch-circle tooth thickness before thinning: ``π m / 2 + 2 x m tan φ``."""
-        return math.pi * self.module / 2.0 + 2.0 * self.profile_shift * self.module * math.tan(
-            self.pressure_angle
-        )
+        """Pitch-circle tooth thickness before thinning: ``π m / 2 ± 2 x m tan φ``.
+
+        ``+`` for an external gear, ``−`` for an internal one (its space is
+        ``π m / 2 + 2 x m tan φ``, the tooth of an external gear of shift ``x``).
+
+        Examples
+        --------
+        >>> ring = Gear(60, module=2.0, internal=True, profile_shift=0.25)
+        >>> round(ring.thickness_standard, 6) == round(2.0 * (math.pi / 2 - 0.5 * math.tan(
+        ...     math.radians(20))), 6)
+        True
+        """
+        return math.pi * self.module / 2.0 + 2.0 * self._shift * math.tan(self.pressure_angle)
 
     @property
     def tooth_thickness(self) -> float:

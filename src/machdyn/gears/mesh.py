@@ -15,12 +15,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import as_array, broadcast, magnitude
+from .._validate import as_array, broadcast, choice, magnitude
 from ..errors import InputError
 from ._checks import finite, pressure_angle_array
 from .geometry import Gear, inverse_involute, involute
@@ -28,6 +29,7 @@ from .geometry import Gear, inverse_involute, involute
 __all__ = [
     "CONTACT_RATIO_MINIMUM",
     "CONTACT_RATIO_TARGET",
+    "DRIVERS",
     "GearPair",
     "backlash_from_center_distance",
     "contact_ratio",
@@ -40,6 +42,8 @@ __all__ = [
 CONTACT_RATIO_MINIMUM = 1.2
 #: The notes' standard target: ``m_p >= 1.4``.
 CONTACT_RATIO_TARGET = 1.4
+#: Which member of a :class:`GearPair` drives.
+DRIVERS = ("pinion", "gear")
 
 
 def operating_pressure_angle(
@@ -310,7 +314,7 @@ class GearPair:
     Parameters
     ----------
     pinion : Gear
-        The smaller, external gear (the driver unless stated otherwise).
+        The smaller, external gear.
     gear : Gear
         The mating gear, external or internal, with the same module and
         pressure angle.
@@ -318,6 +322,11 @@ class GearPair:
         Operating centre distance ``C'``. Default: the tight-mesh centre
         distance of the (unthinned) teeth, which is the standard
         ``C = (N_g ± N_p) m / 2`` when the profile shifts add to zero.
+    driver : {"pinion", "gear"}, default "pinion"
+        The member that drives. It decides which end of the path of contact
+        is the first contact, so it splits the length of action into approach
+        and recess (:attr:`path_of_approach`, :attr:`angles_of_approach`);
+        nothing else depends on it.
 
     Raises
     ------
@@ -340,13 +349,28 @@ class GearPair:
     True
     >>> round(math.degrees(wide.operating_pressure_angle), 3)
     21.436
+
+    Whichever member drives, approach and recess share the same length of
+    action; they swap ends:
+
+    >>> up = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8), driver="gear")
+    >>> round(pair.path_of_approach, 4), round(up.path_of_approach, 4)
+    (0.3293, 0.2956)
     """
 
     pinion: Gear
     gear: Gear
     center_distance: float
+    driver: str = "pinion"
 
-    def __init__(self, pinion: Gear, gear: Gear, center_distance: float | None = None) -> None:
+    def __init__(
+        self,
+        pinion: Gear,
+        gear: Gear,
+        center_distance: float | None = None,
+        *,
+        driver: str = "pinion",
+    ) -> None:
         if not isinstance(pinion, Gear) or not isinstance(gear, Gear):
             raise InputError("pinion", "pinion and gear must be machdyn.gears.Gear objects")
         if pinion.internal:
@@ -368,6 +392,7 @@ class GearPair:
             raise InputError("gear", "an internal gear must have more teeth than its pinion")
         object.__setattr__(self, "pinion", pinion)
         object.__setattr__(self, "gear", gear)
+        object.__setattr__(self, "driver", choice("driver", driver, DRIVERS))
         if center_distance is None:
             c_op = self.tight_center_distance
         else:
@@ -388,7 +413,19 @@ class GearPair:
         >>> round(pair.with_center_distance(60.2).backlash, 4)  # ≈ 2 ΔC tan φ = 0.1456
         0.1479
         """
-        return GearPair(self.pinion, self.gear, center_distance)
+        return GearPair(self.pinion, self.gear, center_distance, driver=self.driver)
+
+    def with_driver(self, driver: str) -> GearPair:
+        """Return the same pair with ``driver`` ("pinion" or "gear") driving.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(20, module=2.0), Gear(40, module=2.0))
+        >>> back = pair.with_driver("gear")
+        >>> back.driver, back.path_of_approach == pair.path_of_recess
+        ('gear', True)
+        """
+        return GearPair(self.pinion, self.gear, self.center_distance, driver=driver)
 
     # -- centre distance and pressure angle ---------------------------------
     @property
@@ -429,9 +466,13 @@ class GearPair:
         """Reference (cutting) pressure angle ``φ``."""
         return self.pinion.pressure_angle
 
-    @property
+    @cached_property
     def operating_pressure_angle(self) -> float:
-        """``φ'`` from ``cos φ' = (C / C') cos φ`` (Figure 9-8)."""
+        """``φ'`` from ``cos φ' = (C / C') cos φ`` (Figure 9-8).
+
+        Computed once per pair (the pair is immutable); every contact
+        property uses it.
+        """
         return float(
             operating_pressure_angle(
                 self.standard_center_distance, self.center_distance, self.pressure_angle
@@ -509,37 +550,116 @@ class GearPair:
             rating += " (but the teeth interfere: the contact ratio is overstated)"
         return rating
 
+    def _tip_paths_from_pitch_point(self) -> tuple[float, float]:
+        """Distances from the pitch point to where the (pinion, gear) tip circles cut the line.
+
+        The pinion's tip point lies on the far side of the pitch point from
+        the pinion's base-circle tangent point, ``√(r_ap² − r_bp²) − r_p' sin φ'``;
+        the gear's tip point lies on the far side from the gear's tangent point
+        (external pair), ``√(r_ag² − r_bg²) − r_g' sin φ'``, or between the pitch
+        point and that tangent point (internal pair: the ring's tip circle is
+        inside its pitch circle), ``r_g' sin φ' − √(r_ag² − r_bg²)``. The two
+        add up to the length of action.
+        """
+        zp, zg, _ = self._tip_paths()
+        rp_op, rg_op = self.operating_pitch_radii
+        s = math.sin(self.operating_pressure_angle)
+        gear_side = rg_op * s - zg if self.internal else zg - rg_op * s
+        return zp - rp_op * s, gear_side
+
     @property
     def path_of_approach(self) -> float:
         """Length of the line of action from first contact to the pitch point.
 
-        With the pinion driving, contact begins where the gear's tip circle
-        crosses the line of action.
+        Contact begins where the *driven* member's tip circle crosses the line
+        of action (the notes' Figure 9-7; Norton Ch. 9): the driver's flank first touches the
+        driven tooth's tip, low on its own flank. With the pinion driving (the
+        default) that is the gear's tip circle; with the gear driving, the
+        pinion's — approach and recess swap ends.
+
+        Examples
+        --------
+        The notes' final-exam set (24/60 teeth, P_d = 8, 20°): the gear's tip
+        circle cuts the line of action 1.6119 in from the gear's tangent point,
+        ``r_g sin φ = 1.2826`` in from the pitch point:
+
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> round(pair.path_of_approach, 4)
+        0.3293
         """
-        _, zg, _ = self._tip_paths()
-        rg_op = self.operating_pitch_radii[1]
-        s = math.sin(self.operating_pressure_angle)
-        return rg_op * s - zg if self.internal else zg - rg_op * s
+        pinion_tip, gear_tip = self._tip_paths_from_pitch_point()
+        return gear_tip if self.driver == "pinion" else pinion_tip
 
     @property
     def path_of_recess(self) -> float:
-        """Length of the line of action from the pitch point to the last contact."""
-        zp, _, _ = self._tip_paths()
-        return zp - self.operating_pitch_radii[0] * math.sin(self.operating_pressure_angle)
+        """Length of the line of action from the pitch point to the last contact.
+
+        Contact ends where the *driver's* tip circle crosses the line of action.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> round(pair.path_of_recess, 4), round(pair.with_driver("gear").path_of_recess, 4)
+        (0.2956, 0.3293)
+        """
+        pinion_tip, gear_tip = self._tip_paths_from_pitch_point()
+        return pinion_tip if self.driver == "pinion" else gear_tip
+
+    @property
+    def arc_of_approach(self) -> float:
+        """Arc of approach on the operating pitch circles, ``path of approach / cos φ'``.
+
+        The pitch circles roll on each other, so the arc is the same on both
+        (Norton Figure 9-7); over each pitch radius it is that member's angle.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> round(pair.arc_of_approach, 4)  # 0.3293 / cos 20°
+        0.3504
+        """
+        return self.path_of_approach / math.cos(self.operating_pressure_angle)
+
+    @property
+    def arc_of_recess(self) -> float:
+        """Arc of recess on the operating pitch circles, ``path of recess / cos φ'``.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> round(pair.arc_of_recess, 4)  # 0.2956 / cos 20°
+        0.3146
+        """
+        return self.path_of_recess / math.cos(self.operating_pressure_angle)
 
     @property
     def angles_of_approach(self) -> tuple[float, float]:
-        """Angles (rad) turned by ``(pinion, gear)`` during approach, pinion driving.
+        """Angles (rad) turned by ``(pinion, gear)`` during approach, by :attr:`driver`.
 
-        The arc of approach on a pitch circle over its radius, which is the
-        path of approach over the base radius.
+        The arc of approach on an operating pitch circle over its radius,
+        which is the path of approach over the base radius (the line of action
+        unwinds from each base circle like a taut string). Both members turn
+        through their angles in the same time, in the ratio ``N_p / N_g``.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> [round(math.degrees(a), 2) for a in pair.angles_of_approach]
+        [13.39, 5.35]
         """
         z = self.path_of_approach
         return z / self.pinion.base_radius, z / self.gear.base_radius
 
     @property
     def angles_of_recess(self) -> tuple[float, float]:
-        """Angles (rad) turned by ``(pinion, gear)`` during recess, pinion driving."""
+        """Angles (rad) turned by ``(pinion, gear)`` during recess, by :attr:`driver`.
+
+        Examples
+        --------
+        >>> pair = GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8))
+        >>> [round(math.degrees(a), 2) for a in pair.with_driver("gear").angles_of_recess]
+        [13.39, 5.35]
+        """
         z = self.path_of_recess
         return z / self.pinion.base_radius, z / self.gear.base_radius
 
@@ -652,7 +772,13 @@ class GearPair:
         """True if either tip interferes (see :attr:`interference`)."""
         return any(self.interference)
 
-    def plot(self, pinion_angle: float = 0.0, ax: Any = None, points: int = 40) -> Any:
+    def plot(
+        self,
+        pinion_angle: float = 0.0,
+        ax: Any = None,
+        points: int = 40,
+        cutter_teeth: int | None = None,
+    ) -> Any:
         """Draw the pair in mesh (see :func:`machdyn.gears.profile.plot_mesh`).
 
         Examples
@@ -663,7 +789,7 @@ class GearPair:
         """
         from .profile import plot_mesh
 
-        return plot_mesh(self, pinion_angle, ax, points)
+        return plot_mesh(self, pinion_angle, ax, points, cutter_teeth)
 
     def to_pandas(self) -> Any:
         """Return :meth:`summary` flattened into a pandas Series (``pinion.*``, ``gear.*``).
@@ -699,6 +825,7 @@ class GearPair:
             "pinion": self.pinion.summary(),
             "gear": self.gear.summary(),
             "internal": self.internal,
+            "driver": self.driver,
             "standard_center_distance": self.standard_center_distance,
             "center_distance": self.center_distance,
             "operating_pressure_angle_deg": math.degrees(self.operating_pressure_angle),
@@ -707,6 +834,10 @@ class GearPair:
             "velocity_ratio": self.velocity_ratio,
             "gear_ratio": self.gear_ratio,
             "length_of_action": self.length_of_action,
+            "path_of_approach": self.path_of_approach,
+            "path_of_recess": self.path_of_recess,
+            "arc_of_approach": self.arc_of_approach,
+            "arc_of_recess": self.arc_of_recess,
             "base_pitch": self.base_pitch,
             "contact_ratio": self.contact_ratio,
             "contact_ratio_rating": self.contact_ratio_rating,

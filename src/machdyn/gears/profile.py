@@ -15,8 +15,13 @@ with ``C`` the tip-round centre in the gear frame.
 
 An internal gear is generated the same way by a pinion-type shaper cutter
 (a small external gear with rounded tips) rolling inside it; its fillet is
-the envelope of the cutter's tip rounds. (Undercut of internal gears is not
-checked.)
+the envelope of the cutter's tip rounds. A profile-shifted ring (shift ``x``)
+is cut by a cutter carrying the same shift — tooth ``π m / 2 + 2 x m tan φ``,
+addendum ``(k_d + x) m`` — at the standard cutting distance ``R − r_c``; the
+ring's involute is the same as from an unshifted cutter fed to the
+corresponding distance, and its root circle is the ring's nominal
+``R + (k_d + x) m``. :func:`cutter_teeth_range` says which cutters can cut a
+ring. (Undercut of internal gears is not checked.)
 
 Everything is vectorised: one tooth is built from arrays of parameters, the
 gear by broadcasting the tooth over the ``N`` angular positions.
@@ -37,7 +42,103 @@ from .._validate import integer, nonnegative
 from ..errors import InputError, MachdynError
 from .geometry import Gear, involute
 
-__all__ = ["GearOutline", "default_tip_radius", "gear_outline", "plot_mesh"]
+__all__ = [
+    "GearOutline",
+    "cutter_teeth_range",
+    "default_cutter_teeth",
+    "default_tip_radius",
+    "gear_outline",
+    "plot_mesh",
+]
+
+#: Fewest teeth between a ring and its shaper cutter (a shop rule of thumb against the
+#: cutter's tips fouling the ring's tips as it is fed in and withdrawn, not derived here).
+CUTTER_TEETH_DIFFERENCE = 8
+
+
+def cutter_teeth_range(gear: Gear) -> tuple[int, int]:
+    """Fewest and most teeth of a pinion-type shaper cutter that can cut an internal gear.
+
+    The cutter has the ring's module and pressure angle, a tooth as thick as
+    the ring's space and an addendum equal to the ring's dedendum; it meshes
+    with the ring at the cutting centre distance ``R − r_c``. It generates the
+    ring's involute only where the contact lies on its own involute, outside
+    its base circle. The ring's tip circle cuts the line of action
+    ``R sin φ − √(r_a² − r_b²)`` from the pitch point, towards the cutter's
+    tangent point, which is ``r_c sin φ`` from it; so the whole flank, up to
+    the ring's tip, is generated (no involute interference, the same
+    condition as :attr:`GearPair.interference` for a pinion in a ring) if
+
+    ``N_c >= (2 / m) (R − √(r_a² − r_b²) / sin φ)``.
+
+    For a very large ring this tends to the minimum pinion against a rack
+    (Norton Table 9-4: 32, 18, 12 teeth at 14.5°, 20°, 25° full depth). The
+    cutter's own teeth must also not be pointed at its tip circle. The upper
+    limit ``N − 8`` is a shop rule of thumb against the cutter's tips fouling
+    the ring's tips when it is fed in and withdrawn, not a derivation.
+
+    Parameters
+    ----------
+    gear : Gear
+        An internal gear.
+
+    Returns
+    -------
+    (int, int)
+        Fewest and most cutter teeth, inclusive.
+
+    Raises
+    ------
+    InputError
+        If the gear is not internal, or no cutter fits (the fewest exceed the
+        most: use a shorter addendum, a larger pressure angle or more teeth).
+
+    Examples
+    --------
+    >>> cutter_teeth_range(Gear(40, module=1.0, internal=True))
+    (24, 32)
+    >>> cutter_teeth_range(Gear(2000, module=1.0, internal=True))[0]  # a rack: Table 9-4
+    18
+    """
+    if not isinstance(gear, Gear) or not gear.internal:
+        raise InputError("gear", "only an internal gear is cut by a shaper cutter here")
+    m, phi, n = gear.module, gear.pressure_angle, gear.teeth
+    z_tip = math.sqrt(gear.addendum_radius**2 - gear.base_radius**2)
+    by_interference = math.ceil(2.0 / m * (gear.pitch_radius - z_tip / math.sin(phi)) - 1e-9)
+    # Pointed cutter teeth: the half-angle of the tooth at the cutter's tip circle, for every
+    # candidate at once (the tip of a cutter of N_c teeth is at m N_c / 2 + b).
+    n_c = np.arange(3, n)
+    r_c = m * n_c / 2.0
+    phi_tip = np.arccos(r_c * math.cos(phi) / (r_c + gear.dedendum))
+    half = gear.space_width / (2.0 * r_c) + float(involute(phi)) - involute(phi_tip)
+    sharp = n_c[half <= 0.0]
+    by_point = int(sharp.max()) + 1 if sharp.size else 3
+    low, high = max(by_interference, by_point, 3), n - CUTTER_TEETH_DIFFERENCE
+    if low > high:
+        raise InputError(
+            "cutter_teeth",
+            f"no shaper cutter can cut this {n}-tooth ring: it needs at least {low} teeth"
+            f" (fewer are pointed or cannot generate the flanks up to the ring's tip) and at"
+            f" most {high}; use more teeth, a shorter addendum or a larger pressure angle",
+        )
+    return low, high
+
+
+def default_cutter_teeth(gear: Gear) -> int:
+    """Shaper-cutter teeth used for an internal gear unless told otherwise.
+
+    ``max(12, min(25, N // 2))``, raised or lowered into
+    :func:`cutter_teeth_range`.
+
+    Examples
+    --------
+    >>> default_cutter_teeth(Gear(120, module=1.0, internal=True))
+    25
+    >>> default_cutter_teeth(Gear(40, module=1.0, internal=True))  # 20 would interfere
+    24
+    """
+    low, high = cutter_teeth_range(gear)
+    return min(max(max(12, min(25, gear.teeth // 2)), low), high)
 
 
 def default_tip_radius(gear: Gear) -> float:
@@ -468,8 +569,9 @@ def gear_outline(
         Only the tooth centred on ``rotation`` (from space centre to space
         centre) instead of the whole gear.
     cutter_teeth : int, optional
-        Teeth of the pinion-type shaper cutter that cuts an internal gear
-        (default ``max(12, min(25, N // 2))``); ignored for external gears.
+        Teeth of the pinion-type shaper cutter that cuts an internal gear,
+        within :func:`cutter_teeth_range` (default
+        :func:`default_cutter_teeth`); ignored for external gears.
 
     Returns
     -------
@@ -494,12 +596,7 @@ def gear_outline(
     if tip_radius is not None:
         tip_radius = nonnegative("tip_radius", tip_radius)
     if gear.internal:
-        n_c = max(12, min(25, gear.teeth // 2)) if cutter_teeth is None else cutter_teeth
-        n_c = integer("cutter_teeth", n_c, minimum=8)
-        if n_c > gear.teeth - 8:
-            raise InputError(
-                "cutter_teeth", f"must be at most {gear.teeth - 8} to cut {gear.teeth} teeth"
-            )
+        n_c = _cutter_teeth(gear, cutter_teeth)
         r, psi, seg, undercut, r_form = _internal_flank_polar(gear, points, n_c, tip_radius)
     else:
         r, psi, seg, undercut, r_form = _flank_polar(gear, points, tip_radius)
@@ -531,13 +628,36 @@ def gear_outline(
     )
 
 
-def mesh_outlines(pair: Any, pinion_angle: float = 0.0, points: int = 40) -> tuple[Any, Any]:
+def _cutter_teeth(gear: Gear, cutter_teeth: int | None) -> int:
+    """Check a shaper cutter's tooth count for ``gear`` (internal), or choose the default."""
+    if cutter_teeth is None:
+        return default_cutter_teeth(gear)
+    n_c = integer("cutter_teeth", cutter_teeth)
+    low, high = cutter_teeth_range(gear)
+    if not low <= n_c <= high:
+        why = (
+            "a smaller cutter has pointed teeth or cannot generate the ring's flanks up to its tip"
+            if n_c < low
+            else f"a cutter needs at least {CUTTER_TEETH_DIFFERENCE} teeth fewer than the ring"
+        )
+        raise InputError(
+            "cutter_teeth",
+            f"must be from {low} to {high} to cut this {gear.teeth}-tooth ring, got {n_c}: {why}",
+        )
+    return n_c
+
+
+def mesh_outlines(
+    pair: Any, pinion_angle: float = 0.0, points: int = 40, cutter_teeth: int | None = None
+) -> tuple[Any, Any]:
     """Place the pinion and the gear of a :class:`GearPair` in mesh.
 
     The pinion is centred at the origin, the gear on the x axis at ``+C'``
     (external) or ``−C'`` (internal), so that the pitch point is at
     ``(r_p', 0)``. With ``pinion_angle = 0`` a pinion tooth points at the
     pitch point; the gear turns ``∓ N_p / N_g`` as far.
+
+    ``cutter_teeth`` is passed to :func:`gear_outline` for an internal gear.
 
     Returns
     -------
@@ -561,12 +681,21 @@ def mesh_outlines(pair: Any, pinion_angle: float = 0.0, points: int = 40) -> tup
         center = (c, 0.0)
     return (
         gear_outline(p, points, rotation=pinion_angle),
-        gear_outline(g, points, rotation=gear_rot, center=center),
+        gear_outline(g, points, rotation=gear_rot, center=center, cutter_teeth=cutter_teeth),
     )
 
 
-def plot_mesh(pair: Any, pinion_angle: float = 0.0, ax: Any = None, points: int = 40) -> Any:
-    """Plot a meshing pair with pitch and base circles and the line of action.
+def plot_mesh(
+    pair: Any,
+    pinion_angle: float = 0.0,
+    ax: Any = None,
+    points: int = 40,
+    cutter_teeth: int | None = None,
+) -> Any:
+    """Plot a meshing pair with pitch and base circles and the path of contact.
+
+    The path of contact is drawn in two parts, approach (solid, from the
+    first contact, marked) and recess (dashed), according to ``pair.driver``.
 
     Parameters
     ----------
@@ -578,6 +707,8 @@ def plot_mesh(pair: Any, pinion_angle: float = 0.0, ax: Any = None, points: int 
         Axes to draw on (new figure if omitted).
     points : int, default 40
         Points per flank.
+    cutter_teeth : int, optional
+        Shaper-cutter teeth of an internal gear (see :func:`gear_outline`).
 
     Returns
     -------
@@ -597,7 +728,7 @@ def plot_mesh(pair: Any, pinion_angle: float = 0.0, ax: Any = None, points: int 
 
     if ax is None:
         _, ax = plt.subplots(figsize=(8, 5))
-    pin, gear = mesh_outlines(pair, pinion_angle, points)
+    pin, gear = mesh_outlines(pair, pinion_angle, points, cutter_teeth)
     pin.plot(ax, color="tab:blue", label=f"pinion N={pair.pinion.teeth}")
     gear.plot(ax, color="tab:red", label=f"gear N={pair.gear.teeth}")
     c = -pair.center_distance if pair.internal else pair.center_distance
@@ -609,9 +740,21 @@ def plot_mesh(pair: Any, pinion_angle: float = 0.0, ax: Any = None, points: int 
         ax.add_patch(Circle((xc, 0.0), r_pitch, fill=False, ls="--", lw=0.6, color="gray"))
         ax.add_patch(Circle((xc, 0.0), r_base, fill=False, ls=":", lw=0.6, color="gray"))
     phi = pair.operating_pressure_angle
-    d = np.array([math.sin(phi), math.cos(phi)])  # tangent to both base circles
-    ends = np.array([rp_op, 0.0]) + np.outer([-pair.path_of_approach, pair.path_of_recess], d)
-    ax.plot(ends[:, 0], ends[:, 1], color="k", lw=0.8, label="path of contact")
+    # The line of action through the pitch point, tangent to both base circles: the pinion's
+    # tangent point is at -r_p' sin φ' along d, so its tip point is beyond the pitch point
+    # (+d) and the gear's tip point short of it (-d), external or internal. Contact starts at
+    # the driven member's tip point.
+    d = np.array([math.sin(phi), math.cos(phi)])
+    pitch = np.array([rp_op, 0.0])
+    toward_first = -1.0 if pair.driver == "pinion" else 1.0
+    first = pitch + toward_first * pair.path_of_approach * d
+    last = pitch - toward_first * pair.path_of_recess * d
+    for (a, b), style, label in (
+        ((first, pitch), "-", f"approach ({pair.driver} drives)"),
+        ((pitch, last), "--", "recess"),
+    ):
+        ax.plot([a[0], b[0]], [a[1], b[1]], color="k", ls=style, lw=1.0, label=label)
+    ax.plot(*first, "o", color="k", ms=3, label="first contact")
     span = pair.pinion.addendum_radius * 1.6
     ax.set_xlim(-span * 0.6, rp_op + span)
     ax.set_ylim(-span, span)
