@@ -270,6 +270,26 @@ def test_solve_beyond_the_kernels_range_falls_back_to_numpy():
     np.testing.assert_allclose(compiled.omega4, reference.omega4, atol=1e-9)
 
 
+def test_coupler_points_of_many_candidates_match_the_numpy_path(rng):
+    from machdyn.synthesis.atlas import coupler_points
+
+    n = 2_000
+    lengths = np.exp(rng.uniform(-1.5, 1.5, (4, n)))  # many cannot assemble everywhere
+    p, delta = rng.uniform(0.1, 3.0, n), rng.normal(size=n)
+    branch = np.where(rng.random(n) < 0.5, 1, -1)
+    theta2 = np.linspace(0, 2 * np.pi, 90, endpoint=False)
+    (ref, ref_ok), (got, got_ok) = both_paths(
+        lambda: coupler_points(*lengths, p, delta, theta2, branch)
+    )
+    np.testing.assert_array_equal(got_ok, ref_ok)
+    assert 0.05 < ref_ok.mean() < 0.95  # both kinds of sample are exercised
+    np.testing.assert_array_equal(np.isnan(got), np.isnan(ref))
+    scale = lengths.max(axis=0)[:, None] + p[:, None]
+    np.testing.assert_array_less(
+        np.abs(got - ref)[ref_ok], 1e-13 * np.broadcast_to(scale, ref.shape)[ref_ok]
+    )
+
+
 # --------------------------------------------------------------------------------------
 # The rule that chooses the path
 

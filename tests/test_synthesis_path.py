@@ -19,6 +19,9 @@ from machdyn.synthesis import (
     time_ratio_angle,
 )
 
+# Every test runs on the NumPy kernels and again on the compiled ones (coupler_points).
+pytestmark = pytest.mark.usefixtures("backend")
+
 # --------------------------------------------------------------------------------------
 # the vectorised kernel against FourBar (a separate code path: unit vectors + solve)
 

@@ -233,6 +233,33 @@ def positions(r1, r2, r3, r4, branch, close_tol, theta2, theta3, theta4, ok):  #
     return big
 
 
+@_jit
+def coupler_points(lengths, offsets, cos2, sin2, close_tol, points, ok):  # pragma: no cover
+    """Coupler points of N four-bars (rows) at M input angles (columns), in their frames.
+
+    ``lengths`` (N, 4) holds R1…R4 of each candidate; ``offsets`` (N, 3) holds
+    p cos δ, p sin δ and the branch (±1); ``cos2``, ``sin2`` (M,) the input
+    angles' cosines and sines. Writes ``points`` (N, M) complex (NaN where not
+    assembled) and ``ok`` (N, M). The same arithmetic as
+    :func:`machdyn.synthesis.atlas.coupler_points`' NumPy kernel; no inverse
+    trigonometric function is needed, so this one is only square roots and divisions.
+    """
+    nan = np.nan
+    for k in range(lengths.shape[0]):
+        r1, r2, r3, r4 = lengths[k, 0], lengths[k, 1], lengths[k, 2], lengths[k, 3]
+        scale = max(max(r1, r2), max(r3, r4))
+        s1, s2, s3, s4 = r1 / scale, r2 / scale, r3 / scale, r4 / scale
+        pr, pi, branch = offsets[k, 0], offsets[k, 1], offsets[k, 2]
+        for i in range(cos2.shape[0]):
+            c, s = cos2[i], sin2[i]
+            e3x, e3y, _, _, status = _unit_vectors(s1, s2, s3, s4, c, s, branch, close_tol)
+            blank = 0.0 if status == OK else nan  # NaN where not assembled
+            x = r2 * c + pr * e3x - pi * e3y + blank
+            y = r2 * s + pr * e3y + pi * e3x + blank
+            points[k, i] = complex(x, y)
+            ok[k, i] = status == OK
+
+
 # --------------------------------------------------------------------------------------
 # FourBar.solve: one kernel per derivative order. LLVM does not vectorise a loop that
 # branches on the order or on a "has a coupler point" flag, so the order picks the

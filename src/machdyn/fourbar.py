@@ -220,7 +220,7 @@ def positions(
             args = (sign, _CLOSE_TOL, inputs[sl], theta3[sl], theta4[sl], ok[sl])
             return compiled.positions(*lengths, *args)
 
-        if _run_compiled(compiled_kernel, flat.size):
+        if jit.run(compiled_kernel, flat.size):
             return theta3.reshape(shape), theta4.reshape(shape), ok.reshape(shape)
 
     def kernel(part: slice) -> None:
@@ -237,23 +237,6 @@ def positions(
     for_slices(kernel, flat.size)
     jit.charge(time.perf_counter() - start)
     return theta3.reshape(shape), theta4.reshape(shape), ok.reshape(shape)
-
-
-def _run_compiled(kernel: Callable[[slice], int], n: int) -> bool:
-    """Run a compiled kernel over ``range(n)`` in slices; False if NumPy must redo it.
-
-    The kernels return how many inputs lie beyond their sine's range (NumPy then
-    does the call). Should a kernel fail (it should not: the test suite runs every
-    four-bar test on both paths), the compiled path is switched off with a warning
-    and NumPy serves this and every later call.
-    """
-    beyond: list[int] = []
-    try:
-        for_slices(lambda sl: beyond.append(kernel(sl)), n)
-    except Exception as exc:  # anything from numba: NumPy is the reference path
-        jit.fail(exc)
-        return False
-    return not any(beyond)
 
 
 def _angle_into(y: np.ndarray, x: np.ndarray, good: np.ndarray | None, out: np.ndarray) -> None:
@@ -1256,7 +1239,7 @@ def _solve_compiled(
         )
         return solver(*fixed, *args)
 
-    if not _run_compiled(kernel, n):
+    if not jit.run(kernel, n):
         return None
     return {**dict.fromkeys((*_RATE_NAMES, *_POINT_NAMES)), **out}
 

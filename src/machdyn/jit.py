@@ -36,6 +36,7 @@ import os
 import sys
 import threading
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 
@@ -140,6 +141,25 @@ def kernels(poses: int) -> ModuleType | None:
             )
         return _kernels
     return None
+
+
+def run(kernel: Callable[[slice], int | None], n: int) -> bool:
+    """Run a compiled kernel over ``range(n)`` in slices (threads for large n).
+
+    Returns False if NumPy must redo the call: a kernel returned a nonzero count
+    (inputs beyond its range), or raised. A kernel that raises (it should not:
+    the test suite runs the four-bar tests on both paths) switches the compiled
+    path off with one warning, and NumPy serves this and every later call.
+    """
+    from ._parallel import for_slices
+
+    results: list[int | None] = []
+    try:
+        for_slices(lambda sl: results.append(kernel(sl)), n)
+    except Exception as exc:  # anything from numba: NumPy is the reference path
+        fail(exc)
+        return False
+    return not any(results)
 
 
 def charge(seconds: float) -> None:

@@ -17,14 +17,16 @@ point is ``P = A + (p e^{jδ} / b)(B − A)``.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from .. import jit
 from .._validate import finite_array, integer
 from ..errors import InputError
-from ..fourbar import OK, _unit_vectors
+from ..fourbar import _CLOSE_TOL, OK, _unit_vectors
 
 __all__ = ["CouplerAtlas", "atlas", "coupler_points"]
 
@@ -104,12 +106,30 @@ def _kernel(
     theta2: np.ndarray,
     branch: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`coupler_points` on validated 1-D arrays of one length (no checks)."""
+    """:func:`coupler_points` on validated 1-D arrays of one length (no checks).
+
+    Compiled when :mod:`machdyn.jit` says so (it counts these evaluations like
+    four-bar poses), NumPy otherwise.
+    """
     n = r1.size
     m = theta2.size
     points = np.empty((n, m), dtype=complex)
     ok = np.empty((n, m), dtype=bool)
     c2, s2 = np.cos(theta2), np.sin(theta2)
+    compiled = jit.kernels(n * m)
+    if compiled is not None:
+        lengths = np.column_stack([r1, r2, r3, r4]).astype(float)
+        sign = np.where(branch >= 0, 1.0, -1.0)
+        offsets = np.column_stack([p * np.cos(delta), p * np.sin(delta), sign])
+
+        def kernel(sl: slice) -> None:
+            compiled.coupler_points(
+                lengths[sl], offsets[sl], c2, s2, _CLOSE_TOL, points[sl], ok[sl]
+            )
+
+        if jit.run(kernel, n):
+            return points, ok
+    start = time.perf_counter()
     # per-candidate constants, as column vectors: P = A + p e^{jδ} e^{jθ3}
     pr = (p * np.cos(delta))[:, None]
     pi = (p * np.sin(delta))[:, None]
@@ -126,6 +146,7 @@ def _kernel(
         block.real = r2c[sl] * c2 + pr[sl] * e3x - pi[sl] * e3y + blank
         block.imag = r2c[sl] * s2 + pr[sl] * e3y + pi[sl] * e3x + blank
         ok[sl] = good
+    jit.charge(time.perf_counter() - start)
     return points, ok
 
 
