@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 
+from machdyn import jit
 from machdyn.fourbar import FourBar
 from machdyn.synthesis import (
     PlacedFourBar,
@@ -80,6 +81,9 @@ def main() -> None:
             )
         )
 
+    why = jit.reason() or f"MACHDYN_JIT={jit.mode()}"
+    kernels = "compiled" if jit.active() else f"NumPy ({why})"
+    print(f"coupler-point kernels: {kernels} (machdyn.jit; MACHDYN_JIT=off for NumPy)\n")
     print(f"{'what':40s} {'size':>14s} {'time [s]':>10s} {'rate':>14s}")
     for what, size, t, rate, unit in rows:
         print(f"{what:40s} {size:>14s} {t:10.3f} {rate:14.4g} {unit}")
