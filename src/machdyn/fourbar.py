@@ -1200,6 +1200,7 @@ def _solve_flat(
 
 _RATE_NAMES = ("omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4")
 _POINT_NAMES = ("coupler", "coupler_velocity", "coupler_acceleration", "coupler_jerk")
+_DTYPES = {"status": np.uint8, "A": complex, "B": complex, **dict.fromkeys(_POINT_NAMES, complex)}
 
 
 def _solve_compiled(
@@ -1224,12 +1225,9 @@ def _solve_compiled(
     arrays: dict[str, Any] = {"theta2": t2, "omega2": w2, "alpha2": a2, "jerk2": j2}
     out: dict[str, Any] = {}
     for name in kernels.ARRAYS[order]:
-        point = name in _POINT_NAMES
-        if name not in arrays:
-            dtype = (
-                np.uint8 if name == "status" else complex if point or name in ("A", "B") else float
-            )
-            out[name] = np.empty(n, dtype=dtype) if has_p or not point else None
+        if name not in arrays:  # an output; the coupler point's only if there is one
+            wanted = has_p or name not in _POINT_NAMES
+            out[name] = np.empty(n, dtype=_DTYPES.get(name, float)) if wanted else None
     arrays.update(out)
     solver = kernels.SOLVERS[order]
 
