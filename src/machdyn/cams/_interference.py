@@ -217,5 +217,6 @@ def loop_pieces(
     # The material side is on the left of a counter-clockwise outline.
     scale = np.abs(corners - corners.mean()).max()
     inside = middle + sense * 1e-9 * scale * 1j * direction / np.abs(direction)
-    in_loop = sense * winding_number(corners, inside) != 1
+    # A piece of no length (two crossings at one point, where corners touch) holds no surface.
+    in_loop = (sense * winding_number(corners, inside) != 1) & (hi > lo)
     return piece_start, piece_end, in_loop

@@ -501,8 +501,8 @@ class CamProfile:
 
     @property
     def has_surface_loop(self) -> bool:
-        """True if the surface crosses itself (a loop is cut away)."""
-        return self.self_intersection.found
+        """True if the surface crosses itself into a loop that a cutter would remove."""
+        return bool(self.self_intersection.loop_start.size)
 
     def surface_loop_ranges(self) -> list[tuple[float, float]]:
         """Cam-angle ranges (radians, crossing to crossing) lost to loops of the surface."""
