@@ -25,7 +25,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["loop_pieces", "polyline_crossings"]
+__all__ = ["loop_pieces", "polyline_crossings", "winding_number"]
+
+_BLOCK = 1 << 20  # complex numbers held at once by winding_number
 
 
 def polyline_crossings(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -132,7 +134,7 @@ def _candidate_pairs(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np
     cy = iy0[segment] + k // nx[segment]
     key = cx * (int(iy0.max() + ny.max()) + 1) + cy
     order = np.argsort(key, kind="stable")
-    key, segment = key[order], segment[order]
+    key, segment, cx, cy = key[order], segment[order], cx[order], cy[order]
     # Pair each entry with the later entries of its cell.
     group_end = np.searchsorted(key, key, side="right")
     partners = group_end - np.arange(key.size) - 1
@@ -140,9 +142,12 @@ def _candidate_pairs(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np
     second = first + 1 + np.arange(first.size) - np.repeat(np.cumsum(partners) - partners, partners)
     i = np.minimum(segment[first], segment[second])
     j = np.maximum(segment[first], segment[second])
+    # Two boxes may share several cells: keep the pair in one of them only, the cell
+    # at the lower-left corner of the boxes' overlap.
+    once = (cx[first] == np.maximum(ix0[i], ix0[j])) & (cy[first] == np.maximum(iy0[i], iy0[j]))
     apart = (j - i > 1) & (j - i < n - 1)  # segments that share no vertex
-    pair = np.unique(i[apart] * n + j[apart])
-    return pair // n, pair % n
+    keep = once & apart
+    return i[keep], j[keep]
 
 
 def _merged_units(z: np.ndarray, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -162,8 +167,12 @@ def winding_number(z: np.ndarray, q: np.ndarray) -> np.ndarray:
     >>> winding_number(square, np.array([0.5 + 0.5j, 2.0])).tolist()
     [1, 0]
     """
-    rel = z[None, :] - np.asarray(q)[:, None]
-    turn = np.angle(np.roll(rel, -1, axis=1) / rel).sum(axis=1)
+    q = np.asarray(q)
+    turn = np.empty(q.shape)
+    block = max(1, _BLOCK // max(z.size, 1))  # points per block, to bound the memory
+    for first in range(0, q.size, block):
+        rel = z[None, :] - q[first : first + block, None]
+        turn[first : first + block] = np.angle(np.roll(rel, -1, axis=1) / rel).sum(axis=1)
     return np.rint(turn / (2.0 * np.pi)).astype(int)
 
 
