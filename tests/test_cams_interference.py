@@ -304,9 +304,21 @@ def test_profile_tables_carry_the_loop_flag(tmp_path):
     assert header[-2:] == ["undercut", "surface_loop"]
 
 
-def test_self_intersection_is_computed_once_per_profile():
+def test_self_intersection_is_computed_once_per_profile_and_tabulated():
     cam = TranslatingRoller(3.0, 0.5).profile(double_dwell_example(), n=360)
     assert cam.self_intersection is cam.self_intersection
+    undercut = TranslatingRoller(1.5, 1.0).profile(steep(), n=720)
+    table = undercut.self_intersection.to_pandas()
+    assert len(table) == 2
+    np.testing.assert_allclose(table["theta_b_deg"], np.degrees(table["theta_b"]))
+    # Each tabulated crossing lies on the surface polyline at both of its angles.
+    for angle in ("theta_a", "theta_b"):
+        at = np.interp(
+            table[angle],
+            np.append(undercut.theta, 2 * np.pi),
+            np.append(undercut.surface, undercut.surface[0]),
+        )
+        np.testing.assert_allclose(at, table["x"] + 1j * table["y"], atol=1e-12)
 
 
 @pytest.mark.parametrize(
@@ -317,8 +329,10 @@ def test_self_intersection_is_computed_once_per_profile():
         (np.array([0.0, 2.0, 1.0, 3.0]), np.array([0, 1, 1 + 1j, 1j]), "theta"),
         (np.linspace(0, 7, 4), np.array([0, 1, 1 + 1j, 1j]), "theta"),
         (np.array([0.0, np.inf, 1.0, 3.0]), np.array([0, 1, 1 + 1j, 1j]), "theta"),
+        (np.array([0.0, 1.0]), np.array([0, 1j]), "theta"),
+        (np.array([]), np.array([], complex), "theta"),
     ],
-    ids=["shapes", "nan-point", "not-increasing", "more-than-a-turn", "inf-angle"],
+    ids=["shapes", "nan-point", "not-increasing", "more-than-a-turn", "inf-angle", "two", "none"],
 )
 def test_bad_input(theta, surface, field):
     with pytest.raises(InputError) as info:

@@ -4,7 +4,7 @@ The local undercut tests compare a radius of curvature with the roller
 radius (or with zero for a flat face) at the sampled angles. The outline that
 a cutter would actually leave is the boundary of the region the computed
 envelope encloses once: where the envelope folds over into a loop (the
-swallowtail of an undercut, Norton §8.7 Fig. 8-49) that loop is cut away and
+swallowtail of an undercut, Norton §8.7) that loop is cut away and
 the follower does not follow its law there. This module finds those loops on
 the sampled outline itself, so it does not depend on the curvature formulas.
 
@@ -52,7 +52,9 @@ def polyline_crossings(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarra
     A crossing is counted when each segment's end points lie strictly on
     opposite sides of the other's line, with a point exactly on a line counted
     on the negative side, so a polyline that crosses another part of itself
-    exactly at a vertex is counted once, and one that only touches is not.
+    exactly at a vertex is counted once. One that only touches another part is
+    counted an even number of times (none or two at the point of contact), and
+    :func:`loop_pieces` finds no loop there.
 
     Examples
     --------

@@ -278,6 +278,13 @@ class SurfaceSelfIntersection:
     in_loop : ndarray of bool
         Samples whose surface point lies on a loop: a cutter would remove it,
         so the follower does not follow its law there.
+
+    Examples
+    --------
+    >>> steep = CamProgram.double_dwell(1.0, np.radians(30), np.radians(30))
+    >>> loops = TranslatingRoller(1.5, 1.0).profile(steep, n=720).self_intersection
+    >>> loops.found, loops.theta_crossing.shape, int(loops.in_loop.sum())
+    (True, (2, 2), 142)
     """
 
     theta: np.ndarray
@@ -295,6 +302,22 @@ class SurfaceSelfIntersection:
     def ranges(self) -> list[tuple[float, float]]:
         """Cam-angle ranges (radians, from crossing to crossing) lost to loops."""
         return [(float(a), float(b)) for a, b in zip(self.loop_start, self.loop_end, strict=True)]
+
+    def to_pandas(self) -> Any:
+        """Return a DataFrame, one row per crossing: both cam angles (rad and deg), x, y."""
+        import pandas as pd
+
+        first, second = self.theta_crossing.T
+        return pd.DataFrame(
+            {
+                "theta_a": first,
+                "theta_b": second,
+                "theta_a_deg": np.degrees(first),
+                "theta_b_deg": np.degrees(second),
+                "x": self.point.real,
+                "y": self.point.imag,
+            }
+        )
 
 
 def surface_self_intersection(theta: Any, surface: Any) -> SurfaceSelfIntersection:
@@ -338,16 +361,16 @@ def surface_self_intersection(theta: Any, surface: Any) -> SurfaceSelfIntersecti
         )
     if not np.isfinite(z).all():
         raise InputError("surface", "contains NaN or infinite points")
-    if theta.size > 1 and not (
-        np.all(np.diff(theta) > 0.0) and theta[-1] - theta[0] <= 2 * np.pi * (1 + 1e-12)
-    ):
+    if theta.size < 3:
+        raise InputError("theta", f"a closed outline needs at least 3 samples, got {theta.size}")
+    if not (np.all(np.diff(theta) > 0.0) and theta[-1] - theta[0] <= 2 * np.pi * (1 + 1e-12)):
         raise InputError("theta", "must increase over at most one turn (2π rad)")
     n = theta.size
     tau_a, tau_b, point = polyline_crossings(z)
     start, end, in_loop = loop_pieces(z, tau_a, tau_b)
     # Angle at a position along the polyline: linear between samples, the last
     # segment closing the turn back to θ₀ + 2π.
-    turn = np.append(theta, theta[0] + 2.0 * np.pi) if n else theta
+    turn = np.append(theta, theta[0] + 2.0 * np.pi)
 
     def angle(tau: np.ndarray) -> np.ndarray:
         return np.mod(np.interp(np.mod(tau, n), np.arange(n + 1.0), turn), 2.0 * np.pi)
