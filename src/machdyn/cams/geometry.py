@@ -31,18 +31,21 @@ is concave, ±inf at an inflection.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
 from .._validate import broadcast, choice, finite_array, finite_scalar, nonnegative, positive
 from ..errors import InputError, ModelError
+from ._interference import loop_pieces, polyline_crossings
 from .program import CamProgram, Motion
 
 __all__ = [
     "CamProfile",
     "DesignCheck",
     "OscillatingRoller",
+    "SurfaceSelfIntersection",
     "TranslatingFlatFace",
     "TranslatingRoller",
     "cam_profile",
@@ -51,6 +54,7 @@ __all__ = [
     "pressure_angle",
     "radius_of_curvature",
     "roller_surface",
+    "surface_self_intersection",
 ]
 
 DEFAULT_MAX_PRESSURE_ANGLE = np.radians(30.0)  # notes: acceptable range 0 → 30°
@@ -251,6 +255,140 @@ def _trace_point_geometry(
 
 
 # --------------------------------------------------------------------------
+# Global interference: the surface crossing itself
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SurfaceSelfIntersection:
+    """Where a sampled cam surface crosses itself, and what the loops cut away.
+
+    Attributes
+    ----------
+    theta : ndarray
+        The cam angles of the samples (radians).
+    theta_crossing : ndarray, shape (m, 2)
+        For each of the ``m`` crossings, the cam angles (radians) of the two
+        passes of the surface through it, the earlier first.
+    point : ndarray of complex, shape (m,)
+        The crossing points in the cam frame.
+    loop_start, loop_end : ndarray
+        Cam angles (radians, in [0, 2π)) where each loop begins and ends; a loop
+        that runs through θ = 0 has ``loop_start > loop_end``.
+    in_loop : ndarray of bool
+        Samples whose surface point lies on a loop: a cutter would remove it,
+        so the follower does not follow its law there.
+
+    Examples
+    --------
+    >>> steep = CamProgram.double_dwell(1.0, np.radians(30), np.radians(30))
+    >>> loops = TranslatingRoller(1.5, 1.0).profile(steep, n=720).self_intersection
+    >>> loops.found, loops.theta_crossing.shape, int(loops.in_loop.sum())
+    (True, (2, 2), 142)
+    """
+
+    theta: np.ndarray
+    theta_crossing: np.ndarray
+    point: np.ndarray
+    loop_start: np.ndarray
+    loop_end: np.ndarray
+    in_loop: np.ndarray
+
+    @property
+    def found(self) -> bool:
+        """True if the surface crosses itself."""
+        return bool(self.point.size)
+
+    def ranges(self) -> list[tuple[float, float]]:
+        """Cam-angle ranges (radians, from crossing to crossing) lost to loops."""
+        return [(float(a), float(b)) for a, b in zip(self.loop_start, self.loop_end, strict=True)]
+
+    def to_pandas(self) -> Any:
+        """Return a DataFrame, one row per crossing: both cam angles (rad and deg), x, y."""
+        import pandas as pd
+
+        first, second = self.theta_crossing.T
+        return pd.DataFrame(
+            {
+                "theta_a": first,
+                "theta_b": second,
+                "theta_a_deg": np.degrees(first),
+                "theta_b_deg": np.degrees(second),
+                "x": self.point.real,
+                "y": self.point.imag,
+            }
+        )
+
+
+def surface_self_intersection(theta: Any, surface: Any) -> SurfaceSelfIntersection:
+    """Find where a closed cam surface, sampled over one turn, crosses itself.
+
+    The surface is taken as the closed polyline through its samples. Every
+    proper crossing of two of its segments is found on a grid of cells (no
+    test of all pairs), then the outline is cut at the crossings and each piece
+    is kept or marked as a loop by the winding number just inside it: the
+    solid cam is the region the outline encloses exactly once, and a piece
+    without that region on its material side is cut away (the swallowtail of
+    an undercut, Norton §8.7). This test uses the sampled points only, not the
+    curvature formulas behind :attr:`CamProfile.undercut`.
+
+    Parameters
+    ----------
+    theta : array_like
+        Cam angles of the samples (radians), increasing over one turn.
+    surface : array_like of complex
+        Cam surface points ``x + jy`` in the cam frame, one per angle.
+
+    Returns
+    -------
+    SurfaceSelfIntersection
+
+    Examples
+    --------
+    A roller larger than the pitch curve's convex radius in a steep rise:
+
+    >>> steep = CamProgram.double_dwell(1.0, np.radians(30), np.radians(30))
+    >>> cam = TranslatingRoller(1.5, 1.0).profile(steep, n=3600)
+    >>> loops = surface_self_intersection(cam.theta, cam.surface)
+    >>> np.degrees(loops.ranges()).round(1).tolist()
+    [[10.4, 45.8], [164.2, 199.6]]
+    """
+    theta = finite_array("theta", theta)
+    z = np.asarray(surface, dtype=complex)
+    if theta.ndim != 1 or z.shape != theta.shape:
+        raise InputError(
+            "surface", f"needs one point per cam angle: theta {theta.shape}, surface {z.shape}"
+        )
+    if not np.isfinite(z).all():
+        raise InputError("surface", "contains NaN or infinite points")
+    if theta.size < 3:
+        raise InputError("theta", f"a closed outline needs at least 3 samples, got {theta.size}")
+    if not (np.all(np.diff(theta) > 0.0) and theta[-1] - theta[0] <= 2 * np.pi * (1 + 1e-12)):
+        raise InputError("theta", "must increase over at most one turn (2π rad)")
+    n = theta.size
+    tau_a, tau_b, point = polyline_crossings(z)
+    start, end, in_loop = loop_pieces(z, tau_a, tau_b)
+    # Angle at a position along the polyline: linear between samples, the last
+    # segment closing the turn back to θ₀ + 2π.
+    turn = np.append(theta, theta[0] + 2.0 * np.pi)
+
+    def angle(tau: np.ndarray) -> np.ndarray:
+        return np.mod(np.interp(np.mod(tau, n), np.arange(n + 1.0), turn), 2.0 * np.pi)
+
+    # Sample k lies on the piece that starts at the last cut at or before k.
+    piece = np.searchsorted(start, np.arange(n), side="right") - 1
+    mask = in_loop[piece] if tau_a.size else np.zeros(n, dtype=bool)
+    return SurfaceSelfIntersection(
+        theta=theta,
+        theta_crossing=np.stack((angle(tau_a), angle(tau_b)), axis=-1),
+        point=point,
+        loop_start=angle(start[in_loop]),
+        loop_end=angle(end[in_loop]),
+        in_loop=mask,
+    )
+
+
+# --------------------------------------------------------------------------
 # Results
 # --------------------------------------------------------------------------
 
@@ -289,8 +427,9 @@ class CamProfile:
     rho_surface : ndarray
         Signed radius of curvature of the cam surface.
     undercut : ndarray of bool
-        Samples where the cam is undercut (ρ_pitch between 0 and Rf, or a
-        flat-face cam with ρ ≤ 0).
+        Samples where the cam is undercut by the local test (ρ_pitch between 0
+        and Rf, or a flat-face cam with ρ ≤ 0). The global test, the surface
+        crossing itself, is :attr:`self_intersection` (mask :attr:`surface_loop`).
     base_radius, prime_radius, roller_radius : float
         Circles of the design (prime = base for a flat face; roller 0 there).
     face_position : ndarray or None
@@ -362,9 +501,44 @@ class CamProfile:
         """Cam-angle ranges (radians, start and end sample) where the cam is undercut."""
         return _mask_ranges(self.theta, self.undercut)
 
+    @cached_property
+    def self_intersection(self) -> SurfaceSelfIntersection:
+        """Where the surface crosses itself (computed on first use, then kept).
+
+        The global companion of the local :attr:`undercut` test: see
+        :func:`surface_self_intersection`.
+
+        Examples
+        --------
+        >>> steep = CamProgram.double_dwell(1.0, np.radians(30), np.radians(30))
+        >>> cam = TranslatingRoller(1.5, 1.0).profile(steep, n=720)
+        >>> cam.self_intersection.found, cam.has_surface_loop
+        (True, True)
+        """
+        return surface_self_intersection(self.theta, self.surface)
+
+    @property
+    def surface_loop(self) -> np.ndarray:
+        """Samples whose surface point lies on a loop of the self-intersecting surface."""
+        return self.self_intersection.in_loop
+
+    @property
+    def has_surface_loop(self) -> bool:
+        """True if the surface crosses itself into a loop that a cutter would remove."""
+        return bool(self.self_intersection.loop_start.size)
+
+    def surface_loop_ranges(self) -> list[tuple[float, float]]:
+        """Cam-angle ranges (radians, crossing to crossing) lost to loops of the surface."""
+        return self.self_intersection.ranges()
+
     @property
     def face_width(self) -> float | None:
-        """Flat face: the least face width, ``max(v) − min(v)`` (Norton eq. 8.28)."""
+        """Flat face: the least face width, ``max(v) − min(v)`` (Norton eq. 8.28).
+
+        The contact point sits ``v − ε`` along the face from the follower axis
+        (:attr:`face_position`), so the face must reach from the least to the
+        greatest of those; :meth:`checks` tests a given symmetric face.
+        """
         if self.face_position is None:
             return None
         return float(self.face_position.max() - self.face_position.min())
@@ -405,11 +579,7 @@ class CamProfile:
                     f"θ = {deg(self.theta_pressure_angle_max):.1f}° (limit {deg(limit):.0f}°)",
                 )
             )
-        if self.is_undercut:
-            spans = ", ".join(f"{deg(a):.1f}°–{deg(b):.1f}°" for a, b in self.undercut_ranges())
-            out.append(DesignCheck("undercut", False, f"undercut at θ = {spans}"))
-        else:
-            out.append(DesignCheck("undercut", True, "none"))
+        out.append(self._undercut_check())
         if self.rho_pitch is not None and self.roller_radius > 0.0:
             ratio = self.rho_min / self.roller_radius
             out.append(
@@ -434,10 +604,35 @@ class CamProfile:
             out.append(DesignCheck("face width", passed, text))
         return out
 
+    def _undercut_check(self) -> DesignCheck:
+        """The local ρ test and the global self-intersection test, in one verdict."""
+
+        def spans(ranges: list[tuple[float, float]]) -> str:
+            return ", ".join(f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in ranges)
+
+        loops = self.surface_loop_ranges()
+        if not self.is_undercut and not loops:
+            return DesignCheck(
+                "undercut", True, "none (local ρ test; surface does not cross itself)"
+            )
+        parts = []
+        if self.is_undercut:
+            parts.append(f"undercut at θ = {spans(self.undercut_ranges())}")
+        if loops:
+            parts.append(f"surface self-intersection: loops cut away θ = {spans(loops)}")
+        if not self.is_undercut:
+            parts.append(
+                "no sample fails the local ρ test (the loop lies between samples, or is global)"
+            )
+        return DesignCheck("undercut", False, "; ".join(parts))
+
     # Presentation -----------------------------------------------------------
 
     def to_pandas(self) -> Any:
-        """Return a DataFrame: θ (rad and deg), svaj, pitch/surface x, y, φ (deg), ρ, undercut."""
+        """Return a DataFrame: θ (rad and deg), svaj, pitch/surface x, y, φ (deg), ρ, undercut.
+
+        ``undercut`` is the local test, ``surface_loop`` the global one.
+        """
         import pandas as pd
 
         return pd.DataFrame({"theta": self.theta, **self._columns()})
@@ -459,6 +654,7 @@ class CamProfile:
             "rho_pitch": self.rho_pitch if self.rho_pitch is not None else nan,
             "rho_surface": self.rho_surface,
             "undercut": self.undercut,
+            "surface_loop": self.surface_loop,
         }
 
     def to_csv(self, path: Any) -> None:
