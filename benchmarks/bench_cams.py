@@ -30,6 +30,7 @@ def main() -> None:
     rocker = cams.OscillatingRoller(2.0, 0.3, 4.0, 3.5)
     rocker_program = cams.CamProgram.double_dwell(np.radians(15), np.radians(90), np.radians(90))
     n = 3600
+    profile = roller.profile(program, n)
     cases = [
         ("svaj sample, double dwell", n, lambda: program.sample(n)),
         ("svaj + translating roller profile", n, lambda: roller.profile(program, n)),
@@ -38,11 +39,17 @@ def main() -> None:
         ("svaj + roller profile", 100_000, lambda: roller.profile(program, 100_000)),
         ("continuity check", 4, program.continuity),
         ("size_roller (closed form)", n, lambda: cams.size_roller(program, 0.5)),
+        (
+            "surface self-intersection (global)",
+            n,
+            lambda: cams.surface_self_intersection(profile.theta, profile.surface),
+        ),
+        ("profile + every design check", n, lambda: roller.profile(program, n).checks()),
     ]
-    print(f"{'what':<36} {'size':>8} {'time (ms)':>10} {'rate (samples/s)':>17}")
+    print(f"{'what':<38} {'size':>8} {'time (ms)':>10} {'rate (samples/s)':>17}")
     for what, size, fn in cases:
         t = best_of(fn, repeat=10 if size > 10_000 else 30)
-        print(f"{what:<36} {size:>8} {t * 1e3:>10.3f} {size / t:>17,.0f}")
+        print(f"{what:<38} {size:>8} {t * 1e3:>10.3f} {size / t:>17,.0f}")
 
 
 if __name__ == "__main__":

@@ -75,10 +75,29 @@ def test_undercut_reported_with_angles(tmp_path):
     args = [*segs, "--prime-radius", "1.5", "--roller-radius", "1.0", "--dxf", str(dxf)]
     result = runner.invoke(cam_app, args)
     assert "undercut: YES at θ = " in result.output
+    assert "surface loops: YES, cutting away θ = " in result.output
     assert "FAIL undercut" in result.output
     assert isinstance(result.exception, MachdynError)
-    assert "self-intersects" in str(result.exception)
+    assert "its outline crosses itself" in str(result.exception)
     assert not dxf.exists()
+
+
+def test_a_loop_only_the_global_test_sees_is_reported_and_refused(tmp_path):
+    # 40° cycloidal rise and fall, Rp 1.5, Rf 0.525, sampled every 5°: no sample fails
+    # the radius-of-curvature test, but the sampled outline folds over (the loops
+    # test_cams_interference.py checks against a fine sampling)
+    segs = ["-s", "rise:cycloidal:1:40", "-s", "dwell:140", "-s", "fall:cycloidal:1:40"]
+    segs += ["-s", "dwell:140"]
+    dxf = tmp_path / "cam.dxf"
+    args = [*segs, "--prime-radius", "1.5", "--roller-radius", "0.525", "--points", "72"]
+    result = runner.invoke(cam_app, [*args, "--dxf", str(dxf)])
+    assert "undercut: none by the radius of curvature" in result.output
+    assert "surface loops: YES" in result.output
+    assert "its outline crosses itself" in str(result.exception)
+    assert not dxf.exists()
+    report = json.loads(runner.invoke(cam_app, [*args, "--json"]).output)
+    assert report["undercut"] is False and report["surface_loop"] is True
+    assert len(report["surface_loop_ranges_deg"]) == 2
 
 
 def test_flat_and_oscillating_followers():

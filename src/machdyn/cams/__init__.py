@@ -26,6 +26,7 @@ from .geometry import (
     CamProfile,
     DesignCheck,
     OscillatingRoller,
+    SurfaceSelfIntersection,
     TranslatingFlatFace,
     TranslatingRoller,
     cam_profile,
@@ -34,6 +35,7 @@ from .geometry import (
     pressure_angle,
     radius_of_curvature,
     roller_surface,
+    surface_self_intersection,
 )
 from .io import write_csv, write_dxf
 from .laws import (
@@ -73,6 +75,7 @@ __all__ = [
     "PolynomialLaw",
     "Segment",
     "Sizing",
+    "SurfaceSelfIntersection",
     "TimeMotion",
     "TranslatingFlatFace",
     "TranslatingRoller",
@@ -100,6 +103,7 @@ __all__ = [
     "size_flat_face",
     "size_oscillating_roller",
     "size_roller",
+    "surface_self_intersection",
     "write_csv",
     "write_dxf",
 ]

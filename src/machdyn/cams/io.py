@@ -40,15 +40,32 @@ def undercut_refusal(
     >>> "enlarge the base circle (see machdyn.cams.size_flat_face)" in undercut_refusal(cam)
     True
     """
-    spans = ", ".join(
-        f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in profile.undercut_ranges()
-    )
+
+    def spans(ranges: list[tuple[float, float]]) -> str:
+        return ", ".join(f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in ranges)
+
+    where = []
+    if profile.is_undercut:
+        where.append(f"undercut at θ = {spans(profile.undercut_ranges())}")
+    if profile.has_surface_loop:
+        where.append(
+            f"its outline crosses itself, cutting away θ = {spans(profile.surface_loop_ranges())}"
+        )
     cure, function = _UNDERCUT_CURE.get(profile.follower, ("enlarge the cam", "size_roller"))
     see = f"machdyn.cams.{function}" if see is None else see
     return (
-        f"the cam is undercut at θ = {spans}; its outline self-intersects. To make it, "
-        f"{cure} (see {see}), or {override} to write it anyway"
+        f"the cam is {'; '.join(where)}; the follower would not follow the law there. "
+        f"To make it, {cure} (see {see}), or {override} to write it anyway"
     )
+
+
+def cannot_be_cut(profile: CamProfile) -> bool:
+    """Whether the cam's outline loses material its follower needs: undercut, by either test.
+
+    The local test (:attr:`CamProfile.undercut`, radius of curvature) or the global
+    one (:attr:`CamProfile.surface_loop`, the sampled outline crossing itself).
+    """
+    return profile.is_undercut or profile.has_surface_loop
 
 
 def write_csv(profile: CamProfile, path: Any) -> Path:
@@ -98,7 +115,7 @@ def write_dxf(profile: CamProfile, path: Any, allow_undercut: bool = False) -> P
     ``BASE_CIRCLE``, ``PRIME_CIRCLE``. An undercut cam's outline intersects
     itself and cannot be made: it is refused unless ``allow_undercut`` is true.
     """
-    if profile.is_undercut and not allow_undercut:
+    if cannot_be_cut(profile) and not allow_undercut:
         raise ModelError(undercut_refusal(profile))
     try:
         import ezdxf

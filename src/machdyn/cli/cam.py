@@ -19,7 +19,7 @@ import numpy as np
 import typer
 
 from .. import cams
-from ..cams.io import undercut_refusal
+from ..cams.io import cannot_be_cut, undercut_refusal
 from ..cams.program import MOTIONS, closure_message
 from ..errors import InputError, ModelError
 from ._common import dumps, print_table
@@ -414,7 +414,7 @@ def cam(
         with _renamed({"path": "--csv"}):
             profile.to_csv(csv)
     if dxf is not None:
-        if profile.is_undercut and not allow_undercut:
+        if cannot_be_cut(profile) and not allow_undercut:
             raise ModelError(undercut_refusal(profile, "pass --allow-undercut", see="--size"))
         with _renamed({"path": "--dxf"}):
             profile.to_dxf(dxf, allow_undercut=allow_undercut)
@@ -519,11 +519,18 @@ def _print_report(
             f"radius of curvature: min ρ of cam = {profile.rho_min:.4g} at "
             f"θ = {deg(profile.theta_rho_min):.1f}°; face width ≥ {profile.face_width:.4g}"
         )
+
+    def spans(ranges: list[tuple[float, float]]) -> str:
+        return ", ".join(f"{deg(a):.1f}°–{deg(b):.1f}°" for a, b in ranges)
+
     if profile.is_undercut:
-        spans = ", ".join(f"{deg(a):.1f}°–{deg(b):.1f}°" for a, b in profile.undercut_ranges())
-        print(f"undercut: YES at θ = {spans}")
+        print(f"undercut: YES at θ = {spans(profile.undercut_ranges())} (radius of curvature)")
     else:
-        print("undercut: none")
+        print("undercut: none by the radius of curvature")
+    if profile.has_surface_loop:
+        print(f"surface loops: YES, cutting away θ = {spans(profile.surface_loop_ranges())}")
+    else:
+        print("surface loops: none (the outline does not cross itself)")
     print("design rules:")
     for check in checks:
         print(f"  {check.line()}")
@@ -580,6 +587,10 @@ def _payload(
         "undercut": profile.is_undercut,
         "undercut_ranges_deg": [
             [float(deg(a)), float(deg(b))] for a, b in profile.undercut_ranges()
+        ],
+        "surface_loop": profile.has_surface_loop,
+        "surface_loop_ranges_deg": [
+            [float(deg(a)), float(deg(b))] for a, b in profile.surface_loop_ranges()
         ],
         "checks": [{"name": c.name, "passed": c.passed, "detail": c.detail} for c in checks],
     }
