@@ -222,6 +222,58 @@ def test_pin_joining_three_links_round_trip_with_the_crank_driver():
     assert np.abs(m.omega["2"] - 1.0).max() < 1e-8  # phi' chosen as omega2 = 1 gives it
 
 
+def test_five_bar_with_a_ground_crank_and_a_motor_between_moving_links():
+    """Two drivers (theta2 and the elbow phi at A): A and C follow in closed form,
+    C = A + 4 e^{j(theta2 + phi)}, and B is the intersection of two circles."""
+    O5 = 7.0 + 0j
+
+    def pose(theta2, phi):
+        A = 3.0 * np.exp(1j * theta2)
+        C = A + 4.0 * np.exp(1j * (theta2 + phi))
+        return A, C, circle_meet(C, 4.0, O5, 3.5, side=-1.0)
+
+    A0, C0, B0 = pose(np.radians(60.0), np.radians(-30.0))
+    lk = (
+        Linkage({"O2": 0j, "O5": O5, "A": A0, "C": C0, "B": B0})
+        .ground("O2", "O5")
+        .link("2", "O2", "A")
+        .link("3", "A", "C")
+        .link("4", "C", "B")
+        .link("5", "O5", "B")
+        .motor("elbow", "A")
+        .drive("2", "elbow")
+    )
+    assert lk.mobility() == 2
+    theta2 = np.radians(np.linspace(60.0, 100.0, 81))
+    phi = np.radians(np.linspace(-30.0, -60.0, 81))
+    m = lk.solve({"2": theta2, "elbow": phi}, velocity={"2": 2.0, "elbow": -1.5})
+    assert m.ok.all()
+    A, C, B = pose(theta2, phi)
+    for name, ref in (("A", A), ("C", C), ("B", B)):
+        assert np.abs(m.points[name] - ref).max() < 1e-10
+    assert np.abs(m.omega["3"] - 0.5).max() < 1e-12  # omega2 + phi'
+    # two-input finite differences of B: dB/dt = dB/dtheta2 * 2 + dB/dphi * (-1.5)
+    h = 1e-6
+    fd = (pose(theta2 + h, phi)[2] - pose(theta2 - h, phi)[2]) / (2 * h) * 2.0
+    fd += (pose(theta2, phi + h)[2] - pose(theta2, phi - h)[2]) / (2 * h) * -1.5
+    assert np.abs(m.point_velocity["B"] - fd).max() < 1e-6 * np.abs(fd).max()
+
+
+def test_the_order_of_the_links_sets_the_sign_of_phi_and_of_the_torque():
+    """links=("3", "2") drives theta2 - theta3 = -phi: same motion, opposite torque."""
+    lk_ab = hw6()
+    lk_ba = hw6().motor("elbow2", "A", links=("3", "2")).drive("elbow2")
+    phi = np.radians([50.0, 20.0, -40.0])
+    m_ab = lk_ab.solve(phi, velocity=2.0, acceleration=1.0)
+    m_ba = lk_ba.solve(-phi, velocity=-2.0, acceleration=-1.0)
+    for n in ("2", "3", "4"):
+        assert np.abs(m_ab.theta[n] - m_ba.theta[n]).max() < 1e-10
+        assert np.abs(m_ab.alpha[n] - m_ba.alpha[n]).max() < 1e-9
+    f_ab = lk_ab.forces(m_ab, external_torques={"4": 3.0})
+    f_ba = lk_ba.forces(m_ba, external_torques={"4": 3.0})
+    assert np.abs(f_ab.driver["elbow"] + f_ba.driver["elbow2"]).max() < 1e-9
+
+
 # ----------------------------------------------------------------------------- forces
 def kinetic_rates(lk, m):
     dke = np.zeros(len(m))
