@@ -44,7 +44,7 @@ import re
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -643,6 +643,8 @@ class Linkage:
                     raise ModelError(f"motor {name!r}: unknown link {n!r}; links: {self._names()}")
             if pair[0] == pair[1]:
                 raise ModelError(f"motor {name!r} joins link {pair[0]!r} to itself")
+            if GROUND in pair:
+                _ground_motor(name, at, pair)
         self._motors[name] = (at, pair)
         return self._changed()
 
@@ -670,11 +672,7 @@ class Linkage:
                     f"{', '.join(carriers) or 'no link'})"
                 )
         if GROUND in pair:
-            other = pair[1] if pair[0] == GROUND else pair[0]
-            raise ModelError(
-                f"motor {name!r}: pin {at!r} joins the ground, so the motor turns {other!r} "
-                f"by its absolute angle — that is an ordinary link driver: drive({other!r})"
-            )
+            _ground_motor(name, at, pair)
         return pair
 
     def drive(self, *names: str) -> Linkage:
@@ -1025,6 +1023,15 @@ class Linkage:
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
+
+
+def _ground_motor(name: str, at: str, pair: tuple[str, str]) -> NoReturn:
+    """Refuse a motor on a ground pin: it is an ordinary link driver."""
+    other = pair[1] if pair[0] == GROUND else pair[0]
+    raise ModelError(
+        f"motor {name!r}: pin {at!r} joins the ground, so the motor turns {other!r} "
+        f"by its absolute angle — that is an ordinary link driver: drive({other!r})"
+    )
 
 
 def _is_inf(value: Any) -> bool:
