@@ -112,6 +112,39 @@ def test_fourbar_driven_at_joint_A_matches_fourbar_and_the_chain_rule():
     assert np.all(m.inputs["elbow"] == phi)
 
 
+def test_random_crank_rockers_driven_at_joint_A(rng):
+    """Seeded random Grashof crank-rockers drawn at a random crank angle in either
+    circuit, driven by the crank-coupler angle over a turn: FourBar at the same poses."""
+    checked = 0
+    while checked < 8:
+        r1, r2, r3, r4 = rng.uniform(1.0, 10.0, 4)
+        longest = max(r1, r3, r4)
+        if not (r2 < min(r1, r3, r4) and r2 + longest < r1 + r3 + r4 - longest):
+            continue
+        side = rng.choice([-1.0, 1.0])
+        theta2 = rng.uniform(0, 2 * np.pi) + np.radians(np.arange(0.0, 360.0, 2.0))
+        ref = FourBar(r1, r2, r3, r4).solve(theta2, 1.0, 0.0, form=1 if side > 0 else 2)
+        if np.abs(ref.omega3 - 1.0).min() < 0.05:  # phi' = 0: B crosses the line O2-O4
+            continue
+        A = r2 * np.exp(1j * theta2[0])
+        lk = (
+            Linkage({"O2": 0j, "O4": r1 + 0j, "A": A, "B": circle_meet(A, r3, r1 + 0j, r4, side)})
+            .ground("O2", "O4")
+            .link("2", "O2", "A")
+            .link("3", "A", "B")
+            .link("4", "O4", "B")
+            .motor("elbow", "A")
+            .drive("elbow")
+        )
+        phi = np.unwrap(ref.theta3) - theta2
+        m = lk.solve(phi, velocity=2.0)
+        assert m.ok.all()
+        assert np.abs(m.points["B"] - ref.B).max() < 1e-9 * r1
+        w2 = 2.0 / (ref.omega3 - 1.0)
+        assert np.abs(m.omega["4"] - ref.omega4 * w2).max() < 1e-9 * np.abs(ref.omega4 * w2).max()
+        checked += 1
+
+
 def test_drawn_pose_and_hw6_printed_angle():
     """HW 6: theta3 = 58.81 deg at theta2 = 0 (notes); the drawing is at phi = theta3, and
     the notes' rounded 58.81 deg gives theta2 = 0 to the same rounding."""
