@@ -635,9 +635,10 @@ class Linkage:
         self._need_points(f"motor {name!r}", [at])
         pair: tuple[str, str] | None = None
         if links is not None:
-            pair = tuple(links)  # type: ignore[assignment]
-            if len(pair) != 2 or not all(isinstance(n, str) for n in pair):
+            given = tuple(links)
+            if len(given) != 2 or not all(isinstance(n, str) for n in given):
                 raise InputError(f"{name}.links", f"give two link names, got {links!r}")
+            pair = (given[0], given[1])
             for n in pair:
                 if n != GROUND and n not in self._links:
                     raise ModelError(f"motor {name!r}: unknown link {n!r}; links: {self._names()}")
@@ -1377,6 +1378,7 @@ def _motor_variable(
     """
     phi = fresh(f"phi_{name}")
     ref = fresh(f"R_{name}_ref")
+    # its length (the mean link size) leaves the core's length scale as it was
     sizes = [
         abs(lk._points[q] - lk._points[ln.points[0]])
         for ln in lk._links.values()
