@@ -292,6 +292,38 @@ def test_five_bar_with_a_ground_crank_and_a_motor_between_moving_links():
     assert np.abs(m.point_velocity["B"] - fd).max() < 1e-6 * np.abs(fd).max()
 
 
+def test_motor_between_two_moving_links_on_a_ground_pin():
+    """Links 2 and 5 both pivot on the ground at O2 (a pin of three links); a motor there
+    between 2 and 5 (not the ground) sets theta5 = theta2 + phi: B = 3 e^{j theta5} and C
+    the intersection of circles about A and B."""
+
+    def pose(theta2, phi):
+        A, B = 2.0 * np.exp(1j * theta2), 3.0 * np.exp(1j * (theta2 + phi))
+        return A, B, circle_meet(A, 4.0, B, 3.5)
+
+    A0, B0, C0 = pose(0.3, 1.2)
+    lk = (
+        Linkage({"O2": 0j, "A": A0, "B": B0, "C": C0})
+        .ground("O2")
+        .link("2", "O2", "A")
+        .link("3", "A", "C")
+        .link("4", "C", "B")
+        .link("5", "O2", "B")
+        .motor("scissor", "O2", links=("2", "5"))
+        .drive("2", "scissor")
+    )
+    theta2, phi = np.linspace(0.3, 2.0, 30), np.linspace(1.2, 0.9, 30)
+    m = lk.solve({"2": theta2, "scissor": phi}, velocity={"2": 1.0, "scissor": 0.5})
+    A, B, C = pose(theta2, phi)
+    assert m.ok.all()
+    for name, ref in (("A", A), ("B", B), ("C", C)):
+        assert np.abs(m.points[name] - ref).max() < 1e-10
+    assert np.abs(m.omega["5"] - 1.5).max() < 1e-12
+    f = lk.forces(m, external_torques={"4": 2.0})
+    # virtual work: T2 omega2 + T phi' + 2 omega4 = 0 for massless links
+    assert np.abs(f.driver["2"] + 0.5 * f.driver["scissor"] + 2.0 * m.omega["4"]).max() < 1e-9
+
+
 def test_the_order_of_the_links_sets_the_sign_of_phi_and_of_the_torque():
     """links=("3", "2") drives theta2 - theta3 = -phi: same motion, opposite torque."""
     lk_ab = hw6()

@@ -1378,7 +1378,7 @@ def _motor_variable(
     """
     phi = fresh(f"phi_{name}")
     ref = fresh(f"R_{name}_ref")
-    # its length (the mean link size) leaves the core's length scale as it was
+    # its length, the mean link size, keeps the core's length scale (a mean) about as it was
     sizes = [
         abs(lk._points[q] - lk._points[ln.points[0]])
         for ln in lk._links.values()
