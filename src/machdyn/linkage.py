@@ -6,7 +6,9 @@ them, the joints and the driver(s). Every point shared by two or more links is
 a revolute joint (a pin joining several links counts once per extra link);
 prismatic joints, pin-in-slot half joints, linear actuators (hydraulic
 cylinders, collapsed into one variable-length vector) and rolling contacts
-without slip (:meth:`Linkage.roll`) are added by name.
+without slip (:meth:`Linkage.roll`) are added by name; a rotary motor at a
+pin between two moving links (:meth:`Linkage.motor`) drives their relative
+angle.
 
 The linkage is compiled into the core's vector loops the way the notes teach
 (review lecture 3; Norton, *Design of Machinery*, §4.5 and §4.13):
@@ -42,7 +44,7 @@ import re
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -167,6 +169,7 @@ class Linkage:
         self._slots: dict[str, tuple[str, str, str, complex, str | None]] = {}
         self._actuators: dict[str, tuple[str, str, str, str]] = {}
         self._rolls: dict[str, tuple[str, str, float, str, str, float, bool]] = {}
+        self._motors: dict[str, tuple[str, tuple[str, str] | None]] = {}  # name -> (pin, links)
         self._drivers: list[str] = []
         self._compiled: _Compiled | None = None
         self._points_extra: dict[str, complex] = {}
@@ -584,8 +587,99 @@ class Linkage:
         self._rolls[name] = (link_a, centre_a, r_a, link_b, centre_b, r_b, internal)
         return self._changed()
 
+    def motor(self, name: str, at: str, *, links: Sequence[str] | None = None) -> Linkage:
+        """Add a rotary motor at pin ``at`` between two moving links (an elbow, a wrist).
+
+        Driven with :meth:`drive`, its variable is the **relative angle**
+        ``phi = theta_b − theta_a`` of the second link to the first (CCW
+        positive, radians, each ``theta`` as in :meth:`link`: the angle of the
+        line from the link's first point to its second), and its effort is the
+        torque ``T`` of link *a* on link *b* (``−T`` acts on *a*). An undriven
+        motor is a free pin and carries no torque. A pin on the ground needs no
+        motor: drive the link itself (its absolute angle).
+
+        Parameters
+        ----------
+        name : str
+            The motor's name (also the driver name).
+        at : str
+            The pin: a point shared by two (or more) moving links.
+        links : (link_a, link_b), optional
+            The two links it joins, ``phi`` being ``b``'s angle relative to
+            ``a``'s; needed when the pin joins more than two links. Default:
+            the two links carrying ``at``, in the order they were defined.
+
+        Examples
+        --------
+        The HW 6 four-bar (GCRR 8-4-7-6) driven at its joint A by a motor on
+        the crank turning the coupler: drawn at θ2 = 0, where θ3 = 58.81°
+        (HW 6), so ``phi = θ3 − θ2`` is 58.81° there and θ2 follows from it:
+
+        >>> import numpy as np
+        >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0),
+        ...                "B": (7.625, np.sqrt(49 - 3.625**2))})
+        ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+        ...       .link("rocker", "O4", "B").motor("elbow", "A").drive("elbow"))
+        >>> m = lk.solve(np.radians([58.81, 30.0]), velocity=1.0)
+        >>> np.degrees(m.theta["crank"]).round(2).tolist()[0]
+        0.0
+        >>> bool(np.allclose(m.omega["coupler"] - m.omega["crank"], 1.0))
+        True
+        """
+        if not isinstance(name, str) or not name:
+            raise InputError("motor", f"a motor name is a non-empty string, got {name!r}")
+        if name in self._links or name == GROUND:
+            raise ModelError(f"motor {name!r}: the name is a link's; give the motor its own name")
+        if self._joint_named(name):
+            raise ModelError(f"joint name {name!r} is used twice")
+        self._need_points(f"motor {name!r}", [at])
+        pair: tuple[str, str] | None = None
+        if links is not None:
+            given = tuple(links)
+            if len(given) != 2 or not all(isinstance(n, str) for n in given):
+                raise InputError(f"{name}.links", f"give two link names, got {links!r}")
+            pair = (given[0], given[1])
+            for n in pair:
+                if n != GROUND and n not in self._links:
+                    raise ModelError(f"motor {name!r}: unknown link {n!r}; links: {self._names()}")
+            if pair[0] == pair[1]:
+                raise ModelError(f"motor {name!r} joins link {pair[0]!r} to itself")
+            if GROUND in pair:
+                _ground_motor(name, at, pair)
+        self._motors[name] = (at, pair)
+        return self._changed()
+
+    def _motor_links(self, name: str) -> tuple[str, str]:
+        """The links ``(a, b)`` of motor ``name``, checked against its pin."""
+        at, pair = self._motors[name]
+        carriers = [GROUND] if at in self._ground else []
+        carriers += [n for n, ln in self._links.items() if at in ln.points]
+        if pair is None:
+            if len(carriers) > 2:
+                raise ModelError(
+                    f"motor {name!r}: pin {at!r} joins {len(carriers)} links "
+                    f"({', '.join(carriers)}); say which two with links=(link_a, link_b)"
+                )
+            if len(carriers) < 2:
+                raise ModelError(
+                    f"motor {name!r}: point {at!r} is no pin (it is on "
+                    f"{', '.join(carriers) or 'no link'}); a motor sits on a point of two links"
+                )
+            pair = (carriers[0], carriers[1])
+        for n in pair:
+            if n not in carriers:
+                raise ModelError(
+                    f"motor {name!r}: point {at!r} is not on link {n!r} (it is on "
+                    f"{', '.join(carriers) or 'no link'})"
+                )
+        if GROUND in pair:
+            _ground_motor(name, at, pair)
+        return pair
+
     def drive(self, *names: str) -> Linkage:
         """Name the driver(s): a link (angle), a slider/slot (displacement), an actuator (length).
+
+        A motor (:meth:`motor`) drives the relative angle of two moving links.
 
         The call declares the whole set of drivers; calling it again replaces them.
 
@@ -595,18 +689,21 @@ class Linkage:
         >>> lk = lk.drive("crank")
         """
         for n in names:
-            known = (self._links, self._sliders, self._slots, self._actuators)
+            known = (self._links, self._sliders, self._slots, self._actuators, self._motors)
             if all(n not in table for table in known):
+                joints = [*self._sliders, *self._slots, *self._actuators, *self._motors]
+                hint = ""
+                if n.startswith("pin ") or n in self._points:
+                    hint = " (a pin between two moving links is driven by a motor(name, at=...))"
                 raise ModelError(
-                    f"driver {n!r} is no link, slider, slot or actuator; links: "
-                    f"{self._names()}; joints: "
-                    f"{', '.join([*self._sliders, *self._slots, *self._actuators]) or '(none)'}"
+                    f"driver {n!r} is no link, slider, slot, actuator or motor; links: "
+                    f"{self._names()}; joints: {', '.join(joints) or '(none)'}{hint}"
                 )
         self._drivers = list(dict.fromkeys(names))
         return self._changed()
 
     def _joint_named(self, name: str) -> bool:
-        tables = (self._sliders, self._slots, self._actuators, self._rolls)
+        tables = (self._sliders, self._slots, self._actuators, self._rolls, self._motors)
         return any(name in t for t in tables)
 
     def _names(self) -> str:
@@ -786,6 +883,7 @@ class Linkage:
         ----------
         values : array_like or mapping of driver name to array_like
             Driver values: link angles in radians (absolute, as ``theta``),
+            motor angles (``theta_b − theta_a``, radians),
             slider displacements or actuator lengths. A plain array when there
             is one driver.
         velocity, acceleration : array_like or mapping, optional
@@ -881,8 +979,9 @@ class Linkage:
         ``F_ap`` of every pin (force on link *p* from link *a*), the normal
         force and couple of every prismatic joint, the normal force of every
         slot, and the driver torque (angle driver: a motor between the ground
-        and the link) or force (slider driver: along the slide; actuator
-        driver: positive when it pushes its ends apart).
+        and the link; :meth:`motor`: the torque on its link *b*, ``−T`` on
+        *a*) or force (slider driver: along the slide; actuator driver:
+        positive when it pushes its ends apart).
 
         Parameters
         ----------
@@ -925,6 +1024,15 @@ class Linkage:
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
+
+
+def _ground_motor(name: str, at: str, pair: tuple[str, str]) -> NoReturn:
+    """Refuse a motor on a ground pin: it is an ordinary link driver."""
+    other = pair[1] if pair[0] == GROUND else pair[0]
+    raise ModelError(
+        f"motor {name!r}: pin {at!r} joins the ground, so the motor turns {other!r} "
+        f"by its absolute angle — that is an ordinary link driver: drive({other!r})"
+    )
 
 
 def _is_inf(value: Any) -> bool:
@@ -1211,9 +1319,20 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
             f"the orientation of link(s) {', '.join(undetermined)} is not fixed by any loop "
             "(all their joints at one point?)"
         )
+    # motors: phi = theta_b - theta_a, a linear constraint; phi is the angle of a
+    # reference vector (named as a point) so that the core counts it as a variable
+    motor_vars = {}
+    for mn in lk._motors:
+        a, b = lk._motor_links(mn)
+        if mn in lk._drivers:
+            motor_vars[mn] = _motor_variable(system, fresh, lk, mn, a, b, rot_var, rot_offset)
+            drawn[motor_vars[mn]] = _ref_angle(lk, b) - _ref_angle(lk, a)
     driver_vars, driver_offsets = [], []
     for d in lk._drivers:
-        if d in lk._links:
+        if d in motor_vars:
+            driver_vars.append(motor_vars[d])
+            driver_offsets.append(0.0)
+        elif d in lk._links:
             var = rot_var[d]
             if var is None:
                 raise ModelError(f"driver {d!r} cannot turn: it slides on the ground")
@@ -1237,6 +1356,46 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         cross_vars=cross_vars,
         roll_parts=roll_parts,
     )
+
+
+def _motor_variable(
+    system: LoopSystem,
+    fresh: Callable[[str], str],
+    lk: Linkage,
+    name: str,
+    a: str,
+    b: str,
+    rot_var: dict[str, str | None],
+    rot_offset: dict[str, float],
+) -> str:
+    """Add motor ``name``'s relative angle ``phi = theta_b − theta_a`` to ``system``.
+
+    With ``theta = var + offset`` for each link's rotation class the constraint
+    is ``phi − var_b + var_a = offset_b − offset_a`` (a link that only slides on
+    the ground has a constant angle: its term is a constant). ``phi`` is the
+    angle of a reference vector reaching a point of its own, so that the core
+    counts it as a variable of the loop system.
+    """
+    phi = fresh(f"phi_{name}")
+    ref = fresh(f"R_{name}_ref")
+    # its length, the mean link size, keeps the core's length scale (a mean) about as it was
+    sizes = [
+        abs(lk._points[q] - lk._points[ln.points[0]])
+        for ln in lk._links.values()
+        for q in ln.points[1:]
+    ]
+    sizes = [d for d in sizes if d > 0]
+    system.vector(ref, float(np.mean(sizes)) if sizes else 1.0, phi)
+    system.point(fresh(f"P_{name}_ref"), ref)
+    terms, consts = [f"{phi}"], {"c_motor": 0.0}
+    for link, sign in ((b, 1.0), (a, -1.0)):
+        var = rot_var[link]
+        theta0 = _ref_angle(lk, link) if var is None else rot_offset[link]
+        consts["c_motor"] += sign * theta0
+        if var is not None:
+            terms.append(f"{'-' if sign > 0 else '+'} {var}")
+    system.constraint(" ".join(terms) + " = c_motor", **consts)
+    return phi
 
 
 def _no_slip(
@@ -1358,6 +1517,8 @@ class LinkageMotion:
         Why a sample is not ok ('' where it is).
     loop_motion : machdyn.loops.Motion
         The underlying vector-loop solution (every loop variable).
+    angle_drivers : frozenset of str
+        The drivers whose values are angles (links, motors), for labels.
 
     Examples
     --------
@@ -1386,6 +1547,7 @@ class LinkageMotion:
     ok: np.ndarray
     reason: np.ndarray
     loop_motion: Motion = field(repr=False)
+    angle_drivers: frozenset[str] = frozenset()
 
     def angle(self, link: str) -> np.ndarray:
         """Angle ``theta`` of ``link`` (radians)."""
@@ -1409,7 +1571,7 @@ class LinkageMotion:
         if ax is None:
             _, ax = plt.subplots()
         driver, x = next(iter(self.inputs.items()))
-        is_angle = driver in self.theta
+        is_angle = driver in self.angle_drivers
         xs = np.degrees(np.ravel(x)) if is_angle else np.ravel(x)
         names = [n for n in self.theta if n not in self.inputs] if links is None else links
         for name in names:
@@ -1563,6 +1725,7 @@ def _motion(lk: Linkage, c: _Compiled, lm: Motion, vals: dict[str, np.ndarray]) 
         ok=lm.ok,
         reason=lm.reason,
         loop_motion=lm,
+        angle_drivers=frozenset(d for d in vals if d in lk._links or d in lk._motors),
     )
 
 
@@ -1608,8 +1771,9 @@ class LinkageForces:
     couple : mapping of joint name to ndarray
         The couple a prismatic joint transmits to the block.
     driver : mapping of driver name to ndarray
-        Driving torque (of the ground on the driven link, like ``T12``) or
-        force (along the slide; an actuator's push).
+        Driving torque (of the ground on the driven link, like ``T12``; of a
+        motor's link *a* on its link *b*, ``−T`` on *a*) or force (along the
+        slide; an actuator's push).
     rolling : mapping of rolling-joint name to complex ndarray
         Contact force on ``link_b`` from ``link_a`` at the contact point (on
         ``link_a`` it is the opposite); for a contact whose centres share a
@@ -1673,10 +1837,10 @@ class LinkageForces:
         if ax is None:
             _, ax = plt.subplots()
         driver, x = next(iter(self.motion.inputs.items()))
-        is_angle = driver in self.motion.theta
+        is_angle = driver in self.motion.angle_drivers
         xs = np.degrees(np.ravel(x)) if is_angle else np.ravel(x)
         for name, effort in self.driver.items():
-            kind = "torque" if name in self.motion.theta else "force"
+            kind = "torque" if name in self.motion.angle_drivers else "force"
             ax.plot(xs, np.ravel(effort), label=f"driver {name} ({kind})")
         ax.set_xlabel(f"{driver} [deg]" if is_angle else driver)
         ax.legend()
@@ -1830,6 +1994,9 @@ def _forces(
         for d in lk._drivers:
             if d in lk._links:
                 couple_col([(d, 1.0), (GROUND, -1.0)], ("driver", d))
+            elif d in lk._motors:  # torque T on link b, its reaction -T on link a
+                a, b_ = lk._motor_links(d)
+                couple_col([(b_, 1.0), (a, -1.0)], ("driver", d))
 
     def build_edge(e: _Edge, kappa: Mapping[str, Any]) -> None:
         if e.kind == "R":
@@ -1963,7 +2130,10 @@ def _forces(
             pattern[r, k] = True
         row_scale = np.tile([1.0, 1.0, 1.0 / length], len(moving))
         col_scale = np.array(
-            [length if kind == "couple" or name in lk._links else 1.0 for kind, name in labels]
+            [
+                length if kind == "couple" or name in lk._links or name in lk._motors else 1.0
+                for kind, name in labels
+            ]
         )
         blocks = []
         for rows, cols in _block_triangular(pattern, labels, moving):
