@@ -508,6 +508,31 @@ def test_a_sweep_that_runs_into_a_toggle_ends_singular_not_jumped(toward):
     np.testing.assert_allclose(wrap(m["theta4"] - closed.theta4), 0, atol=1e-5)
 
 
+@pytest.mark.parametrize("form", [1, 2])
+@pytest.mark.parametrize("inset", [0.0, 1e-9])
+def test_a_sweep_that_starts_at_a_toggle_stays_on_the_guessed_branch(form, inset):
+    """GRCR 6-9-3-8 swept between its dead points; the guess is a pose mid-range.
+
+    Both branches meet at the first sample, so the march is anchored where the guess
+    picks one and run out to both ends; the closed form (FourBar, a separate code
+    path) says which branch that is.
+    """
+    fb = FourBar(6, 9, 3, 8)
+    limits = fb.input_range(form)
+    theta2 = np.linspace(limits.lo + inset, limits.hi - inset, 41)
+    middle = fb.solve(theta2[20], form=form)
+    m = fourbar_system(6, 9, 3, 8).solve(
+        {"theta2": theta2},
+        guess={"theta3": float(middle.theta3), "theta4": float(middle.theta4)},
+        velocity={"theta2": 1.0},
+    )
+    closed = fb.solve(theta2, 1.0, form=form)
+    assert m.ok[2:-2].all()  # within ~1e-4 rad of a dead point the core flags singular
+    assert set(m.reason[~m.ok]) <= {REASONS[SINGULAR]}
+    np.testing.assert_allclose(wrap(m["theta4"] - closed.theta4), 0, atol=1e-5)
+    np.testing.assert_allclose(wrap(m["theta4"] - closed.theta4)[2:-2], 0, atol=1e-9)
+
+
 # ----------------------------------------------------------------------------- linear algebra
 def test_batched_lu_matches_numpy(rng):
     for n in (1, 2, 3, 5, 8):

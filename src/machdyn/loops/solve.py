@@ -963,6 +963,11 @@ def solve_positions(
     holding them is re-solved this careful way (:func:`_patch`).
     """
     n_q, n_u, n_samples = guess.shape[0], u.shape[0], u.shape[1]
+    if continuation and n_samples > 2:
+        careful = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "fast": fast}
+        split = _from_a_toggle(c, u, guess, sing_tol, **careful)
+        if split is not None:
+            return split
     if fast and continuation and 3 <= n_samples <= FAST_MAX_SAMPLES and n_u:
         quick = _sweep_fast(c, u, guess, max_step, tol, max_iter, sing_tol)
         if quick is not None and (quick.code == OK).all():
@@ -989,6 +994,8 @@ def solve_positions(
     while stride * 2 * typical <= max_step and stride * 2 < n_samples:
         stride *= 2
     coarse = np.arange(0, n_samples, stride)
+    if coarse[-1] != n_samples - 1:  # march to the end too: a fill past the last coarse
+        coarse = np.append(coarse, n_samples - 1)  # sample could only extrapolate
     st = _Store(n_q, n_u, n_samples, sing_tol)
     march = _March(c, tol, sing_tol)
     g0 = guess[:, :1]
@@ -1036,6 +1043,46 @@ MARCH_STEP_TOL = 1e-5
 #: Corrector steps of the fast fill (from a cubic Hermite prediction whose error
 #: is O(h⁴) for a coarse step h ≤ max_step, 2–3 suffice).
 FAST_ITER = 5
+
+
+def _from_a_toggle(
+    c: Compiled,
+    u: np.ndarray,
+    guess: np.ndarray,
+    sing_tol: float,
+    *,
+    max_step: float,
+    tol: float,
+    max_iter: int,
+    fast: bool,
+) -> Positions | None:
+    """A sweep that starts at a toggle: march out from where the guess picks a branch.
+
+    At a toggle the branches meet, so a march that starts there may go on along
+    either. If the first sample's pose (from the guess) is singular, the sweep is
+    anchored instead at the sample whose well-conditioned pose lies nearest the
+    guess, and marched from there to both ends. Returns None when the first
+    sample is not at a toggle (or nothing in the sweep is well conditioned).
+    """
+    first = newton_one(c, guess[:, :1], u[:, :1], max_iter=max_iter, tol=tol)
+    if not first.converged[0] or first.rcond[0] >= 10 * sing_tol:
+        return None
+    every = newton(c, np.broadcast_to(guess[:, :1], (guess.shape[0], u.shape[1])), u, max_iter, tol)
+    usable = every.converged & (every.rcond >= 10 * sing_tol)
+    if not usable.any():
+        return None
+    scale = c.var_scale[c.unknown][:, None]
+    distance = np.abs((every.q - guess[:, :1]) / scale).max(axis=0)
+    k = int(np.argmin(np.where(usable, distance, np.inf)))
+    options = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "sing_tol": sing_tol}
+    ahead = solve_positions(c, u[:, k:], every.q[:, k : k + 1], True, fast=fast, **options)
+    back = solve_positions(c, u[:, k::-1], every.q[:, k : k + 1], True, fast=fast, **options)
+
+    def joined(name: str) -> np.ndarray:
+        before = getattr(back, name)[..., :0:-1]  # samples k-1 … 0, put back in order
+        return np.concatenate([before, getattr(ahead, name)], axis=-1)
+
+    return Positions(*(joined(name) for name in ("q", "code", "residual", "det", "rcond")))
 
 
 def _sweep_fast(
@@ -1322,6 +1369,14 @@ def _fill(c: Compiled, new, half, u, st: _Store, tol, march: _March) -> None:
     span = u[:, right] - u[:, left]
     span_s = span / scale_u
     denom = (span_s * span_s).sum(axis=0)
+    # A neighbour at (or next to) a toggle has a useless tangent (dq/du is unbounded
+    # there): predict from the other neighbour alone.
+    well_l = has_left & (st.rc[left] >= 10 * march.sing_tol)
+    well_r = has_right & (st.rc[right] >= 10 * march.sing_tol)
+    has_left, has_right = (
+        has_left & (well_l | ~well_r),  # keep a side unless only the other is well
+        has_right & (well_r | ~well_l),
+    )
     both = has_left & has_right & (denom > 0)
     with np.errstate(invalid="ignore", divide="ignore"):
         t = np.clip(((dul / scale_u) * span_s).sum(axis=0) / denom, 0.0, 1.0)
