@@ -8,7 +8,9 @@ prismatic joints, pin-in-slot half joints, linear actuators (hydraulic
 cylinders, collapsed into one variable-length vector) and rolling contacts
 without slip (:meth:`Linkage.roll`) are added by name; a rotary motor at a
 pin between two moving links (:meth:`Linkage.motor`) drives their relative
-angle.
+angle. Springs and dampers between two points (:meth:`Linkage.spring`) or at
+a pin (:meth:`Linkage.torsion_spring`) add no joint: they are known loads in
+the force analysis.
 
 The linkage is compiled into the core's vector loops the way the notes teach
 (review lecture 3; Norton, *Design of Machinery*, §4.5 and §4.13):
@@ -1223,7 +1225,9 @@ class Linkage:
         slot, and the driver torque (angle driver: a motor between the ground
         and the link; :meth:`motor`: the torque on its link *b*, ``−T`` on
         *a*) or force (slider driver: along the slide; actuator driver:
-        positive when it pushes its ends apart).
+        positive when it pushes its ends apart). Springs and dampers
+        (:meth:`spring`, :meth:`torsion_spring`) are known loads from the
+        motion, reported in ``elements``, ``element_length`` and ``element_rate``.
 
         Parameters
         ----------
