@@ -294,6 +294,64 @@ def test_massless_fourbar_driver_torque_by_virtual_work():
     assert np.allclose(f.driver["2"], total, rtol=0, atol=1e-6 * np.abs(total).max())
 
 
+def test_return_spring_on_a_slider_block_closed_form():
+    """Massless slider-crank (a = 2, b = 6) with a spring-damper from the ground point
+    S = (-3, 0) on the slide line to the block B: L = x_B + 3 with
+    x_B = a cos(theta) + sqrt(b^2 - a^2 sin^2(theta)) and T12 = T dx_B/dtheta (by hand)."""
+    a, b, k, L0, c, T0, w2 = 2.0, 6.0, 500.0, 9.0, 4.0, 30.0, 7.0
+    lk = (
+        Linkage({"O2": 0j, "A": a + 0j, "B": a + b + 0j, "S": -3.0 + 0j})
+        .ground("O2", "S")
+        .link("crank", "O2", "A")
+        .link("rod", "A", "B")
+        .link("block", "B")
+        .slider("block", "ground", "B", 0.0, name="guide")
+        .spring("return", "S", "B", stiffness=k, free_length=L0, damping=c, preload=T0)
+        .drive("crank")
+    )
+    theta = np.radians(np.arange(0.0, 360.0, 5.0))
+    f = lk.forces(lk.solve(theta, velocity=w2))
+    root = np.sqrt(b**2 - (a * np.sin(theta)) ** 2)
+    x_b = a * np.cos(theta) + root
+    dx = -a * np.sin(theta) - a**2 * np.sin(theta) * np.cos(theta) / root
+    T = k * (x_b + 3.0 - L0) + c * w2 * dx + T0
+    assert np.allclose(f.elements["return"], T, rtol=0, atol=1e-10 * np.abs(T).max())
+    assert np.allclose(f.driver["crank"], T * dx, rtol=0, atol=1e-10 * np.abs(T * dx).max())
+    # the rate from the solved velocities: dL/dt = omega2 dx_B/dtheta
+    assert np.allclose(f.element_rate["return"], w2 * dx, rtol=0, atol=1e-10)
+
+
+def test_power_balance_random_springs_on_the_fourbar(rng):
+    """Seeded random attachments (ground-coupler, crank-rocker) and laws: the power balance
+    holds to 1e-8 whatever the geometry."""
+    for _ in range(6):
+        lk = hw6(masses=True)
+        lk.point("S", complex(*rng.uniform(-6.0, 10.0, 2)))
+        k, c = rng.uniform(0.0, 300.0, 2)
+        L0 = rng.uniform(1.0, 10.0)
+        pre = rng.normal(0.0, 50.0)
+        lk.spring("s1", "S", "P", stiffness=k, free_length=L0, damping=c, preload=pre)
+        k2, c2, L2 = rng.uniform(0.0, 300.0), rng.uniform(0.0, 5.0), rng.uniform(1.0, 10.0)
+        lk.spring("s2", "Q", "A", stiffness=k2, free_length=L2, damping=c2)
+        w2 = rng.uniform(1.0, 8.0)
+        m = lk.solve(THETA2, velocity=w2)
+        f = lk.forces(m, gravity=G)
+        assert f.ok.all()
+        dke, dpe = kinetic_rates(lk, m)
+        p_el = 0.0
+        for name, (start, end, kk, ll, cc, t0) in {
+            "s1": ("S", "P", k, L0, c, pre),
+            "s2": ("Q", "A", k2, L2, c2, 0.0),
+        }.items():
+            L, L_dot = length_and_rate(m, start, end)
+            T = kk * (L - ll) + cc * L_dot + t0
+            assert np.allclose(f.elements[name], T, rtol=0, atol=1e-10 * np.abs(T).max())
+            p_el = p_el - T * L_dot
+        power = f.driver["2"] * w2 + p_el
+        scale = np.abs(f.driver["2"] * w2).max() + np.abs(dke).max() + np.abs(p_el).max()
+        assert np.abs(power - dke - dpe).max() <= 1e-8 * scale
+
+
 def test_shaking_force_is_newtons_law_for_the_moving_links():
     """A spring to the ground loads the frame: Fs = -sum m (a_G + j g) still holds."""
     lk = with_elements(hw6(masses=True), damping=True)
