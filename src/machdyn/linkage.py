@@ -8,7 +8,9 @@ prismatic joints, pin-in-slot half joints, linear actuators (hydraulic
 cylinders, collapsed into one variable-length vector) and rolling contacts
 without slip (:meth:`Linkage.roll`) are added by name; a rotary motor at a
 pin between two moving links (:meth:`Linkage.motor`) drives their relative
-angle.
+angle. Springs and dampers between two points (:meth:`Linkage.spring`) or at
+a pin (:meth:`Linkage.torsion_spring`) add no joint: they are known loads in
+the force analysis.
 
 The linkage is compiled into the core's vector loops the way the notes teach
 (review lecture 3; Norton, *Design of Machinery*, §4.5 and §4.13):
@@ -48,7 +50,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from ._validate import finite_array, finite_scalar, magnitude, nonnegative
+from ._validate import finite_array, finite_scalar, magnitude, nonnegative, positive
 from .errors import AssemblyError, InputError, ModelError
 from .loops import LoopSystem, lu_factor, lu_solve
 from .loops.result import Motion
@@ -118,6 +120,32 @@ class _Edge:
 
 
 @dataclass(frozen=True)
+class _Spring:
+    """A linear spring–damper: tension ``k (L − L0) + c dL/dt + preload`` (pulls the ends in)."""
+
+    start: str
+    end: str
+    link_a: str  # '' = the default carrier
+    link_b: str
+    stiffness: float
+    free_length: float
+    damping: float
+    preload: float
+
+
+@dataclass(frozen=True)
+class _Torsion:
+    """A torsional spring–damper at a pin: torque ``kt (φ − φ0) + ct dφ/dt + preload``."""
+
+    at: str
+    links: tuple[str, str] | None
+    stiffness: float
+    free_angle: float
+    damping: float
+    preload: float
+
+
+@dataclass(frozen=True)
 class _Compiled:
     system: LoopSystem
     driver_vars: tuple[str, ...]  # loop variable of each driver
@@ -170,6 +198,8 @@ class Linkage:
         self._actuators: dict[str, tuple[str, str, str, str]] = {}
         self._rolls: dict[str, tuple[str, str, float, str, str, float, bool]] = {}
         self._motors: dict[str, tuple[str, tuple[str, str] | None]] = {}  # name -> (pin, links)
+        self._springs: dict[str, _Spring] = {}
+        self._torsions: dict[str, _Torsion] = {}
         self._drivers: list[str] = []
         self._compiled: _Compiled | None = None
         self._points_extra: dict[str, complex] = {}
@@ -676,6 +706,208 @@ class Linkage:
             _ground_motor(name, at, pair)
         return pair
 
+    def spring(
+        self,
+        name: str,
+        start: str,
+        end: str,
+        *,
+        stiffness: float,
+        free_length: float,
+        damping: float = 0.0,
+        preload: float = 0.0,
+        links: Sequence[str] = (),
+    ) -> Linkage:
+        """Add a linear spring–damper between two points (a gas spring, a return spring).
+
+        A massless two-force element along the line from ``start`` to ``end``
+        with the **tension** (positive when it pulls its ends together)
+
+        ``T = stiffness (L − free_length) + damping dL/dt + preload``,
+
+        ``L`` the distance between the two points. It adds no joint and no loop
+        (the motion is the same with or without it); in :meth:`forces` it is a
+        known load ``+T û`` on the link at ``start`` and ``−T û`` on the link at
+        ``end`` (``û`` the unit vector from ``start`` to ``end``), and its
+        power on the mechanism is ``−T dL/dt``. A compression spring (a gas
+        spring pushing a lid open) has ``L < free_length``, so ``T < 0``.
+
+        Parameters
+        ----------
+        name : str
+            Its name (the key of ``LinkageForces.elements``).
+        start, end : str
+            Points where it is attached (on the ground or on moving links).
+        stiffness : float
+            ``k ≥ 0`` (force per length).
+        free_length : float
+            ``L0 > 0``, its length where the spring force is ``preload``.
+        damping : float
+            ``c ≥ 0`` (force per velocity).
+        preload : float
+            A constant tension added to the spring law (any sign).
+            ``preload = k L0`` makes a zero-free-length spring, ``T = k L``.
+        links : (link_a, link_b), optional
+            The links carrying ``start`` and ``end`` when a point is a pin of
+            several links. Default: the first carriers (ground first, then the
+            links in the order they were defined) that are two different links.
+
+        Examples
+        --------
+        A lid O2–A held open by a gas spring S–A: its telescope is an undriven
+        actuator (a free strut: it gives the lid its second joint and carries
+        no force) and the spring acts between the same points. At θ2 = 0 the
+        spring is 5 long, 1 longer than free, so ``T = 100``:
+
+        >>> lk = (Linkage({"O2": (0, 0), "A": (3, 0), "S": (0, 4)}).ground("O2", "S")
+        ...       .link("lid", "O2", "A").actuator("strut", "S", "A").drive("lid")
+        ...       .spring("k", "S", "A", stiffness=100.0, free_length=4.0))
+        >>> f = lk.forces(lk.solve([0.0], velocity=0.0))
+        >>> float(f.elements["k"][0]), float(f.element_length["k"][0])
+        (100.0, 5.0)
+        """
+        name = self._element_name("spring", name)
+        self._need_points(f"spring {name!r}", (start, end))
+        if start == end:
+            raise ModelError(f"spring {name!r} joins point {start!r} to itself; give two points")
+        k = nonnegative(f"{name}.stiffness", stiffness)
+        L0 = positive(f"{name}.free_length", free_length)
+        c = nonnegative(f"{name}.damping", damping)
+        T0 = finite_scalar(f"{name}.preload", preload)
+        ends = tuple(links)
+        if ends and (len(ends) != 2 or not all(isinstance(n, str) for n in ends)):
+            raise InputError(f"{name}.links", f"give two link names, got {links!r}")
+        for point, link in zip((start, end), ends, strict=False):
+            self._owner(point, link)
+        if ends and ends[0] == ends[1]:
+            _same_link("spring", name, ends[0])
+        self._springs[name] = _Spring(
+            start, end, ends[0] if ends else "", ends[1] if ends else "", k, L0, c, T0
+        )
+        return self._changed()
+
+    def torsion_spring(
+        self,
+        name: str,
+        at: str,
+        *,
+        stiffness: float,
+        free_angle: float,
+        damping: float = 0.0,
+        preload: float = 0.0,
+        links: Sequence[str] | None = None,
+    ) -> Linkage:
+        """Add a torsional spring–damper at pin ``at`` between two links (or a link and ground).
+
+        With ``phi = theta_b − theta_a`` the relative angle of the two links
+        (CCW positive, radians, each ``theta`` as in :meth:`link`; the ground's
+        is 0), the element's torque
+
+        ``tau = stiffness (phi − free_angle) + damping dphi/dt + preload``
+
+        acts as ``−tau`` on link *b* and ``+tau`` on link *a* (positive ``tau``
+        winds ``phi`` back down), so its power is ``−tau dphi/dt``. It adds no
+        joint; ``phi`` is not wrapped (a spring wound a full turn has
+        ``phi − free_angle = 2π``).
+
+        Parameters
+        ----------
+        name : str
+            Its name (the key of ``LinkageForces.elements``).
+        at : str
+            The pin it sits on: a point of both links.
+        stiffness : float
+            ``kt ≥ 0`` (torque per radian).
+        free_angle : float
+            ``phi`` (radians) where the spring torque is ``preload``.
+        damping : float
+            ``ct ≥ 0`` (torque per rad/s).
+        preload : float
+            A constant torque added to the law (any sign).
+        links : (link_a, link_b), optional
+            The two links; needed when the pin joins more than two. Default:
+            the two carriers of ``at`` (ground first, then in the order the
+            links were defined).
+
+        Examples
+        --------
+        A lid pinned to the ground at O2 (a free strut S–A gives it its second
+        joint) with a torsional spring, free at θ2 = 0: at θ2 = 0.5 rad the
+        driver holds ``2 × 0.5 = 1``:
+
+        >>> lk = (Linkage({"O2": (0, 0), "A": (3, 0), "S": (0, 4)}).ground("O2", "S")
+        ...       .link("lid", "O2", "A").actuator("strut", "S", "A").drive("lid")
+        ...       .torsion_spring("coil", "O2", stiffness=2.0, free_angle=0.0))
+        >>> f = lk.forces(lk.solve([0.5], velocity=0.0))
+        >>> float(f.elements["coil"][0]), float(f.driver["lid"][0])
+        (1.0, 1.0)
+        """
+        name = self._element_name("torsion spring", name)
+        self._need_points(f"torsion spring {name!r}", [at])
+        kt = nonnegative(f"{name}.stiffness", stiffness)
+        phi0 = finite_scalar(f"{name}.free_angle", free_angle)
+        ct = nonnegative(f"{name}.damping", damping)
+        tau0 = finite_scalar(f"{name}.preload", preload)
+        pair: tuple[str, str] | None = None
+        if links is not None:
+            given = tuple(links)
+            if len(given) != 2 or not all(isinstance(n, str) for n in given):
+                raise InputError(f"{name}.links", f"give two link names, got {links!r}")
+            for n in given:
+                self._owner(at, n)
+            if given[0] == given[1]:
+                _same_link("torsion spring", name, given[0])
+            pair = (given[0], given[1])
+        self._torsions[name] = _Torsion(at, pair, kt, phi0, ct, tau0)
+        return self._changed()
+
+    def _element_name(self, what: str, name: Any) -> str:
+        if not isinstance(name, str) or not name:
+            raise InputError(what, f"a name is a non-empty string, got {name!r}")
+        if name in self._links or name == GROUND or self._joint_named(name):
+            raise ModelError(f"{what} {name!r}: the name is used twice (by a link or joint)")
+        return name
+
+    def _element_links(self, name: str) -> tuple[str, str]:
+        """The links ``(a, b)`` a spring or torsion spring acts on, checked."""
+        if name in self._springs:
+            s = self._springs[name]
+            if s.link_a:
+                return self._owner(s.start, s.link_a), self._owner(s.end, s.link_b)
+            for point in (s.start, s.end):
+                if not self._carriers(point):
+                    raise ModelError(
+                        f"spring {name!r}: point {point!r} is on no link; attach it to points "
+                        "of links (or of the ground)"
+                    )
+            pairs = [(a, b) for a in self._carriers(s.start) for b in self._carriers(s.end)]
+            what = "spring"
+        else:
+            t = self._torsions[name]
+            if t.links:
+                return self._owner(t.at, t.links[0]), self._owner(t.at, t.links[1])
+            carriers = self._carriers(t.at)
+            if len(carriers) < 2:
+                raise ModelError(
+                    f"torsion spring {name!r}: point {t.at!r} is no pin (it is on "
+                    f"{', '.join(carriers) or 'no link'}); it sits on a point of two links"
+                )
+            if len(carriers) > 2:
+                raise ModelError(
+                    f"torsion spring {name!r}: pin {t.at!r} joins {len(carriers)} links "
+                    f"({', '.join(carriers)}); say which two with links=(link_a, link_b)"
+                )
+            pairs, what = [(carriers[0], carriers[1])], "torsion spring"
+        pair = next((p for p in pairs if p[0] != p[1]), None)
+        if pair is None:
+            _same_link(what, name, pairs[0][0])
+        return pair
+
+    def _carriers(self, point: str) -> list[str]:
+        """The ground (if the point is fixed) and the links carrying ``point``, in order."""
+        out = [GROUND] if point in self._ground else []
+        return out + [n for n, ln in self._links.items() if point in ln.points]
+
     def drive(self, *names: str) -> Linkage:
         """Name the driver(s): a link (angle), a slider/slot (displacement), an actuator (length).
 
@@ -703,7 +935,15 @@ class Linkage:
         return self._changed()
 
     def _joint_named(self, name: str) -> bool:
-        tables = (self._sliders, self._slots, self._actuators, self._rolls, self._motors)
+        tables = (
+            self._sliders,
+            self._slots,
+            self._actuators,
+            self._rolls,
+            self._motors,
+            self._springs,
+            self._torsions,
+        )
         return any(name in t for t in tables)
 
     def _names(self) -> str:
@@ -722,7 +962,9 @@ class Linkage:
         for ln in self._links.values():
             if point in ln.points:
                 return ln.name
-        raise ModelError(f"point {point!r} is on no link; an actuator end must be on a link")
+        raise ModelError(
+            f"point {point!r} is on no link; the ends of an actuator or a spring must be on links"
+        )
 
     def _edges(self) -> list[_Edge]:
         edges: list[_Edge] = []
@@ -851,6 +1093,8 @@ class Linkage:
                 f"named ({', '.join(self._drivers)}): name {m} driver(s)"
                 + (" — the drawing is a structure" if m <= 0 else "")
             )
+        for name in [*self._springs, *self._torsions]:
+            self._element_links(name)  # ends on two different links
         self._compiled = _compile(self, edges)
         return self._compiled
 
@@ -981,7 +1225,9 @@ class Linkage:
         slot, and the driver torque (angle driver: a motor between the ground
         and the link; :meth:`motor`: the torque on its link *b*, ``−T`` on
         *a*) or force (slider driver: along the slide; actuator driver:
-        positive when it pushes its ends apart).
+        positive when it pushes its ends apart). Springs and dampers
+        (:meth:`spring`, :meth:`torsion_spring`) are known loads from the
+        motion, reported in ``elements``, ``element_length`` and ``element_rate``.
 
         Parameters
         ----------
@@ -1024,6 +1270,15 @@ class Linkage:
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
+
+
+def _same_link(what: str, name: str, link: str) -> NoReturn:
+    """Refuse a spring whose two ends are on one link: its load would be internal."""
+    raise ModelError(
+        f"{what} {name!r}: both ends are on link {link!r}, so its load is internal to that "
+        "rigid link and does nothing (its length or angle never changes); attach it to two "
+        "different links (or a link and the ground)"
+    )
 
 
 def _ground_motor(name: str, at: str, pair: tuple[str, str]) -> NoReturn:
@@ -1748,6 +2003,7 @@ FORCE_REASONS = {
     "singular": "singular force system (toggle or dead point): the joint forces are not "
     "determined by Newton–Euler",
     "coulomb": "Coulomb friction: no consistent sign of the normal force (self-locking)",
+    "spring": "a spring's two ends meet (zero length): the direction of its force is undefined",
 }
 
 
@@ -1780,6 +2036,15 @@ class LinkageForces:
         carrier only its tangential part (the preload is taken as 0).
     contact : mapping of rolling-joint name to complex ndarray
         Position of each rolling contact point.
+    elements : mapping of spring name to ndarray
+        The effort of every :meth:`Linkage.spring` — its tension ``T``
+        (positive pulling the ends together, a force) — and of every
+        :meth:`Linkage.torsion_spring` — its torque ``tau`` (positive winding
+        ``phi`` back, ``−tau`` on link *b*).
+    element_length, element_rate : mapping of spring name to ndarray
+        A spring's length ``L`` and ``dL/dt``; a torsion spring's relative
+        angle ``phi = theta_b − theta_a`` (radians, not wrapped) and ``dphi/dt``.
+        The element's power on the mechanism is ``−effort × rate``.
     shaking_force : complex ndarray
         Sum of the forces the moving links exert on the ground.
     shaking_moment : ndarray
@@ -1813,6 +2078,9 @@ class LinkageForces:
     motion: LinkageMotion = field(repr=False)
     rolling: Mapping[str, np.ndarray] = field(default_factory=dict)
     contact: Mapping[str, np.ndarray] = field(default_factory=dict)
+    elements: Mapping[str, np.ndarray] = field(default_factory=dict)
+    element_length: Mapping[str, np.ndarray] = field(default_factory=dict)
+    element_rate: Mapping[str, np.ndarray] = field(default_factory=dict)
 
     def F(self, a: str, p: str) -> np.ndarray:
         """The pin force on link ``p`` from link ``a`` (``F_ap``)."""
@@ -1847,7 +2115,11 @@ class LinkageForces:
         return ax
 
     def to_pandas(self) -> Any:
-        """One row per sample: pin, slider and contact forces, drivers, shaking, flags."""
+        """One row per sample: pin, slider and contact forces, drivers, springs, shaking, flags.
+
+        A spring or torsion spring ``k`` gives columns ``T_k`` (tension or torque),
+        ``L_k`` (length or relative angle) and ``Ldot_k`` (its rate).
+        """
         import pandas as pd
 
         cols: dict[str, np.ndarray] = {}
@@ -1863,6 +2135,10 @@ class LinkageForces:
             cols[f"F_{k}_x"], cols[f"F_{k}_y"] = np.ravel(v).real, np.ravel(v).imag
         for k, v in self.driver.items():
             cols[f"driver_{k}"] = np.ravel(v)
+        for k, v in self.elements.items():
+            cols[f"T_{k}"] = np.ravel(v)
+            cols[f"L_{k}"] = np.ravel(self.element_length[k])
+            cols[f"Ldot_{k}"] = np.ravel(self.element_rate[k])
         cols["shaking_force_x"] = np.ravel(self.shaking_force).real
         cols["shaking_force_y"] = np.ravel(self.shaking_force).imag
         cols["shaking_moment"] = np.ravel(self.shaking_moment)
@@ -2108,8 +2384,42 @@ def _forces(
         apply(edge.b, X, f)
         apply(edge.a, X, -f)
 
+    # springs and dampers: known loads on the links they join (no unknowns)
+    effort, extent, rate = {}, {}, {}
+    V = {k: flat(np.nan_to_num(v)) for k, v in motion.point_velocity.items()}
+    zero_length = np.zeros(n_s, bool)
+    for name, s in lk._springs.items():
+        a, b_ = lk._element_links(name)
+        d = P[s.end] - P[s.start]
+        ell = np.abs(d)  # the spring's length L
+        short = ell <= 1e-12 * max(s.free_length, 1.0)
+        zero_length |= short
+        u = d / np.where(short, 1.0, ell)
+        ell_dot = ((V[s.end] - V[s.start]) * u.conjugate()).real
+        T = s.stiffness * (ell - s.free_length) + s.damping * ell_dot + s.preload
+        apply(a, P[s.start], T * u)  # the tension pulls start toward end ...
+        apply(b_, P[s.end], -T * u)  # ... and end toward start
+        effort[name], extent[name], rate[name] = T, ell, ell_dot
+
+    def angle_of(link: str) -> tuple[np.ndarray, np.ndarray]:
+        if link == GROUND:
+            return np.zeros(n_s), np.zeros(n_s)
+        return flat(np.nan_to_num(motion.theta[link])), flat(np.nan_to_num(motion.omega[link]))
+
+    for name, t in lk._torsions.items():
+        a, b_ = lk._element_links(name)
+        (th_a, w_a), (th_b, w_b) = angle_of(a), angle_of(b_)
+        phi, phi_dot = th_b - th_a, w_b - w_a
+        tau = t.stiffness * (phi - t.free_angle) + t.damping * phi_dot + t.preload
+        for link, sgn in ((a, 1.0), (b_, -1.0)):
+            if link == GROUND:
+                ext_moment_ground = ext_moment_ground + sgn * tau
+            else:
+                b[:, row[link] + 2] -= sgn * tau
+        effort[name], extent[name], rate[name] = tau, phi, phi_dot
+
     # assemble and solve in chunks, block by block (Assur groups, found from the pattern)
-    bad = ~np.ravel(motion.ok)
+    bad = ~np.ravel(motion.ok) | zero_length
 
     # static scaling (moment rows by 1/L, couple columns by L, L a typical link
     # size) makes every block O(1) for the LU and its singularity test
@@ -2236,12 +2546,15 @@ def _forces(
     for k, u, mom in ground_parts:
         Fs += x[:, k] * u
         Ms += x[:, k] * mom
-    for name, f in friction.items():
-        edge = next(e for e in lk._edges() if e.name == name)
-        if edge.a == GROUND:
-            Fs -= f
-            Ms -= _cross(P[edge.pb], f)
+    # ... and the known loads on the ground: friction of a ground guide, springs
+    Fs += ext_force_ground
+    Ms += ext_moment_ground
     reasons = np.array(motion.reason, dtype=object).reshape(n_s).copy()
+
+    def per_sample(table: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:
+        return _frozen({k: np.where(bad_all, np.nan, v).reshape(shape) for k, v in table.items()})
+
+    reasons[zero_length & np.ravel(motion.ok)] = FORCE_REASONS["spring"]
     reasons[singular & ~bad] = FORCE_REASONS["singular"]
     reasons[friction_bad & ~bad & ~singular] = FORCE_REASONS["coulomb"]
     return LinkageForces(
@@ -2259,4 +2572,7 @@ def _forces(
         contact=_frozen(
             {k: np.where(bad_all, np.nan, v[0]).reshape(shape) for k, v in contact.items()}
         ),
+        elements=per_sample(effort),
+        element_length=per_sample(extent),
+        element_rate=per_sample(rate),
     )
