@@ -1078,11 +1078,17 @@ class Linkage:
             for n in (e.a, e.b):
                 if n in count:
                     count[n] += 1
-        few = [n for n, k in count.items() if k < 2]
+        # one joint is enough for a link whose angle is driven (absolutely or by a motor):
+        # it hangs on that pin, an open chain
+        driven = set(self._drivers) | {
+            ln for mn in self._motors if mn in self._drivers for ln in self._motor_links(mn)
+        }
+        few = [n for n, k in count.items() if k == 0 or (k == 1 and n not in driven)]
         if few:
             raise ModelError(
-                f"link(s) {', '.join(few)} have fewer than two joints (a link with one joint "
-                "swings freely); check the point names shared with other links"
+                f"link(s) {', '.join(few)} have fewer than two joints (a link on one pin "
+                "swings freely unless its angle is driven: drive(link), or a motor at the "
+                "pin); check the point names shared with other links"
             )
         m = self.mobility()
         if not self._drivers:
@@ -1383,11 +1389,17 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         walk = up_a + [(j, t, f) for j, f, t in reversed(up_b)] + [(i, e.b, e.a)]
         cycles.append(walk)
         on_loop.update(j for j, _, _ in walk)
-    bridges = [edges[i].name for i in range(len(edges)) if i not in on_loop]
+    # A pin on no loop (an open chain: a lid, an arm) leaves the links beyond it free to
+    # turn: each such link gets an angle variable of its own below, which a driver (or a
+    # motor) must then fix. Any other joint must be on a loop.
+    hanging = {
+        n for i, e in enumerate(edges) if i not in on_loop and e.kind == "R" for n in (e.a, e.b)
+    } - {GROUND}
+    bridges = [e.name for i, e in enumerate(edges) if i not in on_loop and e.kind != "R"]
     if bridges:
         raise ModelError(
-            f"joint(s) {', '.join(bridges)} lie on no closed loop: the links beyond them are "
-            "free (add the missing joints) — every joint must be on a loop"
+            f"joint(s) {', '.join(bridges)} lie on no closed loop: only a pin may hang a "
+            "link outside the loops (an open chain, its angle driven); add the missing joints"
         )
 
     system = LoopSystem()
@@ -1555,6 +1567,12 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         crossing(i)
         text, consts = _no_slip(e, roll_parts[e.name], class_var, find, drawn)
         system.constraint(text, **consts)
+    for n in links:
+        root = find(n)
+        if n in hanging and root != GROUND and root not in class_var:
+            ref = fresh(f"R_{n}_ref")
+            system.vector(ref, 1.0, angle_of(n, _ref_angle(lk, n), "ref"))
+            system.point(fresh(f"P_{n}_ref"), ref)
     # every moving rotation class must have an angle variable
     rot_var: dict[str, str | None] = {}
     rot_offset: dict[str, float] = {}

@@ -963,6 +963,9 @@ def solve_positions(
     holding them is re-solved this careful way (:func:`_patch`).
     """
     n_q, n_u, n_samples = guess.shape[0], u.shape[0], u.shape[1]
+    if n_q == 0:  # every variable driven (an open chain): nothing to solve
+        ones, zeros = np.ones(n_samples), np.zeros(n_samples)
+        return Positions(np.empty((0, n_samples)), np.zeros(n_samples, np.int8), zeros, ones, ones)
     if continuation and n_samples > 2:
         careful = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "fast": fast}
         split = _from_a_toggle(c, u, guess, sing_tol, **careful)
