@@ -132,6 +132,20 @@ def test_fast_search_agrees_with_brute_force_on_random_polygons(rng):
             np.testing.assert_allclose(point, expected, rtol=1e-9, atol=1e-12 * np.abs(z).max())
 
 
+def test_a_few_long_segments_among_many_short_ones(rng):
+    # a finely sampled wavy arc closed by a few long chords that cut across it: the long
+    # segments are paired with every other one instead of filling a huge grid
+    t = np.linspace(0.0, np.radians(40.0), 1500, endpoint=False)
+    arc = np.exp(1j * t) * (1.0 + 0.02 * np.sin(60 * t))
+    chords = np.array([0.3 + 2.0j, -1.5 + 0.1j, 2.0 + 0.6j, 0.97 + 0.05j])
+    for z in (np.r_[arc, chords], np.r_[arc, chords] * (0.3 + 4j)):
+        tau_a, tau_b, point = polyline_crossings(z)
+        tau, expected = brute_force_crossings(z)
+        assert len(tau) > 0 and point.size == len(tau)
+        np.testing.assert_allclose(np.stack((tau_a, tau_b), axis=1), tau, atol=1e-9)
+        np.testing.assert_allclose(point, expected, rtol=1e-9, atol=1e-12 * np.abs(z).max())
+
+
 def test_repeated_vertices_and_a_crossing_through_a_vertex():
     # A bow-tie whose crossing is a vertex of one pass; repeated vertices in the other.
     z = np.array([0, 0, 2 + 2j, 2, 1 + 1j, 0 + 2j, 0 + 2j])
@@ -371,3 +385,19 @@ def test_random_cams_agree_with_brute_force(rng):
         np.testing.assert_allclose(loops.theta_crossing, np.mod(tau * step, 2 * np.pi), atol=1e-9)
         found += points.size > 0
     assert 4 <= found <= 20  # the sample holds cams with loops and without
+
+
+def test_the_plot_marks_loops_and_a_passing_cam_has_no_refusal():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from machdyn.cams.io import undercut_refusal
+
+    coarse = TranslatingRoller(1.5, 0.525).profile(steep(40), n=72)  # global test only
+    ax = coarse.plot()
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert "surface loop" in labels and "undercut" not in labels
+    assert "its outline crosses itself" in undercut_refusal(coarse)
+    good = TranslatingRoller(prime_radius=3.0, roller_radius=0.5).profile(double_dwell_example())
+    with pytest.raises(ValueError, match="passes both undercut tests"):
+        undercut_refusal(good)

@@ -112,8 +112,21 @@ def _cross(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     return p.real * q.imag - p.imag * q.real
 
 
+#: A segment whose bounding box covers more grid cells than this is "long".
+_LONG_CELLS = 64
+#: Most pairs tested for long segments before they are gridded like the rest.
+_LONG_PAIRS = 4_000_000
+
+
 def _candidate_pairs(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs (i < j) of non-adjacent segments whose bounding boxes share a grid cell."""
+    """Pairs (i < j) of non-adjacent segments whose bounding boxes may meet.
+
+    Segments are entered in every cell of a grid that their bounding box covers and
+    paired within each cell. A segment much longer than the cell (its box covers
+    more than :data:`_LONG_CELLS` cells; a coarse stretch of the outline) is paired
+    with every other segment instead, so that a few long segments among many short
+    ones cost O(n) each rather than millions of grid entries.
+    """
     n = start.size
     length = np.abs(end - start)
     lo = np.minimum(start.real, end.real) + 1j * np.minimum(start.imag, end.imag)
@@ -128,9 +141,13 @@ def _candidate_pairs(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np
     iy0 = np.floor((lo.imag - origin.imag) / cell).astype(np.int64)
     nx = np.floor((hi.real - origin.real) / cell).astype(np.int64) - ix0 + 1
     ny = np.floor((hi.imag - origin.imag) / cell).astype(np.int64) - iy0 + 1
-    # One entry per (segment, cell of its bounding box).
-    count = nx * ny
-    segment = np.repeat(np.arange(n), count)
+    long = nx * ny > _LONG_CELLS
+    if long.sum() * n > _LONG_PAIRS:  # many long segments (no cam outline): grid them all
+        long[:] = False
+    # One entry per (short segment, cell of its bounding box).
+    short = np.flatnonzero(~long)
+    count = (nx * ny)[short]
+    segment = np.repeat(short, count)
     k = np.arange(segment.size) - np.repeat(np.cumsum(count) - count, count)
     cx = ix0[segment] + k % nx[segment]
     cy = iy0[segment] + k // nx[segment]
@@ -147,9 +164,15 @@ def _candidate_pairs(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np
     # Two boxes may share several cells: keep the pair in one of them only, the cell
     # at the lower-left corner of the boxes' overlap.
     once = (cx[first] == np.maximum(ix0[i], ix0[j])) & (cy[first] == np.maximum(iy0[i], iy0[j]))
+    i, j = i[once], j[once]
+    if long.any():  # each long segment against every other (a long pair once)
+        li = np.repeat(np.flatnonzero(long), n)
+        lj = np.tile(np.arange(n), int(long.sum()))
+        take = ~long[lj] | (lj > li)
+        li, lj = li[take], lj[take]
+        i, j = np.r_[i, np.minimum(li, lj)], np.r_[j, np.maximum(li, lj)]
     apart = (j - i > 1) & (j - i < n - 1)  # segments that share no vertex
-    keep = once & apart
-    return i[keep], j[keep]
+    return i[apart], j[apart]
 
 
 def _merged_units(z: np.ndarray, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

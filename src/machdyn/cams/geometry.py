@@ -296,7 +296,12 @@ class SurfaceSelfIntersection:
 
     @property
     def found(self) -> bool:
-        """True if the surface crosses itself."""
+        """True if the sampled surface crosses itself anywhere.
+
+        Two corners that only touch count as a crossing here but cut no loop away:
+        whether material is lost is :attr:`CamProfile.has_surface_loop` (``loop_start``
+        not empty).
+        """
         return bool(self.point.size)
 
     def ranges(self) -> list[tuple[float, float]]:
@@ -606,10 +611,7 @@ class CamProfile:
 
     def _undercut_check(self) -> DesignCheck:
         """The local ρ test and the global self-intersection test, in one verdict."""
-
-        def spans(ranges: list[tuple[float, float]]) -> str:
-            return ", ".join(f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in ranges)
-
+        spans = format_ranges
         loops = self.surface_loop_ranges()
         if not self.is_undercut and not loops:
             return DesignCheck(
@@ -674,6 +676,11 @@ class CamProfile:
         from .plot import plot_profile
 
         return plot_profile(self, **kwargs)
+
+
+def format_ranges(ranges: list[tuple[float, float]]) -> str:
+    """Cam-angle ranges (radians) as text in degrees: ``"18.8°–29.2°, 180.8°–191.2°"``."""
+    return ", ".join(f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in ranges)
 
 
 def _mask_ranges(theta: np.ndarray, mask: np.ndarray) -> list[tuple[float, float]]:

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, ModelError
-from .geometry import CamProfile
+from .geometry import CamProfile, format_ranges
 
 __all__ = ["write_csv", "write_dxf"]
 
@@ -40,10 +40,9 @@ def undercut_refusal(
     >>> "enlarge the base circle (see machdyn.cams.size_flat_face)" in undercut_refusal(cam)
     True
     """
-
-    def spans(ranges: list[tuple[float, float]]) -> str:
-        return ", ".join(f"{np.degrees(a):.1f}°–{np.degrees(b):.1f}°" for a, b in ranges)
-
+    spans = format_ranges
+    if not cannot_be_cut(profile):
+        raise ValueError("undercut_refusal: this cam passes both undercut tests")
     where = []
     if profile.is_undercut:
         where.append(f"undercut at θ = {spans(profile.undercut_ranges())}")

@@ -73,6 +73,9 @@ def plot_profile(profile: Any, ax: Any = None) -> Any:
             profile.pitch.real, profile.pitch.imag, color="tab:green", lw=1.0, label="pitch curve"
         )
     ax.plot(profile.surface.real, profile.surface.imag, color="k", lw=1.6, label="cam surface")
+    if profile.has_surface_loop:  # the outline crosses itself: cut away when made
+        cut = profile.surface[profile.surface_loop]
+        ax.plot(cut.real, cut.imag, ".", color="tab:orange", ms=3, label="surface loop")
     if profile.is_undercut:
         bad = profile.surface[profile.undercut]
         ax.plot(bad.real, bad.imag, ".", color="tab:red", ms=3, label="undercut")

@@ -19,6 +19,7 @@ import numpy as np
 import typer
 
 from .. import cams
+from ..cams.geometry import format_ranges
 from ..cams.io import cannot_be_cut, undercut_refusal
 from ..cams.program import MOTIONS, closure_message
 from ..errors import InputError, ModelError
@@ -520,9 +521,7 @@ def _print_report(
             f"θ = {deg(profile.theta_rho_min):.1f}°; face width ≥ {profile.face_width:.4g}"
         )
 
-    def spans(ranges: list[tuple[float, float]]) -> str:
-        return ", ".join(f"{deg(a):.1f}°–{deg(b):.1f}°" for a, b in ranges)
-
+    spans = format_ranges
     if profile.is_undercut:
         print(f"undercut: YES at θ = {spans(profile.undercut_ranges())} (radius of curvature)")
     else:
