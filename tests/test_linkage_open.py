@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from machdyn.errors import ModelError
+from machdyn.errors import InputError, ModelError
 from machdyn.fourbar import FourBar
 from machdyn.linkage import Linkage
 
@@ -128,3 +128,17 @@ def test_a_hanging_link_must_be_driven_and_only_pins_may_hang():
     )
     with pytest.raises(ModelError, match="fore have fewer than two joints"):
         arm.solve({"upper": [0.1]})
+
+
+def test_names_of_the_wrong_type_are_machdyn_errors():
+    arm = (
+        Linkage({"O": 0, "E": 1 + 0j, "H": 2 + 0j})
+        .ground("O")
+        .link("upper", "O", "E")
+        .link("fore", "E", "H")
+    )
+    with pytest.raises(InputError, match="name the drivers by their names"):
+        arm.drive(5)
+    for links in (5, "AB", ("upper",), ("upper", 2)):
+        with pytest.raises(InputError, match=r"elbow\.links: give two link names"):
+            arm.motor("elbow", "E", links=links)

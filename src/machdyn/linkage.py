@@ -665,7 +665,7 @@ class Linkage:
         self._need_points(f"motor {name!r}", [at])
         pair: tuple[str, str] | None = None
         if links is not None:
-            given = tuple(links)
+            given = tuple(links) if isinstance(links, list | tuple) else ()
             if len(given) != 2 or not all(isinstance(n, str) for n in given):
                 raise InputError(f"{name}.links", f"give two link names, got {links!r}")
             pair = (given[0], given[1])
@@ -682,20 +682,9 @@ class Linkage:
     def _motor_links(self, name: str) -> tuple[str, str]:
         """The links ``(a, b)`` of motor ``name``, checked against its pin."""
         at, pair = self._motors[name]
-        carriers = [GROUND] if at in self._ground else []
-        carriers += [n for n, ln in self._links.items() if at in ln.points]
+        carriers = self._carriers(at)
         if pair is None:
-            if len(carriers) > 2:
-                raise ModelError(
-                    f"motor {name!r}: pin {at!r} joins {len(carriers)} links "
-                    f"({', '.join(carriers)}); say which two with links=(link_a, link_b)"
-                )
-            if len(carriers) < 2:
-                raise ModelError(
-                    f"motor {name!r}: point {at!r} is no pin (it is on "
-                    f"{', '.join(carriers) or 'no link'}); a motor sits on a point of two links"
-                )
-            pair = (carriers[0], carriers[1])
+            pair = self._pin_pair(f"motor {name!r}", at)
         for n in pair:
             if n not in carriers:
                 raise ModelError(
@@ -850,7 +839,7 @@ class Linkage:
         tau0 = finite_scalar(f"{name}.preload", preload)
         pair: tuple[str, str] | None = None
         if links is not None:
-            given = tuple(links)
+            given = tuple(links) if isinstance(links, list | tuple) else ()
             if len(given) != 2 or not all(isinstance(n, str) for n in given):
                 raise InputError(f"{name}.links", f"give two link names, got {links!r}")
             for n in given:
@@ -886,18 +875,7 @@ class Linkage:
             t = self._torsions[name]
             if t.links:
                 return self._owner(t.at, t.links[0]), self._owner(t.at, t.links[1])
-            carriers = self._carriers(t.at)
-            if len(carriers) < 2:
-                raise ModelError(
-                    f"torsion spring {name!r}: point {t.at!r} is no pin (it is on "
-                    f"{', '.join(carriers) or 'no link'}); it sits on a point of two links"
-                )
-            if len(carriers) > 2:
-                raise ModelError(
-                    f"torsion spring {name!r}: pin {t.at!r} joins {len(carriers)} links "
-                    f"({', '.join(carriers)}); say which two with links=(link_a, link_b)"
-                )
-            pairs, what = [(carriers[0], carriers[1])], "torsion spring"
+            pairs, what = [self._pin_pair(f"torsion spring {name!r}", t.at)], "torsion spring"
         pair = next((p for p in pairs if p[0] != p[1]), None)
         if pair is None:
             _same_link(what, name, pairs[0][0])
@@ -907,6 +885,21 @@ class Linkage:
         """The ground (if the point is fixed) and the links carrying ``point``, in order."""
         out = [GROUND] if point in self._ground else []
         return out + [n for n, ln in self._links.items() if point in ln.points]
+
+    def _pin_pair(self, what: str, at: str) -> tuple[str, str]:
+        """The two links a pin ``at`` joins, for an element ``what`` given no ``links=``."""
+        carriers = self._carriers(at)
+        if len(carriers) < 2:
+            raise ModelError(
+                f"{what}: point {at!r} is no pin (it is on {', '.join(carriers) or 'no link'}); "
+                "it sits on a point of two links"
+            )
+        if len(carriers) > 2:
+            raise ModelError(
+                f"{what}: pin {at!r} joins {len(carriers)} links ({', '.join(carriers)}); "
+                "say which two with links=(link_a, link_b)"
+            )
+        return carriers[0], carriers[1]
 
     def drive(self, *names: str) -> Linkage:
         """Name the driver(s): a link (angle), a slider/slot (displacement), an actuator (length).
@@ -921,6 +914,8 @@ class Linkage:
         >>> lk = lk.drive("crank")
         """
         for n in names:
+            if not isinstance(n, str):
+                raise InputError("drive", f"name the drivers by their names (str), got {n!r}")
             known = (self._links, self._sliders, self._slots, self._actuators, self._motors)
             if all(n not in table for table in known):
                 joints = [*self._sliders, *self._slots, *self._actuators, *self._motors]
@@ -1631,6 +1626,17 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
     )
 
 
+def _typical_length(lk: Linkage) -> float:
+    """The mean distance from each link's first point to its others (1 if there is none)."""
+    sizes = [
+        abs(lk._points[q] - lk._points[ln.points[0]])
+        for ln in lk._links.values()
+        for q in ln.points[1:]
+    ]
+    sizes = [d for d in sizes if d > 0]
+    return float(np.mean(sizes)) if sizes else 1.0
+
+
 def _motor_variable(
     system: LoopSystem,
     fresh: Callable[[str], str],
@@ -1652,13 +1658,7 @@ def _motor_variable(
     phi = fresh(f"phi_{name}")
     ref = fresh(f"R_{name}_ref")
     # its length, the mean link size, keeps the core's length scale (a mean) about as it was
-    sizes = [
-        abs(lk._points[q] - lk._points[ln.points[0]])
-        for ln in lk._links.values()
-        for q in ln.points[1:]
-    ]
-    sizes = [d for d in sizes if d > 0]
-    system.vector(ref, float(np.mean(sizes)) if sizes else 1.0, phi)
+    system.vector(ref, _typical_length(lk), phi)
     system.point(fresh(f"P_{name}_ref"), ref)
     terms, consts = [f"{phi}"], {"c_motor": 0.0}
     for link, sign in ((b, 1.0), (a, -1.0)):
@@ -2441,13 +2441,7 @@ def _forces(
 
     # static scaling (moment rows by 1/L, couple columns by L, L a typical link
     # size) makes every block O(1) for the LU and its singularity test
-    sizes = [
-        abs(lk._points[q] - lk._points[ln.points[0]])
-        for ln in lk._links.values()
-        for q in ln.points[1:]
-    ]
-    positive_sizes = [d for d in sizes if d > 0]
-    length = float(np.mean(positive_sizes)) if positive_sizes else 1.0
+    length = _typical_length(lk)
 
     def solve_system() -> tuple[np.ndarray, np.ndarray]:
         x = np.full((n_s, n_eq), np.nan)
