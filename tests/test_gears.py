@@ -871,4 +871,8 @@ def test_shifted_internal_pair_tight_mesh_and_line_of_action(n_p, diff, x_p, x_g
         wide.center_distance, True,
     )  # fmt: skip
     assert wide.length_of_action == pytest.approx(expected, rel=1e-9)
-    assert wide.backlash >= -1e-12
+    # dB/dC = 2 tan(phi'(C)) and phi' moves monotonically with C, so the backlash lies
+    # between 2 |dC| tan(phi') at the tight and at the new centre distance
+    dc = pair.center_distance - wide.center_distance
+    bounds = sorted(2 * dc * math.tan(q.operating_pressure_angle) for q in (pair, wide))
+    assert bounds[0] * (1 - 1e-9) - 1e-12 <= wide.backlash <= bounds[1] * (1 + 1e-9) + 1e-12

@@ -306,3 +306,28 @@ def test_shifted_internal_gear_through_the_cli(tmp_path):
     assert min(r) == pytest.approx(60 - 0.7 * 2) and max(r) == pytest.approx(60 + 1.55 * 2)
     res = _run("profile", "-N", "60", "-m", "2", "--internal", "--shift", "2", "-o", str(out))
     assert isinstance(res.exception, InputError) and res.exception.field == "--shift"
+
+
+def test_a_ring_no_cutter_can_cut_blames_the_ring_not_an_option_never_given(tmp_path):
+    out = tmp_path / "m.png"
+    result = runner.invoke(
+        gear_app,
+        [
+            "plot",
+            "--np",
+            "12",
+            "--ng",
+            "24",
+            "-m",
+            "1",
+            "--phi",
+            "25",
+            "--internal",
+            "-o",
+            str(out),
+        ],
+    )
+    assert result.exit_code != 0
+    assert isinstance(result.exception, InputError)
+    assert result.exception.field == "--ng"
+    assert "no shaper cutter can cut this 24-tooth ring" in str(result.exception)

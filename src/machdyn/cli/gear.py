@@ -368,7 +368,7 @@ def plot_cmd(
     pair = _pair(
         np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, 0.0, 0.0, driver
     )
-    with _options(cutter_teeth="--cutter-teeth"):
+    with _options(cutter_teeth="--cutter-teeth", teeth="--ng"):  # no cutter fits the ring
         ax = plot_mesh(pair, math.radians(angle), cutter_teeth=cutter_teeth)
     ax.figure.savefig(output, dpi=150)
     plt.close(ax.figure)

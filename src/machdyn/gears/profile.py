@@ -116,10 +116,11 @@ def cutter_teeth_range(gear: Gear) -> tuple[int, int]:
     low, high = max(by_interference, by_point, 3), n - CUTTER_TEETH_DIFFERENCE
     if low > high:
         raise InputError(
-            "cutter_teeth",
+            "teeth",
             f"no shaper cutter can cut this {n}-tooth ring: it needs at least {low} teeth"
             f" (fewer are pointed or cannot generate the flanks up to the ring's tip) and at"
-            f" most {high}; use more teeth, a shorter addendum or a larger pressure angle",
+            f" most {high}; use more teeth, a shorter addendum, a larger pressure angle or"
+            " a smaller profile shift",
         )
     return low, high
 
