@@ -435,3 +435,8 @@ def test_internal_shift_bad_input():
         Gear(60, module=1.0, internal=True, profile_shift=2.0)
     with pytest.raises(InputError, match="tip circle inside its base circle"):
         Gear(40, module=1.0, internal=True, profile_shift=-0.4)
+
+
+def test_an_external_gear_refuses_a_shaper_cutter_count():
+    with pytest.raises(InputError, match="cutter_teeth: only an internal gear is cut by a shaper"):
+        gear_outline(Gear(20, module=1.0), cutter_teeth=18)
