@@ -274,3 +274,23 @@ def test_bad_input_is_one_line_and_non_zero(tmp_path, capsys, text, args, needle
     assert lines[0].startswith("machdyn: error:")
     for needle in needles:
         assert needle in lines[0]
+
+
+def test_a_pose_that_cannot_be_assembled_is_flagged_not_fatal(tmp_path, capsys):
+    # the HW 6 rocker swings between about 77 and 162 deg (FourBar limits): 60 deg is outside
+    path = tmp_path / "rocker.toml"
+    path.write_text(
+        GOOD.replace('drive = ["crank"]', 'drive = ["rocker"]').replace(
+            "[motion.crank]\nsweep = [0, 60, 30]", "[motion.rocker]\nsweep = [60, 90, 30]"
+        )
+    )
+    extrema = FourBar(8, 4, 7, 6).extrema(1)["theta4"]
+    assert np.degrees(extrema.min) > 60.0  # the reference for the flag
+    code, out, err = run_main(capsys, str(path), "--json")
+    assert code == 0 and err == ""
+    first, second = json.loads(out)["rows"]
+    assert first["ok"] is False and "cannot assemble" in first["reason"]
+    assert first["theta_crank_deg"] is None  # not a silent NaN: null with a reason
+    assert second["ok"] is True
+    code, out, _ = run_main(capsys, str(path))
+    assert code == 0 and "theta_rocker_deg = 60: cannot assemble" in out

@@ -56,8 +56,12 @@ _MOTION = ("sweep", "value", "velocity", "acceleration")
 
 # ---------------------------------------------------------------- reading the file
 def _type_name(value: Any) -> str:
-    return {bool: "a boolean", str: "a string", list: "an array", dict: "a table"}.get(
-        type(value), "a number"
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, int | float):
+        return "a number"
+    return {str: "a string", list: "an array", dict: "a table"}.get(
+        type(value), f"a {type(value).__name__}"
     )
 
 
