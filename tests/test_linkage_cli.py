@@ -247,7 +247,7 @@ def test_the_good_file_runs(tmp_path, capsys):
         (GOOD.replace("O4 = [8, 0]", "O4 = [8]"), (), ["points.O4", "[x, y]"]),
         (GOOD.replace('drive = ["crank"]', 'drive = ["crnak"]'), (), ["drive", "crnak"]),
         (GOOD + 'report = ["Q"]', (), ["motion.crank.report", "valid keys: sweep"]),
-        ('report = ["Q"]\n' + GOOD, (), ["report[0]", "'Q'"]),
+        ('report = ["Q"]\n' + GOOD, (), ["report[1]", "'Q'"]),
         ("gravity = -9.81\n" + GOOD, (), ["gravity", ">= 0"]),
         (
             GOOD.replace("[motion.crank]", "[motion.rocker]"),
@@ -264,6 +264,7 @@ def test_the_good_file_runs(tmp_path, capsys):
     ],
 )
 def test_bad_input_is_one_line_and_non_zero(tmp_path, capsys, text, args, needles):
+    # every message names the TOML key or the option (arrays counted from 1)
     path = tmp_path / "bad.toml"
     if text is not None:
         path.write_text(text)

@@ -96,7 +96,7 @@ def _text(field: str, value: Any) -> str:
 def _texts(field: str, value: Any, count: int | None = None) -> list[str]:
     if not isinstance(value, list):
         raise InputError(field, f'must be an array of names, e.g. ["O2", "A"], got {value!r}')
-    names = [_text(f"{field}[{i}]", v) for i, v in enumerate(value)]
+    names = [_text(f"{field}[{i}]", v) for i, v in enumerate(value, start=1)]
     if count is not None and len(names) != count:
         raise InputError(field, f"must name {count} items, got {len(names)}")
     return names
@@ -105,7 +105,7 @@ def _texts(field: str, value: Any, count: int | None = None) -> list[str]:
 def _xy(field: str, value: Any) -> complex:
     if not isinstance(value, list) or len(value) != 2:
         raise InputError(field, f"must be [x, y], got {value!r}")
-    x, y = (_number(f"{field}[{i}]", v) for i, v in enumerate(value))
+    x, y = (_number(f"{field}[{i}]", v) for i, v in enumerate(value, start=1))
     return complex(x, y)
 
 
@@ -132,6 +132,8 @@ def _at(field: str) -> Iterator[None]:
     try:
         yield
     except InputError as exc:
+        if exc.field.startswith(field):  # already names the TOML key
+            raise
         raise InputError(field, str(exc)) from exc
     except MachdynError as exc:
         raise type(exc)(f"{field}: {exc}") from exc
@@ -184,7 +186,11 @@ class LinkageFile:
 
 
 def load(path: str | Path) -> LinkageFile:
-    """Read a linkage TOML file; errors name the TOML key (``link[2].mass``, 1-based).
+    """Read a linkage TOML file; errors name the TOML key (``link[2].mass``).
+
+    Arrays and arrays of tables are counted from 1 in the error messages:
+    ``link[2].points[1]`` is the first point of the second ``[[link]]``.
+
 
     Examples
     --------
@@ -244,7 +250,7 @@ def parse(doc: Mapping[str, Any]) -> LinkageFile:
         if d in {e["name"] for e in (*doc.get("link", []), *doc.get("motor", []))}
     )
     report = tuple(_texts("report", doc.get("report", [])))
-    for i, p in enumerate(report):
+    for i, p in enumerate(report, start=1):
         with _at(f"report[{i}]"):
             lk.position(p)
     gravity = _number("gravity", doc.get("gravity", 0.0))
@@ -275,7 +281,7 @@ def _driver_motion(key: str, entry: dict) -> DriverMotion:
         raw = entry["sweep"]
         if not isinstance(raw, list) or len(raw) != 3:
             raise InputError(f"{key}.sweep", f"must be [start, stop, step], got {raw!r}")
-        numbers = [_number(f"{key}.sweep[{i}]", v) for i, v in enumerate(raw)]
+        numbers = [_number(f"{key}.sweep[{i}]", v) for i, v in enumerate(raw, start=1)]
         sweep = parse_range_deg(":".join(repr(v) for v in numbers), f"{key}.sweep")
     if "value" in entry:
         value = _number(f"{key}.value", entry["value"])
