@@ -295,3 +295,15 @@ def test_a_pose_that_cannot_be_assembled_is_flagged_not_fatal(tmp_path, capsys):
     assert second["ok"] is True
     code, out, _ = run_main(capsys, str(path))
     assert code == 0 and "theta_rocker_deg = 60: cannot assemble" in out
+
+
+def test_the_example_in_the_docs_is_the_example_file():
+    import tomllib
+
+    text = (EXAMPLES.parents[0] / "linkage.md").read_text(encoding="utf-8")
+    block = text.split("## From the command line", 1)[1].split("```toml\n", 1)[1]
+    shown = tomllib.loads(block.split("```", 1)[0])
+    with open(FOURBAR, "rb") as fh:
+        full = tomllib.load(fh)
+    full["units"].pop("time")  # the docs leave out the default label
+    assert shown == full
