@@ -27,7 +27,17 @@ from ..errors import InputError, MachdynError
 from ..linkage import Linkage, LinkageForces, LinkageMotion
 from ._common import dumps, parse_range_deg, print_table
 
-__all__ = ["LinkageFile", "Table", "analyse", "linkage", "load"]
+__all__ = [
+    "DriverMotion",
+    "LinkageFile",
+    "Table",
+    "analyse",
+    "driver_values",
+    "linkage",
+    "load",
+    "parse",
+    "write_csv",
+]
 
 _TOP = ("title", "units", "points", "ground", "drive", "report", "gravity", "motion")
 _UNITS = ("length", "mass", "force", "time")
@@ -52,6 +62,8 @@ _ELEMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     ),
 }
 _MOTION = ("sweep", "value", "velocity", "acceleration")
+#: The example files of docs/linkage.md (in a source checkout).
+EXAMPLES = Path(__file__).resolve().parents[3] / "docs" / "examples"
 
 
 # ---------------------------------------------------------------- reading the file
@@ -386,6 +398,14 @@ def driver_values(
 
     ``--sweep D=START:STOP:STEP`` and ``--at D=VALUE`` override the file's
     ``[motion.D]``; only one driver may be swept.
+
+    Examples
+    --------
+    >>> spec = load(EXAMPLES / "fourbar.toml")
+    >>> driver_values(spec)["crank"][:3].tolist()  # the file's sweep = [0, 360, 30]
+    [0.0, 30.0, 60.0]
+    >>> driver_values(spec, at=["crank=45"])["crank"].tolist()
+    [45.0]
     """
     chosen: dict[str, np.ndarray] = {}
     for d, m in spec.motion.items():
@@ -435,7 +455,21 @@ def _driver_assignment(option: str, text: str, drivers: Sequence[str]) -> tuple[
 def analyse(
     spec: LinkageFile, values: Mapping[str, np.ndarray], with_forces: bool = False
 ) -> Table:
-    """Solve ``spec`` at ``values`` (file units, degrees for angles) and tabulate it."""
+    """Solve ``spec`` at ``values`` (file units, degrees for angles) and tabulate it.
+
+    Rates come from the file's ``[motion.<driver>]`` (velocity 1, acceleration 0
+    by default); with ``with_forces`` the driver efforts, pin forces and spring
+    loads are added (gravity from the file).
+
+    Examples
+    --------
+    The notes' HW 6 four-bar at θ2 = 0: θ3 = 58.8114°, θ4 = 93.5833°.
+
+    >>> spec = load(EXAMPLES / "fourbar.toml")
+    >>> t = analyse(spec, {"crank": np.array([0.0])}, with_forces=True)
+    >>> round(float(t.columns["theta_coupler_deg"][0]), 4), t.units["T_crank"]
+    (58.8114, 'lbf*in')
+    """
     lk, angles = spec.linkage, spec.angle_drivers
     rad = {d: np.radians(v) if d in angles else np.asarray(v, float) for d, v in values.items()}
     n = max(v.size for v in rad.values())
@@ -519,7 +553,20 @@ def _forces(
 
 # ---------------------------------------------------------------- presenting
 def write_csv(table: Table, path: str | Path) -> None:
-    """Write every column of ``table`` (unrounded) to ``path``; header ``name [unit]``-free."""
+    """Write every column of ``table`` (unrounded) to ``path`` with the csv module.
+
+    The header row holds the column names (units are in ``table.units``);
+    ``ok`` is written ``true``/``false``, a sample without a value an empty cell.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> spec = load(EXAMPLES / "lid.toml")
+    >>> out = Path(tempfile.mkdtemp()) / "lid.csv"
+    >>> write_csv(analyse(spec, driver_values(spec)), out)
+    >>> out.read_text().splitlines()[0]
+    'theta_lid_deg,omega_lid,alpha_lid,A_x,A_y,Q_x,Q_y,ok,reason'
+    """
     with open(path, "w", newline="", encoding="utf-8") as out:
         writer = csv.writer(out)
         names = list(table.columns)
