@@ -25,6 +25,7 @@ def _register() -> None:
     from .cam import cam_app
     from .flywheel import flywheel as flywheel_command
     from .gear import gear_app
+    from .linkage import linkage
     from .plot import animate
     from .synth import synth_app
 
@@ -32,6 +33,7 @@ def _register() -> None:
     app.add_typer(balance_app, name="balance")
     app.add_typer(cam_app, name="cam")
     app.add_typer(gear_app, name="gear")
+    app.command("linkage")(linkage)
     app.command("animate")(animate)
     app.add_typer(synth_app, name="synth")
 
