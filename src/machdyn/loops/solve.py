@@ -966,11 +966,6 @@ def solve_positions(
     if n_q == 0:  # every variable driven (an open chain): nothing to solve
         ones, zeros = np.ones(n_samples), np.zeros(n_samples)
         return Positions(np.empty((0, n_samples)), np.zeros(n_samples, np.int8), zeros, ones, ones)
-    if continuation and n_samples > 2:
-        careful = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "fast": fast}
-        split = _from_a_toggle(c, u, guess, sing_tol, **careful)
-        if split is not None:
-            return split
     if fast and continuation and 3 <= n_samples <= FAST_MAX_SAMPLES and n_u:
         quick = _sweep_fast(c, u, guess, max_step, tol, max_iter, sing_tol)
         if quick is not None and (quick.code == OK).all():
@@ -1010,6 +1005,12 @@ def solve_positions(
         u_b = u[:, idx : idx + 1]
         if anchor is None:
             trial = newton_one(c, g0, u_b, max_iter=max_iter, tol=tol)
+            at_toggle = trial.converged[0] and trial.rcond[0] < 10 * sing_tol
+            if idx == 0 and n_samples > 2 and at_toggle:  # (the fast march refuses this too)
+                options = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "fast": fast}
+                split = _from_a_toggle(c, u, guess, sing_tol, **options)
+                if split is not None:
+                    return split
             if trial.converged[0]:
                 anchor, u_anchor = trial, u_b
                 st.put(np.array([idx]), trial)
@@ -1059,17 +1060,13 @@ def _from_a_toggle(
     max_iter: int,
     fast: bool,
 ) -> Positions | None:
-    """A sweep that starts at a toggle: march out from where the guess picks a branch.
+    """A sweep whose first pose (from the guess) is at a toggle: march from elsewhere.
 
     At a toggle the branches meet, so a march that starts there may go on along
-    either. If the first sample's pose (from the guess) is singular, the sweep is
-    anchored instead at the sample whose well-conditioned pose lies nearest the
-    guess, and marched from there to both ends. Returns None when the first
-    sample is not at a toggle (or nothing in the sweep is well conditioned).
+    either. The sweep is anchored instead at the sample whose well-conditioned
+    pose lies nearest the guess, and marched from there to both ends. Returns
+    None when nothing in the sweep is well conditioned.
     """
-    first = newton_one(c, guess[:, :1], u[:, :1], max_iter=max_iter, tol=tol)
-    if not first.converged[0] or first.rcond[0] >= 10 * sing_tol:
-        return None
     every = newton(c, np.broadcast_to(guess[:, :1], (guess.shape[0], u.shape[1])), u, max_iter, tol)
     usable = every.converged & (every.rcond >= 10 * sing_tol)
     if not usable.any():
