@@ -359,9 +359,9 @@ def _jerk(lengths, pose, om2, w3, w4, alpha2, a3, a4, j2):  # pragma: no cover -
 
 
 @_inline
-def _relative(p, x, y, epx, epy):  # pragma: no cover - compiled
-    """``p (x + j y) e_p``: the coupler point's motion relative to joint A."""
-    return p * (x * epx - y * epy), p * (x * epy + y * epx)
+def _plus_relative(x0, y0, p, x, y, epx, epy):  # pragma: no cover - compiled
+    """``(x0 + j y0) + p (x + j y) e_p``: joint A's motion plus the coupler point's about A."""
+    return complex(x0 + p * (x * epx - y * epy), y0 + p * (x * epy + y * epx))
 
 
 @_jit
@@ -424,8 +424,7 @@ def solve1(  # pragma: no cover - compiled
         if coupler is not None:
             px, py, epx, epy = _coupler_point(lengths, offset, pose)
             coupler[i] = complex(px, py)
-            qx, qy = _relative(p, 0.0, w3, epx, epy)
-            coupler_velocity[i] = complex(vx + qx, vy + qy)
+            coupler_velocity[i] = _plus_relative(vx, vy, p, 0.0, w3, epx, epy)
     return big
 
 
@@ -467,10 +466,8 @@ def solve2(  # pragma: no cover - compiled
         if coupler is not None:
             px, py, epx, epy = _coupler_point(lengths, offset, pose)
             coupler[i] = complex(px, py)
-            qx, qy = _relative(p, 0.0, w3, epx, epy)
-            coupler_velocity[i] = complex(vx + qx, vy + qy)
-            qx, qy = _relative(p, -w3 * w3, a3, epx, epy)
-            coupler_acceleration[i] = complex(ax + qx, ay + qy)
+            coupler_velocity[i] = _plus_relative(vx, vy, p, 0.0, w3, epx, epy)
+            coupler_acceleration[i] = _plus_relative(ax, ay, p, -w3 * w3, a3, epx, epy)
     return big
 
 
@@ -527,12 +524,10 @@ def solve3(  # pragma: no cover - compiled
         if coupler is not None:
             px, py, epx, epy = _coupler_point(lengths, offset, pose)
             coupler[i] = complex(px, py)
-            qx, qy = _relative(p, 0.0, w3, epx, epy)
-            coupler_velocity[i] = complex(vx + qx, vy + qy)
-            qx, qy = _relative(p, -w3 * w3, a3, epx, epy)
-            coupler_acceleration[i] = complex(ax + qx, ay + qy)
-            qx, qy = _relative(p, -3.0 * a3 * w3, j3 - w3 * w3 * w3, epx, epy)
-            coupler_jerk[i] = complex(jx + qx, jy + qy)
+            coupler_velocity[i] = _plus_relative(vx, vy, p, 0.0, w3, epx, epy)
+            coupler_acceleration[i] = _plus_relative(ax, ay, p, -w3 * w3, a3, epx, epy)
+            jr, ji = -3.0 * a3 * w3, j3 - w3 * w3 * w3
+            coupler_jerk[i] = _plus_relative(jx, jy, p, jr, ji, epx, epy)
     return big
 
 
