@@ -1543,31 +1543,36 @@ def _compile(lk: Linkage, edges: list[_Edge]) -> _Compiled:
             continue
         text = text[2:] if text.startswith("+ ") else "-" + text[1:]
         system.loop(text)
-    # crossing vectors of tree edges that are in no loop cannot happen (bridges refused)
+    # a joint on no loop is a pin (others were refused): it has no crossing vector
     for e in edges:
         if e.kind == "act" and e.name not in cross_vars:
             raise ModelError(f"actuator {e.name!r} is on no loop")
+
+    def give_angle(n: str) -> None:
+        """Give link ``n``'s rotation class an angle variable if it has none yet.
+
+        The variable is the angle of a reference vector (named as a point), so that
+        the core counts it as a variable of the loop system.
+        """
+        if find(n) != GROUND and find(n) not in class_var:
+            ref = fresh(f"R_{n}_ref")
+            system.vector(ref, 1.0, angle_of(n, _ref_angle(lk, n), "ref"))
+            system.point(fresh(f"P_{n}_ref"), ref)
+
     # rolling: every link in contact needs an angle variable (a wheel turning on a
-    # pivot may be in no loop: give it a reference vector, named as a point), then
-    # the no-slip condition is a linear constraint among angles (and s or φ)
+    # pivot may be in no loop), then the no-slip condition is a linear constraint
+    # among angles (and s or φ)
     for i, e in enumerate(edges):
         if e.kind != "roll":
             continue
         for n in (e.a, e.b):
-            root = find(n)
-            if root != GROUND and root not in class_var:
-                ref = fresh(f"R_{n}_ref")
-                system.vector(ref, 1.0, angle_of(n, _ref_angle(lk, n), "ref"))
-                system.point(fresh(f"P_{n}_ref"), ref)
+            give_angle(n)
         crossing(i)
         text, consts = _no_slip(e, roll_parts[e.name], class_var, find, drawn)
         system.constraint(text, **consts)
     for n in links:
-        root = find(n)
-        if n in hanging and root != GROUND and root not in class_var:
-            ref = fresh(f"R_{n}_ref")
-            system.vector(ref, 1.0, angle_of(n, _ref_angle(lk, n), "ref"))
-            system.point(fresh(f"P_{n}_ref"), ref)
+        if n in hanging:  # a link hanging on a pin outside the loops (an open chain)
+            give_angle(n)
     # every moving rotation class must have an angle variable
     rot_var: dict[str, str | None] = {}
     rot_offset: dict[str, float] = {}
