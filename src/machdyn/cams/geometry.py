@@ -611,7 +611,6 @@ class CamProfile:
 
     def _undercut_check(self) -> DesignCheck:
         """The local ρ test and the global self-intersection test, in one verdict."""
-        spans = format_ranges
         loops = self.surface_loop_ranges()
         if not self.is_undercut and not loops:
             return DesignCheck(
@@ -619,9 +618,9 @@ class CamProfile:
             )
         parts = []
         if self.is_undercut:
-            parts.append(f"undercut at θ = {spans(self.undercut_ranges())}")
+            parts.append(f"undercut at θ = {format_ranges(self.undercut_ranges())}")
         if loops:
-            parts.append(f"surface self-intersection: loops cut away θ = {spans(loops)}")
+            parts.append(f"surface self-intersection: loops cut away θ = {format_ranges(loops)}")
         if not self.is_undercut:
             parts.append(
                 "no sample fails the local ρ test (the loop lies between samples, or is global)"

@@ -40,16 +40,14 @@ def undercut_refusal(
     >>> "enlarge the base circle (see machdyn.cams.size_flat_face)" in undercut_refusal(cam)
     True
     """
-    spans = format_ranges
     if not cannot_be_cut(profile):
         raise ValueError("undercut_refusal: this cam passes both undercut tests")
     where = []
     if profile.is_undercut:
-        where.append(f"undercut at θ = {spans(profile.undercut_ranges())}")
+        where.append(f"undercut at θ = {format_ranges(profile.undercut_ranges())}")
     if profile.has_surface_loop:
-        where.append(
-            f"its outline crosses itself, cutting away θ = {spans(profile.surface_loop_ranges())}"
-        )
+        loops = format_ranges(profile.surface_loop_ranges())
+        where.append(f"its outline crosses itself, cutting away θ = {loops}")
     cure, function = _UNDERCUT_CURE.get(profile.follower, ("enlarge the cam", "size_roller"))
     see = f"machdyn.cams.{function}" if see is None else see
     return (

@@ -521,13 +521,16 @@ def _print_report(
             f"θ = {deg(profile.theta_rho_min):.1f}°; face width ≥ {profile.face_width:.4g}"
         )
 
-    spans = format_ranges
     if profile.is_undercut:
-        print(f"undercut: YES at θ = {spans(profile.undercut_ranges())} (radius of curvature)")
+        print(
+            f"undercut: YES at θ = {format_ranges(profile.undercut_ranges())} (radius of curvature)"
+        )
     else:
         print("undercut: none by the radius of curvature")
     if profile.has_surface_loop:
-        print(f"surface loops: YES, cutting away θ = {spans(profile.surface_loop_ranges())}")
+        print(
+            f"surface loops: YES, cutting away θ = {format_ranges(profile.surface_loop_ranges())}"
+        )
     else:
         print("surface loops: none (the outline does not cross itself)")
     print("design rules:")
