@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from closed_forms import circle_meet
 from machdyn.errors import AssemblyError, InputError, ModelError
 from machdyn.fourbar import FourBar
 from machdyn.linkage import Linkage
@@ -20,15 +21,6 @@ from machdyn.massprops import point_mass, rod
 from machdyn.slidercrank import SliderCrank
 
 TURN = np.radians(np.arange(0.0, 360.0, 1.0))
-
-
-def circle_meet(p: complex, r1: float, q: complex, r2: float, side: float = 1.0) -> complex:
-    """Intersection of circles (p, r1) and (q, r2); ``side`` picks left/right of p→q."""
-    d = abs(q - p)
-    a = (r1**2 - r2**2 + d**2) / (2 * d)
-    h = np.sqrt(r1**2 - a**2)
-    u = (q - p) / d
-    return p + a * u + side * h * 1j * u
 
 
 def fourbar_drawing(r1=8.0, r2=4.0, r3=7.0, r4=6.0, theta2=0.0, side=1.0, **links) -> Linkage:

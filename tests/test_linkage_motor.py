@@ -21,6 +21,7 @@ import matplotlib
 import numpy as np
 import pytest
 
+from closed_forms import circle_meet
 from machdyn.errors import InputError, ModelError
 from machdyn.fourbar import FourBar
 from machdyn.linkage import Linkage
@@ -33,15 +34,6 @@ G = 9.81
 
 def wrap(x):
     return np.angle(np.exp(1j * x))
-
-
-def circle_meet(p: complex, r1: float, q: complex, r2: float, side: float = 1.0) -> complex:
-    """Intersection of circles (p, r1) and (q, r2); ``side`` picks left/right of p->q."""
-    d = abs(q - p)
-    a = (r1**2 - r2**2 + d**2) / (2 * d)
-    h = np.sqrt(r1**2 - a**2)
-    u = (q - p) / d
-    return p + a * u + side * h * 1j * u
 
 
 def hw6(masses: bool = False) -> Linkage:

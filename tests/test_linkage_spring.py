@@ -23,19 +23,11 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from closed_forms import circle_meet
 from machdyn.errors import InputError, ModelError
 from machdyn.linkage import FORCE_REASONS, Linkage
 
 G = 9.81
-
-
-def circle_meet(p: complex, r1: float, q: complex, r2: float, side: float = 1.0) -> complex:
-    """Intersection of circles (p, r1) and (q, r2); ``side`` picks left/right of p->q."""
-    d = abs(q - p)
-    a = (r1**2 - r2**2 + d**2) / (2 * d)
-    h = np.sqrt(r1**2 - a**2)
-    u = (q - p) / d
-    return p + a * u + side * h * 1j * u
 
 
 # ---------------------------------------------------------------------- statics by hand
