@@ -204,7 +204,14 @@ def positions(
     """
     r1, r2, r3, r4 = (positive(f"r{k}", r) for k, r in enumerate((r1, r2, r3, r4), start=1))
     sign = float(choice("branch", branch, (1, -1)))
-    theta2 = as_array("theta2", theta2)
+    return _positions(r1, r2, r3, r4, as_array("theta2", theta2), sign)
+
+
+def _positions(
+    r1: float, r2: float, r3: float, r4: float, theta2: Any, sign: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`positions` for lengths and a branch sign (±1.0) already checked (FourBar's)."""
+    theta2 = np.asarray(theta2, dtype=float)
     flat = theta2.ravel()
     theta3 = np.empty(flat.shape)
     theta4 = np.empty(flat.shape)
@@ -941,7 +948,7 @@ class FourBar:
                 theta = sgn * psi + (np.pi if (kind == "folded" and b > a) else 0.0)
                 theta = float(wrap_2pi(theta))
                 for br in (1, -1):
-                    th3, _, ok = positions(d, a, b, c, theta, br)
+                    th3, _, ok = _positions(d, a, b, c, theta, float(br))
                     if ok and abs(np.sin(float(th3) - theta)) < 1e-7:
                         found.append(Toggle(theta, (2, 3), kind, br))
         unique: dict[tuple, Toggle] = {}
@@ -981,7 +988,7 @@ class FourBar:
         rng = self.input_range(form)
         result: dict[str, Extremum] = {}
         closed = rng.full_turn or len(pieces) > 1  # the motion is a closed cycle
-        poses = [positions(*self.lengths, grid, br)[:2] for grid, br in pieces]
+        poses = [_positions(*self.lengths, grid, float(br))[:2] for grid, br in pieces]
         for name in names:
             values = [
                 named_angle(name, grid, th3, th4)
@@ -1056,7 +1063,7 @@ class FourBar:
             )
         thetas, branches, points = [], [], []
         for grid, br in self._form_samples(form, n):
-            th3, _, ok = positions(*self.lengths, grid, br)
+            th3, _, ok = _positions(*self.lengths, grid, float(br))
             p, delta = self.coupler
             pts = self.r2 * np.exp(1j * grid) + p * np.exp(1j * (th3 + delta))
             thetas.append(grid[ok])
@@ -1391,7 +1398,7 @@ def named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
 
 def _angle_of(fb: FourBar, name: str, theta2: np.ndarray, branch: int) -> np.ndarray:
     """One named angle along a branch, from the closed-form positions."""
-    th3, th4, _ = positions(*fb.lengths, theta2, branch)
+    th3, th4, _ = _positions(*fb.lengths, theta2, float(branch))
     return named_angle(name, theta2, th3, th4)
 
 
