@@ -484,9 +484,11 @@ def animate_scene(
     --------
     >>> from machdyn import SliderCrank
     >>> from machdyn.draw import scene
-    >>> anim = animate_scene(scene(SliderCrank(2.0, 6.0), n=6), dpi=40)
+    >>> anim = animate_scene(scene(SliderCrank(2.0, 6.0), n=3), dpi=30)
     >>> len(list(anim.new_frame_seq()))
-    6
+    3
+    >>> anim.to_jshtml().count("<img") > 0       # in a notebook: IPython.display.HTML(...)
+    True
     """
     from matplotlib.animation import FuncAnimation
     from matplotlib.figure import Figure
