@@ -50,6 +50,7 @@ _LAZY_MODULES = frozenset(
         "dynamics",
         "flywheel",
         "gears",
+        "inversions",
         "linkage",
         "loops",
         "massprops",
