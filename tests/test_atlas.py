@@ -6,6 +6,7 @@ import json
 
 import numpy as np
 import pytest
+from tests.closed_forms import circle_meet
 
 from machdyn.classify import classify
 from machdyn.errors import InputError
@@ -19,7 +20,6 @@ from machdyn.synthesis.atlas_store import (
 )
 from machdyn.synthesis.circuits import circuit_points
 from machdyn.synthesis.descriptor import curve_descriptor, descriptor_variants
-from tests.closed_forms import circle_meet
 
 # --------------------------------------------------------------------------------------
 # descriptors
@@ -77,7 +77,12 @@ def test_sampler_covers_every_non_change_point_class():
 
 @pytest.mark.parametrize(
     "lengths, code",
-    [((8, 4, 7, 6), "GCRR"), ((4, 3, 1, 3.5), "GRCR"), ((5, 4, 2, 2.5), "RRR1"), ((2, 4, 3, 4.5), "GCCC")],
+    [
+        ((8, 4, 7, 6), "GCRR"),
+        ((4, 3, 1, 3.5), "GRCR"),
+        ((5, 4, 2, 2.5), "RRR1"),
+        ((2, 4, 3, 4.5), "GCCC"),
+    ],
 )
 @pytest.mark.parametrize("circuit", [1, -1])
 def test_circuit_points_are_assemblies_and_close_up(lengths, code, circuit):
@@ -147,10 +152,12 @@ def _rebuild(r1, r2, r3, r4, p, delta, circuit, n=4000):
     ok = (d < r3 + r4) & (d > abs(r3 - r4))
     if ok.all():
         a0 = complex(r2)
-        side = next(
-            s for s in (1.0, -1.0)
-            if np.sign(np.angle((circle_meet(a0, r3, r1, r4, s) - r1) / (circle_meet(a0, r3, r1, r4, s) - a0))) == circuit
-        )  # fmt: skip
+
+        def phi12(side):
+            b = circle_meet(a0, r3, r1, r4, side)
+            return np.angle((b - r1) / (b - a0))
+
+        side = next(s for s in (1.0, -1.0) if np.sign(phi12(s)) == circuit)
         runs = [(th, side)]
     else:
         k = int(np.flatnonzero(~ok)[0])

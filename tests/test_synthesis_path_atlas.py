@@ -1,16 +1,16 @@
-"""Path synthesis from an atlas: known linkages recovered, errors measured independently, bad input."""
+"""Path synthesis from an atlas: known linkages recovered, errors checked apart, bad input."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from tests.closed_forms import circle_meet
 
 from machdyn.errors import InputError
 from machdyn.fourbar import FourBar
 from machdyn.synthesis import PlacedFourBar
 from machdyn.synthesis.atlas_path import open_atlas, path_from_atlas
 from machdyn.synthesis.atlas_store import build_atlas
-from tests.closed_forms import circle_meet
 
 
 @pytest.fixture(scope="module")
@@ -42,14 +42,16 @@ def _curve_distance(result, targets):
     # which side of AO4 is the linkage's assembly: the one that reproduces its pose
     th0 = float(result.theta2[0])
     want = pl.pose(th0)[2]
-    side = min((1.0, -1.0), key=lambda s: abs(_coupler(lengths, coupler, pl.O2, pl.theta1, s, th0) - want))
+    side = min(
+        (1.0, -1.0), key=lambda s: abs(_coupler(lengths, coupler, pl.O2, pl.theta1, s, th0) - want)
+    )
     grid = np.linspace(0, 2 * np.pi, 20_000, endpoint=False)
     curve = np.array([_coupler(lengths, coupler, pl.O2, pl.theta1, side, t) for t in grid])
     out = []
     for T in targets:
         i = int(np.nanargmin(np.abs(curve - T)))
         res = minimize_scalar(
-            lambda t: abs(_coupler(lengths, coupler, pl.O2, pl.theta1, side, t) - T),
+            lambda t, T=T: abs(_coupler(lengths, coupler, pl.O2, pl.theta1, side, t) - T),
             bounds=(grid[i] - 1e-3, grid[i] + 1e-3),
             method="bounded",
             options={"xatol": 1e-13},
@@ -85,11 +87,17 @@ def test_timed_target_from_a_known_linkage_is_recovered(atlas):
     # the coupler point at θ0 + Δk, by circle intersection, lands on each target
     side = min(
         (1.0, -1.0),
-        key=lambda s: abs(_coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, s, best.theta2[0]) - targets[0]),
+        key=lambda s: abs(
+            _coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, s, best.theta2[0])
+            - targets[0]
+        ),
     )
-    P = np.array([
-        _coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, side, t) for t in best.theta2
-    ])
+    P = np.array(
+        [
+            _coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, side, t)
+            for t in best.theta2
+        ]
+    )
     assert np.max(np.abs(P - targets)) <= 1e-6 * size
     steps = np.mod(np.diff(best.theta2) - np.diff(th) + np.pi, 2 * np.pi) - np.pi
     np.testing.assert_allclose(steps, 0.0, atol=1e-9)  # the timing is the prescribed one

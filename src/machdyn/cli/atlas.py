@@ -39,17 +39,31 @@ def default_atlas() -> Path:
 @atlas_app.command("build")
 def build_cmd(
     path: Annotated[
-        Path | None, typer.Argument(help="Atlas folder (default $MACHDYN_ATLAS or ~/.cache/machdyn/fourbar.atlas).")
+        Path | None,
+        typer.Argument(
+            help="Atlas folder (default $MACHDYN_ATLAS or ~/.cache/machdyn/fourbar.atlas)."
+        ),
     ] = None,
-    count: Annotated[int, typer.Option("--count", "-c", help="Entries (linkage, coupler point, circuit).")] = 10_000_000,
-    chunk_size: Annotated[int, typer.Option("--chunk-size", help="Entries per chunk (one task).")] = 1 << 16,
+    count: Annotated[
+        int, typer.Option("--count", "-c", help="Entries (linkage, coupler point, circuit).")
+    ] = 10_000_000,
+    chunk_size: Annotated[
+        int, typer.Option("--chunk-size", help="Entries per chunk (one task).")
+    ] = 1 << 16,
     seed: Annotated[int, typer.Option("--seed", help="Seed of the sampler.")] = 0,
     scheduler: Annotated[
         str | None,
-        typer.Option("--scheduler", help="'local' (a Dask LocalCluster) or tcp://HOST:PORT; default: this process."),
+        typer.Option(
+            "--scheduler",
+            help="'local' (a Dask LocalCluster) or tcp://HOST:PORT; default: this process.",
+        ),
     ] = None,
-    workers: Annotated[int | None, typer.Option("--workers", help="Workers of the local cluster.")] = None,
-    progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")] = True,
+    workers: Annotated[
+        int | None, typer.Option("--workers", help="Workers of the local cluster.")
+    ] = None,
+    progress: Annotated[
+        bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")
+    ] = True,
 ) -> None:
     """Build a four-bar atlas, or finish one whose build was interrupted (same options)."""
     from ..synthesis.atlas_store import build_atlas
@@ -73,7 +87,9 @@ def build_cmd(
 @atlas_app.command("info")
 def info_cmd(
     path: Annotated[Path | None, typer.Argument(help="Atlas folder.")] = None,
-    verify: Annotated[bool, typer.Option("--verify/--no-verify", help="Check every chunk's CRC-32.")] = True,
+    verify: Annotated[
+        bool, typer.Option("--verify/--no-verify", help="Check every chunk's CRC-32.")
+    ] = True,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
 ) -> None:
     """What an atlas holds; refuses (exit 1) one that is stale, unfinished or corrupted."""

@@ -292,7 +292,7 @@ def function_cmd(
 
 
 def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | None]:
-    """Target points from a CSV file: ``x,y`` per line (``x,y,theta2_deg`` with timing).
+    r"""Target points from a CSV file: ``x,y`` per line (``x,y,theta2_deg`` with timing).
 
     A first line that is not numbers is a header; blank lines and lines
     starting with ``#`` are skipped.
@@ -301,23 +301,25 @@ def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | 
     --------
     >>> import pathlib, tempfile
     >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.csv"
-    >>> _ = f.write_text("x,y,theta2\\n0,0,0\\n1,0.5,90\\n")
+    >>> _ = f.write_text("x,y,theta2\n0,0,0\n1,0.5,90\n")
     >>> pts, th = read_points_csv(f, timing=True)
     >>> pts, np.degrees(th)
-    (array([0. +0.j , 1. +0.5j]), array([ 0., 90.]))
+    (array([0.+0.j , 1.+0.5j]), array([ 0., 90.]))
     """
     import csv
 
     text = Path(file).read_text()
     rows = []
+    first = True
     for number, row in enumerate(csv.reader(text.splitlines()), 1):
         cells = [c.strip() for c in row]
         if not cells or not any(cells) or cells[0].startswith("#"):
             continue
+        header, first = first, False
         try:
             values = [float(c) for c in cells if c]
         except ValueError:
-            if not rows and number == 1 or not rows and all(not _is_number(c) for c in cells):
+            if header and not any(_is_number(c) for c in cells):
                 continue  # a header
             raise InputError(str(file), f"line {number}: expected numbers, got {row!r}") from None
         want = 3 if timing else 2
@@ -342,16 +344,32 @@ def _is_number(text: str) -> bool:
 
 @synth_app.command("path")
 def path_cmd(
-    points: Annotated[Path, typer.Argument(help="CSV of target points 'x,y' (with --timing 'x,y,theta2_deg').")],
-    open_path: Annotated[bool, typer.Option("--open", help="An open path (or part of a closed one).")] = False,
-    timing: Annotated[bool, typer.Option("--timing", help="Third column: input angle at each point (deg).")] = False,
+    points: Annotated[
+        Path, typer.Argument(help="CSV of target points 'x,y' (with --timing 'x,y,theta2_deg').")
+    ],
+    open_path: Annotated[
+        bool, typer.Option("--open", help="An open path (or part of a closed one).")
+    ] = False,
+    timing: Annotated[
+        bool, typer.Option("--timing", help="Third column: input angle at each point (deg).")
+    ] = False,
     n: Annotated[int, typer.Option("-n", "--n", help="How many linkages to print.")] = 5,
     atlas: Annotated[
-        Path | None, typer.Option("--atlas", help="Atlas folder (default $MACHDYN_ATLAS or ~/.cache/machdyn/fourbar.atlas).")
+        Path | None,
+        typer.Option(
+            "--atlas",
+            help="Atlas folder (default $MACHDYN_ATLAS or ~/.cache/machdyn/fourbar.atlas).",
+        ),
     ] = None,
-    no_crank: Annotated[bool, typer.Option("--no-crank", help="Do not require link 2 to turn fully.")] = False,
-    mu_min: Annotated[float, typer.Option("--mu-min", help="Smallest transmission angle (deg).")] = 30.0,
-    out: Annotated[Path, typer.Option("--out", help="Folder for the candidates' spec files.")] = Path("path_candidates"),
+    no_crank: Annotated[
+        bool, typer.Option("--no-crank", help="Do not require link 2 to turn fully.")
+    ] = False,
+    mu_min: Annotated[
+        float, typer.Option("--mu-min", help="Smallest transmission angle (deg).")
+    ] = 30.0,
+    out: Annotated[
+        Path, typer.Option("--out", help="Folder for the candidates' spec files.")
+    ] = Path("path_candidates"),
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
 ) -> None:
     """Four-bars whose coupler point passes through the target points, from an atlas.
@@ -399,7 +417,11 @@ def path_cmd(
                 f"{_point(pl.O2)} {np.degrees(pl.theta1):.1f}", f"{np.degrees(c.mu_min):.1f}",
                 "; ".join(c.defects) or "-",
             ])  # fmt: skip
-        title = "Path synthesis from the atlas" if res.candidates else "Best linkages found (with defects)"
+        title = (
+            "Path synthesis from the atlas"
+            if res.candidates
+            else "Best linkages found (with defects)"
+        )
         print_table(
             title,
             ["#", "max dist", "% of size", "class", "r1 r2 r3 r4", "p delta(deg)",
@@ -408,7 +430,10 @@ def path_cmd(
         )  # fmt: skip
         print(f"specs: {', '.join(files)}")
         secs = res.seconds
-        print(f"retrieve {secs['retrieve']:.2f} s, refine {secs['refine']:.2f} s, total {secs['total']:.2f} s")
+        print(
+            f"retrieve {secs['retrieve']:.2f} s, refine {secs['refine']:.2f} s, "
+            f"total {secs['total']:.2f} s"
+        )
         if res.note:
             print(f"note: {res.note}")
     if not res.candidates:

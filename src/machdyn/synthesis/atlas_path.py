@@ -163,7 +163,9 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
             d = np.load(folder / f"{chunk_name(i)}.desc.npy", mmap_mode="r")
             m = np.load(folder / f"{chunk_name(i)}.meta.npy", mmap_mode="r")
         except (OSError, ValueError) as exc:
-            raise AtlasError(folder, f"chunk {i} cannot be read ({exc}); rebuild the atlas") from None
+            raise AtlasError(
+                folder, f"chunk {i} cannot be read ({exc}); rebuild the atlas"
+            ) from None
         if d.shape != (info["rows"], width) or d.dtype != np.float32 or m.shape != (info["rows"],):
             raise AtlasError(folder, f"chunk {i} does not have the shape its manifest says")
         desc.append(d)
@@ -233,7 +235,9 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
     if timing is not None:
         timing = np.ravel(finite_array("timing", timing, "radian"))
         if timing.size != pts.size:
-            raise InputError("timing", f"needs one angle per target ({pts.size}), got {timing.size}")
+            raise InputError(
+                "timing", f"needs one angle per target ({pts.size}), got {timing.size}"
+            )
         timing = timing - timing[0]
     return pts, timing
 
@@ -408,7 +412,9 @@ def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesi
     except Exception:  # AssemblyError: lengths that cannot form a four-bar
         return None
     branches = np.unique(fit.branch)
-    placed = PlacedFourBar(fb, complex(ox, oy), float(theta1), int(np.sign(np.sum(fit.branch)) or 1))
+    placed = PlacedFourBar(
+        fb, complex(ox, oy), float(theta1), int(np.sign(np.sum(fit.branch)) or 1)
+    )
     theta = np.mod(fit.theta, 2 * np.pi)
     P = np.empty(pts.size, dtype=complex)
     ok = np.ones(pts.size, dtype=bool)
@@ -461,7 +467,7 @@ def _in_order(theta: np.ndarray, closed: bool, timing) -> bool:
     full = 2 * np.pi
     fwd = float(np.sum(steps))
     back = float(np.sum(np.mod(-steps, full)))
-    limit = full * (1 if closed else 1) + 1e-6
+    limit = full + 1e-6
     return fwd <= limit or back <= limit
 
 

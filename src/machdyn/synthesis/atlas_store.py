@@ -38,7 +38,14 @@ from ..errors import InputError
 from .circuits import circuit_points, circuit_range
 from .descriptor import HARMONICS, SAMPLES, curve_descriptor, resample_closed
 
-__all__ = ["FORMAT_VERSION", "AtlasError", "Manifest", "build_atlas", "build_chunk", "sample_fourbars"]
+__all__ = [
+    "FORMAT_VERSION",
+    "AtlasError",
+    "Manifest",
+    "build_atlas",
+    "build_chunk",
+    "sample_fourbars",
+]
 
 #: Bumped whenever sampling, circuits or descriptors change: older atlases are refused.
 FORMAT_VERSION = 1
@@ -127,7 +134,9 @@ def read_manifest(path: Path) -> Manifest:
     """Read and check ``manifest.json`` (format and version); raises :class:`AtlasError`."""
     file = Path(path) / "manifest.json"
     if not file.is_file():
-        raise AtlasError(path, "no manifest.json here: not an atlas (build one with 'machdyn atlas build')")
+        raise AtlasError(
+            path, "no manifest.json here: not an atlas (build one with 'machdyn atlas build')"
+        )
     try:
         d = json.loads(file.read_text())
     except (OSError, ValueError) as exc:
@@ -239,9 +248,7 @@ def fourbar_curves(meta: np.ndarray, m: int = CIRCUIT_SAMPLES) -> np.ndarray:
     )[0]
 
 
-def even_curves(
-    meta: np.ndarray, m: int, samples: int, compiled: bool | None = None
-) -> np.ndarray:
+def even_curves(meta: np.ndarray, m: int, samples: int, compiled: bool | None = None) -> np.ndarray:
     """Circuit curves of atlas entries (``m`` samples) resampled evenly by arc length.
 
     ``compiled``: True/False to choose; None lets :mod:`machdyn.jit` decide.
@@ -308,7 +315,8 @@ def chunk_is_good(folder: Path, index: int, info: dict[str, Any]) -> str:
         if not file.is_file():
             return f"{file.name} is missing"
         if file.stat().st_size != info.get(f"{suffix}_bytes"):
-            return f"{file.name} has {file.stat().st_size} bytes, the manifest says {info.get(f'{suffix}_bytes')}"
+            size, want = file.stat().st_size, info.get(f"{suffix}_bytes")
+            return f"{file.name} has {size} bytes, the manifest says {want}"
         if crc_of(file) != info.get(suffix):
             return f"{file.name} fails its CRC-32 check (corrupted)"
     return ""
@@ -406,8 +414,8 @@ def _resume(folder: Path, manifest: Manifest) -> Manifest:
     if not old.same_recipe(manifest):
         raise AtlasError(
             folder,
-            f"holds another atlas ({old.count} entries, chunk size {old.chunk_size}, seed {old.seed}); "
-            "choose another folder or delete this one",
+            f"holds another atlas ({old.count} entries, chunk size {old.chunk_size}, "
+            f"seed {old.seed}); choose another folder or delete this one",
         )
     for key, info in old.chunks.items():
         if not chunk_is_good(folder, int(key), info):

@@ -73,9 +73,7 @@ def circuit_range(
     aroundpi = (cos_lo <= -1.0) & ~crank  # one range, a_hi … 2π − a_hi
     sign = np.where(circuit >= 0.0, 1.0, -1.0)
     centre = np.where(around0, 0.0, np.where(aroundpi, np.pi, sign * 0.5 * (a_hi + a_lo)))
-    half = np.where(
-        around0, a_lo, np.where(aroundpi, np.pi - a_hi, 0.5 * (a_lo - a_hi))
-    )
+    half = np.where(around0, a_lo, np.where(aroundpi, np.pi - a_hi, 0.5 * (a_lo - a_hi)))
     centre = np.where(crank, 0.0, centre)
     half = np.where(crank, np.pi, half)
     return centre, half, crank
@@ -142,9 +140,7 @@ def circuit_points(
     r1, r2, r3, r4, p, delta, circuit = np.broadcast_arrays(r1, r2, r3, r4, p, delta, circuit)
     centre, half, crank = circuit_range(r1, r2, r3, r4, circuit)
     u = np.linspace(0.0, 2.0 * np.pi, m, endpoint=False)
-    col = (
-        r[:, None] for r in (r1, r2, r3, r4, p, delta, centre, half, crank, circuit)
-    )
+    col = (r[:, None] for r in (r1, r2, r3, r4, p, delta, centre, half, crank, circuit))
     c1, c2, c3, c4, cp, cd, cc, ch, ck, ci = col
     theta2, branch = circuit_angles(u[None, :], cc, ch, ck, ci)
     return coupler_at(c1, c2, c3, c4, cp, cd, theta2, branch), theta2

@@ -307,7 +307,10 @@ def align_partial(
         fb = np.conj(np.fft.fft(curve, axis=1))
         fbb = np.conj(np.fft.fft(np.abs(curve) ** 2, axis=1))
         for f in fractions:
-            j = np.round(np.arange(el) * (f * (m - 1 if f >= 1.0 else m) / (el - 1))).astype(int) % m
+            j = (
+                np.round(np.arange(el) * (f * (m - 1 if f >= 1.0 else m) / (el - 1))).astype(int)
+                % m
+            )
             tmpl = np.zeros(m, dtype=complex)
             np.add.at(tmpl, j, a0)
             ind = np.zeros(m)

@@ -63,8 +63,10 @@ def coupler_and_jacobian(
     >>> th, br = np.array([0.4, 2.0]), np.array([1.0, 1.0])
     >>> G, J, Jt, _ = coupler_and_jacobian(x, th, br)
     >>> h = 1e-6
-    >>> fd = [(coupler_and_jacobian(x + h * e, th, br)[0] - coupler_and_jacobian(x - h * e, th, br)[0]) / (2 * h) for e in np.eye(9)]
-    >>> bool(np.allclose(np.array(fd).T, J, atol=1e-7))
+    >>> def G_of(x):
+    ...     return coupler_and_jacobian(x, th, br)[0]
+    >>> fd = np.array([(G_of(x + h * e) - G_of(x - h * e)) / (2 * h) for e in np.eye(9)])
+    >>> bool(np.allclose(fd.T, J, atol=1e-7))
     True
     """
     r1, r2, r3, r4, p, delta, ox, oy, theta1 = x
