@@ -187,14 +187,23 @@ def test_slider_crank_start_up_against_lagrange():
         friction = -beta * x_rate * x_rate * w
         return [w, (motor + gravity + friction - 0.5 * d_inertia * w * w) / inertia]
 
-    ref = solve_ivp(rhs, (0.0, 1.0), [0.3, 0.0], method="DOP853", rtol=1e-12, atol=1e-12,
-                    dense_output=True)  # fmt: skip
+    ref = solve_ivp(
+        rhs, (0.0, 1.0), [0.3, 0.0], method="DOP853", rtol=1e-12, atol=1e-12, dense_output=True
+    )
     sc = machdyn.SliderCrank(a, b, c)
     run = machdyn.simulate(
-        sc, DCMotor(stall, no_load), theta0=0.3, t_end=1.0, flywheel=flywheel,
-        mass=(m2, m3, m4), inertia=(i2, i3), cg=(c2, c3), gravity=G,
-        friction="viscous", beta=beta,
-    )  # fmt: skip
+        sc,
+        DCMotor(stall, no_load),
+        theta0=0.3,
+        t_end=1.0,
+        flywheel=flywheel,
+        mass=(m2, m3, m4),
+        inertia=(i2, i3),
+        cg=(c2, c3),
+        gravity=G,
+        friction="viscous",
+        beta=beta,
+    )
     t = np.linspace(0.0, 1.0, 101)
     th, w = run.at(t)
     assert np.max(np.abs(th - ref.sol(t)[0])) < 1e-7
@@ -248,8 +257,14 @@ def test_start_up_to_steady_state_and_its_fluctuation():
 
 def test_turns_coast_down_and_load_step():
     sc = machdyn.SliderCrank(0.05, 0.2)
-    kw = dict(mass=(0.5, 1.0, 1.5), inertia=(2e-4, 4e-3), cg=(0.0, 0.06), friction="viscous",
-              beta=5.0, flywheel=0.01)  # fmt: skip
+    kw = dict(
+        mass=(0.5, 1.0, 1.5),
+        inertia=(2e-4, 4e-3),
+        cg=(0.0, 0.06),
+        friction="viscous",
+        beta=5.0,
+        flywheel=0.01,
+    )
     run = machdyn.simulate(sc, DCMotor(2.0, 100.0), turns=3, **kw)
     assert run.status == "turns" and run.theta[-1] == pytest.approx(6 * math.pi, abs=1e-9)
 
@@ -273,8 +288,15 @@ def test_turns_coast_down_and_load_step():
 
 
 def test_forces_along_the_simulated_motion():
-    run = machdyn.simulate(FB, DCMotor(0.06, 300.0, ratio=10.0), flywheel=2e-3, t_end=0.3,
-                           samples=301, gravity=G, **MASS)  # fmt: skip
+    run = machdyn.simulate(
+        FB,
+        DCMotor(0.06, 300.0, ratio=10.0),
+        flywheel=2e-3,
+        t_end=0.3,
+        samples=301,
+        gravity=G,
+        **MASS,
+    )
     f = run.forces()
     assert f.ok.all()
     # the shaft delivers the motor's torque less what accelerates the flywheel
@@ -378,8 +400,9 @@ def test_motor_laws():
     got = im(0.0, 0.0, (1.0 - s) * 157.08)
     assert np.allclose(got, 2 * 60.0 * s * 0.2 / (s * s + 0.04))
     assert im(0.0, 0.0, 0.8 * 157.08) == pytest.approx(60.0)  # breakdown at s = s_b
-    rated = InductionMotor.from_rating(20.0, rated_speed=150.0, synchronous_speed=157.08,
-                                       breakdown_factor=2.5)  # fmt: skip
+    rated = InductionMotor.from_rating(
+        20.0, rated_speed=150.0, synchronous_speed=157.08, breakdown_factor=2.5
+    )
     assert rated(0.0, 0.0, 150.0) == pytest.approx(20.0, rel=1e-12)
     assert rated.breakdown_torque == pytest.approx(50.0)
     geared = ConstantTorque(2.0, ratio=5.0, inertia=1e-3)

@@ -57,12 +57,14 @@ __all__ = [
     "InductionMotor",
     "Load",
     "Motor",
+    "PeriodicMotion",
     "Simulation",
     "SteadyState",
     "Step",
     "TorqueFunction",
     "force",
     "simulate",
+    "steady_state",
     "step",
     "torque",
 ]
@@ -86,6 +88,8 @@ _HOMES = {
     "Event": "result",
     "Simulation": "result",
     "SteadyState": "result",
+    "PeriodicMotion": "periodic",
+    "steady_state": "periodic",
 }
 
 

@@ -130,39 +130,35 @@ class Runner:
             sol = self._segment(t, t_stop, y, events)
             t, y = float(sol.t[-1]), sol.y[:, -1].copy()
             y[0] += self._base
-            fired = [names[i] for i, te in enumerate(sol.t_events) if te.size]
             if sol.status == -1:
                 return self._failed(t, y, sol.message)
-            if not fired:  # reached t_stop
-                if t >= t_end:
-                    return "t_end", f"reached t_end = {t_end:.6g} s"
-                self.events.append(Event("breakpoint", t, y[0], y[1], "a motor or load switched"))
-                continue
-            kind = fired[0]
-            if kind == "cycle":
+            fired = {names[i] for i, te in enumerate(sol.t_events) if te.size}
+            if "cycle" in fired:  # may coincide with any other event: record it first
                 self.cycle_times.append(t)
                 self.cycle_speeds.append(float(y[1]))
                 cycle_start += period if y[0] > cycle_start else -period
                 if steady_tol is not None and self._is_steady(steady_tol):
                     self.events.append(Event("steady", t, y[0], y[1], "periodic steady state"))
                     return "steady", f"steady state after {len(self.cycle_times)} turns"
-                continue
-            if kind == "stop":
+            if "stop" in fired or _reached(y[0], q_stop, self.q0):
                 return "turns", f"the input turned to {y[0]:.6g}"
-            if kind in ("hi", "lo"):
-                why = self._limit_reason(kind)
+            if fired & {"hi", "lo"}:
+                why = self._limit_reason("hi" if "hi" in fired else "lo")
                 self.events.append(Event("toggle", t, y[0], y[1], why))
                 return "toggle", why
-            # the speed passed through zero
-            y[1] = 0.0
-            outcome = self._at_zero_speed(t, y, direction)
-            if isinstance(outcome, tuple):
-                event = self.events[-1]
-                if event.kind in stop_on or event.kind == "rest":
+            if "zero" in fired:
+                y[1] = 0.0
+                outcome = self._at_zero_speed(t, y, direction)
+                if not isinstance(outcome, tuple):
+                    direction = outcome
+                elif self.events[-1].kind in stop_on or self.events[-1].kind == "rest":
                     return outcome
-                direction = -direction
-                continue
-            direction = outcome
+                else:
+                    direction = -direction
+            elif not fired:  # reached t_stop
+                if t >= t_end:
+                    return "t_end", f"reached t_end = {t_end:.6g} s"
+                self.events.append(Event("breakpoint", t, y[0], y[1], "a motor or load switched"))
 
     def _segment(self, t0: float, t1: float, y: np.ndarray, events: list) -> Any:
         from scipy.integrate import solve_ivp
@@ -210,7 +206,7 @@ class Runner:
             add("cycle", cycle_start + period, 1.0)
             add("cycle", cycle_start - period, -1.0)
         if q_stop is not None:
-            add("stop", q_stop, 0.0)
+            add("stop", q_stop, 1.0 if q_stop > self.q0 else -1.0)
         if math.isfinite(self.coef.hi):
             add("hi", self.coef.hi, 1.0)
         if math.isfinite(self.coef.lo):
@@ -326,11 +322,11 @@ class Runner:
         if period is None or len(self.cycle_times) < 2:
             return None
         t0, t1 = self.cycle_times[-2], self.cycle_times[-1]
-        ts = np.linspace(t0, t1, 4001)
-        q, w = self.state(ts)
-        i_max, i_min = int(np.argmax(w)), int(np.argmin(w))
-        w_max, q_max = _peak(ts, w, q, i_max, self)
-        w_min, q_min = _peak(ts, w, q, i_min, self)
+        ts = np.linspace(t0, t1, 20001)
+        _, w = self.state(ts)
+        t_max, w_max = parabola_peak(ts, w, int(np.argmax(w)))
+        t_min, w_min = parabola_peak(ts, w, int(np.argmin(w)))
+        q_max, q_min = (float(v) for v in self.state(np.array([t_max, t_min]))[0])
         omega_avg = period / (t1 - t0)
         times = [0.0, *self.cycle_times]
         previous = times[-2] - times[-3] if len(times) >= 3 else math.nan
@@ -391,18 +387,27 @@ class _Failed:
         self.t_events: list[np.ndarray] = []
 
 
-def _peak(ts, w, q, i, runner) -> tuple[float, float]:
-    """Refine a sampled extremum of ω by the parabola through its neighbours."""
-    if 0 < i < ts.size - 1:
-        y0, y1, y2 = w[i - 1], w[i], w[i + 1]
-        denom = y0 - 2.0 * y1 + y2
-        if denom:
-            s = 0.5 * (y0 - y2) / denom
+def _reached(q: float, q_stop: float | None, q0: float) -> bool:
+    """Has ``q`` reached ``q_stop`` (from ``q0``), up to rounding? (Coinciding events.)"""
+    if q_stop is None:
+        return False
+    slack = 1e-12 * max(1.0, abs(q_stop))
+    return (q - q_stop) * (1.0 if q_stop > q0 else -1.0) >= -slack
+
+
+def parabola_peak(x: np.ndarray, y: np.ndarray, i: int) -> tuple[float, float]:
+    """The extremum of the parabola through samples ``i − 1, i, i + 1`` of a uniform grid.
+
+    Returns ``(x, y)`` at the vertex; the sample itself at an end of the grid.
+    """
+    if 0 < i < x.size - 1:
+        y0, y1, y2 = y[i - 1], y[i], y[i + 1]
+        curvature = y0 - 2.0 * y1 + y2
+        if curvature:
+            s = 0.5 * (y0 - y2) / curvature
             if abs(s) <= 1.0:
-                tt = ts[i] + s * (ts[1] - ts[0])
-                qq, ww = runner.state(np.array([tt]))
-                return float(ww[0]), float(qq[0])
-    return float(w[i]), float(q[i])
+                return float(x[i] + s * (x[1] - x[0])), float(y1 - 0.25 * (y0 - y2) * s)
+    return float(x[i]), float(y[i])
 
 
 def _show(q: float, plant: Any) -> str:

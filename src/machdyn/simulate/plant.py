@@ -379,9 +379,40 @@ def _closes(m: Any) -> bool:
 
 
 def _drawn_value(lk: Any, driver: str) -> float:
-    """The driver's value in the drawn pose (from the compiled loop system)."""
-    c = lk._compile()  # TODO(engine): a public Linkage.drawn_inputs would replace this
-    for name, var, offset in zip(lk.drivers, c.driver_vars, c.driver_offsets, strict=True):
-        if name == driver:
-            return float(c.drawn[var] + offset)
-    raise ModelError(f"no driver {driver!r}")
+    """The driver's value in the drawn pose, from the public topology view (and checked).
+
+    A link's angle is that of the line from its first point to its second; a
+    motor's the difference of its two links' angles; an actuator's its length;
+    a slider's or slot's travel is measured along its line from the foot of the
+    guiding link's first point (or of ``through``).
+    """
+    points, joints = lk.points, {j.name: j for j in lk.joints}
+
+    def angle(link: str) -> float:
+        if link == "ground" or len(lk.links[link].points) < 2:
+            return 0.0
+        first, second = lk.links[link].points[:2]
+        return float(np.angle(points[second] - points[first]))
+
+    if driver in lk.links:
+        value = angle(driver)
+    elif joints[driver].kind == "motor":
+        a, b = joints[driver].links
+        value = angle(b) - angle(a)
+    elif joints[driver].kind == "actuator":
+        start, end = joints[driver].points
+        value = float(abs(points[end] - points[start]))
+    else:  # slider or slot: (moving link, on)
+        joint = joints[driver]
+        on = joint.links[1]
+        ref = joint.through or (lk.ground_points[0] if on == "ground" else lk.links[on].points[0])
+        u = joint.direction
+        value = float((np.conj(u) * (points[joint.points[0]] - points[ref])).real)
+    m = lk.solve(np.array([value]))
+    size = max(abs(z) for z in points.values()) + 1e-300
+    if not m.ok[0] or any(abs(m.points[k][0] - z) > 1e-6 * size for k, z in points.items()):
+        raise ModelError(
+            f"could not read driver {driver!r}'s value in the drawn pose; give theta0= (its "
+            "value to start from)"
+        )
+    return value

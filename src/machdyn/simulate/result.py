@@ -189,11 +189,11 @@ class Simulation:
             }
         )
 
-    def plot(self, axes: Any = None) -> Any:
-        """Speed, angle and motor torque against time (matplotlib; see :mod:`machdyn.draw`)."""
+    def plot(self, fig: Any = None) -> Any:
+        """Angle, speed and motor torque against time (:mod:`machdyn.draw.simulation`)."""
         from ..draw.simulation import plot_simulation
 
-        return plot_simulation(self, axes=axes)
+        return plot_simulation(self, fig=fig)
 
     def __str__(self) -> str:
         lines = [f"simulated {self.t[-1]:.6g} s: {self.message}"]

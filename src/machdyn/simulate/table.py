@@ -362,8 +362,12 @@ class Exact:
         return out
 
     def many(self, q: np.ndarray) -> np.ndarray:
-        """The coefficient vectors at an array of ``q`` (F, n), one sample at a time."""
-        return np.array([self(float(x)) for x in np.ravel(q)]).T.reshape(-1, *np.shape(q))
+        """The coefficient vectors along a trajectory ``q`` (F, n), in one batched solve."""
+        q = np.asarray(q, dtype=float)
+        values, ok = coefficient_samples(self.plant, self.loads, q.ravel())
+        if not ok.all():
+            raise _Unsolved(float(q.ravel()[np.flatnonzero(~ok)[0]]))
+        return values.reshape(-1, *q.shape)
 
     def describe(self) -> str:
         """``"exact (no table)"``."""
