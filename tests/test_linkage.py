@@ -52,7 +52,7 @@ def rigid_errors(lk: Linkage, m) -> float:
 
 
 def _drawn_cg(lk: Linkage, name: str) -> complex:
-    from machdyn.linkage import _cg_drawn
+    from machdyn.linkage.kinematics import _cg_drawn
 
     return _cg_drawn(lk, lk._links[name])
 

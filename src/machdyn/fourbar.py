@@ -1055,6 +1055,20 @@ class FourBar:
             )
         return result
 
+    def inversions(self, n: int = 2001):
+        """Barker table of the four inversions (each link grounded in turn).
+
+        See :func:`machdyn.inversions.inversions` (the notes' HW 3 #2).
+
+        Examples
+        --------
+        >>> [inv.code for inv in FourBar(6, 9, 3, 8).inversions()]
+        ['GRCR', 'GCRR', 'GCCC', 'GRRC']
+        """
+        from .inversions import inversions
+
+        return inversions(*self.lengths, n=n)
+
     def transmission_angle(self, form: int = 1, n: int = 2001) -> TransmissionAngle:
         """Minimum transmission angle μ over the motion of a form, and where it occurs.
 

@@ -189,6 +189,56 @@ def _print(payload: dict[str, Any]) -> None:
         print(f"  theta2 = {r['theta2_deg']:g} deg: {r['reason']}")
 
 
+def inversions_payload(r1: float, r2: float, r3: float, r4: float) -> dict[str, Any]:
+    """The inversion table as plain data (the ``--inversions --json`` payload)."""
+    table = FourBar(r1, r2, r3, r4).inversions()
+    return {
+        "lengths": {"r1": r1, "r2": r2, "r3": r3, "r4": r4},
+        "inversions": [
+            {
+                "grounded": inv.grounded,
+                "links": list(inv.links),
+                "lengths": list(inv.lengths),
+                "class": {
+                    "code": inv.code,
+                    "number": inv.classification.number,
+                    "name": inv.classification.name,
+                },
+                "form_rule": inv.form_rule,
+                "ranges_deg": {
+                    name: {which: r.degrees() for which, r in ranges.items()}
+                    for name, ranges in inv.ranges.items()
+                },
+                "text": {
+                    name: {which: r.text() for which, r in ranges.items()}
+                    for name, ranges in inv.ranges.items()
+                },
+            }
+            for inv in table
+        ],
+    }
+
+
+def _print_inversions(payload: dict[str, Any]) -> None:
+    L = payload["lengths"]
+    print(f"Inversions of the chain R1={L['r1']:g} R2={L['r2']:g} R3={L['r3']:g} R4={L['r4']:g}")
+    print("(link k grounded: the links are renumbered k, k+1, ... around the loop)")
+    for inv in payload["inversions"]:
+        c = inv["class"]
+        lengths = ", ".join(f"{x:g}" for x in inv["lengths"])
+        rule = "phi34" if inv["form_rule"] == "phi34" else "phi12"
+        print()
+        print(
+            f"Link {inv['grounded']} grounded: {{{lengths}}} {c['code']} "
+            f"(Barker #{c['number']}: {c['name']}); form 1: {rule} > 0, form 2: {rule} < 0"
+        )
+        print_table(
+            "ranges in degrees",
+            ["angle", "form 1", "form 2", "common to both"],
+            [[name, t["form1"], t["form2"], t["common"]] for name, t in inv["text"].items()],
+        )
+
+
 @app.command()
 def fourbar(
     r1: Annotated[float, typer.Argument(help="Ground link length O2O4.")],
@@ -205,8 +255,22 @@ def fourbar(
         str | None, typer.Option(help="Coupler point P:DELTA_DEG (distance from A, angle from AB).")
     ] = None,
     json: Annotated[bool, typer.Option("--json", help="Print machine-readable JSON.")] = False,
+    inversions: Annotated[
+        bool,
+        typer.Option(
+            "--inversions",
+            help="Print the Barker table of the four inversions (each link grounded) instead.",
+        ),
+    ] = False,
 ) -> None:
     """Classify a four-bar and print its limits and a kinematics table."""
+    if inversions:
+        table = inversions_payload(r1, r2, r3, r4)
+        if json:
+            print(dumps(table))
+        else:
+            _print_inversions(table)
+        return
     if form not in (1, 2):
         raise InputError("--form", f"must be 1 or 2, got {form}")
     grid = parse_range_deg(theta2)

@@ -1,0 +1,75 @@
+"""Small helpers shared by the linkage modules: the ground's name, points, frozen tables."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._validate import finite_scalar, magnitude
+from ..errors import InputError
+
+if TYPE_CHECKING:
+    from .builder import Linkage
+
+#: The name of the fixed link.
+GROUND = "ground"
+
+
+def _complex_point(field: str, value: Any) -> complex:
+    if isinstance(value, complex):
+        z = value
+    else:
+        try:
+            if np.ndim(value) == 0:
+                z = complex(value)
+            else:
+                x, y = value
+                z = complex(finite_scalar(f"{field} x", x), finite_scalar(f"{field} y", y))
+        except (TypeError, ValueError):
+            raise InputError(field, f"a point is (x, y) or x + yj, got {value!r}") from None
+    if not (np.isfinite(z.real) and np.isfinite(z.imag)):
+        raise InputError(field, f"coordinates must be finite, got {value!r}")
+    return z
+
+
+def _frozen(d: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:
+    for v in d.values():
+        v.flags.writeable = False
+    return MappingProxyType(d)
+
+
+def _is_inf(value: Any) -> bool:
+    try:
+        return bool(np.isposinf(float(magnitude(value))))
+    except (TypeError, ValueError):
+        return False
+
+
+def _is_zero(value: Any) -> bool:
+    if isinstance(value, Mapping):
+        return all(np.all(np.asarray(v) == 0) for v in value.values())
+    return bool(np.all(np.asarray(value) == 0))
+
+
+def _ref_angle(lk: Linkage, link: str) -> float:
+    if link == GROUND:
+        return 0.0
+    p = lk._links[link].points
+    if len(p) < 2:
+        return 0.0
+    z = lk._points[p[1]] - lk._points[p[0]]
+    return float(np.angle(z)) if abs(z) else 0.0
+
+
+def _typical_length(lk: Linkage) -> float:
+    """The mean distance from each link's first point to its others (1 if there is none)."""
+    sizes = [
+        abs(lk._points[q] - lk._points[ln.points[0]])
+        for ln in lk._links.values()
+        for q in ln.points[1:]
+    ]
+    sizes = [d for d in sizes if d > 0]
+    return float(np.mean(sizes)) if sizes else 1.0

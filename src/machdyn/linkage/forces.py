@@ -1,0 +1,594 @@
+"""Newton–Euler forces of a drawn linkage: one assembler over every sample at once."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._validate import finite_array, nonnegative
+from ..errors import InputError, ModelError
+from ..loops import lu_factor, lu_solve
+from ._common import GROUND, _complex_point, _frozen, _ref_angle, _typical_length
+from .kinematics import LinkageMotion
+from .topology import _Edge
+
+#: Samples are assembled and solved in blocks of this size (bounded memory).
+_CHUNK = 1 << 15
+#: A force block whose pivot ratio (after equilibration) is below this is singular.
+_SINGULAR_RCOND = 1e-12
+
+FORCE_REASONS = {
+    "singular": "singular force system (toggle or dead point): the joint forces are not "
+    "determined by Newton–Euler",
+    "coulomb": "Coulomb friction: no consistent sign of the normal force (self-locking)",
+    "spring": "a spring's two ends meet (zero length): the direction of its force is undefined",
+}
+
+
+@dataclass(frozen=True)
+class LinkageForces:
+    """Newton–Euler forces of a :class:`Linkage` for every sample of a motion.
+
+    Forces are complex ``Fx + j Fy``, torques CCW positive; ``F_ap`` is the force
+    on link *p* from link *a* (``F_pa = −F_ap``).
+
+    Attributes
+    ----------
+    pins : mapping of (a, p) to complex ndarray
+        Every pin force ``F_ap`` (one entry per pair of links joined by a pin);
+        use :meth:`F` for either direction.
+    sliders : mapping of joint name to complex ndarray
+        Total force on the block (or pin, for a slot) from the guide: normal
+        force, driving force and friction.
+    normal : mapping of joint name to ndarray
+        Normal force of sliders and slots along ``j·û`` (û the slide direction).
+    couple : mapping of joint name to ndarray
+        The couple a prismatic joint transmits to the block.
+    driver : mapping of driver name to ndarray
+        Driving torque (of the ground on the driven link, like ``T12``; of a
+        motor's link *a* on its link *b*, ``−T`` on *a*) or force (along the
+        slide; an actuator's push).
+    rolling : mapping of rolling-joint name to complex ndarray
+        Contact force on ``link_b`` from ``link_a`` at the contact point (on
+        ``link_a`` it is the opposite); for a contact whose centres share a
+        carrier only its tangential part (the preload is taken as 0).
+    contact : mapping of rolling-joint name to complex ndarray
+        Position of each rolling contact point.
+    elements : mapping of spring name to ndarray
+        The effort of every :meth:`Linkage.spring` — its tension ``T``
+        (positive pulling the ends together, a force) — and of every
+        :meth:`Linkage.torsion_spring` — its torque ``tau`` (positive winding
+        ``phi`` back, ``−tau`` on link *b*).
+    element_length, element_rate : mapping of spring name to ndarray
+        A spring's length ``L`` and ``dL/dt``; a torsion spring's relative
+        angle ``phi = theta_b − theta_a`` (radians, not wrapped) and ``dphi/dt``.
+        The element's power on the mechanism is ``−effort × rate``.
+    shaking_force : complex ndarray
+        Sum of the forces the moving links exert on the ground.
+    shaking_moment : ndarray
+        Their moment about the drawing's origin, with the reaction torques.
+    ok, reason : ndarray
+        Per-sample flags (kinematic failures and singular force systems).
+    motion : LinkageMotion
+
+    Examples
+    --------
+    >>> from machdyn.linkage import Linkage
+    >>> import numpy as np
+    >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0), "B": (7.625, 35.859375**0.5)})
+    ...       .ground("O2", "O4").link("crank", "O2", "A", mass=1.0, inertia=0.1, cg=2.0)
+    ...       .link("coupler", "A", "B").link("rocker", "O4", "B").drive("crank"))
+    >>> f = lk.forces(lk.solve([0.0, 0.1], velocity=10.0))
+    >>> sorted(f.pins)  # doctest: +NORMALIZE_WHITESPACE
+    [('coupler', 'rocker'), ('crank', 'coupler'), ('ground', 'crank'), ('ground', 'rocker')]
+    >>> bool(np.allclose(f.F("rocker", "coupler"), -f.F("coupler", "rocker")))
+    True
+    """
+
+    pins: Mapping[tuple[str, str], np.ndarray]
+    sliders: Mapping[str, np.ndarray]
+    normal: Mapping[str, np.ndarray]
+    couple: Mapping[str, np.ndarray]
+    driver: Mapping[str, np.ndarray]
+    shaking_force: np.ndarray
+    shaking_moment: np.ndarray
+    ok: np.ndarray
+    reason: np.ndarray
+    motion: LinkageMotion = field(repr=False)
+    rolling: Mapping[str, np.ndarray] = field(default_factory=dict)
+    contact: Mapping[str, np.ndarray] = field(default_factory=dict)
+    elements: Mapping[str, np.ndarray] = field(default_factory=dict)
+    element_length: Mapping[str, np.ndarray] = field(default_factory=dict)
+    element_rate: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+    def F(self, a: str, p: str) -> np.ndarray:
+        """The pin force on link ``p`` from link ``a`` (``F_ap``)."""
+        if (a, p) in self.pins:
+            return self.pins[(a, p)]
+        if (p, a) in self.pins:
+            return -self.pins[(p, a)]
+        raise KeyError(f"no pin joins {a!r} and {p!r}; pins: {', '.join(map(str, self.pins))}")
+
+    def __len__(self) -> int:
+        return int(self.ok.size)
+
+    def plot(self, ax: Any = None) -> Any:
+        """Plot the driver efforts against the first driver (degrees if an angle).
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        driver, x = next(iter(self.motion.inputs.items()))
+        is_angle = driver in self.motion.angle_drivers
+        xs = np.degrees(np.ravel(x)) if is_angle else np.ravel(x)
+        for name, effort in self.driver.items():
+            kind = "torque" if name in self.motion.angle_drivers else "force"
+            ax.plot(xs, np.ravel(effort), label=f"driver {name} ({kind})")
+        ax.set_xlabel(f"{driver} [deg]" if is_angle else driver)
+        ax.legend()
+        return ax
+
+    def to_pandas(self) -> Any:
+        """One row per sample: pin, slider and contact forces, drivers, springs, shaking, flags.
+
+        A spring or torsion spring ``k`` gives columns ``T_k`` (tension or torque),
+        ``L_k`` (length or relative angle) and ``Ldot_k`` (its rate).
+        """
+        import pandas as pd
+
+        cols: dict[str, np.ndarray] = {}
+        for (a, p), v in self.pins.items():
+            cols[f"F_{a}_{p}_x"], cols[f"F_{a}_{p}_y"] = np.ravel(v).real, np.ravel(v).imag
+        for k, v in self.sliders.items():
+            cols[f"F_{k}_x"], cols[f"F_{k}_y"] = np.ravel(v).real, np.ravel(v).imag
+        for k, v in self.normal.items():
+            cols[f"N_{k}"] = np.ravel(v)
+        for k, v in self.couple.items():
+            cols[f"M_{k}"] = np.ravel(v)
+        for k, v in self.rolling.items():
+            cols[f"F_{k}_x"], cols[f"F_{k}_y"] = np.ravel(v).real, np.ravel(v).imag
+        for k, v in self.driver.items():
+            cols[f"driver_{k}"] = np.ravel(v)
+        for k, v in self.elements.items():
+            cols[f"T_{k}"] = np.ravel(v)
+            cols[f"L_{k}"] = np.ravel(self.element_length[k])
+            cols[f"Ldot_{k}"] = np.ravel(self.element_rate[k])
+        cols["shaking_force_x"] = np.ravel(self.shaking_force).real
+        cols["shaking_force_y"] = np.ravel(self.shaking_force).imag
+        cols["shaking_moment"] = np.ravel(self.shaking_moment)
+        cols["ok"], cols["reason"] = np.ravel(self.ok), np.ravel(self.reason)
+        return pd.DataFrame(cols)
+
+
+def _cross(u, v):
+    return u.real * v.imag - u.imag * v.real
+
+
+def _block_triangular(pattern: np.ndarray, labels: list, moving: list[str]) -> list:
+    """Split the force system into blocks solved one after another (Assur groups).
+
+    A perfect matching of equations to unknowns puts a structural non-zero on
+    the diagonal; the strongly connected components of the matched graph are the
+    irreducible diagonal blocks, ordered so that every block uses only unknowns
+    of blocks solved before it (block lower-triangular form). For a Watt
+    six-bar this gives the outer dyad (6 × 6), the inner dyad (6 × 6) and the
+    crank (3 × 3) instead of one 15 × 15 system.
+
+    Returns a list of ``(rows, cols)``: each block's equations and unknowns.
+    """
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components, maximum_bipartite_matching
+
+    n = pattern.shape[0]
+    match = maximum_bipartite_matching(csr_matrix(pattern.astype(np.int8)), perm_type="column")
+    if (match < 0).any():
+        lost = [moving[r // 3] for r in np.flatnonzero(match < 0)]
+        raise ModelError(
+            "the force system is structurally singular: the equations of link(s) "
+            f"{', '.join(dict.fromkeys(lost))} cannot be satisfied by the joint forces"
+        )
+    uses = pattern[:, match]  # row i uses the unknown matched to row r
+    n_comp, comp = connected_components(csr_matrix(uses), directed=True, connection="strong")
+    dep = np.zeros((n_comp, n_comp), bool)
+    ri, rr = np.nonzero(uses)
+    dep[comp[ri], comp[rr]] = True
+    np.fill_diagonal(dep, False)
+    order: list[int] = []
+    done = np.zeros(n_comp, bool)
+    while len(order) < n_comp:
+        ready = [c for c in range(n_comp) if not done[c] and not (dep[c] & ~done).any()]
+        for c in ready:
+            done[c] = True
+            order.append(c)
+    del labels, n
+    return [(np.flatnonzero(comp == c), match[comp == c]) for c in order]
+
+
+def _forces(
+    lk, motion, gravity, external_forces, external_torques, viscous, coulomb
+) -> LinkageForces:
+    if not isinstance(motion, LinkageMotion):
+        raise InputError("motion", f"must be a LinkageMotion from Linkage.solve, got {motion!r}")
+    if motion.omega is None:
+        raise ModelError("forces need accelerations: solve with velocity=... first")
+    lk._compile()
+    g = nonnegative("gravity", gravity)
+    shape = motion.ok.shape
+    n_s = int(np.prod(shape))
+    moving = list(lk._links)
+    row = {n: 3 * i for i, n in enumerate(moving)}
+    n_eq = 3 * len(moving)
+
+    def flat(x) -> np.ndarray:
+        return np.broadcast_to(np.asarray(x), shape).reshape(n_s)
+
+    G = {n: flat(np.nan_to_num(motion.cg[n])) for n in moving}
+    P = {k: flat(np.nan_to_num(v)) for k, v in motion.points.items()}
+    delta = {n: flat(np.nan_to_num(motion.theta[n])) - _ref_angle(lk, n) for n in moving}
+    delta[GROUND] = np.zeros(n_s)
+
+    drivers = set(lk._drivers)
+    one = np.ones(n_s)
+    edges = lk._edges()
+    slide_u = {
+        e.name: e.direction * np.exp(1j * delta[e.a]) for e in edges if e.kind in ("P", "slot")
+    }
+    contact: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # roll -> (point, tangent)
+    for e in edges:
+        if e.kind != "roll":
+            continue
+        rho_a, rho_b = e.radii
+        if np.isinf(rho_b):  # the normal of b's straight profile, toward centre_a
+            n = e.direction * np.exp(1j * delta[e.b])
+            C = P[e.pa] - rho_a * n
+        else:
+            z = P[e.pb] - P[e.pa]
+            n = z / np.where(np.abs(z) > 0, np.abs(z), 1.0)
+            C = P[e.pa] + rho_a * n
+        contact[e.name] = (C, 1j * n)
+    columns: list[list[tuple[int, Any]]] = []
+    ground_parts: list[tuple[int, Any, Any]] = []  # (col, force unit (complex), moment coef)
+    labels: list[tuple[str, str]] = []
+
+    def force_col(entries: list[tuple[str, Any, Any, float]], label: tuple[str, str]) -> None:
+        """A unit force ``u`` at ``X`` on each listed link with a sign (+ on the first)."""
+        col: list[tuple[int, Any]] = []
+        k = len(columns)
+        for link, X, u, sgn in entries:
+            if link == GROUND:
+                ground_parts.append((k, sgn * u, sgn * _cross(X, u)))
+                continue
+            r = row[link]
+            col += [(r, sgn * u.real), (r + 1, sgn * u.imag), (r + 2, sgn * _cross(X - G[link], u))]
+        columns.append(col)
+        labels.append(label)
+
+    def couple_col(entries: list[tuple[str, float]], label: tuple[str, str]) -> None:
+        k = len(columns)
+        col = []
+        for link, sgn in entries:
+            if link == GROUND:
+                ground_parts.append((k, 0j, sgn))
+            else:
+                col.append((row[link] + 2, sgn))
+        columns.append(col)
+        labels.append(label)
+
+    def build(kappa: Mapping[str, Any]) -> None:
+        """Columns of the unknowns; ``kappa[slider]`` adds Coulomb friction κ·N·û."""
+        columns.clear()
+        ground_parts.clear()
+        labels.clear()
+        for e in edges:
+            build_edge(e, kappa)
+        for d in lk._drivers:
+            if d in lk._links:
+                couple_col([(d, 1.0), (GROUND, -1.0)], ("driver", d))
+            elif d in lk._motors:  # torque T on link b, its reaction -T on link a
+                a, b_ = lk._motor_links(d)
+                couple_col([(b_, 1.0), (a, -1.0)], ("driver", d))
+
+    def build_edge(e: _Edge, kappa: Mapping[str, Any]) -> None:
+        if e.kind == "R":
+            X = P[e.pa]
+            for comp, u in (("x", one + 0j), ("y", 1j * one)):
+                force_col([(e.b, X, u, 1.0), (e.a, X, u, -1.0)], ("pin", f"{e.a}|{e.b}|{comp}"))
+        elif e.kind in ("P", "slot"):
+            X = P[e.pb]
+            uhat = slide_u[e.name]
+            un = 1j * uhat + kappa.get(e.name, 0.0) * uhat
+            force_col([(e.b, X, un, 1.0), (e.a, X, un, -1.0)], ("normal", e.name))
+            if e.kind == "P":
+                couple_col([(e.b, 1.0), (e.a, -1.0)], ("couple", e.name))
+            if e.name in drivers:
+                force_col([(e.b, X, uhat, 1.0), (e.a, X, uhat, -1.0)], ("driver", e.name))
+        elif e.kind == "roll":  # a force at the contact point, like a pin there
+            C, t = contact[e.name]
+            if e.carried:  # only the tangential force (the preload is indeterminate)
+                force_col([(e.b, C, t, 1.0), (e.a, C, t, -1.0)], ("roll", f"{e.name}|t"))
+            else:
+                for comp, u in (("x", one + 0j), ("y", 1j * one)):
+                    force_col([(e.b, C, u, 1.0), (e.a, C, u, -1.0)], ("roll", f"{e.name}|{comp}"))
+        elif e.name in drivers:  # actuator
+            Xa, Xb = P[e.pa], P[e.pb]
+            d = Xb - Xa
+            uhat = d / np.where(np.abs(d) > 0, np.abs(d), 1.0)
+            force_col([(e.b, Xb, uhat, 1.0), (e.a, Xa, uhat, -1.0)], ("driver", e.name))
+
+    build({})
+    if len(columns) != n_eq:
+        raise ModelError(
+            f"{len(columns)} force unknowns for {n_eq} equations of {len(moving)} moving links; "
+            "the force system is not square (check the drivers)"
+        )
+
+    # right-hand side: m aG + m g j − external forces; I α − external moments about G
+    b = np.zeros((n_s, n_eq))
+    aG = {n: flat(np.nan_to_num(motion.cg_acceleration[n])) for n in moving}
+    alpha = {n: flat(np.nan_to_num(motion.alpha[n])) for n in moving}
+    for n in moving:
+        ln, r = lk._links[n], row[n]
+        b[:, r] = ln.mass * aG[n].real
+        b[:, r + 1] = ln.mass * (aG[n].imag + g)
+        b[:, r + 2] = ln.inertia * alpha[n]
+    ext_force_ground = np.zeros(n_s, complex)
+    ext_moment_ground = np.zeros(n_s)
+
+    def apply(link: str, X, F) -> None:
+        nonlocal ext_force_ground, ext_moment_ground
+        if link == GROUND:
+            ext_force_ground = ext_force_ground + F
+            ext_moment_ground = ext_moment_ground + _cross(X, F)
+            return
+        r = row[link]
+        b[:, r] -= F.real
+        b[:, r + 1] -= F.imag
+        b[:, r + 2] -= _cross(X - G[link], F)
+
+    for item in external_forces:
+        try:
+            link, point, force = item
+        except (TypeError, ValueError):
+            raise InputError(
+                "external_forces", f"each is (link, point, force), got {item!r}"
+            ) from None
+        if link not in lk._links:
+            raise ModelError(f"external force on unknown link {link!r}; links: {lk._names()}")
+        if isinstance(point, str):
+            if point not in lk._links[link].points:
+                raise ModelError(f"external force: point {point!r} is not on link {link!r}")
+            X = P[point]
+        else:
+            ln = lk._links[link]
+            z = lk._points[ln.points[0]] + _complex_point("external force point", point) * np.exp(
+                1j * _ref_angle(lk, link)
+            )
+            p0 = P[ln.points[0]]
+            X = p0 + (z - lk._points[ln.points[0]]) * np.exp(1j * delta[link])
+        F = np.asarray(force, dtype=complex)
+        if not np.all(np.isfinite(F)):
+            raise InputError(f"external force on {link}", "must be finite (Fx + j Fy)")
+        try:
+            F = flat(F)
+        except ValueError:
+            raise InputError(
+                f"external force on {link}", f"shape {F.shape} does not match the motion {shape}"
+            ) from None
+        apply(link, X, F)
+    torques = (
+        external_torques.items() if isinstance(external_torques, Mapping) else external_torques
+    )
+    for link, T in torques:
+        if link not in lk._links:
+            raise ModelError(f"external torque on unknown link {link!r}; links: {lk._names()}")
+        b[:, row[link] + 2] -= flat(finite_array(f"external torque on {link}", T))
+    friction: dict[str, np.ndarray] = {}
+    for name, beta in viscous.items():
+        edge = next((e for e in lk._edges() if e.name == name and e.kind == "P"), None)
+        if edge is None:
+            raise ModelError(
+                f"viscous friction at {name!r}: no such slider; sliders: "
+                f"{', '.join(lk._sliders) or '(none)'}"
+            )
+        beta = nonnegative(f"viscous[{name}]", beta)
+        v_slip = flat(np.nan_to_num(motion.length_rate[name]))
+        f = -beta * v_slip * slide_u[name]
+        friction[name] = f
+        X = P[edge.pb]
+        apply(edge.b, X, f)
+        apply(edge.a, X, -f)
+
+    # springs and dampers: known loads on the links they join (no unknowns)
+    effort, extent, rate = {}, {}, {}
+    V = {k: flat(np.nan_to_num(v)) for k, v in motion.point_velocity.items()}
+    zero_length = np.zeros(n_s, bool)
+    for name, s in lk._springs.items():
+        a, b_ = lk._element_links(name)
+        d = P[s.end] - P[s.start]
+        ell = np.abs(d)  # the spring's length L
+        short = ell <= 1e-12 * max(s.free_length, 1.0)
+        zero_length |= short
+        u = d / np.where(short, 1.0, ell)
+        ell_dot = ((V[s.end] - V[s.start]) * u.conjugate()).real
+        T = s.stiffness * (ell - s.free_length) + s.damping * ell_dot + s.preload
+        apply(a, P[s.start], T * u)  # the tension pulls start toward end ...
+        apply(b_, P[s.end], -T * u)  # ... and end toward start
+        effort[name], extent[name], rate[name] = T, ell, ell_dot
+
+    def angle_of(link: str) -> tuple[np.ndarray, np.ndarray]:
+        if link == GROUND:
+            return np.zeros(n_s), np.zeros(n_s)
+        return flat(np.nan_to_num(motion.theta[link])), flat(np.nan_to_num(motion.omega[link]))
+
+    for name, t in lk._torsions.items():
+        a, b_ = lk._element_links(name)
+        (th_a, w_a), (th_b, w_b) = angle_of(a), angle_of(b_)
+        phi, phi_dot = th_b - th_a, w_b - w_a
+        tau = t.stiffness * (phi - t.free_angle) + t.damping * phi_dot + t.preload
+        for link, sgn in ((a, 1.0), (b_, -1.0)):
+            if link == GROUND:
+                ext_moment_ground = ext_moment_ground + sgn * tau
+            else:
+                b[:, row[link] + 2] -= sgn * tau
+        effort[name], extent[name], rate[name] = tau, phi, phi_dot
+
+    # assemble and solve in chunks, block by block (Assur groups, found from the pattern)
+    bad = ~np.ravel(motion.ok) | zero_length
+
+    # static scaling (moment rows by 1/L, couple columns by L, L a typical link
+    # size) makes every block O(1) for the LU and its singularity test
+    length = _typical_length(lk)
+
+    def solve_system() -> tuple[np.ndarray, np.ndarray]:
+        x = np.full((n_s, n_eq), np.nan)
+        singular = np.zeros(n_s, bool)
+        entries = [(r, k, coef) for k, col in enumerate(columns) for r, coef in col]
+        pattern = np.zeros((n_eq, n_eq), bool)
+        for r, k, _ in entries:
+            pattern[r, k] = True
+        row_scale = np.tile([1.0, 1.0, 1.0 / length], len(moving))
+        col_scale = np.array(
+            [
+                length if kind == "couple" or name in lk._links or name in lk._motors else 1.0
+                for kind, name in labels
+            ]
+        )
+        blocks = []
+        for rows, cols in _block_triangular(pattern, labels, moving):
+            ri = {r: i for i, r in enumerate(rows)}
+            cj = {k: j for j, k in enumerate(cols)}
+            inner = [(ri[r], cj[k], c) for r, k, c in entries if r in ri and k in cj]
+            coupling = [(ri[r], k, c) for r, k, c in entries if r in ri and k not in cj]
+            blocks.append((rows, cols, inner, coupling))
+        for lo in range(0, n_s, _CHUNK):
+            sl = slice(lo, min(lo + _CHUNK, n_s))
+            size = sl.stop - sl.start
+            skip = bad[sl]
+            for rows, cols, inner, coupling in blocks:
+                nb = len(rows)
+                A = np.zeros((nb, nb, size))  # layout of machdyn.loops.lu_factor
+                for i, j, coef in inner:
+                    A[i, j] += coef[sl] if np.ndim(coef) else coef
+                rhs = b[sl, rows].T
+                for i, k, coef in coupling:
+                    rhs[i] -= (coef[sl] if np.ndim(coef) else coef) * x[sl, k]
+                if skip.any():
+                    A[:, :, skip] = np.eye(nb)[:, :, None]
+                    rhs[:, skip] = 0.0
+                fac = lu_factor(A, row_scale[rows], col_scale[cols])
+                singular[sl] |= ~(fac.rcond > _SINGULAR_RCOND)
+                x[sl, cols] = lu_solve(fac, rhs).T
+        x[bad | singular] = np.nan
+        return x, singular
+
+    x, singular = solve_system()
+    kappa: dict[str, Any] = {}
+    slipping = {}
+    for name, mu in coulomb.items():
+        edge = next((e for e in edges if e.name == name and e.kind in ("P", "slot")), None)
+        if edge is None:
+            raise ModelError(
+                f"Coulomb friction at {name!r}: no such slider or slot; joints: "
+                f"{', '.join([*lk._sliders, *lk._slots]) or '(none)'}"
+            )
+        mu = nonnegative(f"coulomb[{name}]", mu)
+        v = flat(np.nan_to_num(motion.length_rate[name]))
+        a = flat(np.nan_to_num(motion.length_acceleration[name]))
+        slipping[name] = (mu, np.where(v != 0, np.sign(v), np.sign(a)))  # at rest: impending
+    friction_bad = np.zeros(n_s, bool)
+    if slipping:
+        # the sign of N is unknown beforehand: start from the smooth solution and
+        # re-solve with the signs found until they agree (the notes' ±μN)
+        sign_n = {n: np.where(x[:, labels.index(("normal", n))] < 0, -1.0, 1.0) for n in slipping}
+        for _ in range(8):
+            kappa = {n: -mu * sign_n[n] * sv for n, (mu, sv) in slipping.items()}
+            build(kappa)
+            x, singular = solve_system()
+            friction_bad[:] = False
+            for n in slipping:
+                N = x[:, labels.index(("normal", n))]
+                new = np.where(N < 0, -1.0, 1.0)
+                wrong = (new != sign_n[n]) & np.isfinite(N) & (np.abs(N) > 0)
+                friction_bad |= wrong
+                sign_n[n] = new
+            if not friction_bad.any():
+                break
+        x[friction_bad] = np.nan
+    bad_all = bad | singular | friction_bad
+
+    def col_of(kind: str, name: str) -> np.ndarray:
+        return x[:, labels.index((kind, name))]
+
+    pins = {}
+    for e in lk._edges():
+        if e.kind == "R":
+            pins[(e.a, e.b)] = (
+                col_of("pin", f"{e.a}|{e.b}|x") + 1j * col_of("pin", f"{e.a}|{e.b}|y")
+            ).reshape(shape)
+    normal, couple, sliders, driver = {}, {}, {}, {}
+    for e in lk._edges():
+        if e.kind in ("P", "slot"):
+            N = col_of("normal", e.name)
+            F = N * (1j + kappa.get(e.name, 0.0)) * slide_u[e.name]
+            normal[e.name] = N.reshape(shape)
+            if e.kind == "P":
+                couple[e.name] = col_of("couple", e.name).reshape(shape)
+            if e.name in drivers:
+                F = F + col_of("driver", e.name) * slide_u[e.name]
+            if e.name in friction:
+                F = F + np.where(bad_all, np.nan, friction[e.name])
+            sliders[e.name] = F.reshape(shape)
+    for d in lk._drivers:
+        driver[d] = col_of("driver", d).reshape(shape)
+    rolling = {}
+    for e in edges:
+        if e.kind == "roll":
+            if e.carried:
+                F = col_of("roll", f"{e.name}|t") * contact[e.name][1]
+            else:
+                F = col_of("roll", f"{e.name}|x") + 1j * col_of("roll", f"{e.name}|y")
+            rolling[e.name] = F.reshape(shape)
+    # shaking: forces and moments the moving links exert on the ground (reactions)
+    Fs = np.zeros(n_s, complex)
+    Ms = np.zeros(n_s)
+    for k, u, mom in ground_parts:
+        Fs += x[:, k] * u
+        Ms += x[:, k] * mom
+    # ... and the known loads on the ground: friction of a ground guide, springs
+    Fs += ext_force_ground
+    Ms += ext_moment_ground
+    reasons = np.array(motion.reason, dtype=object).reshape(n_s).copy()
+
+    def per_sample(table: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:
+        return _frozen({k: np.where(bad_all, np.nan, v).reshape(shape) for k, v in table.items()})
+
+    reasons[zero_length & np.ravel(motion.ok)] = FORCE_REASONS["spring"]
+    reasons[singular & ~bad] = FORCE_REASONS["singular"]
+    reasons[friction_bad & ~bad & ~singular] = FORCE_REASONS["coulomb"]
+    return LinkageForces(
+        pins=_frozen(pins),
+        sliders=_frozen(sliders),
+        normal=_frozen(normal),
+        couple=_frozen(couple),
+        driver=_frozen(driver),
+        shaking_force=np.where(bad_all, np.nan, Fs).reshape(shape),
+        shaking_moment=np.where(bad_all, np.nan, Ms).reshape(shape),
+        ok=(~bad_all).reshape(shape),
+        reason=reasons.reshape(shape),
+        motion=motion,
+        rolling=_frozen(rolling),
+        contact=_frozen(
+            {k: np.where(bad_all, np.nan, v[0]).reshape(shape) for k, v in contact.items()}
+        ),
+        elements=per_sample(effort),
+        element_length=per_sample(extent),
+        element_rate=per_sample(rate),
+    )
