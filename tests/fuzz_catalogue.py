@@ -20,27 +20,35 @@ from typing import Any
 
 import numpy as np
 
-#: Modules whose ``__all__`` is walked (the public API).
-MODULES = (
-    "machdyn",
-    "machdyn.balancing",
-    "machdyn.cams",
-    "machdyn.centres",
-    "machdyn.classify",
-    "machdyn.dynamics",
-    "machdyn.flywheel",
-    "machdyn.fourbar",
-    "machdyn.gears",
-    "machdyn.jit",
-    "machdyn.linkage",
-    "machdyn.loops",
-    "machdyn.massprops",
-    "machdyn.mobility",
-    "machdyn.shaking",
-    "machdyn.slidercrank",
-    "machdyn.synthesis",
-    "machdyn.virtual_work",
+#: Front-end packages: they parse, draw and present, and are fuzzed through the CLI
+#: (tests/test_fuzz_cli.py) and their own browser tests, not here.
+FRONT_ENDS = (
+    "machdyn.cli",
+    "machdyn.draw",
+    "machdyn.plot",
+    "machdyn.report",
+    "machdyn.studio",
+    "machdyn.viewer",
 )
+
+
+def public_modules() -> list[str]:
+    """Every public module of machdyn with an ``__all__`` (packages before their modules)."""
+    import importlib
+    import pkgutil
+
+    import machdyn
+
+    names = ["machdyn"]
+    for info in pkgutil.walk_packages(machdyn.__path__, "machdyn."):
+        if any(part.startswith("_") for part in info.name.split(".")):
+            continue
+        if info.name.startswith(FRONT_ENDS) or info.name == "machdyn.errors":
+            continue
+        if getattr(importlib.import_module(info.name), "__all__", None):
+            names.append(info.name)
+    return sorted(names, key=lambda n: (n == "machdyn", n.count("."), n))
+
 
 #: Public names that are not called by users with arguments of their own: result
 #: records built by machdyn (their methods are catalogued), exceptions and constants.
@@ -89,6 +97,13 @@ NOT_CALLED = {
     "machdyn.virtual_work:InputTorque",
     "machdyn.balancing:StaticBalance",
     "machdyn.balancing:TwoPlaneBalance",
+    "machdyn.inversions:Inversion",
+    "machdyn.inversions:InversionTable",
+    "machdyn.linkage:Joint",
+    "machdyn.linkage:Link",
+    "machdyn.linkage:Spring",
+    "machdyn.linkage:TorsionSpring",
+    "machdyn.rotor:BearingReactions",
 }
 
 #: Public callables not fuzzed here, with the reason.
@@ -328,6 +343,20 @@ def catalogue() -> dict[str, Call]:
         ),
     )
     meth("machdyn.centres:InstantCentres.omega_ratio", _ics, i=3, j=2, ground=1)
+    meth("machdyn.fourbar:FourBar.inversions", _fb, n=101)
+    fn("machdyn.inversions:inversions", r1=6.0, r2=9.0, r3=3.0, r4=8.0, n=101)
+    arc = (math.radians(30.0), math.radians(90.0))
+    fn("machdyn.inversions:AngleRange", arcs=(arc,), full_turn=False)
+    fn("machdyn.inversions:AngleRange.every_direction")
+    rng = lambda: __import__("machdyn.inversions").inversions.AngleRange((arc,))  # noqa: E731
+    meth("machdyn.inversions:AngleRange.contains", rng, angle=np.array([0.6, 2.0]), tol=1e-9)
+    meth("machdyn.inversions:AngleRange.text", rng, digits=2)
+    meth("machdyn.inversions:AngleRange.degrees", rng)
+    meth("machdyn.inversions:AngleRange.intersection", rng, other=rng())
+    table = lambda: __import__("machdyn.inversions").inversions.inversions(6, 9, 3, 8, n=101)  # noqa: E731
+    meth("machdyn.inversions:InversionTable.rows", table)
+    meth("machdyn.inversions:InversionTable.to_pandas", table)
+    meth("machdyn.inversions:Inversion.fourbar", lambda: table()[1])
     for name in ("active", "load", "mode", "reason"):
         fn(f"machdyn.jit:{name}")
     fn("machdyn.jit:set_mode", value="off")
@@ -487,6 +516,24 @@ def _add_analyses(c, fn, meth) -> None:
         c[f"machdyn.balancing:TwoPlaneBalance.{key}"].accepts["radius_b"] = {"none"}
     c["machdyn.balancing:TwoPlaneBalance.to_pandas"].accepts["radius_a"] = {"none"}
     mp = __import__("machdyn.massprops").massprops
+    rotor = __import__("machdyn.rotor").rotor
+    tensor = [[0.5, 0, -0.05], [0, 0.5, 0], [-0.05, 0, 0.9]]
+    fn("machdyn.rotor:Rotor", mass=10.0, cg=(0.0, 0.0, 0.2), inertia=tensor, about="cg")
+    c["machdyn.rotor:Rotor"].accepts["inertia"] = {"none"}
+    masses = dict(masses=[1.0, 1.0], R=[0.1, -0.1j], z=[0.25, 0.75])
+    fn("machdyn.rotor:Rotor.from_masses", **masses)
+    rot = lambda: rotor.Rotor.from_masses(**masses)  # noqa: E731
+    meth("machdyn.rotor:Rotor.with_masses", rot, masses=[0.5], R=[0.1j], z=[0.5])
+    meth("machdyn.rotor:Rotor.is_balanced", rot, rtol=1e-12)
+    meth("machdyn.rotor:Rotor.angular_momentum", rot, omega=100.0)
+    meth("machdyn.rotor:Rotor.gyroscopic_moment", rot, omega=100.0)
+    meth("machdyn.rotor:Rotor.bearing_reactions", rot, omega=10.0, z_a=0.0, z_b=1.0, alpha=1.0)
+    meth("machdyn.rotor:Rotor.static_correction", rot)
+    meth("machdyn.rotor:Rotor.two_plane_correction", rot, plane_a=0.0, plane_b=1.0)
+    meth(
+        "machdyn.rotor:BearingReactions.to_pandas",
+        lambda: rot().bearing_reactions(10.0, 0.0, 1.0),
+    )
     fn("machdyn.massprops:annulus", mass=2.0, outer_radius=2.0, inner_radius=1.0, centre=1 + 1j)
     fn("machdyn.massprops:disc", mass=2.0, radius=2.0, centre=1 + 1j)
     fn("machdyn.massprops:ring", mass=2.0, radius=2.0, centre=1 + 1j)
@@ -568,6 +615,14 @@ def _add_elements(c, fn, meth) -> None:
         arm_length=5.0,
         n=90,
     )
+    theta = np.radians([0, 60, 120, 180, 240, 300])
+    lift = [0, 0.4, 1.0, 1.0, 0.5, 0.1]
+    fn("machdyn.cams:CriticalPathMotion", theta=theta, s=lift, degree=5, smoothing=0.0)
+    fn("machdyn.cams:CriticalPathMotion.from_degrees", theta_deg=np.degrees(theta), s=lift)
+    cpm = lambda: cams.CriticalPathMotion(theta, lift)  # noqa: E731
+    meth("machdyn.cams:CriticalPathMotion.svaj", cpm, theta=np.array([1.0, 2.0]))
+    meth("machdyn.cams:CriticalPathMotion.sample", cpm, n=90)
+    meth("machdyn.cams:CriticalPathMotion.continuity", cpm, rtol=1e-9)
     fn("machdyn.cams:CamProgram", segments=list(_program().segments))
     fn("machdyn.cams:CamProgram.double_dwell", h=1.0, beta_rise=1.0, beta_fall=1.0, law="cycloidal")
     c["machdyn.cams:CamProgram.double_dwell"].accepts.update(dwell_high={"none"}, fall_law={"none"})
@@ -715,6 +770,8 @@ def _add_design(c, fn, meth) -> None:
     fn("machdyn.synthesis:atlas", r1=[2.0, 3.0], r3=2.5, r4=2.0, p=1.0, delta=0.3, n=36)
     fn("machdyn.synthesis:chebyshev_spacing", x0=1.0, xf=2.0, n=3)
     fn("machdyn.synthesis:circumcentre", p1=0j, p2=1 + 0j, p3=1j)
+    fn("machdyn.synthesis.geometry:as_points", field="c", value=[(0, 1), 2 + 3j], count=2)
+    c["machdyn.synthesis.geometry:as_points"].accepts["count"] = {"none"}
     fn(
         "machdyn.synthesis:coupler_points",
         r1=5.0,

@@ -17,7 +17,14 @@ from typing import Any
 
 import numpy as np
 
-from fuzz_catalogue import METHODS_NOT_FUZZED, MODULES, NOT_CALLED, NOT_FUZZED, Call, catalogue
+from fuzz_catalogue import (
+    METHODS_NOT_FUZZED,
+    NOT_CALLED,
+    NOT_FUZZED,
+    Call,
+    catalogue,
+    public_modules,
+)
 
 
 def _seconds() -> Any:
@@ -61,18 +68,15 @@ def public_callables() -> dict[str, Any]:
     """Every public function, class and public method, by ``"module:Qualname"``."""
     found: dict[int, str] = {}
     objects: dict[str, Any] = {}
-    for module_name in MODULES:
+    for module_name in public_modules():  # the shortest public path of each object wins
         module = importlib.import_module(module_name)
         for name in module.__all__:
             obj = getattr(module, name)
-            if inspect.ismodule(obj) or not callable(obj):
+            if inspect.ismodule(obj) or not callable(obj) or id(obj) in found:
                 continue
             if inspect.isclass(obj) and issubclass(obj, BaseException):
                 continue
             key = f"{module_name}:{name}"
-            previous = found.get(id(obj))
-            if previous is not None:
-                del objects[previous]  # a later (more specific) module wins
             found[id(obj)] = key
             objects[key] = obj
     out = {}
@@ -80,7 +84,11 @@ def public_callables() -> dict[str, Any]:
         if key not in NOT_CALLED and key not in NOT_FUZZED:
             out[key] = obj
         if inspect.isclass(obj):
-            for attr, raw in vars(obj).items():
+            own: dict[str, Any] = {}
+            for base in reversed(obj.__mro__):  # methods of machdyn's own classes and mixins
+                if base.__module__.startswith("machdyn"):
+                    own.update(vars(base))
+            for attr, raw in own.items():
                 if attr.startswith("_") or attr in METHODS_NOT_FUZZED:
                     continue
                 if isinstance(raw, property) or not (
