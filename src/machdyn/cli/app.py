@@ -27,6 +27,7 @@ def _register() -> None:
     from .gear import gear_app
     from .linkage import linkage
     from .plot import animate
+    from .run import run
     from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
@@ -36,6 +37,7 @@ def _register() -> None:
     app.command("linkage")(linkage)
     app.command("animate")(animate)
     app.add_typer(synth_app, name="synth")
+    app.command("run")(run)
 
 
 _register()
