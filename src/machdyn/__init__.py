@@ -55,6 +55,7 @@ _LAZY_MODULES = frozenset(
         "loops",
         "massprops",
         "plot",
+        "rotor",
         "shaking",
         "spec",
         "synthesis",
