@@ -26,9 +26,7 @@ __all__ = ["app", "main"]
 
 def __getattr__(name: str) -> Any:
     if name == "app":  # the full application, every subcommand registered
-        from .app import app
-
-        return app
+        return _full_app()
     raise AttributeError(f"module 'machdyn.cli' has no attribute {name!r}")
 
 
@@ -45,9 +43,14 @@ def _command(args: list[str]) -> Any:
         fast.callback()(lambda: None)
         fast.command("run")(run)
         return typer.main.get_command(fast)
+    return typer.main.get_command(_full_app())
+
+
+def _full_app() -> Any:
     from .app import app
 
-    return typer.main.get_command(app)
+    globals()["app"] = app  # the Typer object, not the submodule of the same name
+    return app
 
 
 def main(argv: Sequence[str] | None = None) -> int:

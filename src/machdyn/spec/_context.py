@@ -251,8 +251,8 @@ class Writer:
     >>> w = Writer(u.UnitSystem(length="mm", mass="kg", time="s"))
     >>> w.quantity(8.0, "length"), w.quantity(math.radians(30), "angle")
     (8.0, 30.0)
-    >>> w.quantity(0.1, "angle")
-    '0.1 rad'
+    >>> w.quantity(0.1, "angle")  # 0.1 rad: the decimal degrees that read back exactly
+    5.729577951308232
     """
 
     def __init__(self, system: u.UnitSystem) -> None:
