@@ -33,16 +33,7 @@ from typing import Any
 
 from .errors import InputError
 
-__all__ = [
-    "KINDS",
-    "Kind",
-    "UnitSystem",
-    "check_unit",
-    "describe",
-    "parse",
-    "registry",
-    "to_internal",
-]
+__all__ = ["KINDS", "Kind", "UnitSystem", "registry"]
 
 
 @dataclass(frozen=True)
@@ -117,6 +108,16 @@ KINDS: dict[str, Kind] = _kinds(
     Kind("dimensionless", example="0.3"),
 )
 
+_EXAMPLE_UNITS = {
+    "length": "mm",
+    "mass": "kg",
+    "time": "s",
+    "angle": "deg",
+    "force": "N",
+    "torque": "N*m",
+    "angular_velocity": "rpm",
+}
+
 #: Base units of a declared system whose table leaves them out.
 SI_BASE = {"length": "m", "mass": "kg", "time": "s"}
 #: Labels of a unit-free system (numbers in any consistent units).
@@ -144,6 +145,12 @@ def registry() -> Any:
         return pint.UnitRegistry(cache_folder=":auto:")
     except Exception:  # pragma: no cover - a read-only or unusable cache folder
         return pint.UnitRegistry()
+
+
+def _kind(kind: Any) -> Kind:
+    if not isinstance(kind, str) or kind not in KINDS:
+        raise InputError("kind", f"must be one of {', '.join(KINDS)}; got {kind!r}")
+    return KINDS[kind]
 
 
 def _compose(*parts: tuple[str, int]) -> str:
@@ -199,9 +206,22 @@ class UnitSystem:
     force: str | None = None
     torque: str | None = None
     angular_velocity: str | None = None
-    _factors: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
+    _factors: dict = field(
+        default_factory=dict, init=False, repr=False, compare=False, hash=False
+    )
 
     def __post_init__(self) -> None:
+        for key in ("length", "mass", "time", "angle", "force", "torque", "angular_velocity"):
+            value = getattr(self, key)
+            if value is None and key != "angle":
+                continue
+            if not isinstance(value, str) or not value.strip():
+                example = _EXAMPLE_UNITS[key]
+                raise InputError(key, f"expected a unit name like {example!r}, got {value!r}")
+            try:
+                check_unit(value, key)
+            except ValueError as exc:
+                raise InputError(key, str(exc)) from None
         given = [self.length, self.mass, self.time]
         if any(given) and not all(given):
             for key, default in SI_BASE.items():
@@ -222,7 +242,7 @@ class UnitSystem:
 
     def internal(self, kind: str) -> str:
         """The coherent unit a quantity of ``kind`` is held in (radians for angles)."""
-        k = KINDS[kind]
+        k = _kind(kind)
         b = self._base()
         return _compose(
             (b["mass"], k.mass), (b["length"], k.length), (b["time"], k.time), ("rad", k.radian)
@@ -230,7 +250,7 @@ class UnitSystem:
 
     def display(self, kind: str) -> str:
         """The unit a quantity of ``kind`` is shown in (labels, tables, files)."""
-        k = KINDS[kind]
+        k = _kind(kind)
         b = self._base()
         force = self.force or FREE["force"]
         torque = self.torque or _compose((force, 1), (b["length"], 1))
@@ -257,6 +277,7 @@ class UnitSystem:
 
     def factor(self, kind: str) -> float:
         """Multiply a value held in :meth:`internal` units by this to show it in :meth:`display`."""
+        _kind(kind)
         if kind not in self._factors:
             src, dst = self.internal(kind), self.display(kind)
             if src == dst:
@@ -272,12 +293,18 @@ class UnitSystem:
         return self._factors[kind]
 
     def show(self, kind: str, value: Any) -> Any:
-        """``value`` (internal units) in display units."""
+        """``value`` (internal units, NaN where a sample has none) in display units."""
+        import numpy as np
+
         f = self.factor(kind)
+        if isinstance(value, list | tuple):
+            value = np.asarray(value, dtype=float)
         return value if f == 1.0 else value * f
 
     def label(self, name: str, kind: str) -> str:
         """A column name with its display unit: ``'theta3 [deg]'`` (no brackets when unitless)."""
+        if not isinstance(name, str):
+            raise InputError("name", f"a column name is text, got {name!r}")
         unit = self.display(kind)
         return f"{name} [{unit}]" if unit else name
 

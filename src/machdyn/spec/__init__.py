@@ -28,8 +28,8 @@ from __future__ import annotations
 from typing import Any
 
 from ._context import SpecError
+from ._machine import VERSION, Machine, Part, from_spec, load, load_machine
 from ._toml import dumps
-from .machine import VERSION, Machine, Part, from_spec, load, load_machine
 
 __all__ = [
     "VERSION",
@@ -40,28 +40,41 @@ __all__ = [
     "from_spec",
     "load",
     "load_machine",
-    "model_spec",
     "schema",
 ]
 
 
-def model_spec(model: Any, kind: str, name: str | None = None) -> dict[str, Any]:
+def model_spec(model: Any, kind: str, name: str) -> dict[str, Any]:
     """The spec dict of one model object (what its ``to_spec()`` returns).
 
-    ``kind`` is the part kind (``"fourbar"``); the part is called ``name``
-    (default: the kind). The model's ``units`` (if any) become ``[units]``.
+    ``kind`` is the part kind (``"fourbar"``); the part is called ``name``.
+    The model's ``units`` (if any) become ``[units]``.
     """
     from .. import units as u
-    from . import machine as mc
+    from ..errors import InputError
+    from . import _machine as mc
 
+    if not isinstance(name, str) or not name.strip():
+        raise InputError("name", f"a part's name is text, e.g. 'hw6', got {name!r}")
     k = mc.kind(kind)
     system = getattr(model, "units", None) or u.UnitSystem()
-    part = mc.Part(kind, name or kind, k.values_of(model), model)
+    part = mc.Part(kind, name, k.values_of(model), model)
     return mc.Machine(units=system, parts={part.name: part}).to_spec()
 
 
 def schema() -> dict[str, Any]:
-    """The JSON Schema of the machine-file format (draft 2020-12), as a dict."""
-    from .schema import schema as build
+    """The JSON Schema of the machine-file format (draft 2020-12), as a dict.
 
-    return build()
+    It is the file ``machdyn/spec/machdyn.schema.json`` of the package, which
+    editors can use to check machine files.
+
+    Examples
+    --------
+    >>> schema()["title"]
+    'machdyn machine file (format 1)'
+    """
+    import json
+    from pathlib import Path
+
+    path = Path(__file__).with_name("machdyn.schema.json")
+    return json.loads(path.read_text(encoding="utf-8"))

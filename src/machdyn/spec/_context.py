@@ -49,6 +49,9 @@ class SpecError(InputError):
         self.source = source
         where = "" if source is None else (f"{source}:{line}: " if line else f"{source}: ")
         name = f"[{_join(self.path)}]" if table and self.path else field_name(self.path)
+        if not self.path:  # the document as a whole
+            super().__init__(where.rstrip(": ") or "machine file", message)
+            return
         super().__init__(where + name, message)
 
 

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from ._context import Context
+from ._machine import Machine, Part, PartKind
 from ._run import PartResult, ResultTable, Summary, flagged_rows
 from ._types import (
     Choice,
@@ -29,7 +30,6 @@ from ._types import (
     optional,
     required,
 )
-from .machine import Machine, Part, PartKind
 
 __all__ = ["PART_KINDS"]
 

@@ -17,7 +17,7 @@ import numpy as np
 from .. import units as u
 
 if TYPE_CHECKING:
-    from .machine import Machine, Part
+    from ._machine import Machine, Part
 
 __all__ = ["PartResult", "ResultTable", "Summary", "run_machine"]
 
@@ -111,7 +111,7 @@ class PartResult:
 
 def run_machine(machine: Machine, names: Sequence[str] | None = None) -> dict[str, PartResult]:
     """Analyse ``names`` (default all) and what they refer to, in dependency order."""
-    from .machine import kind, order
+    from ._machine import kind, order
 
     wanted = set(machine.parts if names is None else _closure(machine, names))
     results: dict[str, PartResult] = {}
@@ -123,7 +123,7 @@ def run_machine(machine: Machine, names: Sequence[str] | None = None) -> dict[st
 
 
 def _closure(machine: Machine, names: Sequence[str]) -> set[str]:
-    from .machine import kind
+    from ._machine import kind
 
     out: set[str] = set()
     todo = list(names)

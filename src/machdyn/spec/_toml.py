@@ -22,6 +22,8 @@ def _scalar(value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, int):
+        if abs(value) >= 2**63:
+            raise ValueError(f"{value} is too large for a TOML integer")
         return str(value)
     if isinstance(value, float):
         if not math.isfinite(value):
@@ -91,6 +93,13 @@ def dumps(spec: dict) -> str:
     coupler = { p = 5.0 }
     <BLANKLINE>
     """
+    from ..errors import InputError
+
+    if not isinstance(spec, dict):
+        raise InputError("spec", f"expected a spec dict (a model's to_spec()), got {spec!r}")
     out: list[str] = []
-    _section(out, [], spec)
+    try:
+        _section(out, [], spec)
+    except (TypeError, ValueError) as exc:
+        raise InputError("spec", str(exc)) from None
     return "\n".join(out).lstrip("\n") + "\n"

@@ -105,7 +105,12 @@ class Quantity(Type):
         return out
 
     def schema(self) -> dict:
-        return {"$ref": f"#/$defs/{self.kind}"}
+        ref = {"$ref": f"#/$defs/{self.kind}"}
+        if not self.positive and (self.minimum is None or self.minimum < 0):
+            return ref
+        bound = {"exclusiveMinimum": 0} if self.positive else {"minimum": self.minimum}
+        sign = {"if": {"type": "number"}, "then": bound, "else": {"not": {"pattern": r"^\s*-"}}}
+        return {"allOf": [ref, sign]}
 
     def write(self, w: Any, value: Any) -> Any:
         return w.quantity(value, self.kind)

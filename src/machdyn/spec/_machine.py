@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import importlib
 import math
+import os
+import re
 import tomllib
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
@@ -19,7 +21,7 @@ from typing import Any
 from .. import units as u
 from ..errors import InputError
 from . import _types as t
-from ._context import Context, SpecError, Writer
+from ._context import Context, Writer
 
 __all__ = ["KINDS", "VERSION", "Machine", "Part", "PartKind", "from_spec", "load", "read"]
 
@@ -31,16 +33,6 @@ KINDS: dict[str, str] = {
     "fourbar": "_fourbar",
     "slider_crank": "_fourbar",
     "inverted_slider_crank": "_fourbar",
-    "linkage": "_linkage",
-    "cam": "_cam",
-    "gear_pair": "_gears",
-    "gear_train": "_gears",
-    "planetary": "_gears",
-    "flywheel": "_tasks",
-    "rotor": "_tasks",
-    "motion_synthesis": "_synthesis",
-    "function_synthesis": "_synthesis",
-    "path_synthesis": "_synthesis",
 }
 
 UNIT_KEYS = {
@@ -150,6 +142,13 @@ class Machine(Mapping[str, Any]):
         """Analyse the parts (all, or ``names`` and what they refer to), in dependency order."""
         from ._run import run_machine
 
+        if names is not None:
+            if isinstance(names, str) or not isinstance(names, list | tuple):
+                raise InputError("names", f"expected a list of part names, got {names!r}")
+            for name in names:
+                if not isinstance(name, str) or name not in self.parts:
+                    listed = ", ".join(self.parts)
+                    raise InputError("names", f"{name!r} is not a part; parts: {listed}")
         return run_machine(self, names)
 
 
@@ -286,7 +285,13 @@ def read(doc: Any, ctx: Context | None = None) -> Machine:
         raise ctx.error(("gravity",), "expected true, false or an acceleration like '9.81 m/s^2'")
     machine = Machine(title, ctx.system, gravity, source=ctx.source, folder=ctx.folder)
     read_parts(ctx, doc, machine)
+    if not machine.parts:
+        raise ctx.error((), f"describes no part: add one, e.g. [fourbar.NAME] ({_kinds()})")
     return machine
+
+
+def _kinds() -> str:
+    return "kinds: " + ", ".join(KINDS)
 
 
 def read_parts(ctx: Context, doc: dict, machine: Machine) -> None:
@@ -401,14 +406,19 @@ def parse_text(text: str, source: str, folder: Path | None = None) -> Machine:
         try:
             doc = json.loads(text)
         except json.JSONDecodeError as exc:
-            raise SpecError(source, exc.lineno, (), f"JSON syntax error: {exc.msg}") from None
+            where = f"{source}:{exc.lineno}"
+            raise InputError(where, f"JSON syntax error: {exc.msg} (column {exc.colno})") from None
     else:
         try:
             doc = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
-            line = getattr(exc, "lineno", None)
+            found = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
             message = str(exc).split(" (at line")[0]
-            raise SpecError(source, line, (), f"TOML syntax error: {message}") from None
+            if found:
+                where, message = f"{source}:{found[1]}", f"{message} (column {found[2]})"
+            else:
+                where = source
+            raise InputError(where, f"TOML syntax error: {message}") from None
         ctx = Context(source, text)
         ctx.folder = folder
     from ._legacy import is_legacy, upgrade
@@ -420,6 +430,8 @@ def parse_text(text: str, source: str, folder: Path | None = None) -> Machine:
 
 def load_machine(path: str | Path) -> Machine:
     """Read a machine file (TOML or JSON) into a :class:`Machine`, whatever it holds."""
+    if not isinstance(path, str | os.PathLike) or not str(path).strip():
+        raise InputError("path", f"expected a file name, got {path!r}")
     path = Path(path)
     if not path.is_file():
         raise InputError(str(path), "no such file" if not path.exists() else "not a file")
