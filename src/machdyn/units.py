@@ -206,9 +206,7 @@ class UnitSystem:
     force: str | None = None
     torque: str | None = None
     angular_velocity: str | None = None
-    _factors: dict = field(
-        default_factory=dict, init=False, repr=False, compare=False, hash=False
-    )
+    _factors: dict = field(default_factory=dict, init=False, repr=False, compare=False, hash=False)
 
     def __post_init__(self) -> None:
         for key in ("length", "mass", "time", "angle", "force", "torque", "angular_velocity"):
