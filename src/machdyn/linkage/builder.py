@@ -457,8 +457,6 @@ class Linkage(_JointMethods, _ElementMethods):
             self._element_links(name)  # ends on two different links
         groups, program = decompose(self, edges)
         self._compiled = _Model(self, edges, groups, program)
-        if program is None:
-            self._compiled.loops()  # validates the loop formulation now
         return self._compiled
 
     # ------------------------------------------------------------------ solving
