@@ -29,6 +29,7 @@ def _register() -> None:
     from .linkage import linkage
     from .plot import animate
     from .report import report
+    from .run import run
     from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
@@ -40,6 +41,7 @@ def _register() -> None:
     app.command("report")(report)
     app.add_typer(synth_app, name="synth")
     app.add_typer(atlas_app, name="atlas")
+    app.command("run")(run)
 
 
 _register()
