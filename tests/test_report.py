@@ -291,3 +291,28 @@ def test_cli_bad_input_is_one_line(cli, args, needle, tmp_path, monkeypatch):
     code, output = cli(*args)
     assert code != 0
     assert needle in output and "Traceback" not in output and len(output.splitlines()) == 1
+
+
+def test_cli_reports_a_machine_file_with_its_units_and_masses(cli, tmp_path):
+    import machdyn
+
+    out = tmp_path / "hw6.html"
+    code, output = cli(EXAMPLES / "hw6.toml", "-o", out, "--k", 0.05)
+    assert code == 0, output
+    page = out.read_text(encoding="utf-8")
+    # the file's model, speed, masses, load and gravity, solved here through the API
+    fb = machdyn.spec.load_machine(EXAMPLES / "hw6.toml")["hw6"]
+    th = fourbar_sweep(fb, 1, 360)
+    f = fb.dynamics(
+        th,
+        10.0,
+        mass=(0.002, 0.004, 0.003),
+        inertia=(0.003, 0.02, 0.01),
+        cg=(2, 3.5 + 1j, 3),
+        gravity=386.08858267716533,
+        load_torque4=-5.0,
+    )
+    text = cell(page, "peak_F32")
+    assert number(text) == pytest.approx(np.abs(f.F32).max(), rel=5e-4)
+    assert "lbf" in text and "in)" in page  # the file's units label the numbers
+    assert set(checks_of(page).values()) == {"pass"}

@@ -22,13 +22,63 @@ OUTPUT_KINDS = {".html": "self-contained page", ".pdf": "PDF printed by chromium
 
 
 def load_model(path: Path) -> tuple[Any, dict[str, Any]]:
-    """The model a file describes and the report options it implies (gravity, driver speed)."""
-    import machdyn
+    """The model a file describes and the report options it implies.
 
-    loader = getattr(machdyn, "load", None)
-    if loader is not None:  # the machine-file format (docs/spec.md)
-        model = loader(path)
-        return model, {}
+    A machine file (``machdyn = 1``, docs/spec.md) is read by
+    :func:`machdyn.spec.load_machine`: its first four-bar or linkage part is
+    reported, with the file's speed, mass properties, loads, gravity and units.
+    Any other TOML file is read as a linkage file of ``machdyn linkage``.
+    """
+    import tomllib
+
+    if not path.is_file():
+        raise InputError(str(path), "no such file" if not path.exists() else "not a file")
+    try:
+        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(str(path), f"TOML syntax error: {exc}") from None
+    if "machdyn" in doc:
+        return _machine_part(path)
+    return _linkage_file(path)
+
+
+def _machine_part(path: Path) -> tuple[Any, dict[str, Any]]:
+    from ..fourbar import FourBar
+    from ..linkage import Linkage
+    from ..spec import load_machine
+
+    machine = load_machine(path)
+    units = getattr(machine, "units", None)
+    options: dict[str, Any] = {}
+    if units is not None and getattr(units, "length", None):
+        options["length_unit"] = units.length
+    for part in machine.parts.values():
+        v = part.values
+        if isinstance(part.model, FourBar):
+            motion = v.get("motion", {})
+            if "omega2" in motion:
+                options["omega2"] = float(motion["omega2"])
+            links = [v.get(f"link{i}") for i in (2, 3, 4)]
+            if all(links):
+                options["mass"] = tuple(float(x.get("mass", 0.0)) for x in links)
+                options["inertia"] = tuple(float(x.get("inertia", 0.0)) for x in links)
+                options["cg"] = tuple(complex(x.get("cg", 0.0)) for x in links)
+                options["gravity"] = float(machine.gravity or 0.0)
+                if "torque4" in v.get("loads", {}):
+                    options["load_torque4"] = float(v["loads"]["torque4"])
+            return part.model, options
+        if isinstance(part.model, Linkage):
+            options["gravity"] = float(machine.gravity or 0.0)
+            return part.model, options
+    kinds = ", ".join(sorted({p.kind for p in machine.parts.values()})) or "none"
+    raise InputError(
+        str(path),
+        f"no four-bar or linkage part to report (parts: {kinds}); the "
+        "report covers [fourbar.NAME] and [linkage.NAME] parts",
+    )
+
+
+def _linkage_file(path: Path) -> tuple[Any, dict[str, Any]]:
     from .linkage import load
 
     spec = load(path)
@@ -83,7 +133,8 @@ def report(
     if k is not None:
         options["k"] = k
     if isinstance(model, FourBar):
-        options.pop("gravity", None)
+        if "mass" not in options:
+            options.pop("gravity", None)
         options.pop("velocity", None)
         if speed is not None:
             options["omega2"] = speed

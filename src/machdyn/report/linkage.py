@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..draw.chart import Chart, Series
-from ..draw.engineering import force_units, pin_force_charts, shaking_charts, torque_chart
+from ..draw.engineering import pin_force_charts, shaking_charts, torque_chart
 from ..draw.html import widget
 from ..draw.kinematics import length_label
 from ..draw.linkage import default_values, linkage_scene
@@ -24,6 +24,7 @@ from .checks import (
     loop_closure,
     power_balance,
 )
+from .fourbar import _force_labels, _model_length_unit
 from .page import Page, esc, fmt
 
 __all__ = ["linkage_checks", "linkage_report"]
@@ -144,9 +145,9 @@ def linkage_report(
 ) -> Page:
     """Build the report page of a linkage (see :func:`machdyn.report.report`)."""
     title = title or _title(lk)
-    length_unit = length_unit or getattr(lk, "length_unit", None)
+    length_unit = length_unit or _model_length_unit(lk)
     unit = length_label(length_unit)
-    fu, tu = force_units(length_unit)
+    fu, tu = _force_labels(lk, length_unit)
     try:
         mobility = lk.mobility()
     except Exception as err:  # a model error is the answer here
