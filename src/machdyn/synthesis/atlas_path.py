@@ -35,6 +35,7 @@ from ..classify import classify
 from ..errors import InputError
 from ..fourbar import FourBar
 from .atlas_store import (
+    META_DTYPE,
     AtlasError,
     Manifest,
     chunk_is_good,
@@ -56,6 +57,7 @@ from .geometry import as_points
 from .path import PathSynthesis, _mu_min
 from .placed import PlacedFourBar
 from .refine import refine
+from .sixbar import SIXBAR_DTYPE
 
 __all__ = ["Atlas", "PathCandidates", "open_atlas", "path_from_atlas"]
 
@@ -193,7 +195,13 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
             raise AtlasError(
                 folder, f"chunk {i} cannot be read ({exc}); rebuild the atlas"
             ) from None
-        if d.shape != (info["rows"], width) or d.dtype != np.float32 or m.shape != (info["rows"],):
+        want = SIXBAR_DTYPE if manifest.kind == "sixbar" else META_DTYPE
+        if (
+            d.shape != (info["rows"], width)
+            or d.dtype != np.float32
+            or m.shape != (info["rows"],)
+            or m.dtype != want
+        ):
             raise AtlasError(folder, f"chunk {i} does not have the shape its manifest says")
         desc.append(d)
         meta.append(np.asarray(m))
@@ -330,6 +338,9 @@ def path_from_atlas(
     crank = bool(crank) or timing is not None
     size = float(np.max(np.abs(pts - pts.mean())))
     t0 = time.perf_counter()
+    if atlas.manifest.kind == "sixbar":
+        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count,
+                            client, start)  # fmt: skip
     if timing is None:
         entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
         starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
@@ -368,6 +379,42 @@ def path_from_atlas(
         note = "every linkage found has a defect (see rejected)"
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+
+
+def _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count, client, start):
+    """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
+    from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    t0 = time.perf_counter()
+    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client)
+    t1 = time.perf_counter()
+    fits = [(*refine_sixbar(x0, th0, fx, pts, timing=timing, max_nfev=40), fx)
+            for x0, th0, fx in starts]  # fmt: skip
+    fits.sort(key=lambda f: f[2])
+    for i in range(min(POLISH, len(fits))):
+        x, th, rms, fx = fits[i]
+        more = refine_sixbar(x, th, fx, pts, timing=timing, max_nfev=400)
+        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance) for x, th, _, fx in fits]
+    results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
+    t2 = time.perf_counter()
+    chosen, rejected = [], []
+    for r in results:
+        if not r.ok:
+            rejected.append(r)
+        elif all(np.max(np.abs(r.design[3:] - c.design[3:])) > 0.02 * size for c in chosen):
+            chosen.append(r)
+    chosen = chosen[:n]
+    best = chosen[0] if chosen else (rejected[0] if rejected else None)
+    worst = float(np.max(best.distance)) / size if best is not None else np.inf
+    note = "" if worst <= NEAR else (
+        f"no atlas entry comes near these targets: the best six-bar found misses by "
+        f"{100 * worst:.1f} % of the targets' size"
+    )  # fmt: skip
+    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
+                          seconds)  # fmt: skip
 
 
 def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None):
