@@ -93,13 +93,15 @@ def sixbar_points(meta: np.ndarray, theta2: Any, *, joints: bool = False):
     O2 = np.zeros(1, complex)[:, None]
     O4 = f["r1"] + 0j
     A = np.exp(1j * th)
-    B, ok4 = rrr(A, O4, f["r3"], f["r4"], f["s4"])
+    pin = rrr(A, O4, f["r3"], f["r4"], f["s4"])
+    B, ok4 = pin.B, pin.ok
     pairs = np.array([t[0] for t in TOPOLOGIES])[meta["topology"].astype(int)]
     o1, x1 = _frames(pairs[:, :1], O2, O4, A, B)
     o2, x2 = _frames(pairs[:, 1:], O2, O4, A, B)
     C = o1 + (f["cu"] + 1j * f["cv"]) * (x1 - o1)
     D = o2 + (f["du"] + 1j * f["dv"]) * (x2 - o2)
-    E, ok6 = rrr(C, D, f["a"], f["b"], f["s6"])
+    pin = rrr(C, D, f["a"], f["b"], f["s6"])
+    E, ok6 = pin.B, pin.ok
     on6 = f["on"] == 6
     base = np.where(on6, D, C)
     P = base + (f["pu"] + 1j * f["pv"]) * (E - base)
@@ -175,5 +177,5 @@ def _dyad_drawn(rows: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     rows["a"], rows["b"] = np.abs(E - C), np.abs(E - D)
     rows["s6"] = np.where(((D - C).conjugate() * (E - C)).imag >= 0, 1, -1)
     good = (rows["a"] > 0.05) & (rows["b"] > 0.05) & (np.abs(D - C) > 0.05)
-    E0, _ = rrr(C, D, rows["a"].astype(float), rows["b"].astype(float), rows["s6"])
+    E0 = rrr(C, D, rows["a"].astype(float), rows["b"].astype(float), rows["s6"]).B
     return good & (np.abs(E0 - E) < 1e-4 * (1 + np.abs(E)))  # rrr's assembly is the drawn one

@@ -60,7 +60,8 @@ def _expi(phi: _D) -> _D:
 def _rrr(C: _D, D: _D, a: _D, b: _D, sign: float) -> tuple[_D, np.ndarray]:
     from ..linkage.dyads import rrr
 
-    E, ok = rrr(C.v, D.v, a.v.real, b.v.real, sign)
+    pin = rrr(C.v, D.v, a.v.real, b.v.real, sign)
+    E, ok = pin.B, pin.ok
     w1, w2 = E - C.v, E - D.v
     # Re(conj(w) dE) = rhs: [w1.re w1.im; w2.re w2.im] [dx; dy] = [r1; r2]
     r1 = a.v.real[:, None] * a.g.real + (np.conj(w1)[:, None] * C.g).real
@@ -200,12 +201,12 @@ def _joints(x, theta2, fixed):
     e1 = np.exp(1j * th1)
     O4 = O2 + r1 * e1
     A = O2 + r2 * e1 * np.exp(1j * theta2)
-    B = complex(rrr(A, O4, r3, r4, fixed["s4"])[0])
+    B = complex(rrr(A, O4, r3, r4, fixed["s4"]).B)
     frames = {1: (O2, O4), 2: (O2, A), 3: (A, B), 4: (O4, B)}
     (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
     C = frames[l1][0] + complex(cu, cv) * (frames[l1][1] - frames[l1][0])
     D = frames[l2][0] + complex(du, dv) * (frames[l2][1] - frames[l2][0])
-    E = complex(rrr(C, D, a, b, fixed["s6"])[0])
+    E = complex(rrr(C, D, a, b, fixed["s6"]).B)
     return {"O2": O2, "O4": O4, "A": A, "B": B, "C": C, "D": D, "E": E}
 
 
