@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar, integer
+from .._validate import boolean, finite_array, finite_scalar, integer, positive
 from ..classify import classify
 from ..errors import InputError
 from ..fourbar import FourBar
@@ -41,6 +41,7 @@ from .atlas_store import (
     chunk_is_good,
     chunk_name,
     even_curves,
+    folder_path,
     read_manifest,
 )
 from .circuits import circuit_angles, circuit_points, circuit_range, coupler_at
@@ -59,7 +60,9 @@ from .placed import PlacedFourBar
 from .refine import refine
 from .sixbar import SIXBAR_DTYPE
 
-__all__ = ["Atlas", "PathCandidates", "open_atlas", "path_from_atlas"]
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
 
 #: Atlas entries retrieved per query, and how many of the best-placed are refined.
 RETRIEVE = 160
@@ -96,7 +99,12 @@ class Atlas:
 
     def entries(self, index: Any) -> np.ndarray:
         """Parameter rows of the entries at flat indices."""
-        index = np.atleast_1d(np.asarray(index, dtype=np.int64))
+        index = np.atleast_1d(finite_array("index", index)).ravel()
+        if index.size and (
+            np.any(index != np.round(index)) or index.min() < 0 or index.max() >= len(self)
+        ):
+            raise InputError("index", f"must be whole numbers from 0 to {len(self) - 1}")
+        index = index.astype(np.int64)
         chunk = np.searchsorted(self.offsets, index, side="right") - 1
         out = np.empty(index.size, dtype=self.meta[0].dtype)
         for c in np.unique(chunk):
@@ -111,6 +119,14 @@ class Atlas:
         task on the cluster (whose workers must see the atlas folder).
         Returns flat indices and squared distances (best first).
         """
+        width = 4 * self.manifest.harmonics
+        descriptor = np.ravel(finite_array("descriptor", descriptor))
+        if descriptor.size != width:
+            raise InputError("descriptor", f"must have {width} numbers, got {descriptor.size}")
+        k = integer("k", k, minimum=1, maximum=1_000_000)
+        crank = boolean("crank", crank)
+        if client is not None and not callable(getattr(client, "submit", None)):
+            raise InputError("client", "must be a distributed.Client (or None)")
         variants = descriptor_variants(descriptor).reshape(4, -1).T.copy()  # (D, 4)
         if client is None:
             parts = [
@@ -131,6 +147,8 @@ class Atlas:
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas."""
+        size = integer("size", size, minimum=1, maximum=10**9)
+        crank = boolean("crank", crank)
         barker = np.concatenate([m["barker"] for m in self.meta])
         allowed = np.flatnonzero(barker <= 2) if crank else np.arange(len(self))
         if allowed.size <= size:
@@ -173,7 +191,8 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
         No manifest, another format version, an unfinished build, a missing,
         truncated or corrupted chunk: never a wrong answer from a stale atlas.
     """
-    folder = Path(path)
+    folder = folder_path("path", path)
+    verify = boolean("verify", verify)
     manifest = read_manifest(folder)
     if not manifest.complete:
         raise AtlasError(
@@ -245,7 +264,10 @@ class PathCandidates:
 
 
 def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.ndarray | None]:
-    pts = as_points("targets", targets)
+    try:
+        pts = as_points("targets", targets)
+    except (OverflowError, TypeError) as exc:
+        raise InputError("targets", f"must be points (x, y) or x + jy, got {exc}") from None
     kind = "timed" if timing is not None else ("closed" if closed else "open")
     need = MIN_POINTS[kind]
     if pts.size < need:
@@ -332,10 +354,19 @@ def path_from_atlas(
     start = time.perf_counter()
     if not isinstance(atlas, Atlas):
         atlas = open_atlas(atlas)
+    closed = boolean("closed", closed)
     pts, timing = _targets(targets, timing, closed)
-    n = integer("n", n, minimum=1)
+    n = integer("n", n, minimum=1, maximum=1000)
     mu_min = finite_scalar("mu_min", mu_min, "radian")
-    crank = bool(crank) or timing is not None
+    if not 0.0 <= mu_min < np.pi / 2:
+        raise InputError("mu_min", f"must be between 0 and 90 deg, got {np.degrees(mu_min):g} deg")
+    if tolerance is not None:
+        tolerance = positive("tolerance", tolerance)
+    retrieve = integer("retrieve", retrieve, minimum=1, maximum=100_000)
+    refine_count = integer("refine_count", refine_count, minimum=1, maximum=10_000)
+    if client is not None and not callable(getattr(client, "submit", None)):
+        raise InputError("client", "must be a distributed.Client (or None)")
+    crank = boolean("crank", crank) or timing is not None
     size = float(np.max(np.abs(pts - pts.mean())))
     t0 = time.perf_counter()
     if atlas.manifest.kind == "sixbar":

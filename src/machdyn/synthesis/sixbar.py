@@ -34,7 +34,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SIXBAR_DTYPE", "TOPOLOGIES", "sample_sixbars", "sixbar_points"]
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
 
 #: The dyad's attachment links, with the chain's name.
 TOPOLOGIES = (
