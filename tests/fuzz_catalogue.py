@@ -32,21 +32,32 @@ FRONT_ENDS = (
 )
 
 
-def public_modules() -> list[str]:
-    """The public modules: machdyn, its top-level modules and packages (with an ``__all__``).
+#: Modules of a package that serve its public functions and are not called by users
+#: (their names would better start with "_"); the package's __all__ is fuzzed instead.
+INTERNAL_MODULES = {
+    "machdyn.synthesis.atlas_dask": "Dask plumbing of build_atlas",
+    "machdyn.synthesis.atlas_store": "the atlas folder's chunks and manifest (build_atlas)",
+    "machdyn.synthesis.circuits": "circuit sampling inside the atlas builder",
+    "machdyn.synthesis.descriptor": "curve descriptors inside path_from_atlas",
+    "machdyn.synthesis.geometry": "points and lines inside the synthesis functions",
+    "machdyn.synthesis.refine": "least-squares refinement inside path_from_atlas",
+}
 
-    A package's own modules are its implementation: what it exports is its ``__all__``.
-    """
+
+def public_modules() -> list[str]:
+    """Every public module of machdyn with an ``__all__`` (packages before their modules)."""
     import importlib
     import pkgutil
 
     import machdyn
 
     names = ["machdyn"]
-    for info in pkgutil.iter_modules(machdyn.__path__, "machdyn."):
+    for info in pkgutil.walk_packages(machdyn.__path__, "machdyn."):
         if any(part.startswith("_") for part in info.name.split(".")):
             continue
-        if info.name.startswith(FRONT_ENDS) or info.name == "machdyn.errors":
+        if info.name.startswith(FRONT_ENDS) or info.name in INTERNAL_MODULES:
+            continue
+        if info.name == "machdyn.errors":
             continue
         if getattr(importlib.import_module(info.name), "__all__", None):
             names.append(info.name)
