@@ -104,8 +104,6 @@ NOT_CALLED = {
     "machdyn.synthesis:AtlasError",
     "machdyn.synthesis:PathCandidates",
     "machdyn.synthesis:CouplerAtlas",
-    "machdyn.synthesis:PathCandidates",
-    "machdyn.synthesis:Atlas",
     "machdyn.synthesis:DrivingDyad",
     "machdyn.synthesis:FunctionGenerator",
     "machdyn.synthesis:MotionSynthesis",
@@ -796,7 +794,6 @@ def _add_design(c, fn, meth) -> None:
     placed = lambda: syn.PlacedFourBar(fb(5, 2, 5, 4, coupler=(3.0, 0.6)), 1 + 2j, 0.3, 1)  # noqa: E731
     cc = [0 + 5.086j, 2.019 + 3.181j, 3.933 + 4.051j]
     dd = [0.741 + 2.703j, 4.428 + 2.529j, 6.304 + 4.83j]
-    _add_atlas(c, fn, meth)
     fn("machdyn.synthesis:atlas", r1=[2.0, 3.0], r3=2.5, r4=2.0, p=1.0, delta=0.3, n=36)
     fn("machdyn.synthesis:chebyshev_spacing", x0=1.0, xf=2.0, n=3)
     fn("machdyn.synthesis:circumcentre", p1=0j, p2=1 + 0j, p3=1j)
@@ -950,48 +947,6 @@ def _add_atlas(c, fn, meth, targets) -> None:
     meth("machdyn.synthesis:Atlas.nearest", _tiny_atlas, descriptor=_tiny_atlas().desc[0][3], k=3)
     c["machdyn.synthesis:Atlas.nearest"].accepts["client"] = {"none"}
     meth("machdyn.synthesis:Atlas.pool", _tiny_atlas, size=10)
-
-
-_ATLAS: dict[str, Any] = {}
-
-
-def _atlas_folder() -> str:
-    """A small coupler-curve atlas (1,000 entries) built once per test session."""
-    if "folder" not in _ATLAS:
-        import tempfile
-
-        from machdyn.synthesis import build_atlas
-
-        _ATLAS["folder"] = tempfile.mkdtemp(prefix="machdyn-fuzz-atlas-")
-        build_atlas(_ATLAS["folder"], 1000, chunk_size=500, progress=False)
-    return _ATLAS["folder"]
-
-
-def _add_atlas(c, fn, meth) -> None:
-    syn = __import__("machdyn.synthesis").synthesis
-    folder = _atlas_folder()
-    t = np.linspace(0.0, 2.0 * np.pi, 12, endpoint=False)
-    ellipse = 2.0 * np.cos(t) + 1j * np.sin(t)
-    files = {"path": "a folder on disk (files are fuzzed through the CLI)"}
-    c["machdyn.synthesis:build_atlas"] = Call(
-        _mod("machdyn.synthesis", "build_atlas"),
-        {"path": folder, "count": 1000, "chunk_size": 500, "progress": False},
-        accepts={"scheduler": {"none"}, "workers": {"none"}},
-        skip=files,
-    )
-    c["machdyn.synthesis:open_atlas"] = Call(
-        _mod("machdyn.synthesis", "open_atlas"), {"path": folder}, skip=files
-    )
-    fn("machdyn.synthesis:curve_descriptor", z=ellipse, harmonics=8)
-    atlas = lambda: syn.open_atlas(folder)  # noqa: E731
-    meth("machdyn.synthesis:Atlas.entries", atlas, index=[0, 1])
-    meth("machdyn.synthesis:Atlas.nearest", atlas, descriptor=syn.curve_descriptor(ellipse), k=3)
-    meth("machdyn.synthesis:Atlas.pool", atlas, size=10)
-    fn(
-        "machdyn.synthesis:path_from_atlas",
-        targets=ellipse, atlas=atlas(), n=1, retrieve=4, refine_count=1,
-    )  # fmt: skip
-    c["machdyn.synthesis:path_from_atlas"].accepts.update(timing={"none"}, tolerance={"none"})
 
 
 def _add_general(c, fn, meth) -> None:
