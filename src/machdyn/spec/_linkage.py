@@ -512,7 +512,7 @@ def driver_inputs(part: Part, machine: Machine, results: dict) -> dict[str, Driv
     missing = [d for d in lk.drivers if d not in settings or settings[d].values is None]
     if missing:
         d = missing[0]
-        raise machine.error(
+        raise machine._error(
             (*part.path, "motion", d),
             f"driver {d!r} has no value: add value or sweep under [{part.kind}.{part.name}"
             f".motion.{d}] (or --at/--sweep on the command line)",
@@ -523,7 +523,7 @@ def driver_inputs(part: Part, machine: Machine, results: dict) -> dict[str, Driv
             settings[d] = DriverSetting(s.kind, s.values, speed, 0.0, s.driven_by)
     swept = [d for d in lk.drivers if len(settings[d].values.values) > 1]
     if len(swept) > 1:
-        raise machine.error(
+        raise machine._error(
             (*part.path, "motion"),
             f"sweep one driver at a time; {', '.join(swept)} are all swept",
         )

@@ -123,7 +123,7 @@ class Machine(Mapping[str, Any]):
     #: True when read from an old linkage file (upgraded on reading).
     legacy: bool = False
 
-    def error(self, path: tuple, message: str) -> SpecError:
+    def _error(self, path: tuple, message: str) -> SpecError:
         """A :class:`SpecError` at ``path`` of the machine's file (its line when known)."""
         return (self.context or Context(self.source)).error(path, message, table=True)
 
