@@ -325,6 +325,18 @@ class SliderCrank:
 
         return plot_slider_crank(self, theta2, ax=ax, **options)
 
+    def animate(self, **options: Any):
+        """A matplotlib animation; GIF/MP4/HTML with ``path=`` (:func:`machdyn.plot.animate`)."""
+        from .draw import animate
+
+        return animate(self, **options)
+
+    def to_html(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML page animating the mechanism (:func:`machdyn.draw.to_html`)."""
+        from .draw import to_html
+
+        return to_html(self, path, **options)
+
     def dynamics(self, theta2: Any, omega2: Any, alpha2: Any = 0.0, **options: Any):
         """Joint forces, guide normal force and crank torque (with slider friction).
 
@@ -477,6 +489,24 @@ class InvertedSliderCrank:
             methods={(1, 3): "kennedy", (2, 4): "kennedy"}
             | dict.fromkeys([(1, 2), (2, 3), (1, 4), (3, 4)], "joint"),
         )
+
+    def draw(self, frame: int | None = None, ax: Any = None, **options: Any):
+        """Draw the mechanism in one pose of its turn (see :func:`machdyn.draw.draw`)."""
+        from .draw import draw
+
+        return draw(self, frame, ax, **options)
+
+    def animate(self, **options: Any):
+        """A matplotlib animation; GIF/MP4/HTML with ``path=`` (:func:`machdyn.plot.animate`)."""
+        from .draw import animate
+
+        return animate(self, **options)
+
+    def to_html(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML page animating the mechanism (:func:`machdyn.draw.to_html`)."""
+        from .draw import to_html
+
+        return to_html(self, path, **options)
 
     def solve(
         self,

@@ -392,6 +392,12 @@ def scene(model: Any, *, n: int = 120, form: int = 1, theta2: Any = None, **opti
         t = _turn(n) if theta2 is None else np.ravel(theta2)
         with np.errstate(invalid="ignore", divide="ignore"):
             return inverted_scene(model, model.solve(t, omega2, form=form))
+    from ..linkage import Linkage
+
+    if isinstance(model, Linkage):
+        from .linkage import scene_of_linkage
+
+        return scene_of_linkage(model, options.pop("values", None), n=n, **options)
     if hasattr(model, "scene"):
         return model.scene(n=n, **options)
     raise InputError(

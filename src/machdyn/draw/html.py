@@ -204,13 +204,15 @@ def _item_svg(item: Item, f: _Frame, uid: str) -> str:
         )
     if k in ("shape", "wheel"):
         if k == "wheel":
-            t = np.linspace(0, 2 * np.pi, 73)[:-1]
+            t = np.linspace(0, 2 * np.pi, 73)
             outline = item.size * np.exp(1j * t)
             extra = (
                 f'<line x1="0" y1="0" x2="{f.n(item.size)}" y2="0" stroke="{c}" '
                 f'stroke-width="2" {_ns(k)}/>'
+                if item.body != "ground"
+                else ""
             )
-            closed = True
+            closed = item.closed
         else:
             outline = np.asarray(item.outline, complex)
             extra, closed = "", item.closed

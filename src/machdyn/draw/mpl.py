@@ -106,6 +106,7 @@ class Painter:
                                 textcoords="offset points",
                                 fontsize=9,
                                 annotation_clip=False,
+                                zorder=8,
                             )
                             t.set_parse_math(False)  # a user's '$' is text, not TeX
                             self.labels[p] = t
@@ -251,16 +252,21 @@ class Painter:
                     "lw": 1.2,
                 }
             elif k == "wheel":
-                t = np.linspace(0, 2 * np.pi, 73)[:-1]
-                local, closed = item.size * np.exp(1j * t), True
-                kw = {"fc": col, "alpha": 0.25, "ec": col, "lw": 1.5}
+                t = np.linspace(0, 2 * np.pi, 73)
+                local, closed = item.size * np.exp(1j * t), item.closed
+                kw = {
+                    "fc": col if closed else "none",
+                    "alpha": 0.25 if closed else 1.0,
+                    "ec": col,
+                    "lw": 1.5,
+                }
             else:
                 local, closed = symbols.motor_arrow(3.2 * u), False
                 kw = {"fc": "none", "ec": col, "lw": 1.5}
             art = Polygon(np.zeros((len(local), 2)), closed=closed, zorder=_zorder(k), **kw)
             ax.add_patch(art)
             spoke = None
-            if k == "wheel":
+            if k == "wheel" and item.body != "ground":
                 (spoke,) = ax.plot([], [], color=col, lw=1.5, zorder=_zorder(k))
                 spoke.set_gid(f"{item.gid}_spoke")
                 self.moving.append(spoke)

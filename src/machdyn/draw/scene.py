@@ -214,6 +214,12 @@ class Scene:
         if pts.size == 0:
             return (-1.0, 1.0, -1.0, 1.0)
         span = max(float(np.ptp(pts.real)), float(np.ptp(pts.imag)), 1e-9)
+        # room for the ground symbols hanging under their pivots (6 % of the drawing)
+        grounds = [self.resting(i.points[0]) for i in self.items if i.kind == "ground"]
+        grounds = [z for z in grounds if np.isfinite(z)]
+        if grounds:
+            below = min(z.imag for z in grounds) - 0.065 * span
+            pts = np.append(pts, complex(pts.real.min(), min(below, pts.imag.min())))
         p = pad * span
         return (
             float(pts.real.min() - p),

@@ -69,11 +69,14 @@ def damper(width: float) -> list[tuple[np.ndarray, np.ndarray]]:
 
 
 def motor_arrow(radius: float) -> np.ndarray:
-    """A three-quarter arc with an arrow head around the origin (a motor's sense)."""
-    t = np.linspace(0.25 * np.pi, 1.75 * np.pi, 25)
+    """A three-quarter arc with an arrow head at its end, around the origin (a motor's sense).
+
+    One polyline: the arc counter-clockwise from 45° to 315°, then the two
+    barbs of the head (the polyline goes out along one and back).
+    """
+    t = np.linspace(0.25 * np.pi, 1.75 * np.pi, 31)
     arc = radius * np.exp(1j * t)
     tip = arc[-1]
-    head = [
-        tip + 0.45 * radius * np.exp(1j * (1.75 * np.pi + a)) for a in (0.35 * np.pi, 1.1 * np.pi)
-    ]
-    return np.concatenate([arc, [head[0], tip, head[1]]])
+    ahead = 1j * np.exp(1j * t[-1])  # direction of travel at the tip
+    barbs = [tip - 0.55 * radius * ahead * np.exp(1j * s) for s in (0.45, -0.45)]
+    return np.concatenate([arc, [barbs[0], tip, barbs[1]]])
