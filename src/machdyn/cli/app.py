@@ -21,6 +21,7 @@ def _root() -> None:
 def _register() -> None:
     # Imported here so that each module can import ``app`` from this one.
     from . import fourbar  # noqa: F401  (registers `fourbar` and `demo` on app)
+    from .atlas import atlas_app
     from .balance import balance_app
     from .cam import cam_app
     from .flywheel import flywheel as flywheel_command
@@ -36,6 +37,7 @@ def _register() -> None:
     app.command("linkage")(linkage)
     app.command("animate")(animate)
     app.add_typer(synth_app, name="synth")
+    app.add_typer(atlas_app, name="atlas")
 
 
 _register()

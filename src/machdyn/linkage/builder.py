@@ -15,9 +15,10 @@ from . import kinematics as _kinematics
 from ._common import GROUND, _complex_point
 from .elements import _ElementMethods, _Spring, _Torsion
 from .forces import LinkageForces, _forces
+from .groups import Group, decompose
 from .joints import _JointMethods
 from .kinematics import LinkageMotion
-from .topology import _Compiled, _Edge, compile_loops, edges_of
+from .topology import _Edge, _Model, edges_of
 from .view import Joint, Link, Spring, TorsionSpring, elements_of, joints_of
 
 
@@ -59,7 +60,7 @@ class Linkage(_JointMethods, _ElementMethods):
         self._springs: dict[str, _Spring] = {}
         self._torsions: dict[str, _Torsion] = {}
         self._drivers: list[str] = []
-        self._compiled: _Compiled | None = None
+        self._compiled: _Model | None = None
         self._points_extra: dict[str, complex] = {}
         for name, xy in (points or {}).items():
             self.point(name, xy)
@@ -367,7 +368,7 @@ class Linkage(_JointMethods, _ElementMethods):
             return 3 * (n_links - 1)
         return mobility_of(joints, links=n_links)
 
-    def _compile(self) -> _Compiled:
+    def _compile(self) -> _Model:
         if self._compiled is not None:
             return self._compiled
         if not self._ground:
@@ -402,7 +403,10 @@ class Linkage(_JointMethods, _ElementMethods):
             )
         for name in [*self._springs, *self._torsions]:
             self._element_links(name)  # ends on two different links
-        self._compiled = compile_loops(self, edges)
+        groups, program = decompose(self, edges)
+        self._compiled = _Model(self, edges, groups, program)
+        if program is None:
+            self._compiled.loops()  # validates the loop formulation now
         return self._compiled
 
     # ------------------------------------------------------------------ solving
@@ -418,17 +422,44 @@ class Linkage(_JointMethods, _ElementMethods):
         3 variables, 2 equations: DOF 1
         ...
         """
-        return self._compile().system
+        return self._compile().loops().system
+
+    @property
+    def groups(self) -> tuple[Group, ...]:
+        """The drivers and Assur groups in solving order (:class:`~machdyn.linkage.groups.Group`).
+
+        Each group's kind (``"driver"``, a dyad ``"RRR"``, ``"RRP"``, ... or
+        ``"general"``), links, joints and the assembly sign from the drawing,
+        which every sample keeps.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> lk = (Linkage({"O2": (0, 0), "A": (2, 0), "B": (8, 0)}).ground("O2")
+        ...       .link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+        ...       .slider("block", "ground", "B", 0.0, name="guide").drive("crank"))
+        >>> [(g.kind, g.links, g.sign) for g in lk.groups]
+        [('driver', ('crank',), 0), ('RRP', ('rod', 'block'), 1)]
+        """
+        return self._compile().groups
 
     def solve(
         self,
         values: Any,
         velocity: Any = None,
         acceleration: Any = 0.0,
+        jerk: Any = None,
         *,
         continuation: bool | None = None,
     ) -> LinkageMotion:
-        """Positions, velocities and accelerations of every link, point and centre of mass.
+        """Positions, velocities, accelerations (and jerks) of every link, point and centre of mass.
+
+        The linkage is solved group by group (:attr:`groups`): drivers and
+        dyads in closed form, each dyad on the assembly sign of the drawing at
+        every sample; a group the closed forms do not cover by the vector-loop
+        core. A sample where a group cannot be assembled, or sits at a toggle,
+        is flagged (``ok``, ``reason``) naming the group; the links of the
+        groups that depend on it are NaN there, never taken from another branch.
 
         Parameters
         ----------
@@ -440,6 +471,9 @@ class Linkage(_JointMethods, _ElementMethods):
         velocity, acceleration : array_like or mapping, optional
             Their first and second time derivatives (``acceleration`` defaults
             to 0). Without ``velocity`` only positions are computed.
+        jerk : array_like or mapping, optional
+            The drivers' third derivatives; given (0 for a steady speed), the
+            jerks are computed too (``LinkageMotion.jerk``, ``point_jerk``, ...).
         continuation : bool, optional
             Follow a 1-D sweep along one circuit (default for 1-D arrays).
             The circuit is the drawn one: the solver first marches from the
@@ -461,7 +495,7 @@ class Linkage(_JointMethods, _ElementMethods):
         >>> bool(m.ok.all()), m.omega["rocker"].shape
         (True, (36,))
         """
-        return _kinematics.solve(self, values, velocity, acceleration, continuation)
+        return _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
 
     def forces(
         self,

@@ -67,6 +67,24 @@ class _Compiled:
     )
 
 
+class _Model:
+    """A validated linkage: its joints, Assur groups, closed-form program, and loops on demand."""
+
+    def __init__(self, lk: Linkage, edges: list[_Edge], groups: tuple, program) -> None:
+        self.lk = lk
+        self.edges = edges
+        self.groups = groups
+        self.program = program  # None when a group needs the vector-loop core
+        self._loops: _Compiled | None = None
+        self.cache: dict[str, object] = {}
+
+    def loops(self) -> _Compiled:
+        """The whole linkage compiled into vector loops (built at the first call)."""
+        if self._loops is None:
+            self._loops = compile_loops(self.lk, self.edges)
+        return self._loops
+
+
 def edges_of(lk: Linkage) -> list[_Edge]:
     """The joints of ``lk`` as edges of its link graph (pins first, in point order)."""
     edges: list[_Edge] = []
