@@ -39,14 +39,19 @@ import numpy as np
 from . import jit
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._flags import Flagged
-from ._parallel import for_slices
+from ._parallel import for_slices, require_memory
 from ._validate import (
     as_array,
+    boolean,
+    broadcast,
     choice,
     common_length_unit,
+    count,
+    finite_array,
     finite_scalar,
     input_motion,
-    positive,
+    length,
+    positive_length,
 )
 from .centres import fourbar_centres
 from .classify import Classification, classify
@@ -171,6 +176,11 @@ def _rot(p: Any, q: Any, ex: np.ndarray, ey: np.ndarray) -> tuple[np.ndarray, np
     return p * ex - q * ey, p * ey + q * ex
 
 
+#: Memory per pose of :meth:`FourBar.solve` (8 angle and rate arrays, 6 complex point
+#: arrays and the status), for the budget check made before solving.
+_BYTES_PER_POSE = 8 * 8 + 6 * 16 + 1
+
+
 def positions(
     r1: float, r2: float, r3: float, r4: float, theta2: Any, branch: int = 1
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -202,9 +212,11 @@ def positions(
     >>> round(float(np.degrees(th3)), 4), round(float(np.degrees(th4)), 4), bool(ok)
     (58.8114, 93.5833, True)
     """
-    r1, r2, r3, r4 = (positive(f"r{k}", r) for k, r in enumerate((r1, r2, r3, r4), start=1))
+    r1, r2, r3, r4 = (positive_length(f"r{k}", r) for k, r in enumerate((r1, r2, r3, r4), start=1))
     sign = float(choice("branch", branch, (1, -1)))
-    return _positions(r1, r2, r3, r4, as_array("theta2", theta2), sign)
+    theta2 = as_array("theta2", theta2, "radian")
+    require_memory("theta2", 25 * theta2.size, f"{theta2.size:,} poses")
+    return _positions(r1, r2, r3, r4, theta2, sign)
 
 
 def _positions(
@@ -284,7 +296,9 @@ def velocities(
     >>> round(float(w3), 6), round(float(w4), 6)
     (-1.0, -1.0)
     """
-    theta2, theta3, theta4 = (np.asarray(t, dtype=float) for t in (theta2, theta3, theta4))
+    r2, r3, r4, theta2, theta3, theta4, omega2 = _checked_closed_form(
+        r2, r3, r4, theta2, theta3, theta4, omega2=omega2
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
         omega3 = r2 * omega2 * np.sin(theta4 - theta2) / (r3 * np.sin(theta3 - theta4))
         omega4 = r2 * omega2 * np.sin(theta2 - theta3) / (r4 * np.sin(theta4 - theta3))
@@ -307,9 +321,11 @@ def accelerations(
 
     Solves ``a(jα2 − ω2²)e^{jθ2} + b(jα3 − ω3²)e^{jθ3} − c(jα4 − ω4²)e^{jθ4} = 0``.
     """
-    return _derivative_from_angles(
-        r2, r3, r4, theta2, theta3, theta4, _acceleration_rhs, omega2, omega3, omega4, alpha2
-    )
+    args = _checked_closed_form(
+        r2, r3, r4, theta2, theta3, theta4,
+        omega2=omega2, omega3=omega3, omega4=omega4, alpha2=alpha2,
+    )  # fmt: skip
+    return _derivative_from_angles(*args[:6], _acceleration_rhs, *args[6:])
 
 
 def jerks(
@@ -331,22 +347,27 @@ def jerks(
 
     Solves ``Σ ± r (jφ − 3αω − jω³) e^{jθ} = 0`` for the jerks φ3, φ4.
     """
-    return _derivative_from_angles(
-        r2,
-        r3,
-        r4,
-        theta2,
-        theta3,
-        theta4,
-        _jerk_rhs,
-        omega2,
-        omega3,
-        omega4,
-        alpha2,
-        alpha3,
-        alpha4,
-        jerk2,
-    )
+    args = _checked_closed_form(
+        r2, r3, r4, theta2, theta3, theta4,
+        omega2=omega2, omega3=omega3, omega4=omega4,
+        alpha2=alpha2, alpha3=alpha3, alpha4=alpha4, jerk2=jerk2,
+    )  # fmt: skip
+    return _derivative_from_angles(*args[:6], _jerk_rhs, *args[6:])
+
+
+def _checked_closed_form(r2, r3, r4, theta2, theta3, theta4, **rates) -> list:
+    """Arguments of the public closed forms, checked: lengths, angles, then rates.
+
+    θ3 and θ4 may hold NaN (the unassembled samples of :func:`positions`): they
+    stay NaN in the result. The rates come out broadcast as arrays.
+    """
+    lengths = [positive_length(f"r{k}", r) for k, r in ((2, r2), (3, r3), (4, r4))]
+    angles = {"theta2": finite_array("theta2", theta2, "radian")}
+    for name, value in (("theta3", theta3), ("theta4", theta4)):
+        angles[name] = finite_array(name, value, "radian", nan_ok=True)
+    checked = {name: finite_array(name, value) for name, value in rates.items()}
+    broadcast(**angles, **checked)
+    return [*lengths, *angles.values(), *checked.values()]
 
 
 def _derivative_from_angles(r2, r3, r4, theta2, theta3, theta4, rhs, *rates):
@@ -453,37 +474,37 @@ class FourBarMotion(Flagged):
     @cached_property
     def phi12(self) -> np.ndarray:
         """φ12 = θ4 − θ3: the angle between links 3 and 4 (faces links 1 and 2)."""
-        return named_angle("phi12", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi12", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi13(self) -> np.ndarray:
         """φ13 = θ2 − θ4: the angle between links 2 and 4."""
-        return named_angle("phi13", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi13", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi14(self) -> np.ndarray:
         """φ14 = π − θ2 + θ3: the internal angle at A, between links 2 and 3."""
-        return named_angle("phi14", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi14", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi23(self) -> np.ndarray:
         """φ23 = π − θ4: the internal angle at O4, between links 1 and 4."""
-        return named_angle("phi23", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi23", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi24(self) -> np.ndarray:
         """φ24 = θ3: the angle between links 1 and 3."""
-        return named_angle("phi24", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi24", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi34(self) -> np.ndarray:
         """φ34 = θ2: the internal angle at O2, between links 1 and 2."""
-        return named_angle("phi34", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi34", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def mu(self) -> np.ndarray:
         """Transmission angle μ: the acute angle between coupler and output, [0, π/2]."""
-        return named_angle("mu", self.theta2, self.theta3, self.theta4)
+        return _named_angle("mu", self.theta2, self.theta3, self.theta4)
 
     # -- presentation ------------------------------------------------------------
     def to_pandas(self, degrees: bool = False):
@@ -494,6 +515,7 @@ class FourBarMotion(Flagged):
         """
         import pandas as pd
 
+        degrees = boolean("degrees", degrees)
         columns: dict[str, np.ndarray] = {}
         angles = (
             "theta2",
@@ -714,11 +736,16 @@ class FourBar:
                 p, delta = coupler
             except (TypeError, ValueError):
                 raise InputError("coupler", f"expected (p, delta), got {coupler!r}") from None
-            p = finite_scalar("coupler p", p, unit)
+            p = length("coupler p", p, unit)
             if p < 0.0:
                 raise InputError("coupler p", f"must be a distance >= 0, got {p:g}")
             delta = finite_scalar("coupler delta", delta, "radian")
             self.coupler = (p, delta)
+
+    @property
+    def _extent(self) -> float:
+        """The longest length of the linkage (links and coupler point): its scale."""
+        return max(*self.lengths, 0.0 if self.coupler is None else self.coupler[0])
 
     # -- description --------------------------------------------------------------
     def __repr__(self) -> str:
@@ -819,7 +846,9 @@ class FourBar:
         (128.25, 109.85)
         """
         single = np.ndim(theta2) == 0
-        shape, arrays = input_motion(theta2, omega2, alpha2, jerk2)
+        shape, arrays = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=self._extent
+        )
         branch_sign, side = self._branch_and_side(form, branch)
         order = choice("order", order, (0, 1, 2, 3))
         t2, w2, a2, j2 = (x.ravel() for x in arrays)
@@ -959,6 +988,7 @@ class FourBar:
     def _form_samples(self, form: int, n: int) -> list[tuple[np.ndarray, int]]:
         """(θ2 grid, branch) pieces covering the motion of a form."""
         branch_sign, _ = self._branch_and_side(form, None)
+        n = count("n", n, minimum=2, bytes_each=64, what="samples")
         rng = self.input_range(form)
         grid = rng.grid(n)
         if self.form_rule == "phi34":
@@ -991,7 +1021,7 @@ class FourBar:
         poses = [_positions(*self.lengths, grid, float(br))[:2] for grid, br in pieces]
         for name in names:
             values = [
-                named_angle(name, grid, th3, th4)
+                _named_angle(name, grid, th3, th4)
                 for (grid, _), (th3, th4) in zip(pieces, poses, strict=True)
             ]
             if _sweeps_all_directions(np.concatenate(values), closed):
@@ -1392,6 +1422,19 @@ def named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
     >>> float(named_angle("phi14", 0.0, np.pi / 2, 0.0) / np.pi)
     -0.5
     """
+    name = choice("name", name, ("theta3", "theta4", "mu", *_PHI_NAMES))
+    theta2 = finite_array("theta2", theta2, "radian")
+    theta3 = finite_array("theta3", theta3, "radian", nan_ok=True)
+    theta4 = finite_array("theta4", theta4, "radian", nan_ok=True)
+    broadcast(theta2=theta2, theta3=theta3, theta4=theta4)
+    return _named_angle(name, theta2, theta3, theta4)
+
+
+_PHI_NAMES = ("phi12", "phi13", "phi14", "phi23", "phi24", "phi34")
+
+
+def _named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
+    """:func:`named_angle` for arguments already checked (NaN for unassembled samples)."""
     if name == "theta3":
         return theta3
     if name == "theta4":
@@ -1413,7 +1456,7 @@ def named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
 def _angle_of(fb: FourBar, name: str, theta2: np.ndarray, branch: int) -> np.ndarray:
     """One named angle along a branch, from the closed-form positions."""
     th3, th4, _ = _positions(*fb.lengths, theta2, float(branch))
-    return named_angle(name, theta2, th3, th4)
+    return _named_angle(name, theta2, th3, th4)
 
 
 def _refine(

@@ -24,9 +24,12 @@ import numpy as np
 
 from ._angles import wrap_2pi
 from ._flags import Flagged
-from ._validate import choice, common_length_unit, finite_scalar, input_motion
+from ._validate import choice, common_length_unit, finite_scalar, input_motion, length
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
+
+#: Memory per pose of a solve (rate arrays, complex points, status) for the budget check.
+_BYTES_PER_POSE = 12 * 8 + 5 * 16 + 1
 
 __all__ = ["InvertedSliderCrank", "InvertedSliderCrankMotion", "SliderCrank", "SliderCrankMotion"]
 
@@ -169,7 +172,7 @@ class SliderCrank:
             except (TypeError, ValueError):
                 raise InputError("point", f"expected (p, delta), got {point!r}") from None
             self.point = (
-                finite_scalar("point p", p, unit),
+                length("point p", p, unit),
                 finite_scalar("point delta", delta, "radian"),
             )
 
@@ -255,7 +258,10 @@ class SliderCrank:
         """
         choice("form", form, (1, 2))
         scalar = np.ndim(theta2) == 0
-        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
+        extent = max(self.a, self.b, abs(self.c), 0.0 if self.point is None else self.point[0])
+        _, (t2, w2, a2, j2) = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
+        )
         a, b, c = self.a, self.b, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         s3 = (a * e2.imag - c) / b
@@ -520,7 +526,10 @@ class InvertedSliderCrank:
         """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
         choice("form", form, (1, 2))
         scalar = np.ndim(theta2) == 0
-        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
+        extent = max(self.a, self.d, abs(self.c))
+        _, (t2, w2, a2, j2) = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
+        )
         a, d, c = self.a, self.d, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         S = a * e2 - d
