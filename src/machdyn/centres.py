@@ -31,8 +31,10 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import finite_array, finite_scalar
+from .errors import InputError, ModelError
+
 __all__ = [
-    "BodyMotion",
     "InstantCentre",
     "InstantCentres",
     "at_infinity",
@@ -40,10 +42,8 @@ __all__ = [
     "finite",
     "instant_centres_of",
     "intersect",
-    "kennedy",
     "line_through",
     "linkage_centres",
-    "relative_centre",
 ]
 
 #: |w| below this fraction of |(x, y)| marks a point at infinity.
@@ -178,12 +178,21 @@ class InstantCentres(Mapping):
         """True where every centre is determined (the same as ``valid``)."""
         return self.valid
 
-    def _key(self, pair: tuple[Any, Any]) -> tuple[Any, Any]:
-        a, b = pair
-        if a not in self._index or b not in self._index:
-            unknown = a if a not in self._index else b
-            raise KeyError(f"unknown body {unknown!r}; bodies: {', '.join(map(str, self.bodies))}")
+    def _key(self, pair: tuple[Any, Any], fields: tuple[str, str] = ("key", "key")) -> tuple:
+        a, b = (self._body(field, x) for field, x in zip(fields, pair, strict=True))
         return (a, b) if self._index[a] < self._index[b] else (b, a)
+
+    def _body(self, field: str, body: Any) -> Any:
+        """``body`` if it is one of :attr:`bodies`, else an error naming ``field``."""
+        try:
+            known = not isinstance(body, bool | np.bool_) and body in self._index
+        except TypeError:  # unhashable
+            known = False
+        if not known:
+            raise InputError(
+                field, f"unknown body {body!r}; bodies: {', '.join(map(str, self.bodies))}"
+            )
+        return body
 
     def __getitem__(self, key: tuple[Any, Any]) -> InstantCentre:
         return self._centres[self._key(key)]
@@ -199,10 +208,10 @@ class InstantCentres(Mapping):
 
     def method(self, i: Any, j: Any) -> str:
         """How ``I_ij`` was found: ``"joint"`` (by inspection), ``"kennedy"`` or ``"velocity"``."""
-        return self._methods.get(self._key((i, j)), "")
+        return self._methods.get(self._key((i, j), ("i", "j")), "")
 
     def _ground(self, ground: Any) -> Any:
-        return self.bodies[0] if ground is None else ground
+        return self.bodies[0] if ground is None else self._body("ground", ground)
 
     def omega_ratio(self, i: Any, j: Any, ground: Any = None) -> np.ndarray:
         """Angular velocity ratio ``ω_j / ω_i`` of two links, from the centres alone.
@@ -214,6 +223,7 @@ class InstantCentres(Mapping):
         ``ground`` defaults to the first body.
         """
         g = self._ground(ground)
+        i, j = self._body("i", i), self._body("j", j)
         p = self[g, i].homogeneous
         q = self[g, j].homogeneous
         x = self[i, j].homogeneous
@@ -256,6 +266,15 @@ class InstantCentres(Mapping):
         True
         """
         g = self._ground(ground)
+        input, output = self._body("input", input), self._body("output", output)
+        r_in = finite_scalar("r_in", r_in)
+        r_out = finite_scalar("r_out", r_out)
+        with np.errstate(over="ignore", divide="ignore"):
+            arms = r_in / r_out if r_out else np.inf
+        if not np.isfinite(arms):
+            raise InputError(
+                "r_out", f"must be a non-zero lever arm comparable to r_in={r_in:g}, got {r_out:g}"
+            )
         slides_out = self[g, output].at_infinity
         slides_in = self[g, input].at_infinity
         ratio = self.omega_ratio(input, output, g)
@@ -456,8 +475,19 @@ def instant_centres_of(lk: Any, values: Any, velocity: Any = None) -> InstantCen
     >>> len(ics), ics.method("ground", "coupler")
     (6, 'kennedy')
     """
+    _check_linkage(lk)
     if velocity is None and len(lk.drivers) == 1:
         velocity = 1.0
+    if not isinstance(values, Mapping):
+        values = finite_array("values", values)
+    if velocity is not None and not isinstance(velocity, Mapping):
+        speeds = np.asarray(finite_array("velocity", velocity))
+        try:
+            np.broadcast_shapes(speeds.shape, np.shape(values))
+        except ValueError:
+            raise InputError(
+                "velocity", f"shape {speeds.shape} does not match values {np.shape(values)}"
+            ) from None
     motion = lk.solve(values, velocity=velocity)
     return linkage_centres(lk, motion)
 
@@ -479,6 +509,11 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
     Samples where the motion is not ok carry its reason; a centre of two links
     with no relative motion at a sample (every point would do) is flagged too.
     """
+    _check_linkage(lk)
+    from .linkage import LinkageMotion
+
+    if not isinstance(motion, LinkageMotion):
+        raise InputError("motion", f"must be a LinkageMotion from lk.solve(), got {motion!r}")
     bodies = ["ground", *lk.links]
     fields = {b: _body_motion(lk, motion, b) for b in bodies}
     known: dict[tuple[str, str], np.ndarray] = {}
@@ -540,6 +575,13 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
         reason=reason,
         methods={k: v for k, v in methods.items() if k in out},
     )
+
+
+def _check_linkage(lk: Any) -> None:
+    from .linkage import Linkage
+
+    if not isinstance(lk, Linkage):
+        raise InputError("lk", f"must be a machdyn.linkage.Linkage, got {lk!r}")
 
 
 def _body_motion(lk: Any, motion: Any, body: str) -> BodyMotion | None:
@@ -622,8 +664,6 @@ def _unscaled(h: np.ndarray, scale: float) -> np.ndarray:
 
 
 def _needs_velocity(lk: Any) -> Exception:
-    from .errors import ModelError
-
     return ModelError(
         "some instant centres of this linkage are not fixed by Kennedy's rule and depend on "
         f"how fast each driver moves ({', '.join(lk.drivers)}): pass velocity={{driver: "

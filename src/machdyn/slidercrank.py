@@ -24,7 +24,7 @@ import numpy as np
 
 from ._angles import wrap_2pi
 from ._flags import Flagged
-from ._validate import choice, common_length_unit, finite_scalar, input_motion, length
+from ._validate import choice, common_length_unit, finite_array, finite_scalar, input_motion, length
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
 
@@ -478,7 +478,7 @@ class InvertedSliderCrank:
         >>> complex(np.round(ics[1, 3].point, 9) + 0), complex(np.round(ics[2, 4].point, 9) + 0)
         (-8j, (-1+0j))
         """
-        m = self.solve(theta2, form=form)
+        m = self.solve(finite_array("theta2", theta2), form=form)
         shape = np.shape(m.A)
         I12 = finite(np.zeros(shape, dtype=complex))
         I14 = finite(np.full(shape, self.d, dtype=complex))
