@@ -370,6 +370,9 @@ def path_cmd(
     out: Annotated[
         Path, typer.Option("--out", help="Folder for the candidates' spec files.")
     ] = Path("path_candidates"),
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", help="Query on a Dask scheduler (tcp://HOST:PORT).")
+    ] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
 ) -> None:
     """Four-bars whose coupler point passes through the target points, from an atlas.
@@ -386,10 +389,16 @@ def path_cmd(
     if not 0.0 <= mu_min < 90.0:
         raise InputError("--mu-min", f"must be between 0 and 90 deg, got {mu_min:g}")
     targets, theta = read_points_csv(points, timing)
-    res = path_from_atlas(
-        targets, atlas or default_atlas(), closed=not open_path, timing=theta, n=n,
-        crank=not no_crank, mu_min=np.radians(mu_min),
-    )  # fmt: skip
+    options = dict(
+        closed=not open_path, timing=theta, n=n, crank=not no_crank, mu_min=np.radians(mu_min)
+    )
+    if scheduler is None:
+        res = path_from_atlas(targets, atlas or default_atlas(), **options)
+    else:
+        from ..synthesis.atlas_dask import client_for
+
+        with client_for(scheduler) as client:
+            res = path_from_atlas(targets, atlas or default_atlas(), client=client, **options)
     shown = res.candidates or res.rejected[:n]
     size = float(np.max(np.abs(res.targets - res.targets.mean())))
     out.mkdir(parents=True, exist_ok=True)

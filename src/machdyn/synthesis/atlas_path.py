@@ -82,7 +82,6 @@ class Atlas:
         self.manifest = manifest
         self.desc = desc
         self.meta = meta
-        self.crank = [m["barker"] <= 2 for m in meta]  # GCCC, GCRR: link 2 turns fully
         self.offsets = np.concatenate([[0], np.cumsum([m.size for m in meta])])
 
     def __len__(self) -> int:
@@ -101,32 +100,58 @@ class Atlas:
             out[sel] = self.meta[c][index[sel] - self.offsets[c]]
         return out
 
-    def nearest(self, descriptor: Any, k: int = RETRIEVE, *, crank: bool = True):
+    def nearest(self, descriptor: Any, k: int = RETRIEVE, *, crank: bool = True, client=None):
         """The ``k`` entries nearest to a descriptor in any of its variants.
 
+        ``client``: a ``distributed.Client``: each chunk is then scored by a
+        task on the cluster (whose workers must see the atlas folder).
         Returns flat indices and squared distances (best first).
         """
         variants = descriptor_variants(descriptor).reshape(4, -1).T.copy()  # (D, 4)
-        best_i, best_s = [], []
-        for c, (d, ok) in enumerate(zip(self.desc, self.crank, strict=True)):
-            score = (d @ variants).max(axis=1)
-            if crank:
-                score = np.where(ok, score, -np.inf)
-            kk = min(k, score.size)
-            top = np.argpartition(-score, kk - 1)[:kk]
-            best_i.append(top + self.offsets[c])
-            best_s.append(score[top])
-        idx, score = np.concatenate(best_i), np.concatenate(best_s)
+        if client is None:
+            parts = [
+                chunk_topk(d, m["barker"], variants, k, crank)
+                for d, m in zip(self.desc, self.meta, strict=True)
+            ]
+        else:
+            futures = [
+                client.submit(chunk_topk_file, str(self.path), c, variants, k, crank, pure=False)
+                for c in range(len(self.desc))
+            ]
+            parts = client.gather(futures)
+        idx = np.concatenate([top + self.offsets[c] for c, (top, _) in enumerate(parts)])
+        score = np.concatenate([s for _, s in parts])
         order = np.argsort(-score)[:k]
         keep = np.isfinite(score[order])
         return idx[order][keep], (2.0 - 2.0 * score[order][keep]).astype(float)
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas."""
-        allowed = np.flatnonzero(np.concatenate(self.crank)) if crank else np.arange(len(self))
+        barker = np.concatenate([m["barker"] for m in self.meta])
+        allowed = np.flatnonzero(barker <= 2) if crank else np.arange(len(self))
         if allowed.size <= size:
             return allowed
         return allowed[np.linspace(0, allowed.size - 1, size).astype(np.int64)]
+
+
+def chunk_topk(
+    desc: np.ndarray, barker: np.ndarray, variants: np.ndarray, k: int, crank: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and scores (cosine) of the ``k`` best entries of one chunk (a BLAS product)."""
+    score = (desc @ variants).max(axis=1)
+    if crank:
+        score = np.where(barker <= 2, score, -np.inf)  # GCCC, GCRR: link 2 turns fully
+    kk = min(k, score.size)
+    top = np.argpartition(-score, kk - 1)[:kk]
+    return top, score[top]
+
+
+def chunk_topk_file(path: str, index: int, variants: np.ndarray, k: int, crank: bool):
+    """:func:`chunk_topk` on a chunk read from the atlas folder (a Dask task)."""
+    folder = Path(path)
+    desc = np.load(folder / f"{chunk_name(index)}.desc.npy", mmap_mode="r")
+    meta = np.load(folder / f"{chunk_name(index)}.meta.npy", mmap_mode="r")
+    return chunk_topk(desc, np.asarray(meta["barker"]), variants, k, crank)
 
 
 def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
@@ -254,6 +279,7 @@ def path_from_atlas(
     tolerance: float | None = None,
     retrieve: int = RETRIEVE,
     refine_count: int = REFINE,
+    client: Any = None,
 ) -> PathCandidates:
     """Four-bars whose coupler curve passes through target points, from an atlas.
 
@@ -279,6 +305,8 @@ def path_from_atlas(
         A target farther than this from the curve is a defect.
     retrieve, refine_count : int
         Entries taken from the atlas, and how many of the best-placed are refined.
+    client : distributed.Client, optional
+        Score the atlas's chunks as tasks on this Dask cluster.
 
     Returns
     -------
@@ -300,7 +328,7 @@ def path_from_atlas(
     crank = bool(crank) or timing is not None
     size = float(np.max(np.abs(pts - pts.mean())))
     t0 = time.perf_counter()
-    entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count)
+    entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
     t1 = time.perf_counter()
     results = []
     for row, tr in zip(entries, transforms, strict=True):
@@ -330,14 +358,14 @@ def path_from_atlas(
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
 
 
-def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count):
+def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None):
     """Atlas rows and the similarity transforms (h, t) that place their curves on the target."""
     man = atlas.manifest
     if closed:
         dense = interpolate_closed(pts, 8 * man.samples)
         even = resample_closed(dense, man.samples)
         q = curve_descriptor(even, man.harmonics, resampled=True)
-        idx, _ = atlas.nearest(q, retrieve, crank=crank)
+        idx, _ = atlas.nearest(q, retrieve, crank=crank, client=client)
         rows = atlas.entries(idx)
         curves = even_curves(rows, man.circuit_samples, man.samples)
         transforms, residual = align_closed(even, curves)
