@@ -67,6 +67,9 @@ NOT_CALLED = {
     "machdyn.cams:TimeMotion",
     "machdyn.centres:InstantCentre",
     "machdyn.centres:InstantCentres",
+    "machdyn.centrodes:Centrodes",
+    "machdyn.centrodes:PitchCurves",
+    "machdyn.centrodes:RolledMotion",
     "machdyn.classify:Classification",
     "machdyn.dynamics:FourBarForces",
     "machdyn.dynamics:LinkEquations",
@@ -344,6 +347,12 @@ def catalogue() -> dict[str, Call]:
     )
     meth("machdyn.centres:InstantCentres.omega_ratio", _ics, i=3, j=2, ground=1)
     meth("machdyn.centres:InstantCentres.method", _ics, i=1, j=3)
+    fn("machdyn.centrodes:centrodes", model=_fb(), values=THETA, moving=3, fixed=1, form=1)
+    fn("machdyn.centrodes:gear_pitch_curves", model=_fb(), values=THETA, link_a=2, link_b=4)
+    cent = lambda: __import__("machdyn.centrodes").centrodes.centrodes(_fb(), THETA, 3)  # noqa: E731
+    meth("machdyn.centrodes:Centrodes.placed", cent, k=2)
+    meth("machdyn.centrodes:Centrodes.roll", cent)
+    meth("machdyn.centrodes:Centrodes.to_pandas", cent)
     meth(
         "machdyn.centres:InstantCentres.mechanical_advantage",
         _ics,

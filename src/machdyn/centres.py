@@ -475,6 +475,11 @@ def instant_centres_of(lk: Any, values: Any, velocity: Any = None) -> InstantCen
     >>> len(ics), ics.method("ground", "coupler")
     (6, 'kennedy')
     """
+    return linkage_centres(lk, _solve_with_speeds(lk, values, velocity))
+
+
+def _solve_with_speeds(lk: Any, values: Any, velocity: Any) -> Any:
+    """``lk.solve(values, velocity)`` with the speeds checked (1 for a single driver)."""
     _check_linkage(lk)
     if velocity is None and len(lk.drivers) == 1:
         velocity = 1.0
@@ -488,8 +493,7 @@ def instant_centres_of(lk: Any, values: Any, velocity: Any = None) -> InstantCen
             raise InputError(
                 "velocity", f"shape {speeds.shape} does not match values {np.shape(values)}"
             ) from None
-    motion = lk.solve(values, velocity=velocity)
-    return linkage_centres(lk, motion)
+    return lk.solve(values, velocity=velocity)
 
 
 def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
