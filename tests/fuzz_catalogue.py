@@ -127,6 +127,7 @@ METHODS_NOT_FUZZED = {
     "animate",
     "plot_coupler_curve",
     "to_html",
+    "report",  # the design report: machdyn.report (tests/test_report.py and its browser test)
     # writing files: fuzzed through the CLI (tests/test_fuzz_cli.py)
     "to_csv",
     "to_dxf",

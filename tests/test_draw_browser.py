@@ -166,3 +166,58 @@ def test_user_names_are_text_never_markup(tab, tmp_path):
     assert "<b>C</b>" in labels
     rows = page.locator("table.readout td:first-child").all_text_contents()
     assert f"θ {evil}" in rows
+
+
+# --------------------------------------------------------------------------------------
+# the design report, as a person sees it
+
+
+def test_the_report_renders_and_plays(tab, tmp_path):
+    from machdyn.report import report
+
+    fb = FourBar(8, 4, 7, 6, coupler=(5, np.radians(30)))
+    path = tmp_path / "report.html"
+    report(fb, path, omega2=10.0, mass=(1, 2, 1.5), inertia=(0.1, 0.5, 0.3), cg=(2, 3.5, 3), k=0.05)
+    page = tab.open(path, wait_ms=500)
+    tab.assert_clean(path)
+    assert page.locator("#headline").inner_text().startswith("four-bar 8-4-7-6 (GCRR)")
+    for section in (
+        "model",
+        "class",
+        "toggles",
+        "angles",
+        "ma",
+        "kinematics",
+        "forces",
+        "flywheel",
+        "balancing",
+        "selfcheck",
+    ):
+        assert page.locator(f"section#{section}").count() == 1, section
+    assert page.locator("table.checks td.state").all_inner_texts() == ["pass"] * 7
+    charts = page.locator("svg.chart")
+    assert charts.count() >= 10
+    for k in range(charts.count()):  # every chart is laid out with a real size
+        box = charts.nth(k).bounding_box()
+        assert box["width"] > 250 and box["height"] > 150
+    # the drawing in the report plays
+    first = page.evaluate(
+        "document.querySelector('svg.machdyn-drawing').getAttribute('data-frame')"
+    )
+    page.wait_for_timeout(200)
+    assert (
+        page.evaluate("document.querySelector('svg.machdyn-drawing').getAttribute('data-frame')")
+        != first
+    )
+    tab.shot("report_fourbar_hw6")
+
+
+def test_the_report_prints_to_pdf(tmp_path):
+    from machdyn.report import report
+
+    pytest.importorskip("playwright.sync_api")
+    path = tmp_path / "hw6.pdf"
+    report(FourBar(8, 4, 7, 6), path, n=90)
+    data = path.read_bytes()
+    assert data.startswith(b"%PDF") and len(data) > 10_000
+    assert (tmp_path / "hw6.html").exists()

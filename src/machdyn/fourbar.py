@@ -1142,6 +1142,12 @@ class FourBar:
 
         return to_html(self, **options)
 
+    def report(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML design report (and PDF) (:func:`machdyn.report.report`)."""
+        from .report import report
+
+        return report(self, path, **options)
+
     # -- instant centres and mechanical advantage ----------------------------------
     def instant_centres(self, theta2: Any, form: int = 1, *, branch: int | None = None):
         """All six instant centres; I13 and I24 by Kennedy's rule.

@@ -42,7 +42,7 @@ from .atlas_store import (
     even_curves,
     read_manifest,
 )
-from .circuits import circuit_angles, circuit_points, circuit_range
+from .circuits import circuit_angles, circuit_points, circuit_range, coupler_at
 from .descriptor import (
     align_closed,
     align_partial,
@@ -62,6 +62,8 @@ __all__ = ["Atlas", "PathCandidates", "open_atlas", "path_from_atlas"]
 #: Atlas entries retrieved per query, and how many of the best-placed are refined.
 RETRIEVE = 160
 REFINE = 10
+#: How many of the refined candidates are refined on to convergence.
+POLISH = 3
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: A best result farther than this (over the target's size) means no entry came near.
@@ -328,14 +330,24 @@ def path_from_atlas(
     crank = bool(crank) or timing is not None
     size = float(np.max(np.abs(pts - pts.mean())))
     t0 = time.perf_counter()
-    entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
+    if timing is None:
+        entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
+        starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
+    else:
+        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client)
     t1 = time.perf_counter()
+    options = dict(timing=timing, crank=crank, mu_min=mu_min)
+    fits = [refine(*first, pts, max_nfev=40, **options) for first in starts if first is not None]
+    # the few best go on until they converge (the rest rarely overtake them)
+    fits.sort(key=lambda f: f.rms)
+    for i in range(min(POLISH, len(fits))):
+        more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
+        fits[i] = more if more.rms <= fits[i].rms else fits[i]
     results = []
-    for row, tr in zip(entries, transforms, strict=True):
-        for mirror in (False, True) if timing is not None else (False,):
-            res = _refine_one(row, tr, pts, timing, closed, crank, mu_min, tolerance, mirror)
-            if res is not None:
-                results.append(res)
+    for fit in fits:
+        res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
+        if res is not None:
+            results.append(res)
     t2 = time.perf_counter()
     results.sort(key=lambda r: float(np.max(r.distance)))
     good = [r for r in results if r.ok]
@@ -379,8 +391,8 @@ def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=N
     return rows[order], transforms[order]
 
 
-def _refine_one(row, tr, pts, timing, closed, crank, mu_min, tolerance, mirror):
-    """Place one atlas entry by ``tr``, refine it, check it (None if it cannot be used)."""
+def _start_untimed(row, tr, pts):
+    """Refinement start of an atlas entry placed by ``tr = (h, t)``: design, θ_k, assembly_k."""
     h, t = tr
     if not np.isfinite(h) or h == 0:
         return None
@@ -393,41 +405,70 @@ def _refine_one(row, tr, pts, timing, closed, crank, mu_min, tolerance, mirror):
     u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
     _, branch = circuit_angles(u, c, hw, ck, circuit)
     x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, delta, t.real, t.imag, rot])
-    if timing is None:
-        G = t + h * local[0]
-        near = np.argmin(np.abs(G[None, :] - pts[:, None]), axis=1)
-        theta0, br = theta2[0][near], branch[near]
-    else:
-        if not bool(ck):
-            return None
-        # the mirror image (δ → −δ, the other assembly) runs the other way round
-        # for the same crank rotation; both are placed by a scan of θ0
-        br0 = -circuit if mirror else circuit
-        if mirror:
-            x0[5] = -delta
-        theta0, br = _timed_start(x0, br0, pts, timing), np.full(pts.size, br0)
-    fit = refine(x0, theta0, br, pts, timing=timing, crank=crank, mu_min=mu_min)
-    return _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
+    near = np.argmin(np.abs((t + h * local[0])[None, :] - pts[:, None]), axis=1)
+    return x0, theta2[0][near], branch[near]
 
 
-def _timed_start(x0, branch, pts, timing):
-    """Best θ0 (and re-placement) for timed targets: scan θ0, Procrustes each (closed form)."""
-    from .refine import coupler_and_jacobian
+#: Entries scanned for timed targets, and crank angles tried for the first target.
+TIMED_POOL = 8_000
+TIMED_GRID = 60
 
-    grid = np.linspace(0.0, 2 * np.pi, 180, endpoint=False)
-    local = np.array([0, 0, 0, 0, 0, 0, 0, 0, 0], dtype=float)
-    local[:6] = x0[:6]
-    th = grid[:, None] + timing[None, :]
-    Q = coupler_and_jacobian(local, th.ravel(), np.full(th.size, branch))[0].reshape(th.shape)
-    qm = Q.mean(axis=1, keepdims=True)
-    tm = pts.mean()
-    hh = np.sum(np.conj(Q - qm) * (pts - tm)[None, :], axis=1)
-    rot = hh / np.maximum(np.abs(hh), 1e-300)
-    resid = np.sum(np.abs(pts[None, :] - tm - rot[:, None] * (Q - qm)) ** 2, axis=1)
-    i = int(np.argmin(resid))
-    o2 = tm - rot[i] * qm[i, 0]
-    x0[6], x0[7], x0[8] = o2.real, o2.imag, np.angle(rot[i])
-    return grid[i] + timing
+
+def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None):
+    """Refinement starts for timed targets: scan θ0 for every entry of a pool, fit each.
+
+    For each crank entry (and its mirror image: δ → −δ on the other assembly,
+    which runs the other way round for the same crank rotation) and each of
+    ``TIMED_GRID`` starting angles θ0, the coupler points at ``θ0 + Δ_k`` are
+    fitted onto the targets by a rotation, scale and offset (closed form); the
+    best fits start the refinements.
+    """
+    man = atlas.manifest
+    idx = atlas.pool(TIMED_POOL, crank=True)
+    if closed:
+        dense = interpolate_closed(pts, 8 * man.samples)
+        q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
+        idx = np.union1d(idx, atlas.nearest(q, retrieve, crank=True, client=client)[0])
+    rows = atlas.entries(idx)
+    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+    th = grid[:, None] + timing[None, :]  # (G, K)
+    a0 = pts - pts.mean()
+    aa = float(np.sum(np.abs(a0) ** 2))
+    best = []
+    for mirror in (1.0, -1.0):
+        for lo in range(0, rows.size, 2048):  # blocks keep the (rows, θ0, targets) arrays small
+            best.append(_timed_fits(rows[lo : lo + 2048], mirror, th, pts, aa))
+    score, g, hh, off, mirror = (np.concatenate(x) for x in zip(*best, strict=True))
+    order = np.argsort(-score)[:refine_count]
+    rows2 = np.concatenate([rows, rows])  # the order of the blocks: all unmirrored, then mirrored
+    starts = []
+    for i in order:
+        row, m, h = rows2[i], mirror[i], hh[i]
+        r1, r3, r4, p, delta = (float(row[k]) for k in ("r1", "r3", "r4", "p", "delta"))
+        s = abs(h)
+        x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, m * delta, off[i].real, off[i].imag,
+                       np.angle(h)])  # fmt: skip
+        theta = grid[g[i]] + timing
+        starts.append((x0, theta, np.full(pts.size, m * float(row["circuit"]))))
+    return starts
+
+
+def _timed_fits(rows, mirror, th, pts, aa):
+    """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets."""
+    f = {k: rows[k].astype(float)[:, None, None] for k in ("r1", "r3", "r4", "p", "delta")}
+    circuit = rows["circuit"].astype(float)[:, None, None] * mirror
+    Q = coupler_at(f["r1"], 1.0, f["r3"], f["r4"], f["p"], mirror * f["delta"], th, circuit)
+    qm = Q.mean(axis=2, keepdims=True)
+    q0 = Q - qm
+    a0 = pts - pts.mean()
+    c = np.sum(np.conj(q0) * a0, axis=2)  # (R, G)
+    v = np.sum(np.abs(q0) ** 2, axis=2)
+    score = np.abs(c) ** 2 / np.where(v > 0, v, np.inf) / aa  # 1 − normalised residual²
+    g = np.argmax(score, axis=1)
+    r = np.arange(rows.size)
+    hh = c[r, g] / v[r, g]
+    off = pts.mean() - hh * qm[r, g, 0]
+    return score[r, g], g, hh, off, np.full(rows.size, mirror)
 
 
 def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesis | None:
