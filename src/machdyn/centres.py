@@ -503,9 +503,10 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
     and the motion's ``theta``, ``omega``, ``points`` and ``point_velocity``.
     Primary centres by inspection: a pin joins each pair of its links at the
     pin; a slider's centre is at infinity normal to the slide (which turns with
-    the link it slides on); a rolling contact's is the contact point. A
-    pin-in-slot's centre lies on the slot's normal through the pin (a line for
-    Kennedy's rule, not a point). A linear actuator counts as its barrel and rod
+    the link it slides on), a curved slider's at the centre of curvature; a
+    rolling contact's is the contact point. A pin-in-slot's centre lies on the
+    slot's normal through the pin (through the centre of a curved slot): a line
+    for Kennedy's rule, not a point. A linear actuator counts as its barrel and rod
     (two pins and a slider), used on the way and left out of the result. The
     rest follows by :func:`kennedy`, with the velocity field (the motion's
     ω and point velocities) for centres the rule leaves undetermined.
@@ -529,14 +530,20 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
             at = finite(motion.points[joint.points[0]])
             for a, b in combinations(joint.links, 2):
                 known.setdefault((a, b), at)
+        elif kind == "slider" and getattr(joint, "centre", None) is not None:
+            # a curved slide: the block turns about the centre of curvature
+            known.setdefault(tuple(joint.links), finite(motion.points[joint.centre]))
         elif kind == "slider":
             block, on = joint.links
             normal = 1j * _turned(lk, motion, on, joint.direction)
             known.setdefault((block, on), at_infinity(normal))
         elif kind == "slot":
             link, on = joint.links
-            normal = at_infinity(1j * _turned(lk, motion, on, joint.direction))
             pin = finite(motion.points[joint.points[0]])
+            if getattr(joint, "centre", None) is not None:  # the normal: through the centre
+                normal = finite(motion.points[joint.centre])
+            else:
+                normal = at_infinity(1j * _turned(lk, motion, on, joint.direction))
             lines.setdefault((link, on), []).append(line_through(pin, normal))
         elif kind == "roll":
             known.setdefault(tuple(joint.links), finite(_contact_point(lk, motion, joint)))

@@ -54,6 +54,8 @@ class Linkage(_JointMethods, _ElementMethods):
         self._ground: tuple[str, ...] = ()
         self._sliders: dict[str, tuple[str, str, str, complex, str | None]] = {}
         self._slots: dict[str, tuple[str, str, str, complex, str | None]] = {}
+        # curved slots and sliders: name -> (kind "slot"/"slider", moving, on, at, centre, R)
+        self._curved: dict[str, tuple[str, str, str, str, str, float]] = {}
         self._actuators: dict[str, tuple[str, str, str, str]] = {}
         self._rolls: dict[str, tuple[str, str, float, str, str, float, bool]] = {}
         self._motors: dict[str, tuple[str, tuple[str, str] | None]] = {}  # name -> (pin, links)
@@ -255,6 +257,7 @@ class Linkage(_JointMethods, _ElementMethods):
         tables = (
             self._sliders,
             self._slots,
+            self._curved,
             self._actuators,
             self._rolls,
             self._motors,
@@ -356,8 +359,10 @@ class Linkage(_JointMethods, _ElementMethods):
                 joints.append(("R", (e.a, e.b)))
             elif e.kind == "P":
                 joints.append(("P", (e.a, e.b)))
-            elif e.kind == "slot":
+            elif e.kind in ("slot", "arc"):  # arc: a pin in a curved slot
                 joints.append(("pin-in-slot", (e.a, e.b)))
+            elif e.kind == "arcP":  # a block on a curved guide
+                joints.append(("P", (e.a, e.b)))
             elif e.kind == "roll":  # a carried contact only adds the no-slip condition
                 joints.append(("half" if e.carried else "rolling", (e.a, e.b)))
             else:

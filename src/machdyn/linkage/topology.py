@@ -34,7 +34,7 @@ class _Edge:
     slot (φ fixed in ``a``), ``L e^{jφ}`` for an actuator.
     """
 
-    kind: str  # "R", "P", "slot", "act", "roll"
+    kind: str  # "R", "P", "slot", "act", "roll", "arc" (curved slot), "arcP" (curved slider)
     name: str
     a: str
     b: str
@@ -104,6 +104,10 @@ def edges_of(lk: Linkage) -> list[_Edge]:
             key = f"{jn}:line"
             lk._points_extra[key] = foot
             edges.append(_Edge(kind, jn, on, moving, key, at, u))
+    for jn, (kind, moving, on, at, centre, r) in lk._curved.items():
+        edges.append(
+            _Edge("arc" if kind == "slot" else "arcP", jn, on, moving, centre, at, radii=(r, 0.0))
+        )
     for jn, (start, end, la, lb) in lk._actuators.items():
         a, b = lk._owner(start, la), lk._owner(end, lb)
         if a == b:
@@ -319,8 +323,30 @@ def compile_loops(lk: Linkage, edges: list[_Edge]) -> _Compiled:
         if e.kind == "R":
             return []
         if i not in cross_vec:
-            cross_vec[i] = roll_crossing(e) if e.kind == "roll" else [(new_crossing(e), 1)]
+            if e.kind == "roll":
+                cross_vec[i] = roll_crossing(e)
+            elif e.kind in ("arc", "arcP"):
+                cross_vec[i] = arc_crossing(e)
+            else:
+                cross_vec[i] = [(new_crossing(e), 1)]
         return cross_vec[i]
+
+    def arc_crossing(e: _Edge) -> list[tuple[str, int]]:
+        """Centre of curvature → pin: ``R e^{jψ}``, the effective link of a curved joint.
+
+        In a curved slot ψ is free (the pin turns in the slot); a curved slider's
+        block turns with the radius, so ψ is an angle of the block.
+        """
+        z = lk._xy(e.pb) - lk._xy(e.pa)
+        name = fresh(f"R_{e.name}")
+        if e.kind == "arcP":
+            ang: float | str = angle_of(e.b, float(np.angle(z)), f"arc_{e.name}")
+        else:
+            ang = fresh(f"psi_{e.name}")
+            drawn[ang] = float(np.angle(z))
+        system.vector(name, e.radii[0], ang)
+        roll_parts[e.name] = ((1.0, e.radii[0], ang),)
+        return [(name, 1)]
 
     def roll_crossing(e: _Edge) -> list[tuple[str, int]]:
         z = lk._xy(e.pb) - lk._xy(e.pa)
