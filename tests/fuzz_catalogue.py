@@ -106,7 +106,15 @@ NOT_CALLED = {
     "machdyn.linkage:Link",
     "machdyn.linkage:Spring",
     "machdyn.linkage:TorsionSpring",
+    "machdyn.linkage:Group",
+    "machdyn.linkage.dyads:Pair",
+    "machdyn.linkage.dyads:PinOnLine",
+    "machdyn.linkage.dyads:Slotted",
+    "machdyn.linkage.dyads:TwoLines",
     "machdyn.rotor:BearingReactions",
+    "machdyn.spec:Machine",  # built by machdyn.spec.load; its methods are catalogued
+    "machdyn.spec:Part",
+    "machdyn.units:Kind",
 }
 
 #: Public callables not fuzzed here, with the reason.
@@ -395,6 +403,7 @@ def catalogue() -> dict[str, Call]:
     _add_elements(c, fn, meth)
     _add_design(c, fn, meth)
     _add_general(c, fn, meth)
+    __import__("fuzz_catalogue_spec").add_spec(c, fn, meth)  # machdyn.spec, machdyn.units
     return c
 
 
@@ -969,6 +978,8 @@ def _add_general(c, fn, meth) -> None:
         for opt in ("through", "name", "links"):
             c[f"machdyn.linkage:Linkage.{key}"].accepts[opt] = {"none"}
     c["machdyn.linkage:Linkage.torsion_spring"].accepts["links"] = {"none"}
+    c["machdyn.linkage:Linkage.solve"].accepts["jerk"] = {"none"}
+    _add_dyads(c, fn)
     s = _loops
     fn("machdyn.loops:LoopSystem")
     meth(
@@ -1024,3 +1035,42 @@ def _loops_vectors():
 
     s = LoopSystem().vector("R1", 8.0, 0.0).vector("R2", 4.0, "theta2")
     return s.vector("R3", 7.0, "theta3").vector("R4", 6.0, "theta4")
+
+
+def _on_circle(centre: str, radius: str):
+    """Check of a dyad solver: where ok, the pin is at ``radius`` from ``centre``."""
+
+    def check(result, kw) -> None:
+        ok = np.asarray(result.ok)
+        B = np.broadcast_to(result.B, ok.shape)
+        A = np.broadcast_to(np.asarray(kw[centre], complex), ok.shape)
+        a = np.broadcast_to(np.asarray(kw[radius], float), ok.shape)
+        assert np.allclose(np.abs(B - A)[ok], a[ok], rtol=1e-9), "pin off its circle"
+
+    return check
+
+
+def _add_dyads(c, fn) -> None:
+    """The closed-form dyads of machdyn.linkage.dyads (each with an independent check)."""
+    d = "machdyn.linkage.dyads"
+    fn(f"{d}:rrr", A=0j, C=5 + 0j, a=3.0, b=np.array([4.0, 2.5]), sign=1)
+    c[f"{d}:rrr"].check = _on_circle("C", "b")
+    fn(f"{d}:rrp", A=2j, a=6.0, G=0j, u=1 + 0j, sign=np.array([1, -1]))
+    c[f"{d}:rrp"].check = _on_circle("A", "a")
+    fn(f"{d}:rpr", A=0j, C=np.array([3 + 4j, 1 + 0j]), e=0.5, sign=1)
+
+    def rpr_check(result, kw) -> None:
+        ok = np.asarray(result.ok)
+        C = np.broadcast_to(np.asarray(kw["C"], complex), ok.shape)
+        A = np.broadcast_to(np.asarray(kw["A"], complex), ok.shape)
+        e = np.broadcast_to(np.asarray(kw["e"], float), ok.shape)
+        u = np.broadcast_to(result.u, ok.shape)
+        off = ((C - A) * np.conj(u)).imag  # signed distance of A from the line through C
+        assert np.allclose(off[ok], e[ok], atol=1e-9 * (1 + np.abs(C - A)[ok]).max(initial=1))
+
+    c[f"{d}:rpr"].check = rpr_check
+    fn(f"{d}:line_line", G1=0j, u1=1 + 0j, G2=3 + 1j, u2=np.array([1j, 1 + 1j]))
+    fn(f"{d}:solve_pair", c1=1 + 0j, c2=1j, k=np.array([2 + 3j, 1j]))
+    for key in ("rrr", "rrp", "rpr", "line_line", "solve_pair"):
+        for name in ("A", "C", "G", "u", "G1", "G2", "u1", "u2", "c1", "c2", "k"):
+            c[f"{d}:{key}"].accepts.setdefault(name, set()).add("complex")

@@ -56,6 +56,7 @@ from ._validate import (
 from .centres import fourbar_centres
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
+from .units import UnitSystem, from_quantity_unit
 
 __all__ = [
     "STATUS_REASONS",
@@ -463,6 +464,8 @@ class FourBarMotion(Flagged):
     status: np.ndarray
     form: int
     lengths: tuple[float, float, float, float] = field(repr=False)
+    #: The model's unit system (labels of :meth:`to_pandas`); None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     # -- flags -----------------------------------------------------------------
     @property
@@ -515,8 +518,9 @@ class FourBarMotion(Flagged):
         """
         import pandas as pd
 
+        from .units import RATE_KINDS, columns
+
         degrees = boolean("degrees", degrees)
-        columns: dict[str, np.ndarray] = {}
         angles = (
             "theta2",
             "theta3",
@@ -527,40 +531,28 @@ class FourBarMotion(Flagged):
             "phi23",
             "phi24",
             "phi34",
-            "mu",
         )
-        rates = (
-            "omega2",
-            "omega3",
-            "omega4",
-            "alpha2",
-            "alpha3",
-            "alpha4",
-            "jerk2",
-            "jerk3",
-            "jerk4",
-        )
-        for name in angles:
-            value = np.ravel(getattr(self, name))
-            columns[f"{name}_deg" if degrees else name] = np.degrees(value) if degrees else value
-        for name in rates:
-            if getattr(self, name) is not None:
-                columns[name] = np.ravel(getattr(self, name))
+        spec: list[tuple[str, str | None, Any]] = [
+            (name, "angle", getattr(self, name)) for name in (*angles, "mu")
+        ]
+        for name in ("omega", "alpha", "jerk"):
+            for n in (2, 3, 4):
+                if getattr(self, f"{name}{n}") is not None:
+                    spec.append((f"{name}{n}", RATE_KINDS[name], getattr(self, f"{name}{n}")))
         points = {
-            "A": self.A,
-            "B": self.B,
-            "P": self.coupler,
-            "VP": self.coupler_velocity,
-            "AP": self.coupler_acceleration,
-            "JP": self.coupler_jerk,
+            "A": (self.A, "length"),
+            "B": (self.B, "length"),
+            "P": (self.coupler, "length"),
+            "VP": (self.coupler_velocity, "velocity"),
+            "AP": (self.coupler_acceleration, "acceleration"),
+            "JP": (self.coupler_jerk, "jerk"),
         }
-        for name, value in points.items():
+        for name, (value, kind) in points.items():
             if value is not None:
-                columns[f"{name}_x"] = np.ravel(value.real)
-                columns[f"{name}_y"] = np.ravel(value.imag)
-        columns["ok"] = np.ravel(self.ok)
-        columns["reason"] = np.ravel(self.reason)
-        return pd.DataFrame(columns)
+                spec += [(f"{name}_x", kind, value.real), (f"{name}_y", kind, value.imag)]
+        spec += [("ok", None, self.ok), ("reason", None, self.reason)]
+        table = columns(self.units, spec, degrees)
+        return pd.DataFrame(table)
 
     def __len__(self) -> int:
         return int(np.size(self.theta2))
@@ -721,6 +713,10 @@ class FourBar:
     array([93.583, 81.759, 77.426])
     """
 
+    #: The units the model computes in and labels its results with (set by
+    #: :func:`machdyn.load`, or from the unit of length quantities); None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, r1: Any, r2: Any, r3: Any, r4: Any, coupler: Any = None) -> None:
         lengths, unit = common_length_unit(r1=r1, r2=r2, r3=r3, r4=r4)
         for name, value in lengths.items():
@@ -728,6 +724,7 @@ class FourBar:
                 raise InputError(name, f"must be a positive length, got {value:g}")
         self.r1, self.r2, self.r3, self.r4 = (lengths[k] for k in ("r1", "r2", "r3", "r4"))
         self.length_unit: str | None = unit
+        self.units = from_quantity_unit(unit)
         self.classification: Classification = classify(self.r1, self.r2, self.r3, self.r4)
         if coupler is None:
             self.coupler: tuple[float, float] | None = None
@@ -748,6 +745,12 @@ class FourBar:
         return max(*self.lengths, 0.0 if self.coupler is None else self.coupler[0])
 
     # -- description --------------------------------------------------------------
+    def to_spec(self, name: str = "fourbar") -> dict[str, Any]:
+        """The four-bar as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from .spec import model_spec
+
+        return model_spec(self, "fourbar", name)
+
     def __repr__(self) -> str:
         extra = (
             "" if self.coupler is None else f", coupler=({self.coupler[0]:g}, {self.coupler[1]:g})"
@@ -861,7 +864,7 @@ class FourBar:
         reshaped = {
             k: (v.reshape(shape) if isinstance(v, np.ndarray) else v) for k, v in out.items()
         }
-        return FourBarMotion(form=form, lengths=self.lengths, **reshaped)
+        return FourBarMotion(form=form, lengths=self.lengths, units=self.units, **reshaped)
 
     def _range_hint(self, form: int) -> str:
         rng = self.input_range(form)

@@ -27,6 +27,7 @@ from ._flags import Flagged
 from ._validate import choice, common_length_unit, finite_array, finite_scalar, input_motion, length
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
+from .units import UnitSystem, from_quantity_unit
 
 #: Memory per pose of a solve (rate arrays, complex points, status) for the budget check.
 _BYTES_PER_POSE = 12 * 8 + 5 * 16 + 1
@@ -91,6 +92,8 @@ class SliderCrankMotion(Flagged):
     status: np.ndarray
     form: int
     offset: float = field(repr=False)
+    #: The model's unit system (labels of :meth:`to_pandas`); None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     @property
     def assembled(self) -> np.ndarray:
@@ -101,21 +104,16 @@ class SliderCrankMotion(Flagged):
         """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily)."""
         import pandas as pd
 
-        names = (
-            "theta2",
-            "theta3",
-            "omega2",
-            "omega3",
-            "alpha2",
-            "alpha3",
-            "jerk2",
-            "jerk3",
-            "d",
-            "d_dot",
-            "d_ddot",
-            "d_dddot",
-        )
-        cols = {n: np.ravel(getattr(self, n)) for n in names}
+        from .units import columns
+
+        kinds = {"theta": "angle", "omega": "angular_velocity", "alpha": "angular_acceleration"}
+        kinds |= {"jerk": "angular_jerk"}
+        spec: list[tuple[str, str | None, Any]] = [
+            (f"{k}{n}", kind, getattr(self, f"{k}{n}")) for k, kind in kinds.items() for n in (2, 3)
+        ]
+        spec += [("d", "length", self.d), ("d_dot", "velocity", self.d_dot)]
+        spec += [("d_ddot", "acceleration", self.d_ddot), ("d_dddot", "jerk", self.d_dddot)]
+        cols = columns(self.units, spec)
         cols["ok"] = np.ravel(self.ok)
         cols["reason"] = np.ravel(self.reason)
         return pd.DataFrame(cols)
@@ -152,6 +150,9 @@ class SliderCrank:
     array([ -0.,  -20., 0.])
     """
 
+    #: The units the model computes in and labels its results with; None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, crank: Any, coupler: Any, offset: Any = 0.0, point: Any = None) -> None:
         values, unit = common_length_unit(crank=crank, coupler=coupler, offset=offset)
         for name in ("crank", "coupler"):
@@ -159,6 +160,7 @@ class SliderCrank:
                 raise InputError(name, f"must be a positive length, got {values[name]:g}")
         self.a, self.b, self.c = values["crank"], values["coupler"], values["offset"]
         self.length_unit = unit
+        self.units = from_quantity_unit(unit)
         if abs(self.c) >= self.a + self.b:
             raise AssemblyError(
                 f"offset {self.c:g} is out of reach: |offset| must be less than "
@@ -175,6 +177,12 @@ class SliderCrank:
                 length("point p", p, unit),
                 finite_scalar("point delta", delta, "radian"),
             )
+
+    def to_spec(self, name: str = "slider_crank") -> dict[str, Any]:
+        """The slider-crank as a machine-file dict (see ``docs/spec.md``)."""
+        from .spec import model_spec
+
+        return model_spec(self, "slider_crank", name)
 
     def __repr__(self) -> str:
         return f"SliderCrank(crank={self.a:g}, coupler={self.b:g}, offset={self.c:g})"
@@ -323,6 +331,7 @@ class SliderCrank:
             status=status,
             form=form,
             offset=c,
+            units=self.units,
         )
 
     def draw(self, theta2: Any, ax: Any = None, **options: Any):
@@ -421,6 +430,8 @@ class InvertedSliderCrankMotion(Flagged):
     A: np.ndarray
     status: np.ndarray
     form: int
+    #: The model's unit system; None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     @property
     def theta3(self) -> np.ndarray:
@@ -451,6 +462,9 @@ class InvertedSliderCrank:
     153.4349 4.472136
     """
 
+    #: The units the model computes in and labels its results with; None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, crank: Any, ground: Any, offset: Any = 0.0) -> None:
         values, unit = common_length_unit(crank=crank, ground=ground, offset=offset)
         for name in ("crank", "ground"):
@@ -458,6 +472,13 @@ class InvertedSliderCrank:
                 raise InputError(name, f"must be a positive length, got {values[name]:g}")
         self.a, self.d, self.c = values["crank"], values["ground"], values["offset"]
         self.length_unit = unit
+        self.units = from_quantity_unit(unit)
+
+    def to_spec(self, name: str = "inverted_slider_crank") -> dict[str, Any]:
+        """The inverted slider-crank as a machine-file dict (see ``docs/spec.md``)."""
+        from .spec import model_spec
+
+        return model_spec(self, "inverted_slider_crank", name)
 
     def __repr__(self) -> str:
         return f"InvertedSliderCrank(crank={self.a:g}, ground={self.d:g}, offset={self.c:g})"
@@ -580,4 +601,5 @@ class InvertedSliderCrank:
             A=a * e2,
             status=status,
             form=form,
+            units=self.units,
         )

@@ -28,6 +28,7 @@ def _register() -> None:
     from .gear import gear_app
     from .linkage import linkage
     from .plot import animate
+    from .run import run
     from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
@@ -38,6 +39,7 @@ def _register() -> None:
     app.command("animate")(animate)
     app.add_typer(synth_app, name="synth")
     app.add_typer(atlas_app, name="atlas")
+    app.command("run")(run)
 
 
 _register()

@@ -12,7 +12,7 @@ from ..loops import LoopSystem
 from ..massprops import MassProperties
 from ..mobility import mobility_of
 from . import kinematics as _kinematics
-from ._common import GROUND, _complex_point
+from ._common import GROUND, _complex_point, _ref_angle
 from .elements import _ElementMethods, _Spring, _Torsion
 from .forces import LinkageForces, _forces
 from .groups import Group, decompose
@@ -311,6 +311,58 @@ class Linkage(_JointMethods, _ElementMethods):
         """The springs and torsion springs (known loads), in the order they were added."""
         return elements_of(self)
 
+    @property
+    def drawn_inputs(self) -> Mapping[str, float]:
+        """Every driver's value in the drawn pose (radians for angles, lengths otherwise).
+
+        A link's angle ``theta`` (its first → second point), a motor's
+        ``theta_b − theta_a``, a slider's or slot's displacement along its line
+        from the foot of the guide's first point (or of ``through``), an
+        actuator's length: the values :meth:`solve` reproduces the drawing at.
+
+        Examples
+        --------
+        >>> lk = (Linkage({"O2": (0, 0), "A": (0, 2), "B": (6, 0)}).ground("O2")
+        ...       .link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+        ...       .slider("block", "ground", "B", 0.0, name="guide").drive("crank", "guide"))
+        >>> {k: round(v, 6) for k, v in lk.drawn_inputs.items()}
+        {'crank': 1.570796, 'guide': 6.0}
+        """
+        out = {}
+        for d in self._drivers:
+            if d in self._links:
+                out[d] = _ref_angle(self, d)
+            elif d in self._motors:
+                a, b = self._motor_links(d)
+                out[d] = _ref_angle(self, b) - _ref_angle(self, a)
+            elif d in self._actuators:
+                start, end = self._actuators[d][:2]
+                out[d] = float(abs(self._points[end] - self._points[start]))
+            else:
+                _, on, at, u, through = {**self._sliders, **self._slots}[d]
+                ref = self._points[through] if through else self._first_point(on)
+                out[d] = float(((self._points[at] - ref) * u.conjugate()).real)
+        return MappingProxyType(out)
+
+    # ------------------------------------------------------------------ pictures
+    def draw(self, frame: int | None = None, ax: Any = None, **options: Any) -> Any:
+        """Draw the linkage in one pose (:func:`machdyn.draw.draw`)."""
+        from ..draw import draw
+
+        return draw(self, frame, ax, **options)
+
+    def animate(self, path: Any = None, **options: Any) -> Any:
+        """Animate the linkage (:func:`machdyn.draw.animate`)."""
+        from ..draw import animate
+
+        return animate(self, path, **options)
+
+    def to_html(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML page of the motion (:func:`machdyn.draw.to_html`)."""
+        from ..draw import to_html
+
+        return to_html(self, path, **options)
+
     # ------------------------------------------------------------------ structure
 
     def _owner(self, point: str, preferred: str = "") -> str:
@@ -410,8 +462,6 @@ class Linkage(_JointMethods, _ElementMethods):
             self._element_links(name)  # ends on two different links
         groups, program = decompose(self, edges)
         self._compiled = _Model(self, edges, groups, program)
-        if program is None:
-            self._compiled.loops()  # validates the loop formulation now
         return self._compiled
 
     # ------------------------------------------------------------------ solving
