@@ -159,3 +159,22 @@ def test_bad_centrode_requests_name_the_field(call, field):
     with pytest.raises(InputError) as err:
         call()
     assert err.value.field == field
+
+
+def test_drawing_shows_the_moving_centrode_touching_the_fixed_one(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    c = centrodes(FourBar(8, 4, 7, 6), np.radians(np.linspace(0, 360, 361)), moving=4, fixed=2)
+    ax = c.plot(frame=100)
+    lines = {ln.get_gid(): ln for ln in ax.lines}
+    fixed, moving, contact = (
+        lines[g].get_xydata() for g in ("fixed_centrode", "moving_centrode", "centrode_contact")
+    )
+    z = complex(*contact[0])
+    assert z == pytest.approx(complex(*fixed[100])) and z == pytest.approx(complex(*moving[100]))
+    ax.figure.savefig(tmp_path / "centrodes.png")
+    assert (tmp_path / "centrodes.png").stat().st_size > 1000
+    plt.close("all")
