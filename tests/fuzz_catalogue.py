@@ -89,6 +89,9 @@ NOT_CALLED = {
     "machdyn.shaking:Counterweights",
     "machdyn.slidercrank:InvertedSliderCrankMotion",
     "machdyn.slidercrank:SliderCrankMotion",
+    "machdyn.synthesis:Atlas",  # opened by open_atlas
+    "machdyn.synthesis:AtlasError",
+    "machdyn.synthesis:PathCandidates",
     "machdyn.synthesis:CouplerAtlas",
     "machdyn.synthesis:DrivingDyad",
     "machdyn.synthesis:FunctionGenerator",
@@ -897,6 +900,69 @@ def _add_design(c, fn, meth) -> None:
     meth("machdyn.synthesis:MotionSynthesis.to_pandas", three, degrees=True)
     path = lambda: syn.synthesize_path(targets, popsize=5, maxiter=3, n=24, polish=False)  # noqa: E731
     meth("machdyn.synthesis:PathSynthesis.curve", path, n=36)
+    _add_atlas(c, fn, meth, targets)
+
+
+_ATLAS: list = []
+
+
+def _tiny_atlas():
+    """A 400-entry four-bar atlas in a temporary folder, built once per session."""
+    import tempfile
+
+    syn = __import__("machdyn.synthesis").synthesis
+    if not _ATLAS:
+        folder = tempfile.mkdtemp(prefix="machdyn_fuzz_atlas_")
+        syn.build_atlas(folder, 400, chunk_size=200, progress=False)
+        _ATLAS.append(syn.open_atlas(folder))
+    return _ATLAS[0]
+
+
+def _in_temporary_folder(func):
+    """``func`` run with a fresh temporary working directory (a build writes where told)."""
+    import functools
+    import os
+    import tempfile
+
+    @functools.wraps(func)
+    def call(*args, **kwargs):
+        here = os.getcwd()
+        with tempfile.TemporaryDirectory(prefix="machdyn_fuzz_") as tmp:
+            os.chdir(tmp)
+            try:
+                return func(*args, **kwargs)
+            finally:
+                os.chdir(here)
+
+    return call
+
+
+def _add_atlas(c, fn, meth, targets) -> None:
+    syn = __import__("machdyn.synthesis").synthesis
+    build = lambda: _in_temporary_folder(syn.build_atlas)  # noqa: E731
+    fn("machdyn.synthesis:build_atlas", Call(build, dict(path="a", count=20, chunk_size=20,
+                                                          progress=False)))  # fmt: skip
+    c["machdyn.synthesis:build_atlas"].accepts.update(
+        path={"text"}, scheduler={"none"}, workers={"none"}
+    )
+    fn("machdyn.synthesis:open_atlas", path=str(_tiny_atlas().path))
+    c["machdyn.synthesis:open_atlas"].accepts["path"] = {"text"}
+    fn("machdyn.synthesis:curve_descriptor", z=np.exp(1j * np.linspace(0, 6, 40)) + 0.2)
+    fn(
+        "machdyn.synthesis:path_from_atlas",
+        targets=targets,
+        atlas=_tiny_atlas(),
+        n=1,
+        retrieve=5,
+        refine_count=1,
+    )
+    c["machdyn.synthesis:path_from_atlas"].accepts.update(
+        atlas={"text"}, timing={"none"}, tolerance={"none"}, client={"none"}
+    )
+    meth("machdyn.synthesis:Atlas.entries", _tiny_atlas, index=[0, 5, 399])
+    meth("machdyn.synthesis:Atlas.nearest", _tiny_atlas, descriptor=_tiny_atlas().desc[0][3], k=3)
+    c["machdyn.synthesis:Atlas.nearest"].accepts["client"] = {"none"}
+    meth("machdyn.synthesis:Atlas.pool", _tiny_atlas, size=10)
 
 
 def _add_general(c, fn, meth) -> None:

@@ -244,3 +244,75 @@ def test_bad_model_is_refused():
 
     with pytest.raises(InputError, match="no report for a str"):
         report("four-bar")
+
+
+# --------------------------------------------------------------------------------------
+# machdyn report FILE -o report.html
+
+
+@pytest.fixture
+def cli(capsys):
+    from machdyn.cli import main
+
+    def run(*args):
+        code = main(["report", *map(str, args)])
+        out = capsys.readouterr()
+        return code, out.out + out.err
+
+    return run
+
+
+EXAMPLES = __import__("pathlib").Path(__file__).parent.parent / "docs" / "examples"
+
+
+def test_cli_writes_the_report_of_a_linkage_file(cli, tmp_path):
+    out = tmp_path / "lid.html"
+    code, output = cli(EXAMPLES / "lid.toml", "-o", out, "--samples", 120)
+    assert code == 0, output
+    page = out.read_text(encoding="utf-8")
+    first = re.search(r'id="headline">(.*?)</p>', page).group(1)
+    assert first in output.replace("'", "&#x27;")
+    assert "0 to 90 deg" in first  # the file's sweep range
+    assert set(checks_of(page).values()) <= {"pass", "not measured"}
+    assert "x (m)" in page  # the file's length unit labels the tables
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("nofile.toml", "-o", "x.html"), "no such file"),
+        ((EXAMPLES / "lid.toml", "-o", "x.docx"), "--out"),
+        ((EXAMPLES / "lid.toml", "-o", "x.html", "--samples", 2), "--samples"),
+        ((EXAMPLES / "lid.toml", "-o", "x.html", "--k", 0.9), "--k"),
+    ],
+)
+def test_cli_bad_input_is_one_line(cli, args, needle, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, output = cli(*args)
+    assert code != 0
+    assert needle in output and "Traceback" not in output and len(output.splitlines()) == 1
+
+
+def test_cli_reports_a_machine_file_with_its_units_and_masses(cli, tmp_path):
+    import machdyn
+
+    out = tmp_path / "hw6.html"
+    code, output = cli(EXAMPLES / "hw6.toml", "-o", out, "--k", 0.05)
+    assert code == 0, output
+    page = out.read_text(encoding="utf-8")
+    # the file's model, speed, masses, load and gravity, solved here through the API
+    fb = machdyn.spec.load_machine(EXAMPLES / "hw6.toml")["hw6"]
+    th = fourbar_sweep(fb, 1, 360)
+    f = fb.dynamics(
+        th,
+        10.0,
+        mass=(0.002, 0.004, 0.003),
+        inertia=(0.003, 0.02, 0.01),
+        cg=(2, 3.5 + 1j, 3),
+        gravity=386.08858267716533,
+        load_torque4=-5.0,
+    )
+    text = cell(page, "peak_F32")
+    assert number(text) == pytest.approx(np.abs(f.F32).max(), rel=5e-4)
+    assert "lbf" in text and "in)" in page  # the file's units label the numbers
+    assert set(checks_of(page).values()) == {"pass"}

@@ -453,10 +453,16 @@ class Linkage(_JointMethods, _ElementMethods):
         if not self._drivers:
             raise ModelError(f"mobility is {m} but no driver was named: call drive(...)")
         if m != len(self._drivers):
+            where = ""
+            try:  # the Assur decomposition names the links and joints at fault
+                decompose(self, edges)
+            except ModelError as exc:
+                where = f"; {exc}"
             raise ModelError(
                 f"mobility (Kutzbach–Gruebler) is {m} but {len(self._drivers)} driver(s) were "
                 f"named ({', '.join(self._drivers)}): name {m} driver(s)"
                 + (" — the drawing is a structure" if m <= 0 else "")
+                + where
             )
         for name in [*self._springs, *self._torsions]:
             self._element_links(name)  # ends on two different links

@@ -188,19 +188,28 @@ def finite_differences(m: RigidMotion, tol: float = 1e-5) -> list[Check]:
 
 
 def power_balance(
-    power_in: np.ndarray, dke: np.ndarray, ok: np.ndarray, tol: float = 1e-8
+    power_in: np.ndarray,
+    dke: np.ndarray,
+    ok: np.ndarray,
+    tol: float = 1e-8,
+    scale: np.ndarray | None = None,
 ) -> Check:
-    """Input power (drivers and loads) against the rate of change of kinetic energy."""
+    """Input power (drivers and loads) against the rate of change of kinetic energy.
+
+    The residual is divided by the largest power that enters the balance
+    (``scale``: the sum of the magnitudes of every term, per sample, when
+    given), so a machine whose energy does not change is still measured.
+    """
     good = ok & np.isfinite(power_in) & np.isfinite(dke)
     value, n = float("nan"), int(good.sum())
     if n:
-        scale = max(float(np.abs(dke[good]).max()), float(np.abs(power_in[good]).max()), 1e-300)
-        value = float(np.abs(power_in - dke)[good].max()) / scale
+        terms = np.abs(dke) + np.abs(power_in) if scale is None else np.abs(scale)
+        value = float(np.abs(power_in - dke)[good].max()) / max(float(terms[good].max()), 1e-300)
     return Check(
         "power balance",
         value,
         tol,
-        "max | P_in + P_loads − Σ(m v_G·a_G + I_G ω α) | / max |dE/dt|",
+        "max | P_in + P_loads − Σ(m v_G·a_G + I_G ω α) | / the largest power term",
         n,
     )
 

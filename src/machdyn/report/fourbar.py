@@ -131,6 +131,21 @@ def fourbar_checks(
     return checks
 
 
+def _model_length_unit(model: Any) -> str | None:
+    """The model's length unit: its unit system's (machine files), else its quantities'."""
+    system = getattr(model, "units", None)
+    return getattr(system, "length", None) or getattr(model, "length_unit", None)
+
+
+def _force_labels(model: Any, length_unit: str | None) -> tuple[str, str]:
+    """Force and torque units: the model's unit system's where it has one."""
+    system = getattr(model, "units", None)
+    force, torque = getattr(system, "force", None), getattr(system, "torque", None)
+    if force and torque:
+        return str(force), str(torque)
+    return force_units(length_unit)
+
+
 def _where(th: np.ndarray, k: int) -> str:
     return f"{np.degrees(th[k]):.1f}°"
 
@@ -150,14 +165,16 @@ def fourbar_report(
     mu_limit_deg: float = 40.0,
     title: str | None = None,
     motion: FourBarMotion | None = None,
+    length_unit: str | None = None,
 ) -> Page:
     """Build the report page of a four-bar (see :func:`machdyn.report.report`)."""
     th = fourbar_sweep(fb, form, n)
     m = motion if motion is not None else fb.solve(th, omega2, form=form)
     th = np.ravel(m.theta2)
     rng = fb.input_range(form)
-    unit = length_label(fb.length_unit)
-    fu, tu = force_units(fb.length_unit)
+    length_unit = length_unit or _model_length_unit(fb)
+    unit = length_label(length_unit)
+    fu, tu = _force_labels(fb, length_unit)
     kind = {True: "crank", False: "rocker"}[rng.full_turn]
     span = (
         "the full turn"

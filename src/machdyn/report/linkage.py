@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from itertools import combinations
 from typing import Any
 
 import numpy as np
 
 from ..draw.chart import Chart, Series
-from ..draw.engineering import force_units, pin_force_charts, shaking_charts, torque_chart
+from ..draw.engineering import pin_force_charts, shaking_charts, torque_chart
 from ..draw.html import widget
 from ..draw.kinematics import length_label
 from ..draw.linkage import default_values, linkage_scene
@@ -23,6 +24,7 @@ from .checks import (
     loop_closure,
     power_balance,
 )
+from .fourbar import _force_labels, _model_length_unit
 from .page import Page, esc, fmt
 
 __all__ = ["linkage_checks", "linkage_report"]
@@ -31,7 +33,8 @@ _GROUND = "ground"
 
 
 def _title(lk: Any) -> str:
-    return f"linkage of {len(lk.links)} moving links ({', '.join(lk.links)})"
+    count = len(lk.links)
+    return f"linkage of {count} moving link{'s' if count != 1 else ''} ({', '.join(lk.links)})"
 
 
 def linkage_checks(
@@ -69,7 +72,7 @@ def linkage_checks(
     rigid = RigidMotion(np.asarray(x, float), float(xdot), points, links, ok, pins)
     checks = [*loop_closure(rigid), *finite_differences(rigid), kennedy(rigid)]
     if forces is not None:
-        bodies, p_ext = {}, np.zeros(ok.shape)
+        bodies, p_ext, p_abs = {}, np.zeros(ok.shape), np.zeros(ok.shape)
         for name, link in lk.links.items():
             if link.mass == 0 and link.inertia == 0:
                 continue
@@ -79,7 +82,14 @@ def linkage_checks(
             vg = v0 + 1j * w * (G - p0)
             ag = a0 + (1j * al - w * w) * (G - p0)
             bodies[name] = (link.mass, link.inertia, vg, ag, w, al)
-            p_ext = p_ext - link.mass * gravity * vg.imag
+            term = link.mass * gravity * vg.imag
+            p_ext, p_abs = (
+                p_ext - term,
+                p_abs
+                + np.abs(term)
+                + np.abs(link.mass * (np.conj(vg) * ag).real)
+                + np.abs(link.inertia * w * al),
+            )
         for d, effort in forces.driver.items():
             rate = np.ravel(motion.length_rate[d]) if d in motion.length_rate else None
             if d in lk.links:
@@ -88,10 +98,14 @@ def linkage_checks(
                 a, b = next(j.links for j in lk.joints if j.name == d)
                 wa = zero.real if a == _GROUND else np.ravel(motion.omega[a])
                 rate = np.ravel(motion.omega[b]) - wa
-            p_ext = p_ext + np.ravel(effort) * rate
+            term = np.ravel(effort) * rate
+            p_ext, p_abs = p_ext + term, p_abs + np.abs(term)
         for e, effort in forces.elements.items():
-            p_ext = p_ext - np.ravel(effort) * np.ravel(forces.element_rate[e])
-        checks.append(power_balance(p_ext, kinetic_energy_rate(bodies), ok & np.ravel(forces.ok)))
+            term = np.ravel(effort) * np.ravel(forces.element_rate[e])
+            p_ext, p_abs = p_ext - term, p_abs + np.abs(term)
+        checks.append(
+            power_balance(p_ext, kinetic_energy_rate(bodies), ok & np.ravel(forces.ok), scale=p_abs)
+        )
     return checks
 
 
@@ -127,11 +141,13 @@ def linkage_report(
     gravity: float = 0.0,
     k: float | None = None,
     title: str | None = None,
+    length_unit: str | None = None,
 ) -> Page:
     """Build the report page of a linkage (see :func:`machdyn.report.report`)."""
     title = title or _title(lk)
-    unit = length_label(getattr(lk, "length_unit", None))
-    fu, tu = force_units(getattr(lk, "length_unit", None))
+    length_unit = length_unit or _model_length_unit(lk)
+    unit = length_label(length_unit)
+    fu, tu = _force_labels(lk, length_unit)
     try:
         mobility = lk.mobility()
     except Exception as err:  # a model error is the answer here
@@ -190,7 +206,9 @@ def linkage_report(
     )
     step = max(1, len(x) // 120)
     frames = lk.solve({d: np.ravel(v)[::step] for d, v in values.items()})
-    s = linkage_scene(lk, frames, title=title, closed=closed)
+    s = replace(
+        linkage_scene(lk, frames, title=title, closed=closed), length_unit=length_unit or ""
+    )
     page.section("model", "The model and its drawing", _model_tables(page, lk, unit) + widget(s))
     page.section(
         "class",

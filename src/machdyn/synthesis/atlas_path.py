@@ -30,16 +30,18 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar, integer
+from .._validate import boolean, finite_array, finite_scalar, integer, positive
 from ..classify import classify
 from ..errors import InputError
 from ..fourbar import FourBar
 from .atlas_store import (
+    META_DTYPE,
     AtlasError,
     Manifest,
     chunk_is_good,
     chunk_name,
     even_curves,
+    folder_path,
     read_manifest,
 )
 from .circuits import circuit_angles, circuit_points, circuit_range, coupler_at
@@ -56,8 +58,11 @@ from .geometry import as_points
 from .path import PathSynthesis, _mu_min
 from .placed import PlacedFourBar
 from .refine import refine
+from .sixbar import SIXBAR_DTYPE
 
-__all__ = ["Atlas", "PathCandidates", "open_atlas", "path_from_atlas"]
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
 
 #: Atlas entries retrieved per query, and how many of the best-placed are refined.
 RETRIEVE = 160
@@ -94,7 +99,12 @@ class Atlas:
 
     def entries(self, index: Any) -> np.ndarray:
         """Parameter rows of the entries at flat indices."""
-        index = np.atleast_1d(np.asarray(index, dtype=np.int64))
+        index = np.atleast_1d(finite_array("index", index)).ravel()
+        if index.size and (
+            np.any(index != np.round(index)) or index.min() < 0 or index.max() >= len(self)
+        ):
+            raise InputError("index", f"must be whole numbers from 0 to {len(self) - 1}")
+        index = index.astype(np.int64)
         chunk = np.searchsorted(self.offsets, index, side="right") - 1
         out = np.empty(index.size, dtype=self.meta[0].dtype)
         for c in np.unique(chunk):
@@ -109,6 +119,14 @@ class Atlas:
         task on the cluster (whose workers must see the atlas folder).
         Returns flat indices and squared distances (best first).
         """
+        width = 4 * self.manifest.harmonics
+        descriptor = np.ravel(finite_array("descriptor", descriptor))
+        if descriptor.size != width:
+            raise InputError("descriptor", f"must have {width} numbers, got {descriptor.size}")
+        k = integer("k", k, minimum=1, maximum=1_000_000)
+        crank = boolean("crank", crank)
+        if client is not None and not callable(getattr(client, "submit", None)):
+            raise InputError("client", "must be a distributed.Client (or None)")
         variants = descriptor_variants(descriptor).reshape(4, -1).T.copy()  # (D, 4)
         if client is None:
             parts = [
@@ -129,6 +147,8 @@ class Atlas:
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas."""
+        size = integer("size", size, minimum=1, maximum=10**9)
+        crank = boolean("crank", crank)
         barker = np.concatenate([m["barker"] for m in self.meta])
         allowed = np.flatnonzero(barker <= 2) if crank else np.arange(len(self))
         if allowed.size <= size:
@@ -171,7 +191,8 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
         No manifest, another format version, an unfinished build, a missing,
         truncated or corrupted chunk: never a wrong answer from a stale atlas.
     """
-    folder = Path(path)
+    folder = folder_path("path", path)
+    verify = boolean("verify", verify)
     manifest = read_manifest(folder)
     if not manifest.complete:
         raise AtlasError(
@@ -193,7 +214,13 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
             raise AtlasError(
                 folder, f"chunk {i} cannot be read ({exc}); rebuild the atlas"
             ) from None
-        if d.shape != (info["rows"], width) or d.dtype != np.float32 or m.shape != (info["rows"],):
+        want = SIXBAR_DTYPE if manifest.kind == "sixbar" else META_DTYPE
+        if (
+            d.shape != (info["rows"], width)
+            or d.dtype != np.float32
+            or m.shape != (info["rows"],)
+            or m.dtype != want
+        ):
             raise AtlasError(folder, f"chunk {i} does not have the shape its manifest says")
         desc.append(d)
         meta.append(np.asarray(m))
@@ -237,7 +264,10 @@ class PathCandidates:
 
 
 def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.ndarray | None]:
-    pts = as_points("targets", targets)
+    try:
+        pts = as_points("targets", targets)
+    except (OverflowError, TypeError) as exc:
+        raise InputError("targets", f"must be points (x, y) or x + jy, got {exc}") from None
     kind = "timed" if timing is not None else ("closed" if closed else "open")
     need = MIN_POINTS[kind]
     if pts.size < need:
@@ -324,12 +354,24 @@ def path_from_atlas(
     start = time.perf_counter()
     if not isinstance(atlas, Atlas):
         atlas = open_atlas(atlas)
+    closed = boolean("closed", closed)
     pts, timing = _targets(targets, timing, closed)
-    n = integer("n", n, minimum=1)
+    n = integer("n", n, minimum=1, maximum=1000)
     mu_min = finite_scalar("mu_min", mu_min, "radian")
-    crank = bool(crank) or timing is not None
+    if not 0.0 <= mu_min < np.pi / 2:
+        raise InputError("mu_min", f"must be between 0 and 90 deg, got {np.degrees(mu_min):g} deg")
+    if tolerance is not None:
+        tolerance = positive("tolerance", tolerance)
+    retrieve = integer("retrieve", retrieve, minimum=1, maximum=100_000)
+    refine_count = integer("refine_count", refine_count, minimum=1, maximum=10_000)
+    if client is not None and not callable(getattr(client, "submit", None)):
+        raise InputError("client", "must be a distributed.Client (or None)")
+    crank = boolean("crank", crank) or timing is not None
     size = float(np.max(np.abs(pts - pts.mean())))
     t0 = time.perf_counter()
+    if atlas.manifest.kind == "sixbar":
+        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count,
+                            client, start)  # fmt: skip
     if timing is None:
         entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
         starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
@@ -368,6 +410,42 @@ def path_from_atlas(
         note = "every linkage found has a defect (see rejected)"
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+
+
+def _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count, client, start):
+    """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
+    from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    t0 = time.perf_counter()
+    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client)
+    t1 = time.perf_counter()
+    fits = [(*refine_sixbar(x0, th0, fx, pts, timing=timing, max_nfev=40), fx)
+            for x0, th0, fx in starts]  # fmt: skip
+    fits.sort(key=lambda f: f[2])
+    for i in range(min(POLISH, len(fits))):
+        x, th, rms, fx = fits[i]
+        more = refine_sixbar(x, th, fx, pts, timing=timing, max_nfev=400)
+        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance) for x, th, _, fx in fits]
+    results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
+    t2 = time.perf_counter()
+    chosen, rejected = [], []
+    for r in results:
+        if not r.ok:
+            rejected.append(r)
+        elif all(np.max(np.abs(r.design[3:] - c.design[3:])) > 0.02 * size for c in chosen):
+            chosen.append(r)
+    chosen = chosen[:n]
+    best = chosen[0] if chosen else (rejected[0] if rejected else None)
+    worst = float(np.max(best.distance)) / size if best is not None else np.inf
+    note = "" if worst <= NEAR else (
+        f"no atlas entry comes near these targets: the best six-bar found misses by "
+        f"{100 * worst:.1f} % of the targets' size"
+    )  # fmt: skip
+    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
+                          seconds)  # fmt: skip
 
 
 def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None):
