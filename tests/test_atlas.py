@@ -257,3 +257,15 @@ def test_bad_scheduler_is_an_input_error(tmp_path):
     pytest.importorskip("distributed")
     with pytest.raises(InputError, match="scheduler"):
         build_atlas(tmp_path, 10, chunk_size=10, scheduler="nonsense", progress=False)
+
+
+def test_dask_query_equals_local_query(small_atlas):
+    distributed = pytest.importorskip("distributed")
+    at = open_atlas(small_atlas)
+    q = at.desc[1][17]
+    local = at.nearest(q, 7)
+    with distributed.Client(processes=False, n_workers=1, dashboard_address=None) as client:
+        remote = at.nearest(q, 7, client=client)
+    np.testing.assert_array_equal(local[0], remote[0])
+    np.testing.assert_allclose(local[1], remote[1])
+    assert local[0][0] == at.offsets[1] + 17

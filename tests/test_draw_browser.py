@@ -53,6 +53,40 @@ def watt_with_slider(theta2: float = np.pi / 6, names: dict | None = None) -> Li
     return lk.drive(n["2"])
 
 
+def _cam():
+    from machdyn import cams
+
+    prog = cams.CamProgram(
+        [
+            cams.Segment("rise", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+            cams.Segment("fall", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+        ]
+    )
+    return cams.TranslatingRoller(prime_radius=3.0, roller_radius=0.5).profile(prog)
+
+
+def _gears():
+    from machdyn.gears import Gear, GearPair
+
+    return GearPair(Gear(18, module=1.0), Gear(40, module=1.0))
+
+
+def _path():
+    from machdyn.synthesis import PlacedFourBar
+    from machdyn.synthesis.path import PathSynthesis
+
+    pl = PlacedFourBar.from_pivots(O2=0, O4=8, A=4, B=8 + 6j, P=5 + 3j)
+    targets = pl.pose(np.radians([0.0, 40.0, 80.0, 120.0]))[2] + 0.05
+    return PathSynthesis(
+        pl, targets, np.zeros(4), np.full(4, 0.07), "GCRR", True, 0.6, True, 0.0, ()
+    )
+
+
+ELEMENTS = {"cam": _cam, "gears": _gears, "path": _path}
+
+
 DRAWN = """(uid) => {
   const svg = document.getElementById(uid);
   const out = {bars: [], plates: [], pins: [], sliders: [], frame: svg.getAttribute("data-frame")};
@@ -131,9 +165,13 @@ def test_six_bar_with_a_slider_is_drawn_at_the_solved_coordinates(tab, tmp_path)
         ),
         ("slidercrank", SliderCrank(2.0, 6.0, 0.5, point=(3.0, 0.4)), ("slider", "slide_guide")),
         ("inverted_slidercrank", InvertedSliderCrank(2.0, 4.0, 0.5), ("slider", "link4")),
+        ("cam_roller", "cam", ("cam", "roller", "follower")),
+        ("gear_pair", "gears", ("pinion", "gear", "line_of_action")),
+        ("path_synthesis", "path", ("link2", "coupler_curve", "targets")),
     ],
 )
-def test_each_closed_form_model_draws_in_the_browser(tab, tmp_path, name, model, expect):
+def test_each_model_draws_in_the_browser(tab, tmp_path, name, model, expect):
+    model = ELEMENTS[model]() if isinstance(model, str) else model
     path = tmp_path / f"{name}.html"
     to_html(model, path, n=48)
     page = tab.open(path)
@@ -166,3 +204,58 @@ def test_user_names_are_text_never_markup(tab, tmp_path):
     assert "<b>C</b>" in labels
     rows = page.locator("table.readout td:first-child").all_text_contents()
     assert f"θ {evil}" in rows
+
+
+# --------------------------------------------------------------------------------------
+# the design report, as a person sees it
+
+
+def test_the_report_renders_and_plays(tab, tmp_path):
+    from machdyn.report import report
+
+    fb = FourBar(8, 4, 7, 6, coupler=(5, np.radians(30)))
+    path = tmp_path / "report.html"
+    report(fb, path, omega2=10.0, mass=(1, 2, 1.5), inertia=(0.1, 0.5, 0.3), cg=(2, 3.5, 3), k=0.05)
+    page = tab.open(path, wait_ms=500)
+    tab.assert_clean(path)
+    assert page.locator("#headline").inner_text().startswith("four-bar 8-4-7-6 (GCRR)")
+    for section in (
+        "model",
+        "class",
+        "toggles",
+        "angles",
+        "ma",
+        "kinematics",
+        "forces",
+        "flywheel",
+        "balancing",
+        "selfcheck",
+    ):
+        assert page.locator(f"section#{section}").count() == 1, section
+    assert page.locator("table.checks td.state").all_inner_texts() == ["pass"] * 7
+    charts = page.locator("svg.chart")
+    assert charts.count() >= 10
+    for k in range(charts.count()):  # every chart is laid out with a real size
+        box = charts.nth(k).bounding_box()
+        assert box["width"] > 250 and box["height"] > 150
+    # the drawing in the report plays
+    first = page.evaluate(
+        "document.querySelector('svg.machdyn-drawing').getAttribute('data-frame')"
+    )
+    page.wait_for_timeout(200)
+    assert (
+        page.evaluate("document.querySelector('svg.machdyn-drawing').getAttribute('data-frame')")
+        != first
+    )
+    tab.shot("report_fourbar_hw6")
+
+
+def test_the_report_prints_to_pdf(tmp_path):
+    from machdyn.report import report
+
+    pytest.importorskip("playwright.sync_api")
+    path = tmp_path / "hw6.pdf"
+    report(FourBar(8, 4, 7, 6), path, n=90)
+    data = path.read_bytes()
+    assert data.startswith(b"%PDF") and len(data) > 10_000
+    assert (tmp_path / "hw6.html").exists()

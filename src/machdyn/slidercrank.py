@@ -24,9 +24,13 @@ import numpy as np
 
 from ._angles import wrap_2pi
 from ._flags import Flagged
-from ._validate import choice, common_length_unit, finite_scalar, input_motion
+from ._validate import choice, common_length_unit, finite_array, finite_scalar, input_motion, length
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
+from .units import UnitSystem, from_quantity_unit
+
+#: Memory per pose of a solve (rate arrays, complex points, status) for the budget check.
+_BYTES_PER_POSE = 12 * 8 + 5 * 16 + 1
 
 __all__ = ["InvertedSliderCrank", "InvertedSliderCrankMotion", "SliderCrank", "SliderCrankMotion"]
 
@@ -88,6 +92,8 @@ class SliderCrankMotion(Flagged):
     status: np.ndarray
     form: int
     offset: float = field(repr=False)
+    #: The model's unit system (labels of :meth:`to_pandas`); None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     @property
     def assembled(self) -> np.ndarray:
@@ -98,21 +104,16 @@ class SliderCrankMotion(Flagged):
         """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily)."""
         import pandas as pd
 
-        names = (
-            "theta2",
-            "theta3",
-            "omega2",
-            "omega3",
-            "alpha2",
-            "alpha3",
-            "jerk2",
-            "jerk3",
-            "d",
-            "d_dot",
-            "d_ddot",
-            "d_dddot",
-        )
-        cols = {n: np.ravel(getattr(self, n)) for n in names}
+        from .units import columns
+
+        kinds = {"theta": "angle", "omega": "angular_velocity", "alpha": "angular_acceleration"}
+        kinds |= {"jerk": "angular_jerk"}
+        spec: list[tuple[str, str | None, Any]] = [
+            (f"{k}{n}", kind, getattr(self, f"{k}{n}")) for k, kind in kinds.items() for n in (2, 3)
+        ]
+        spec += [("d", "length", self.d), ("d_dot", "velocity", self.d_dot)]
+        spec += [("d_ddot", "acceleration", self.d_ddot), ("d_dddot", "jerk", self.d_dddot)]
+        cols = columns(self.units, spec)
         cols["ok"] = np.ravel(self.ok)
         cols["reason"] = np.ravel(self.reason)
         return pd.DataFrame(cols)
@@ -149,6 +150,9 @@ class SliderCrank:
     array([ -0.,  -20., 0.])
     """
 
+    #: The units the model computes in and labels its results with; None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, crank: Any, coupler: Any, offset: Any = 0.0, point: Any = None) -> None:
         values, unit = common_length_unit(crank=crank, coupler=coupler, offset=offset)
         for name in ("crank", "coupler"):
@@ -156,6 +160,7 @@ class SliderCrank:
                 raise InputError(name, f"must be a positive length, got {values[name]:g}")
         self.a, self.b, self.c = values["crank"], values["coupler"], values["offset"]
         self.length_unit = unit
+        self.units = from_quantity_unit(unit)
         if abs(self.c) >= self.a + self.b:
             raise AssemblyError(
                 f"offset {self.c:g} is out of reach: |offset| must be less than "
@@ -169,9 +174,15 @@ class SliderCrank:
             except (TypeError, ValueError):
                 raise InputError("point", f"expected (p, delta), got {point!r}") from None
             self.point = (
-                finite_scalar("point p", p, unit),
+                length("point p", p, unit),
                 finite_scalar("point delta", delta, "radian"),
             )
+
+    def to_spec(self, name: str = "slider_crank") -> dict[str, Any]:
+        """The slider-crank as a machine-file dict (see ``docs/spec.md``)."""
+        from .spec import model_spec
+
+        return model_spec(self, "slider_crank", name)
 
     def __repr__(self) -> str:
         return f"SliderCrank(crank={self.a:g}, coupler={self.b:g}, offset={self.c:g})"
@@ -255,7 +266,10 @@ class SliderCrank:
         """
         choice("form", form, (1, 2))
         scalar = np.ndim(theta2) == 0
-        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
+        extent = max(self.a, self.b, abs(self.c), 0.0 if self.point is None else self.point[0])
+        _, (t2, w2, a2, j2) = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
+        )
         a, b, c = self.a, self.b, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         s3 = (a * e2.imag - c) / b
@@ -317,6 +331,7 @@ class SliderCrank:
             status=status,
             form=form,
             offset=c,
+            units=self.units,
         )
 
     def draw(self, theta2: Any, ax: Any = None, **options: Any):
@@ -415,6 +430,8 @@ class InvertedSliderCrankMotion(Flagged):
     A: np.ndarray
     status: np.ndarray
     form: int
+    #: The model's unit system; None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     @property
     def theta3(self) -> np.ndarray:
@@ -445,6 +462,9 @@ class InvertedSliderCrank:
     153.4349 4.472136
     """
 
+    #: The units the model computes in and labels its results with; None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, crank: Any, ground: Any, offset: Any = 0.0) -> None:
         values, unit = common_length_unit(crank=crank, ground=ground, offset=offset)
         for name in ("crank", "ground"):
@@ -452,9 +472,50 @@ class InvertedSliderCrank:
                 raise InputError(name, f"must be a positive length, got {values[name]:g}")
         self.a, self.d, self.c = values["crank"], values["ground"], values["offset"]
         self.length_unit = unit
+        self.units = from_quantity_unit(unit)
+
+    def to_spec(self, name: str = "inverted_slider_crank") -> dict[str, Any]:
+        """The inverted slider-crank as a machine-file dict (see ``docs/spec.md``)."""
+        from .spec import model_spec
+
+        return model_spec(self, "inverted_slider_crank", name)
 
     def __repr__(self) -> str:
         return f"InvertedSliderCrank(crank={self.a:g}, ground={self.d:g}, offset={self.c:g})"
+
+    def instant_centres(self, theta2: Any, form: int = 1) -> InstantCentres:
+        """The six instant centres (1 ground, 2 crank, 3 block, 4 slotted link).
+
+        By inspection I12 = O2, I23 = A, I14 = O4 and I34 at infinity normal to
+        the slot; by Kennedy's rule, as the notes' Problem 6-13(a) does it,
+        I13 on I12–I23 and I14–I34, I24 on I12–I14 and I23–I34.
+
+        Examples
+        --------
+        Crank 2, pivots 4 apart, θ2 = 90°: A = 2j, the slot runs from O4 toward
+        A, and the normal through O4 meets O2A at I13 = −8j:
+
+        >>> ics = InvertedSliderCrank(2.0, 4.0).instant_centres(np.radians(90))
+        >>> complex(np.round(ics[1, 3].point, 9) + 0), complex(np.round(ics[2, 4].point, 9) + 0)
+        (-8j, (-1+0j))
+        """
+        m = self.solve(finite_array("theta2", theta2), form=form)
+        shape = np.shape(m.A)
+        I12 = finite(np.zeros(shape, dtype=complex))
+        I14 = finite(np.full(shape, self.d, dtype=complex))
+        I23 = finite(m.A)
+        I34 = at_infinity(1j * np.exp(1j * m.theta4))
+        I13 = intersect(line_through(I12, I23), line_through(I14, I34))
+        I24 = intersect(line_through(I12, I14), line_through(I23, I34))
+        valid = m.status != NOT_ASSEMBLABLE
+        return InstantCentres(
+            {(1, 2): I12, (2, 3): I23, (3, 4): I34, (1, 4): I14, (1, 3): I13, (2, 4): I24},
+            valid,
+            bodies=(1, 2, 3, 4),
+            reason=np.where(valid, "", STATUS_REASONS[NOT_ASSEMBLABLE]),
+            methods={(1, 3): "kennedy", (2, 4): "kennedy"}
+            | dict.fromkeys([(1, 2), (2, 3), (1, 4), (3, 4)], "joint"),
+        )
 
     def draw(self, frame: int | None = None, ax: Any = None, **options: Any):
         """Draw the mechanism in one pose of its turn (see :func:`machdyn.draw.draw`)."""
@@ -486,7 +547,10 @@ class InvertedSliderCrank:
         """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
         choice("form", form, (1, 2))
         scalar = np.ndim(theta2) == 0
-        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
+        extent = max(self.a, self.d, abs(self.c))
+        _, (t2, w2, a2, j2) = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
+        )
         a, d, c = self.a, self.d, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         S = a * e2 - d
@@ -537,4 +601,5 @@ class InvertedSliderCrank:
             A=a * e2,
             status=status,
             form=form,
+            units=self.units,
         )

@@ -28,6 +28,8 @@ def _register() -> None:
     from .gear import gear_app
     from .linkage import linkage
     from .plot import animate
+    from .report import report
+    from .run import run, spec_app
     from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
@@ -36,8 +38,11 @@ def _register() -> None:
     app.add_typer(gear_app, name="gear")
     app.command("linkage")(linkage)
     app.command("animate")(animate)
+    app.command("report")(report)
     app.add_typer(synth_app, name="synth")
     app.add_typer(atlas_app, name="atlas")
+    app.command("run")(run)
+    app.add_typer(spec_app, name="spec")
 
 
 _register()

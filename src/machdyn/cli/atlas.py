@@ -64,8 +64,11 @@ def build_cmd(
     progress: Annotated[
         bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")
     ] = True,
+    kind: Annotated[
+        str, typer.Option("--kind", help="fourbar, or sixbar (Watt and Stephenson).")
+    ] = "fourbar",
 ) -> None:
-    """Build a four-bar atlas, or finish one whose build was interrupted (same options)."""
+    """Build a coupler-curve atlas, or finish one whose build was interrupted (same options)."""
     from ..synthesis.atlas_store import build_atlas
 
     if not 1 <= count <= 10**9:
@@ -76,7 +79,7 @@ def build_cmd(
     start = time.perf_counter()
     m = build_atlas(
         folder, count, chunk_size=chunk_size, seed=seed, scheduler=scheduler, workers=workers,
-        progress=progress,
+        progress=progress, kind=kind,
     )  # fmt: skip
     seconds = time.perf_counter() - start
     size = sum(f.stat().st_size for f in Path(folder).glob("chunk_*.npy"))
@@ -102,9 +105,11 @@ def info_cmd(
     at = open_atlas(folder, verify=verify)
     m = at.manifest
     classes = np.bincount(np.concatenate([x["barker"] for x in at.meta]), minlength=9)
+    kinds = {"kind": m.kind}
     counts = {BARKER_CODES[i]: int(classes[i]) for i in range(1, 9)}
     info = {
         "path": str(folder),
+        **kinds,
         "entries": len(at),
         "chunks": m.n_chunks,
         "format_version": m.format_version,

@@ -18,7 +18,14 @@ import typer
 from ..errors import AssemblyError, InputError
 from ._common import dumps, print_table
 
-__all__ = ["candidate_spec", "parse_function", "parse_points", "read_points_csv", "synth_app"]
+__all__ = [
+    "candidate_spec",
+    "parse_function",
+    "parse_points",
+    "read_points_csv",
+    "sixbar_spec",
+    "synth_app",
+]
 
 synth_app = typer.Typer(
     name="synth",
@@ -370,6 +377,9 @@ def path_cmd(
     out: Annotated[
         Path, typer.Option("--out", help="Folder for the candidates' spec files.")
     ] = Path("path_candidates"),
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", help="Query on a Dask scheduler (tcp://HOST:PORT).")
+    ] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
 ) -> None:
     """Four-bars whose coupler point passes through the target points, from an atlas.
@@ -386,19 +396,29 @@ def path_cmd(
     if not 0.0 <= mu_min < 90.0:
         raise InputError("--mu-min", f"must be between 0 and 90 deg, got {mu_min:g}")
     targets, theta = read_points_csv(points, timing)
-    res = path_from_atlas(
-        targets, atlas or default_atlas(), closed=not open_path, timing=theta, n=n,
-        crank=not no_crank, mu_min=np.radians(mu_min),
-    )  # fmt: skip
+    options = dict(
+        closed=not open_path, timing=theta, n=n, crank=not no_crank, mu_min=np.radians(mu_min)
+    )
+    if scheduler is None:
+        res = path_from_atlas(targets, atlas or default_atlas(), **options)
+    else:
+        from ..synthesis.atlas_dask import client_for
+
+        with client_for(scheduler) as client:
+            res = path_from_atlas(targets, atlas or default_atlas(), client=client, **options)
     shown = res.candidates or res.rejected[:n]
     size = float(np.max(np.abs(res.targets - res.targets.mean())))
     out.mkdir(parents=True, exist_ok=True)
     files = []
+    six = bool(shown) and hasattr(shown[0], "chain")
     for i, c in enumerate(shown, 1):
         file = out / f"candidate_{i}.toml"
-        file.write_text(candidate_spec(c, f"candidate {i} for {points.name}"))
+        title = f"candidate {i} for {points.name}"
+        file.write_text(sixbar_spec(c, title) if six else candidate_spec(c, title))
         files.append(str(file))
-    if json:
+    if six:
+        _print_sixbars(res, shown, files, size, json)
+    elif json:
         print(dumps({
             "candidates": [_candidate_json(c, size, f) for c, f in zip(shown, files, strict=True)],
             "defect_free": bool(res.candidates),
@@ -438,6 +458,52 @@ def path_cmd(
             print(f"note: {res.note}")
     if not res.candidates:
         raise AssemblyError(res.note or "no defect-free linkage found for these targets")
+
+
+def _print_sixbars(res, shown, files, size, json) -> None:
+    """The six-bar candidates: a table or JSON."""
+    names = ("O2x", "O2y", "theta1", "r1", "r2", "r3", "r4", "cu", "cv", "du", "dv", "a", "b",
+             "pu", "pv")  # fmt: skip
+    rows = [
+        {
+            "chain": c.chain, "max_distance": float(np.max(c.distance)),
+            "max_distance_over_size": float(np.max(c.distance) / size),
+            "design": dict(zip(names, map(float, c.design), strict=True)),
+            "theta2_deg": np.degrees(c.theta2), "defects": list(c.defects), "spec": f,
+        }
+        for c, f in zip(shown, files, strict=True)
+    ]  # fmt: skip
+    if json:
+        print(dumps({"candidates": rows, "defect_free": bool(res.candidates), "near": res.near,
+                     "note": res.note, "seconds": res.seconds}))  # fmt: skip
+        return
+    print_table(
+        "Six-bar path synthesis from the atlas",
+        ["#", "max dist", "% of size", "chain", "defects"],
+        [[i, f"{r['max_distance']:.3e}", f"{100 * r['max_distance_over_size']:.2e}", r["chain"],
+          "; ".join(r["defects"]) or "-"] for i, r in enumerate(rows, 1)],
+    )  # fmt: skip
+    print(f"specs (machdyn linkage files): {', '.join(files)}")
+    if res.note:
+        print(f"note: {res.note}")
+
+
+def sixbar_spec(c, title: str) -> str:
+    """A six-bar result as a ``machdyn linkage`` TOML file (drawn at the first target's pose)."""
+    lk = c.linkage
+    ground = ", ".join(f'"{p}"' for p in lk.ground_points)
+    lines = [f'title = "{title}: {c.chain}"', f"ground = [{ground}]", 'drive = ["crank"]',
+             'report = ["P"]', "", "[points]"]  # fmt: skip
+    for name, z in lk.points.items():
+        lines.append(f"{name} = [{float(z.real)!r}, {float(z.imag)!r}]")
+    for name, link in lk.links.items():
+        if name == "ground":
+            continue
+        pts = ", ".join(f'"{p}"' for p in link.points)
+        lines += ["", "[[link]]", f'name = "{name}"', f"points = [{pts}]"]
+    start = float(np.degrees(c.design[2] + c.theta2[0]))
+    lines += ["", "[motion.crank]", f"sweep = [{start!r}, {start + 360!r}, 10]"]
+    return "\n".join(lines) + "\n"
 
 
 def _candidate_json(c, size: float, file: str) -> dict:

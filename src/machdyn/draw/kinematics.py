@@ -17,7 +17,9 @@ from ..slidercrank import SliderCrankMotion
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["length_label", "plot_kinematics", "plot_slider_motion"]
+    from .chart import Chart
+
+__all__ = ["kinematics_charts", "length_label", "plot_kinematics", "plot_slider_motion"]
 
 
 def length_label(unit: str | None) -> str:
@@ -179,3 +181,41 @@ def plot_slider_motion(
     axes[-1].set_xlabel("θ2 (deg)")
     axes[0].set_title(f"Slider motion, form {motion.form}", fontsize=10)
     return fig
+
+
+def kinematics_charts(motion: FourBarMotion) -> list[Chart]:
+    """Charts of a four-bar's θ3, θ4 (deg), ω3, ω4 (rad/s) and α3, α4 (rad/s²) against θ2 (deg).
+
+    The same quantities as :func:`plot_kinematics`, as :class:`~machdyn.draw.chart.Chart`
+    descriptions (the report writes them as inline SVG). Flagged samples are
+    gaps; an angle's wrap from 360° to 0° is a gap too.
+
+    Examples
+    --------
+    >>> from machdyn import FourBar
+    >>> m = FourBar(8, 4, 7, 6).solve(np.radians(np.arange(0, 360, 5.0)), omega2=10.0)
+    >>> [c.ylabel for c in kinematics_charts(m)]
+    ['angle (deg)', 'ω (rad/s)', 'α (rad/s²)']
+    """
+    from .chart import Chart, Series
+
+    x = np.degrees(np.ravel(motion.theta2).astype(float))
+    charts = []
+    for title, ylabel, names, is_angle in (
+        ("link angles", "angle (deg)", ("theta3", "theta4"), True),
+        ("angular velocities", "ω (rad/s)", ("omega3", "omega4"), False),
+        ("angular accelerations", "α (rad/s²)", ("alpha3", "alpha4"), False),
+    ):
+        series = []
+        for name in names:
+            values = getattr(motion, name)
+            if values is None:
+                continue
+            valid = motion.assembled if is_angle else motion.ok
+            y = _masked(np.degrees(values) if is_angle else values, valid)
+            xs, ys = _break_wraps(x, y) if is_angle else (x, y)
+            label = name.replace("theta", "θ").replace("omega", "ω").replace("alpha", "α")
+            series.append(Series(np.asarray(xs, float), ys.filled(np.nan), label))
+        if series:
+            charts.append(Chart(title, "θ2 (deg)", ylabel, series))
+    return charts

@@ -50,6 +50,9 @@ def drawn_value(lk: Any, driver: str) -> float:
     >>> round(float(np.degrees(drawn_value(lk, "crank"))), 6)
     90.0
     """
+    inputs = getattr(lk, "drawn_inputs", None)  # the linkage's own answer, where it has one
+    if inputs is not None and driver in inputs:
+        return float(inputs[driver])
     if driver in lk.links:
         return _angle_of(lk, driver)
     joint = next((j for j in lk.joints if j.name == driver and j.kind != "pin"), None)
@@ -139,6 +142,20 @@ def _plate_order(lk: Any, names: tuple[str, ...]) -> tuple[str, ...]:
     """A link's points in the order around their centre (a simple polygon)."""
     z = np.array([lk.points[p] for p in names])
     return tuple(names[i] for i in np.argsort(np.angle(z - z.mean())))
+
+
+def _bar_ends(lk: Any, names: tuple[str, ...]) -> tuple[str, str] | None:
+    """The two farthest points of a link whose points lie on one line (None otherwise)."""
+    z = np.array([lk.points[p] for p in names])
+    if z.size < 2:
+        return None
+    i, j = np.unravel_index(np.argmax(np.abs(z[:, None] - z[None, :])), (z.size, z.size))
+    span = abs(z[j] - z[i])
+    if span == 0:
+        return None
+    e = (z[j] - z[i]) / span
+    off = np.abs(((z - z[i]) * np.conj(e)).imag)
+    return (names[i], names[j]) if off.max() <= 1e-9 * span else None
 
 
 def _rotation(lk: Any, motion: Any, link: str) -> np.ndarray:
@@ -288,19 +305,21 @@ def linkage_scene(lk: Any, motion: Any, *, title: str | None = None, closed: boo
             )
     # links
     for name, link in lk.links.items():
-        if len(link.points) >= 3:
+        ends = _bar_ends(lk, link.points)
+        if len(link.points) >= 3 and ends is None:
+            order = _plate_order(lk, link.points)
+            items.append(
+                Item("plate", _gid("plate", len(items)), order, body=name, colour=colour[name])
+            )
+        elif len(link.points) >= 2:  # two points, or several on one line
             items.append(
                 Item(
-                    "plate",
-                    _gid("plate", len(items)),
-                    _plate_order(lk, link.points),
+                    "bar",
+                    _gid("bar", len(items)),
+                    ends or link.points[:2],
                     body=name,
                     colour=colour[name],
                 )
-            )
-        elif len(link.points) == 2:
-            items.append(
-                Item("bar", _gid("bar", len(items)), link.points, body=name, colour=colour[name])
             )
     # joints and elements on top of the links
     for k, j in enumerate(joints):

@@ -12,7 +12,7 @@ from ..loops import LoopSystem
 from ..massprops import MassProperties
 from ..mobility import mobility_of
 from . import kinematics as _kinematics
-from ._common import GROUND, _complex_point
+from ._common import GROUND, _complex_point, _ref_angle
 from .elements import _ElementMethods, _Spring, _Torsion
 from .forces import LinkageForces, _forces
 from .groups import Group, decompose
@@ -48,12 +48,18 @@ class Linkage(_JointMethods, _ElementMethods):
     True
     """
 
+    #: The units the linkage computes in and labels its results with (a
+    #: :class:`machdyn.units.UnitSystem`, set by :func:`machdyn.load`); None: unit-free.
+    units: Any = None
+
     def __init__(self, points: Mapping[str, Any] | None = None) -> None:
         self._points: dict[str, complex] = {}
         self._links: dict[str, Link] = {}
         self._ground: tuple[str, ...] = ()
         self._sliders: dict[str, tuple[str, str, str, complex, str | None]] = {}
         self._slots: dict[str, tuple[str, str, str, complex, str | None]] = {}
+        # curved slots and sliders: name -> (kind "slot"/"slider", moving, on, at, centre, R)
+        self._curved: dict[str, tuple[str, str, str, str, str, float]] = {}
         self._actuators: dict[str, tuple[str, str, str, str]] = {}
         self._rolls: dict[str, tuple[str, str, float, str, str, float, bool]] = {}
         self._motors: dict[str, tuple[str, tuple[str, str] | None]] = {}  # name -> (pin, links)
@@ -255,6 +261,7 @@ class Linkage(_JointMethods, _ElementMethods):
         tables = (
             self._sliders,
             self._slots,
+            self._curved,
             self._actuators,
             self._rolls,
             self._motors,
@@ -298,6 +305,12 @@ class Linkage(_JointMethods, _ElementMethods):
         """
         return joints_of(self)
 
+    def to_spec(self, name: str = "linkage") -> dict[str, Any]:
+        """The linkage as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "linkage", name)
+
     @property
     def drivers(self) -> tuple[str, ...]:
         """The driver names given to :meth:`drive`, in order."""
@@ -307,6 +320,58 @@ class Linkage(_JointMethods, _ElementMethods):
     def elements(self) -> tuple[Spring | TorsionSpring, ...]:
         """The springs and torsion springs (known loads), in the order they were added."""
         return elements_of(self)
+
+    @property
+    def drawn_inputs(self) -> Mapping[str, float]:
+        """Every driver's value in the drawn pose (radians for angles, lengths otherwise).
+
+        A link's angle ``theta`` (its first → second point), a motor's
+        ``theta_b − theta_a``, a slider's or slot's displacement along its line
+        from the foot of the guide's first point (or of ``through``), an
+        actuator's length: the values :meth:`solve` reproduces the drawing at.
+
+        Examples
+        --------
+        >>> lk = (Linkage({"O2": (0, 0), "A": (0, 2), "B": (6, 0)}).ground("O2")
+        ...       .link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+        ...       .slider("block", "ground", "B", 0.0, name="guide").drive("crank", "guide"))
+        >>> {k: round(v, 6) for k, v in lk.drawn_inputs.items()}
+        {'crank': 1.570796, 'guide': 6.0}
+        """
+        out = {}
+        for d in self._drivers:
+            if d in self._links:
+                out[d] = _ref_angle(self, d)
+            elif d in self._motors:
+                a, b = self._motor_links(d)
+                out[d] = _ref_angle(self, b) - _ref_angle(self, a)
+            elif d in self._actuators:
+                start, end = self._actuators[d][:2]
+                out[d] = float(abs(self._points[end] - self._points[start]))
+            else:
+                _, on, at, u, through = {**self._sliders, **self._slots}[d]
+                ref = self._points[through] if through else self._first_point(on)
+                out[d] = float(((self._points[at] - ref) * u.conjugate()).real)
+        return MappingProxyType(out)
+
+    # ------------------------------------------------------------------ pictures
+    def draw(self, frame: int | None = None, ax: Any = None, **options: Any) -> Any:
+        """Draw the linkage in one pose (:func:`machdyn.draw.draw`)."""
+        from ..draw import draw
+
+        return draw(self, frame, ax, **options)
+
+    def animate(self, path: Any = None, **options: Any) -> Any:
+        """Animate the linkage (:func:`machdyn.draw.animate`)."""
+        from ..draw import animate
+
+        return animate(self, path, **options)
+
+    def to_html(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML page of the motion (:func:`machdyn.draw.to_html`)."""
+        from ..draw import to_html
+
+        return to_html(self, path, **options)
 
     # ------------------------------------------------------------------ structure
 
@@ -356,8 +421,10 @@ class Linkage(_JointMethods, _ElementMethods):
                 joints.append(("R", (e.a, e.b)))
             elif e.kind == "P":
                 joints.append(("P", (e.a, e.b)))
-            elif e.kind == "slot":
+            elif e.kind in ("slot", "arc"):  # arc: a pin in a curved slot
                 joints.append(("pin-in-slot", (e.a, e.b)))
+            elif e.kind == "arcP":  # a block on a curved guide
+                joints.append(("P", (e.a, e.b)))
             elif e.kind == "roll":  # a carried contact only adds the no-slip condition
                 joints.append(("half" if e.carried else "rolling", (e.a, e.b)))
             else:
@@ -396,17 +463,21 @@ class Linkage(_JointMethods, _ElementMethods):
         if not self._drivers:
             raise ModelError(f"mobility is {m} but no driver was named: call drive(...)")
         if m != len(self._drivers):
+            where = ""
+            try:  # the Assur decomposition names the links and joints at fault
+                decompose(self, edges)
+            except ModelError as exc:
+                where = f"; {exc}"
             raise ModelError(
                 f"mobility (Kutzbach–Gruebler) is {m} but {len(self._drivers)} driver(s) were "
                 f"named ({', '.join(self._drivers)}): name {m} driver(s)"
                 + (" — the drawing is a structure" if m <= 0 else "")
+                + where
             )
         for name in [*self._springs, *self._torsions]:
             self._element_links(name)  # ends on two different links
         groups, program = decompose(self, edges)
         self._compiled = _Model(self, edges, groups, program)
-        if program is None:
-            self._compiled.loops()  # validates the loop formulation now
         return self._compiled
 
     # ------------------------------------------------------------------ solving
@@ -561,3 +632,18 @@ class Linkage(_JointMethods, _ElementMethods):
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
+
+    def instant_centres(self, values: Any, velocity: Any = None):
+        """All instant centres at driver ``values``: :func:`machdyn.centres.instant_centres_of`.
+
+        Examples
+        --------
+        >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (0, 2), "B": (5.0, 5.0)})
+        ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+        ...       .link("rocker", "O4", "B").drive("crank"))
+        >>> lk.instant_centres(1.0).method("ground", "coupler")
+        'kennedy'
+        """
+        from ..centres import instant_centres_of
+
+        return instant_centres_of(self, values, velocity)

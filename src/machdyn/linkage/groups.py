@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..errors import ModelError
 from ._common import GROUND, _ref_angle
-from .program import RPP, RPR, Crank, Dyad, Motor, PArm, Program, RArm, Slide
+from .program import RPP, RPR, Crank, Dyad, General, Motor, PArm, Program, RArm, Slide
 from .topology import _Edge
 
 if TYPE_CHECKING:
@@ -121,6 +121,8 @@ def _constraints(lk: Linkage, edges: list[_Edge]) -> list[_Con]:
                 cons.append(_Con("act", e.name, e.a, e.b, 1, e))
         elif e.kind == "roll":
             cons.append(_Con("roll", e.name, e.a, e.b, 1 if e.carried else 2, e))
+        elif e.kind in ("arc", "arcP"):  # curved slot (half) / slider (full): loop core
+            cons.append(_Con(e.kind, e.name, e.a, e.b, 1 if e.kind == "arc" else 2, e))
         if e.kind in ("P", "slot") and e.name in drivers:
             cons.append(_Con("disp", e.name, e.a, e.b, 1, e))
     for name in lk._motors:
@@ -180,6 +182,7 @@ class _Decomposer:
 
     def __init__(self, lk: Linkage, edges: list[_Edge]) -> None:
         self.lk = lk
+        self.edges = edges
         self.geo = _Geometry(lk)
         self.cons = _constraints(lk, edges)
         self.touching: dict[str, list[_Con]] = {n: [] for n in [GROUND, *lk._links]}
@@ -255,9 +258,9 @@ class _Decomposer:
     def add(self, S: list[str], rel: list[_Con]) -> None:
         made = self.closed_form(S, rel)
         if made is None:
-            kind, step, sign = "general", None, 0
+            kind, step, sign = "general", self.general(S, rel), 0
             for n in S:
-                self.exact[n] = False
+                self.exact[n] = True  # continuous: the loop core follows the sweep
         else:
             kind, step, sign = made
         attached = sorted({n for c in rel for n in (c.a, c.b) if n not in S})
@@ -268,6 +271,15 @@ class _Decomposer:
         for n in S:
             self.group_of_link[n] = g
         self.known |= set(S)
+
+    def general(self, S: list[str], rel: list[_Con]) -> General:
+        """The step of a group solved by the vector-loop core (the known links as inputs)."""
+        from .loopcompile import compile_loops
+
+        mine = {c.name for c in rel if c.kind in ("angle", "motor", "disp", "act")}
+        drivers = tuple(d for d in self.lk._drivers if d in mine)
+        compiled = compile_loops(self.lk, self.edges, S, drivers, set(self.known))
+        return General(self.lk, compiled, tuple(S), tuple(self.geo.driver[d] for d in drivers))
 
     def closed_form(self, S: list[str], rel: list[_Con]) -> tuple[str, Any, int] | None:
         if len(S) == 1:
@@ -507,21 +519,21 @@ class _Decomposer:
         return kind, step, 0
 
     # ------------------------------------------------------------------ result
-    def program(self) -> Program | None:
-        """The program of closed-form steps, or None when a group is general."""
-        if any(s is None for s in self.steps):
-            return None
+    def program(self) -> Program:
+        """The program of the steps, one per group."""
         deps = []
         for grp in self.groups:
             deps.append(tuple(sorted({self.group_of_link[n] for n in grp.attached if n != GROUND})))
-        unwrap = tuple(self.geo.index[n] for n in self.lk._links if not self.exact.get(n, False))
-        return Program(
-            len(self.geo.index), list(self.steps), list(range(len(self.steps))), deps, unwrap
+        unwrap = frozenset(
+            self.geo.index[n] for n in self.lk._links if not self.exact.get(n, False)
         )
+        links = [tuple(self.geo.index[n] for n in grp.links) for grp in self.groups]
+        steps, order = list(self.steps), list(range(len(self.steps)))
+        return Program(len(self.geo.index), steps, order, deps, links, unwrap)
 
 
-def decompose(lk: Linkage, edges: list[_Edge]) -> tuple[tuple[Group, ...], Program | None]:
-    """The groups of ``lk`` in solving order and the program of their steps (None if general)."""
+def decompose(lk: Linkage, edges: list[_Edge]) -> tuple[tuple[Group, ...], Program]:
+    """The groups of ``lk`` in solving order and the program of their steps."""
     d = _Decomposer(lk, edges)
     d.run()
     return tuple(d.groups), d.program()

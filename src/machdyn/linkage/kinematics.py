@@ -46,16 +46,6 @@ def solve(
         ) from None
     n = int(np.prod(shape))
     cont = continuation if continuation is not None else (len(shape) <= 1 and n > 1)
-    if model.program is None:
-        if jrk is not None:
-            raise ModelError(
-                "jerk is computed for linkages of closed-form groups only; "
-                f"{', '.join(g.name for g in model.groups if g.kind == 'general')} "
-                "is solved by the vector-loop core"
-            )
-        from .loopsolve import solve_loops
-
-        return solve_loops(lk, vals, vel, acc, bool(cont))
     from .sweep import solve_closed
 
     return solve_closed(lk, model, vals, vel, acc, jrk, shape, bool(cont) or n == 1)

@@ -16,7 +16,7 @@ from ..errors import ModelError
 from ..loops.result import Motion
 from ._common import GROUND, _frozen, _ref_angle
 from .kinematics import LinkageMotion, _cg_drawn
-from .topology import _Compiled
+from .loopcompile import _Compiled
 
 if TYPE_CHECKING:
     from .builder import Linkage

@@ -18,12 +18,12 @@ of a dyad is the 2 × 2 linear system of its position Jacobian
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from .dyads import cross, line_line, rpr, rrp, rrr, solve_pair
+from .dyads import _line_line, _pair, _rpr, _rrp, _rrr, cross
 
 #: Status codes of a group at a sample.
 OK, NO_ASSEMBLY, SINGULAR, DEPENDS = 0, 1, 2, 3
@@ -45,7 +45,8 @@ class State:
         self.ang: list[Any] = [np.zeros(n)] * n_links
         self.lin: list[list[Any]] = [[zero_c] * n_links for _ in range(order + 1)]
         self.rot: list[list[Any]] = [[np.zeros(n)] * n_links for _ in range(order + 1)]
-        self.scratch: dict[int, dict[str, Any]] = {}
+        self.follow = False
+        self.reasons: dict[int, np.ndarray] = {}
 
     def pos(self, ref: Ref) -> Any:
         """Position of a material point."""
@@ -263,13 +264,13 @@ class Dyad:
         uhat = [None if isinstance(a, RArm) else a.u0 * st.E[a.known] for a in arms]
         r1, r2 = isinstance(arms[0], RArm), isinstance(arms[1], RArm)
         if r1 and r2:
-            B, ok = rrr(base[0][0], base[1][0], L[0][0], L[1][0], self.sign)
+            B, _, ok = _rrr(base[0][0], base[1][0], L[0][0], L[1][0], self.sign)
         elif r1:
-            B, _, ok = rrp(base[0][0], L[0][0], base[1][0], uhat[1], self.sign)
+            B, _, ok = _rrp(base[0][0], L[0][0], base[1][0], uhat[1], self.sign)
         elif r2:
-            B, _, ok = rrp(base[1][0], L[1][0], base[0][0], uhat[0], self.sign)
+            B, _, ok = _rrp(base[1][0], L[1][0], base[0][0], uhat[0], self.sign)
         else:
-            B, _, _, ok = line_line(base[0][0], uhat[0], base[1][0], uhat[1])
+            B, _, _, ok = _line_line(base[0][0], uhat[0], base[1][0], uhat[1])
         # per arm: its unknown's coefficient and the values of the unknown and its rates
         coef, x, e = [], [], []
         for a, b0, uh in zip(arms, base, uhat, strict=True):
@@ -292,7 +293,7 @@ class Dyad:
                 else:
                     w = [st.rot[j][a.known] for j in range(1, st.order + 1)]
                     known.append(base[i][k] + _p_term(k, x[i], uhat[i], w))
-            x1, x2, _ = solve_pair(coef[0], -coef[1], known[1] - known[0])
+            x1, x2, _ = _pair(coef[0], -coef[1], known[1] - known[0])
             x[0].append(x1)
             x[1].append(x2)
             Bk.append(known[0] + coef[0] * x1)
@@ -330,7 +331,7 @@ class RPR:
     def run(self, st: State, u: list[Any]) -> Any:
         """Place the step's links at every sample; the status codes (None: always OK)."""
         A, C = st.rates(self.A), st.rates(self.C)
-        uh, t, ok = rpr(A[0], C[0], self.e, self.sign)
+        uh, t, ok = _rpr(A[0], C[0], self.e, self.sign)
         w = C[0] - A[0]
         c1, c2 = 1j * w, uh
         status = _status(ok, _sine(c1, c2))
@@ -347,7 +348,7 @@ class RPR:
                     - (3j * tt[2] * o + 3j * tt[1] * a - 3.0 * tt[1] * o * o) * uh
                     + (3.0 * o * a + 1j * o * o * o) * w
                 )
-            x1, x2, _ = solve_pair(c1, c2, rhs)
+            x1, x2, _ = _pair(c1, c2, rhs)
             om.append(x1)
             tt.append(x2)
         E = uh / self.u0
@@ -384,14 +385,14 @@ class RPP:
         w = [st.rot[k][K] for k in range(1, st.order + 1)]
         A, G = st.rates(self.A), st.rates(self.G)
         u1, u2 = self.u1 * E, self.u2 * E
-        s1, s2, ok = solve_pair(u1, u2, A[0] - G[0])
+        s1, s2, ok = _pair(u1, u2, A[0] - G[0])
         status = _status(ok, _sine(u1, u2))
         s1, s2 = [s1], [s2]
         X = [G[0] + s2[0] * u2]
         for k in range(1, st.order + 1):
             p2 = _p_term(k, s2, u2, w)
             rhs = A[k] - G[k] - _p_term(k, s1, u1, w) - p2
-            x1, x2, _ = solve_pair(u1, u2, rhs)
+            x1, x2, _ = _pair(u1, u2, rhs)
             s1.append(x1)
             s2.append(x2)
             X.append(G[k] + p2 + x2 * u2)
@@ -402,7 +403,200 @@ class RPP:
         return status
 
 
-Step = Crank | Motor | Slide | Dyad | RPR | RPP
+# ---------------------------------------------------------------------- general groups
+def _vector_rates(d: list[Any], phi: list[Any], order: int) -> list[Any]:
+    """``d e^{jφ}`` and its rates to ``order`` (DESIGN.md's rules, and the jerk)."""
+    e = np.exp(1j * phi[0])
+    out = [d[0] * e]
+    if order >= 1:
+        w1 = phi[1]
+        out.append((d[1] + 1j * d[0] * w1) * e)
+    if order >= 2:
+        w2 = phi[2]
+        out.append((d[2] - d[0] * w1 * w1 + 1j * (d[0] * w2 + 2.0 * d[1] * w1)) * e)
+    if order >= 3:
+        w3 = phi[3]
+        re = d[3] - 3.0 * d[1] * w1 * w1 - 3.0 * d[0] * w1 * w2
+        im = 3.0 * d[2] * w1 + 3.0 * d[1] * w2 + d[0] * w3 - d[0] * w1 * w1 * w1
+        out.append((re + 1j * im) * e)
+    return out
+
+
+def _vector_of_points(P: list[Any], Q: list[Any], order: int) -> tuple[list[Any], list[Any]]:
+    """Length and angle of ``Q − P`` and their rates (the angle within π of the drawn one)."""
+    r = [Q[k] - P[k] for k in range(order + 1)]
+    L = np.abs(r[0])
+    e = r[0] / L
+    lr, ar = [L], [np.angle(r[0])]
+    c = [r[k] * np.conj(e) for k in range(order + 1)]
+    if order >= 1:
+        lr.append(c[1].real)
+        ar.append(c[1].imag / L)
+    if order >= 2:
+        lr.append(c[2].real + L * ar[1] ** 2)
+        ar.append((c[2].imag - 2.0 * lr[1] * ar[1]) / L)
+    if order >= 3:
+        w1, w2 = ar[1], ar[2]
+        lr.append(c[3].real + 3.0 * lr[1] * w1 * w1 + 3.0 * L * w1 * w2)
+        ar.append((c[3].imag - 3.0 * lr[2] * w1 - 3.0 * lr[1] * w2 + L * w1**3) / L)
+    return lr, ar
+
+
+def unwrap(a: np.ndarray) -> np.ndarray:
+    """Continuous angles along a path: every step wrapped to (−π, π], gaps skipped."""
+    ok = np.isfinite(a)
+    if ok.all():
+        d = np.diff(a)
+        return np.concatenate((a[:1], a[0] + np.cumsum((d + np.pi) % (2 * np.pi) - np.pi)))
+    out = np.full_like(a, np.nan)
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        v = a[idx]
+        d = (np.diff(v) + np.pi) % (2 * np.pi) - np.pi
+        out[idx] = np.concatenate((v[:1], v[0] + np.cumsum(d)))
+    return out
+
+
+class General:
+    """A group the closed forms do not cover, solved by the vector-loop core.
+
+    Its loop system (:func:`~machdyn.linkage.loopcompile.compile_loops` of the
+    group) takes the poses of the links already known as inputs; the drawn
+    pose is the guess, and a sweep is followed by continuation.
+    """
+
+    def __init__(self, lk: Any, compiled: Any, group: tuple[str, ...], drivers: tuple[int, ...]):
+        self.c = compiled
+        self.drivers = drivers
+        self.index = {"ground": 0, **{n: i + 1 for i, n in enumerate(lk._links)}}
+        self.origin = {"ground": 0j, **{n: lk._points[ln.points[0]] for n, ln in lk._links.items()}}
+        self.xy = lk._xy
+        self.group = group
+        from ._common import _ref_angle
+
+        self.theta0 = {n: _ref_angle(lk, n) for n in group}
+        inputs = set(compiled.system._inputs)
+        self.unknowns = [v for v in compiled.drawn if v not in inputs]
+
+    def ref(self, link: str, key: str) -> Ref:
+        """The material point ``key`` of ``link``."""
+        return self.index[link], self.xy(key) - self.origin[link]
+
+    def inputs(self, st: State, u: list[Any]) -> list[dict[str, Any]]:
+        """Values and rates of every input of the group's loop system."""
+        c, order = self.c, st.order
+        table: list[dict[str, Any]] = [{} for _ in range(order + 1)]
+        for var, off, d in zip(c.driver_vars, c.driver_offsets, self.drivers, strict=True):
+            table[0][var] = u[d][0] - off
+            for k in range(1, order + 1):
+                table[k][var] = u[d][k]
+        for var, (link, a0) in c.rot_inputs.items():
+            i = self.index[link]
+            table[0][var] = a0 + st.ang[i]
+            for k in range(1, order + 1):
+                table[k][var] = st.rot[k][i]
+        for (lv, av), (a, b) in c.vec_inputs.items():
+            lr, ar = _vector_of_points(st.rates(self.ref(*a)), st.rates(self.ref(*b)), order)
+            phi0 = c.drawn[av]
+            ar[0] = phi0 + (ar[0] - phi0 + np.pi) % (2 * np.pi) - np.pi
+            if st.follow:
+                ar[0] = unwrap(ar[0])
+            for k in range(order + 1):
+                table[k][lv], table[k][av] = lr[k], ar[k]
+        return table
+
+    def run(self, st: State, u: list[Any]) -> Any:
+        """Solve the group's loops at every sample; place its links."""
+        from ..loops.solve import REASONS
+        from ..loops.solve import SINGULAR as LOOP_SINGULAR
+
+        c, n, order = self.c, st.n, st.order
+        table = self.inputs(st, u)
+        good = np.ones(n, bool)
+        for v in table[0].values():
+            good &= np.isfinite(np.broadcast_to(v, (n,)))
+        for t in table[1:]:
+            for v in t.values():
+                good &= np.isfinite(np.broadcast_to(v, (n,)))
+        sub = np.flatnonzero(good)
+        values: dict[str, np.ndarray] = {}
+        code = np.full(n, NO_ASSEMBLY, np.int8)
+        reason = np.full(n, "", dtype=object)
+        if sub.size:
+
+            def pick(t: dict[str, Any]) -> dict[str, np.ndarray]:
+                return {k: np.broadcast_to(v, (n,))[sub] for k, v in t.items()}
+
+            kw: dict[str, Any] = {"continuation": st.follow and sub.size > 1}
+            if order:
+                kw.update(velocity=pick(table[1]), order=order)
+                kw["acceleration"] = pick(table[2]) if order >= 2 else None
+                kw["jerk"] = pick(table[3]) if order >= 3 else None
+            guess = {v: c.drawn[v] for v in self.unknowns}
+            m = c.system.solve(pick(table[0]), guess, **kw)
+            states = [m.positions, m.velocity, m.acceleration, m.jerk][: order + 1]
+            for k, state in enumerate(states):
+                for var, arr in state.items():
+                    full = np.full(n, np.nan)
+                    full[sub] = arr
+                    values[f"{k}:{var}"] = full
+            sub_code = np.where(m.ok, OK, NO_ASSEMBLY).astype(np.int8)
+            sub_code[m.reason == REASONS[LOOP_SINGULAR]] = SINGULAR
+            code[sub] = sub_code
+            reason[sub] = m.reason
+        self.place(st, values)
+        st.reasons[id(self)] = reason
+        return code
+
+    def var(self, values: dict[str, np.ndarray], k: int, name: Any, n: int) -> Any:
+        """Order-``k`` value of a loop variable (or of a constant)."""
+        if isinstance(name, str):
+            return values.get(f"{k}:{name}", np.full(n, np.nan))
+        return name if k == 0 else 0.0
+
+    def place(self, st: State, values: dict[str, np.ndarray]) -> None:
+        """Place the group's links along its spanning tree from the known bodies."""
+        c, n, order = self.c, st.n, st.order
+        ks = range(order + 1)
+        rot: dict[str, list[Any]] = {}
+        for link in self.group:
+            v = c.rot_var[link]
+            if v is None:
+                rot[link] = [np.zeros(n)] * (order + 1)
+            else:
+                rot[link] = [self.var(values, k, v, n) for k in ks]
+                rot[link][0] = rot[link][0] + c.rot_offset[link] - self.theta0[link]
+        cross: dict[str, list[Any]] = {}
+        for name, (lv, av, fixed) in c.cross_vars.items():
+            d = [self.var(values, k, lv, n) for k in ks]
+            phi = [self.var(values, k, av if av is not None else fixed, n) for k in ks]
+            cross[name] = _vector_rates(d, phi, order)
+        for name, parts in c.roll_parts.items():
+            total = [0j] * (order + 1)
+            for sign, length, ang in parts:
+                d = [self.var(values, k, length, n) for k in ks]
+                phi = [self.var(values, k, ang, n) for k in ks]
+                part = _vector_rates(d, phi, order)
+                total = [t + sign * p for t, p in zip(total, part, strict=True)]
+            cross[name] = total
+        for child, e, child_is_b in c.tree:
+            par, p_key, c_key = (e.a, e.pa, e.pb) if child_is_b else (e.b, e.pb, e.pa)
+            P = st.rates(self.ref(par, p_key))
+            if e.kind != "R":
+                s = 1.0 if child_is_b else -1.0
+                P = [P[k] + s * cross[e.name][k] for k in ks]
+            delta = rot[child][0]
+            st.place(
+                self.index[child],
+                P,
+                self.xy(c_key) - self.origin[child],
+                np.exp(1j * delta),
+                delta,
+                rot[child][1:],
+            )
+
+
+Step = Crank | Motor | Slide | Dyad | RPR | RPP | General
 
 
 @dataclass
@@ -413,18 +607,30 @@ class Program:
     steps: list[Any]
     group_of_step: list[int]  # the group each step solves
     deps: list[tuple[int, ...]]  # per group: the groups whose links it uses
-    unwrap: tuple[int, ...] = ()  # links whose angle comes from atan2 (continuous by unwrapping)
-    extra: dict[str, Any] = field(default_factory=dict)
+    links: list[tuple[int, ...]]  # per group: the links it places
+    unwrap: frozenset[int] = frozenset()  # links whose angle comes from atan2
 
-    def run(self, u: list[list[Any]], n: int, order: int) -> tuple[State, np.ndarray]:
+    def run(
+        self, u: list[list[Any]], n: int, order: int, follow: bool = False
+    ) -> tuple[State, np.ndarray]:
         """Run every step over ``n`` samples; ``u[d]`` is driver d's value and rates.
 
-        Returns the state and each group's own status code per sample.
+        ``follow``: the samples are a path (a sweep from the drawn pose), along
+        which the angles are unwrapped as each group is solved. Returns the
+        state and each group's own status code per sample (the reasons of
+        general groups in ``state.reasons``).
         """
         st = State(self.n_links, n, order)
+        st.follow = follow
         codes = np.zeros((len(self.deps), n), np.int8)
         for g, step in zip(self.group_of_step, self.steps, strict=True):
             code = step.run(st, u)
             if code is not None:
                 codes[g] = code
+            if isinstance(step, General):
+                st.reasons[g] = st.reasons.pop(id(step))
+            if follow:
+                for i in self.links[g]:
+                    if i in self.unwrap:
+                        st.ang[i] = unwrap(st.ang[i])
         return st, codes

@@ -46,7 +46,7 @@ class _Info:
     slides: tuple[tuple[str, Ref, Ref, complex, int], ...]  # name, foot, at, u0, guide
     actuators: tuple[tuple[str, Ref, Ref], ...]
     group_links: tuple[tuple[int, ...], ...]
-    texts: tuple[tuple[str, str], ...]  # per group: reason if it cannot assemble / is singular
+    texts: tuple[tuple[str, str, str], ...]  # per group: no assembly, singular, its name
     angle_drivers: frozenset[str]
 
 
@@ -97,6 +97,7 @@ def _info(lk: Linkage, model: _Model) -> _Info:
                 f"cannot assemble: {grp.name} does not close at this input{tail}",
                 f"singular Jacobian (toggle or dead point) of {grp.name}: derivatives "
                 f"undefined{tail}",
+                f"{grp.name}{tail}",
             )
         )
     info = _Info(
@@ -130,7 +131,7 @@ def _depends(groups, g: int, h) -> bool:
 def _check_drawing(program: Program, info: _Info, groups) -> None:
     """Refuse a drawing at a toggle (the branches meet there, so it names none)."""
     u = [[np.array([v]), 0.0, 0.0, 0.0] for v in info.start]
-    _, codes = program.run(u, 1, 0)
+    _, codes = program.run(u, 1, 0, False)
     for g, code in enumerate(codes[:, 0]):
         if code != OK:
             raise ModelError(
@@ -175,21 +176,6 @@ def _path(start: np.ndarray, scale: np.ndarray, u: np.ndarray) -> tuple[np.ndarr
     return np.concatenate(parts, axis=1), np.concatenate(tags)
 
 
-def _unwrap(a: np.ndarray) -> np.ndarray:
-    """Continuous angles along a path: every step wrapped to (−π, π], gaps skipped."""
-    ok = np.isfinite(a)
-    if ok.all():
-        d = np.diff(a)
-        return np.concatenate((a[:1], a[0] + np.cumsum((d + np.pi) % (2 * np.pi) - np.pi)))
-    out = np.full_like(a, np.nan)
-    idx = np.flatnonzero(ok)
-    if idx.size:
-        v = a[idx]
-        d = (np.diff(v) + np.pi) % (2 * np.pi) - np.pi
-        out[idx] = np.concatenate((v[:1], v[0] + np.cumsum(d)))
-    return out
-
-
 def _flat(a: Any, shape: tuple[int, ...]) -> np.ndarray:
     return np.broadcast_to(np.asarray(a, float), shape).reshape(-1)
 
@@ -227,14 +213,18 @@ def solve_closed(
             else:
                 row.append(np.zeros(m))
         u.append(row)
-    st, codes = model.program.run(u, m, order)
+    st, codes = model.program.run(u, m, order, follow)
     if on_path:
         take = np.flatnonzero(tags < 0)
-        for i in model.program.unwrap:
-            st.ang[i] = _unwrap(st.ang[i])
         _select(st, take)
         codes = codes[:, take]
+        st.reasons = {g: r[take] for g, r in st.reasons.items()}
     ok, reason = _flags(st, codes, model, info, n)
+    for g in np.flatnonzero((codes == NO_ASSEMBLY).any(axis=1)):
+        where = _reach(lk, model, info, int(g))
+        if where:
+            mine = reason == info.texts[g][0]
+            reason[mine] = f"{info.texts[g][0]} ({where})"
     return _motion(lk, st, info, vals, shape, ok, reason, order)
 
 
@@ -245,6 +235,69 @@ def _select(st: State, take: np.ndarray) -> None:
         for i, v in enumerate(table):
             if np.ndim(v):
                 table[i] = v[take]
+
+
+def _pos_ok(model: _Model, codes: np.ndarray, g: int) -> np.ndarray:
+    """Where group ``g`` and every group it depends on are placed."""
+    bad = codes == NO_ASSEMBLY
+    for h, dep in enumerate(model.program.deps[: g + 1]):
+        for d in dep:
+            bad[h] |= bad[d]
+    return ~bad[g]
+
+
+def _reach(lk: Linkage, model: _Model, info: _Info, g: int) -> str:
+    """Where group ``g`` closes, as the range of the driver — for one angle driver.
+
+    The closed forms are evaluated over a full turn of the driver (from the
+    drawn value) and each change of assembly refined by bisection.
+    """
+    key = f"reach {g}"
+    if key in model.cache:
+        return model.cache[key]  # type: ignore[return-value]
+    from .program import General
+
+    text = ""
+    steps = model.program.steps[: g + 1]
+    driver = lk._drivers[0]
+    if (
+        len(lk._drivers) == 1
+        and driver in info.angle_drivers
+        and not any(isinstance(s, General) for s in steps)
+    ):
+
+        def closes(theta: np.ndarray) -> np.ndarray:
+            u = [[theta, 0.0, 0.0, 0.0]]
+            _, codes = model.program.run(u, theta.size, 0, False)
+            return _pos_ok(model, codes, g)
+
+        n = 720
+        theta = info.start[0] + np.linspace(-np.pi, np.pi, n, endpoint=False)
+        ok = closes(theta)
+        if not ok.any():
+            text = f"it closes at no value of {driver}"
+        elif not ok.all():
+            lo = np.flatnonzero(ok != np.roll(ok, -1))
+            a, b = theta[lo], theta[lo] + 2 * np.pi / n
+            inside = ok[lo]  # True: a closing edge (ok at a, not at b)
+            for _ in range(44):
+                mid = 0.5 * (a + b)
+                same = closes(mid) == inside
+                a, b = np.where(same, mid, a), np.where(same, b, mid)
+            edges = 0.5 * (a + b)
+            starts = edges[~inside]  # where it starts closing (going up)
+            ends = edges[inside]
+            if ok[0] and ok[-1]:  # the range that straddles −180° + drawn
+                ends = np.roll(ends, -1) if ends.size else ends
+            spans = []
+            for s0 in starts:
+                later = ends[(ends - s0) % (2 * np.pi) > 0]
+                e0 = min(later, key=lambda e: (e - s0) % (2 * np.pi)) if later.size else s0
+                spans.append((s0, s0 + (e0 - s0) % (2 * np.pi)))
+            parts = [f"[{np.degrees(x):.5g}°, {np.degrees(y):.5g}°]" for x, y in sorted(spans)]
+            text = f"it closes for {driver} in " + " and ".join(parts)
+    model.cache[key] = text
+    return text
 
 
 def _flags(st: State, codes: np.ndarray, model: _Model, info: _Info, n: int):
@@ -271,6 +324,12 @@ def _flags(st: State, codes: np.ndarray, model: _Model, info: _Info, n: int):
     ok = ~rate_bad.any(axis=0) if len(deps) else np.ones(n, bool)
     reason = np.full(n, "", dtype=object)
     for g in range(len(deps) - 1, -1, -1):
+        if g in st.reasons:  # a general group: the loop core's reason, naming the group
+            bad = codes[g] != OK
+            if bad.any():
+                own = st.reasons[g][bad]
+                reason[bad] = [f"{r or 'cannot assemble'} ({info.texts[g][2]})" for r in own]
+            continue
         for code, text in ((NO_ASSEMBLY, info.texts[g][0]), (SINGULAR, info.texts[g][1])):
             reason[codes[g] == code] = text
     return ok, reason

@@ -30,19 +30,21 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar, integer
+from .._validate import boolean, finite_array, finite_scalar, integer, positive
 from ..classify import classify
 from ..errors import InputError
 from ..fourbar import FourBar
 from .atlas_store import (
+    META_DTYPE,
     AtlasError,
     Manifest,
     chunk_is_good,
     chunk_name,
     even_curves,
+    folder_path,
     read_manifest,
 )
-from .circuits import circuit_angles, circuit_points, circuit_range
+from .circuits import circuit_angles, circuit_points, circuit_range, coupler_at
 from .descriptor import (
     align_closed,
     align_partial,
@@ -56,12 +58,17 @@ from .geometry import as_points
 from .path import PathSynthesis, _mu_min
 from .placed import PlacedFourBar
 from .refine import refine
+from .sixbar import SIXBAR_DTYPE
 
-__all__ = ["Atlas", "PathCandidates", "open_atlas", "path_from_atlas"]
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
 
 #: Atlas entries retrieved per query, and how many of the best-placed are refined.
 RETRIEVE = 160
 REFINE = 10
+#: How many of the refined candidates are refined on to convergence.
+POLISH = 3
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: A best result farther than this (over the target's size) means no entry came near.
@@ -82,7 +89,6 @@ class Atlas:
         self.manifest = manifest
         self.desc = desc
         self.meta = meta
-        self.crank = [m["barker"] <= 2 for m in meta]  # GCCC, GCRR: link 2 turns fully
         self.offsets = np.concatenate([[0], np.cumsum([m.size for m in meta])])
 
     def __len__(self) -> int:
@@ -93,7 +99,12 @@ class Atlas:
 
     def entries(self, index: Any) -> np.ndarray:
         """Parameter rows of the entries at flat indices."""
-        index = np.atleast_1d(np.asarray(index, dtype=np.int64))
+        index = np.atleast_1d(finite_array("index", index)).ravel()
+        if index.size and (
+            np.any(index != np.round(index)) or index.min() < 0 or index.max() >= len(self)
+        ):
+            raise InputError("index", f"must be whole numbers from 0 to {len(self) - 1}")
+        index = index.astype(np.int64)
         chunk = np.searchsorted(self.offsets, index, side="right") - 1
         out = np.empty(index.size, dtype=self.meta[0].dtype)
         for c in np.unique(chunk):
@@ -101,32 +112,68 @@ class Atlas:
             out[sel] = self.meta[c][index[sel] - self.offsets[c]]
         return out
 
-    def nearest(self, descriptor: Any, k: int = RETRIEVE, *, crank: bool = True):
+    def nearest(self, descriptor: Any, k: int = RETRIEVE, *, crank: bool = True, client=None):
         """The ``k`` entries nearest to a descriptor in any of its variants.
 
+        ``client``: a ``distributed.Client``: each chunk is then scored by a
+        task on the cluster (whose workers must see the atlas folder).
         Returns flat indices and squared distances (best first).
         """
+        width = 4 * self.manifest.harmonics
+        descriptor = np.ravel(finite_array("descriptor", descriptor))
+        if descriptor.size != width:
+            raise InputError("descriptor", f"must have {width} numbers, got {descriptor.size}")
+        k = integer("k", k, minimum=1, maximum=1_000_000)
+        crank = boolean("crank", crank)
+        if client is not None and not callable(getattr(client, "submit", None)):
+            raise InputError("client", "must be a distributed.Client (or None)")
         variants = descriptor_variants(descriptor).reshape(4, -1).T.copy()  # (D, 4)
-        best_i, best_s = [], []
-        for c, (d, ok) in enumerate(zip(self.desc, self.crank, strict=True)):
-            score = (d @ variants).max(axis=1)
-            if crank:
-                score = np.where(ok, score, -np.inf)
-            kk = min(k, score.size)
-            top = np.argpartition(-score, kk - 1)[:kk]
-            best_i.append(top + self.offsets[c])
-            best_s.append(score[top])
-        idx, score = np.concatenate(best_i), np.concatenate(best_s)
+        if client is None:
+            parts = [
+                chunk_topk(d, m["barker"], variants, k, crank)
+                for d, m in zip(self.desc, self.meta, strict=True)
+            ]
+        else:
+            futures = [
+                client.submit(chunk_topk_file, str(self.path), c, variants, k, crank, pure=False)
+                for c in range(len(self.desc))
+            ]
+            parts = client.gather(futures)
+        idx = np.concatenate([top + self.offsets[c] for c, (top, _) in enumerate(parts)])
+        score = np.concatenate([s for _, s in parts])
         order = np.argsort(-score)[:k]
         keep = np.isfinite(score[order])
         return idx[order][keep], (2.0 - 2.0 * score[order][keep]).astype(float)
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas."""
-        allowed = np.flatnonzero(np.concatenate(self.crank)) if crank else np.arange(len(self))
+        size = integer("size", size, minimum=1, maximum=10**9)
+        crank = boolean("crank", crank)
+        barker = np.concatenate([m["barker"] for m in self.meta])
+        allowed = np.flatnonzero(barker <= 2) if crank else np.arange(len(self))
         if allowed.size <= size:
             return allowed
         return allowed[np.linspace(0, allowed.size - 1, size).astype(np.int64)]
+
+
+def chunk_topk(
+    desc: np.ndarray, barker: np.ndarray, variants: np.ndarray, k: int, crank: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and scores (cosine) of the ``k`` best entries of one chunk (a BLAS product)."""
+    score = (desc @ variants).max(axis=1)
+    if crank:
+        score = np.where(barker <= 2, score, -np.inf)  # GCCC, GCRR: link 2 turns fully
+    kk = min(k, score.size)
+    top = np.argpartition(-score, kk - 1)[:kk]
+    return top, score[top]
+
+
+def chunk_topk_file(path: str, index: int, variants: np.ndarray, k: int, crank: bool):
+    """:func:`chunk_topk` on a chunk read from the atlas folder (a Dask task)."""
+    folder = Path(path)
+    desc = np.load(folder / f"{chunk_name(index)}.desc.npy", mmap_mode="r")
+    meta = np.load(folder / f"{chunk_name(index)}.meta.npy", mmap_mode="r")
+    return chunk_topk(desc, np.asarray(meta["barker"]), variants, k, crank)
 
 
 def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
@@ -144,7 +191,8 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
         No manifest, another format version, an unfinished build, a missing,
         truncated or corrupted chunk: never a wrong answer from a stale atlas.
     """
-    folder = Path(path)
+    folder = folder_path("path", path)
+    verify = boolean("verify", verify)
     manifest = read_manifest(folder)
     if not manifest.complete:
         raise AtlasError(
@@ -166,7 +214,13 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
             raise AtlasError(
                 folder, f"chunk {i} cannot be read ({exc}); rebuild the atlas"
             ) from None
-        if d.shape != (info["rows"], width) or d.dtype != np.float32 or m.shape != (info["rows"],):
+        want = SIXBAR_DTYPE if manifest.kind == "sixbar" else META_DTYPE
+        if (
+            d.shape != (info["rows"], width)
+            or d.dtype != np.float32
+            or m.shape != (info["rows"],)
+            or m.dtype != want
+        ):
             raise AtlasError(folder, f"chunk {i} does not have the shape its manifest says")
         desc.append(d)
         meta.append(np.asarray(m))
@@ -210,7 +264,10 @@ class PathCandidates:
 
 
 def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.ndarray | None]:
-    pts = as_points("targets", targets)
+    try:
+        pts = as_points("targets", targets)
+    except (OverflowError, TypeError) as exc:
+        raise InputError("targets", f"must be points (x, y) or x + jy, got {exc}") from None
     kind = "timed" if timing is not None else ("closed" if closed else "open")
     need = MIN_POINTS[kind]
     if pts.size < need:
@@ -254,6 +311,7 @@ def path_from_atlas(
     tolerance: float | None = None,
     retrieve: int = RETRIEVE,
     refine_count: int = REFINE,
+    client: Any = None,
 ) -> PathCandidates:
     """Four-bars whose coupler curve passes through target points, from an atlas.
 
@@ -279,6 +337,8 @@ def path_from_atlas(
         A target farther than this from the curve is a defect.
     retrieve, refine_count : int
         Entries taken from the atlas, and how many of the best-placed are refined.
+    client : distributed.Client, optional
+        Score the atlas's chunks as tasks on this Dask cluster.
 
     Returns
     -------
@@ -294,20 +354,42 @@ def path_from_atlas(
     start = time.perf_counter()
     if not isinstance(atlas, Atlas):
         atlas = open_atlas(atlas)
+    closed = boolean("closed", closed)
     pts, timing = _targets(targets, timing, closed)
-    n = integer("n", n, minimum=1)
+    n = integer("n", n, minimum=1, maximum=1000)
     mu_min = finite_scalar("mu_min", mu_min, "radian")
-    crank = bool(crank) or timing is not None
+    if not 0.0 <= mu_min < np.pi / 2:
+        raise InputError("mu_min", f"must be between 0 and 90 deg, got {np.degrees(mu_min):g} deg")
+    if tolerance is not None:
+        tolerance = positive("tolerance", tolerance)
+    retrieve = integer("retrieve", retrieve, minimum=1, maximum=100_000)
+    refine_count = integer("refine_count", refine_count, minimum=1, maximum=10_000)
+    if client is not None and not callable(getattr(client, "submit", None)):
+        raise InputError("client", "must be a distributed.Client (or None)")
+    crank = boolean("crank", crank) or timing is not None
     size = float(np.max(np.abs(pts - pts.mean())))
     t0 = time.perf_counter()
-    entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count)
+    if atlas.manifest.kind == "sixbar":
+        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count,
+                            client, start)  # fmt: skip
+    if timing is None:
+        entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
+        starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
+    else:
+        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client)
     t1 = time.perf_counter()
+    options = dict(timing=timing, crank=crank, mu_min=mu_min)
+    fits = [refine(*first, pts, max_nfev=40, **options) for first in starts if first is not None]
+    # the few best go on until they converge (the rest rarely overtake them)
+    fits.sort(key=lambda f: f.rms)
+    for i in range(min(POLISH, len(fits))):
+        more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
+        fits[i] = more if more.rms <= fits[i].rms else fits[i]
     results = []
-    for row, tr in zip(entries, transforms, strict=True):
-        for mirror in (False, True) if timing is not None else (False,):
-            res = _refine_one(row, tr, pts, timing, closed, crank, mu_min, tolerance, mirror)
-            if res is not None:
-                results.append(res)
+    for fit in fits:
+        res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
+        if res is not None:
+            results.append(res)
     t2 = time.perf_counter()
     results.sort(key=lambda r: float(np.max(r.distance)))
     good = [r for r in results if r.ok]
@@ -330,14 +412,50 @@ def path_from_atlas(
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
 
 
-def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count):
+def _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count, client, start):
+    """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
+    from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    t0 = time.perf_counter()
+    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client)
+    t1 = time.perf_counter()
+    fits = [(*refine_sixbar(x0, th0, fx, pts, timing=timing, max_nfev=40), fx)
+            for x0, th0, fx in starts]  # fmt: skip
+    fits.sort(key=lambda f: f[2])
+    for i in range(min(POLISH, len(fits))):
+        x, th, rms, fx = fits[i]
+        more = refine_sixbar(x, th, fx, pts, timing=timing, max_nfev=400)
+        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance) for x, th, _, fx in fits]
+    results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
+    t2 = time.perf_counter()
+    chosen, rejected = [], []
+    for r in results:
+        if not r.ok:
+            rejected.append(r)
+        elif all(np.max(np.abs(r.design[3:] - c.design[3:])) > 0.02 * size for c in chosen):
+            chosen.append(r)
+    chosen = chosen[:n]
+    best = chosen[0] if chosen else (rejected[0] if rejected else None)
+    worst = float(np.max(best.distance)) / size if best is not None else np.inf
+    note = "" if worst <= NEAR else (
+        f"no atlas entry comes near these targets: the best six-bar found misses by "
+        f"{100 * worst:.1f} % of the targets' size"
+    )  # fmt: skip
+    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
+                          seconds)  # fmt: skip
+
+
+def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None):
     """Atlas rows and the similarity transforms (h, t) that place their curves on the target."""
     man = atlas.manifest
     if closed:
         dense = interpolate_closed(pts, 8 * man.samples)
         even = resample_closed(dense, man.samples)
         q = curve_descriptor(even, man.harmonics, resampled=True)
-        idx, _ = atlas.nearest(q, retrieve, crank=crank)
+        idx, _ = atlas.nearest(q, retrieve, crank=crank, client=client)
         rows = atlas.entries(idx)
         curves = even_curves(rows, man.circuit_samples, man.samples)
         transforms, residual = align_closed(even, curves)
@@ -351,8 +469,8 @@ def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count):
     return rows[order], transforms[order]
 
 
-def _refine_one(row, tr, pts, timing, closed, crank, mu_min, tolerance, mirror):
-    """Place one atlas entry by ``tr``, refine it, check it (None if it cannot be used)."""
+def _start_untimed(row, tr, pts):
+    """Refinement start of an atlas entry placed by ``tr = (h, t)``: design, θ_k, assembly_k."""
     h, t = tr
     if not np.isfinite(h) or h == 0:
         return None
@@ -365,41 +483,70 @@ def _refine_one(row, tr, pts, timing, closed, crank, mu_min, tolerance, mirror):
     u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
     _, branch = circuit_angles(u, c, hw, ck, circuit)
     x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, delta, t.real, t.imag, rot])
-    if timing is None:
-        G = t + h * local[0]
-        near = np.argmin(np.abs(G[None, :] - pts[:, None]), axis=1)
-        theta0, br = theta2[0][near], branch[near]
-    else:
-        if not bool(ck):
-            return None
-        # the mirror image (δ → −δ, the other assembly) runs the other way round
-        # for the same crank rotation; both are placed by a scan of θ0
-        br0 = -circuit if mirror else circuit
-        if mirror:
-            x0[5] = -delta
-        theta0, br = _timed_start(x0, br0, pts, timing), np.full(pts.size, br0)
-    fit = refine(x0, theta0, br, pts, timing=timing, crank=crank, mu_min=mu_min)
-    return _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
+    near = np.argmin(np.abs((t + h * local[0])[None, :] - pts[:, None]), axis=1)
+    return x0, theta2[0][near], branch[near]
 
 
-def _timed_start(x0, branch, pts, timing):
-    """Best θ0 (and re-placement) for timed targets: scan θ0, Procrustes each (closed form)."""
-    from .refine import coupler_and_jacobian
+#: Entries scanned for timed targets, and crank angles tried for the first target.
+TIMED_POOL = 8_000
+TIMED_GRID = 60
 
-    grid = np.linspace(0.0, 2 * np.pi, 180, endpoint=False)
-    local = np.array([0, 0, 0, 0, 0, 0, 0, 0, 0], dtype=float)
-    local[:6] = x0[:6]
-    th = grid[:, None] + timing[None, :]
-    Q = coupler_and_jacobian(local, th.ravel(), np.full(th.size, branch))[0].reshape(th.shape)
-    qm = Q.mean(axis=1, keepdims=True)
-    tm = pts.mean()
-    hh = np.sum(np.conj(Q - qm) * (pts - tm)[None, :], axis=1)
-    rot = hh / np.maximum(np.abs(hh), 1e-300)
-    resid = np.sum(np.abs(pts[None, :] - tm - rot[:, None] * (Q - qm)) ** 2, axis=1)
-    i = int(np.argmin(resid))
-    o2 = tm - rot[i] * qm[i, 0]
-    x0[6], x0[7], x0[8] = o2.real, o2.imag, np.angle(rot[i])
-    return grid[i] + timing
+
+def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None):
+    """Refinement starts for timed targets: scan θ0 for every entry of a pool, fit each.
+
+    For each crank entry (and its mirror image: δ → −δ on the other assembly,
+    which runs the other way round for the same crank rotation) and each of
+    ``TIMED_GRID`` starting angles θ0, the coupler points at ``θ0 + Δ_k`` are
+    fitted onto the targets by a rotation, scale and offset (closed form); the
+    best fits start the refinements.
+    """
+    man = atlas.manifest
+    idx = atlas.pool(TIMED_POOL, crank=True)
+    if closed:
+        dense = interpolate_closed(pts, 8 * man.samples)
+        q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
+        idx = np.union1d(idx, atlas.nearest(q, retrieve, crank=True, client=client)[0])
+    rows = atlas.entries(idx)
+    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+    th = grid[:, None] + timing[None, :]  # (G, K)
+    a0 = pts - pts.mean()
+    aa = float(np.sum(np.abs(a0) ** 2))
+    best = []
+    for mirror in (1.0, -1.0):
+        for lo in range(0, rows.size, 2048):  # blocks keep the (rows, θ0, targets) arrays small
+            best.append(_timed_fits(rows[lo : lo + 2048], mirror, th, pts, aa))
+    score, g, hh, off, mirror = (np.concatenate(x) for x in zip(*best, strict=True))
+    order = np.argsort(-score)[:refine_count]
+    rows2 = np.concatenate([rows, rows])  # the order of the blocks: all unmirrored, then mirrored
+    starts = []
+    for i in order:
+        row, m, h = rows2[i], mirror[i], hh[i]
+        r1, r3, r4, p, delta = (float(row[k]) for k in ("r1", "r3", "r4", "p", "delta"))
+        s = abs(h)
+        x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, m * delta, off[i].real, off[i].imag,
+                       np.angle(h)])  # fmt: skip
+        theta = grid[g[i]] + timing
+        starts.append((x0, theta, np.full(pts.size, m * float(row["circuit"]))))
+    return starts
+
+
+def _timed_fits(rows, mirror, th, pts, aa):
+    """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets."""
+    f = {k: rows[k].astype(float)[:, None, None] for k in ("r1", "r3", "r4", "p", "delta")}
+    circuit = rows["circuit"].astype(float)[:, None, None] * mirror
+    Q = coupler_at(f["r1"], 1.0, f["r3"], f["r4"], f["p"], mirror * f["delta"], th, circuit)
+    qm = Q.mean(axis=2, keepdims=True)
+    q0 = Q - qm
+    a0 = pts - pts.mean()
+    c = np.sum(np.conj(q0) * a0, axis=2)  # (R, G)
+    v = np.sum(np.abs(q0) ** 2, axis=2)
+    score = np.abs(c) ** 2 / np.where(v > 0, v, np.inf) / aa  # 1 − normalised residual²
+    g = np.argmax(score, axis=1)
+    r = np.arange(rows.size)
+    hh = c[r, g] / v[r, g]
+    off = pts.mean() - hh * qm[r, g, 0]
+    return score[r, g], g, hh, off, np.full(rows.size, mirror)
 
 
 def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesis | None:

@@ -33,19 +33,14 @@ from typing import Any
 import numpy as np
 
 from .. import jit
-from .._validate import integer
+from .._validate import boolean, choice, integer
 from ..errors import InputError
 from .circuits import circuit_points, circuit_range
 from .descriptor import HARMONICS, SAMPLES, curve_descriptor, resample_closed
 
-__all__ = [
-    "FORMAT_VERSION",
-    "AtlasError",
-    "Manifest",
-    "build_atlas",
-    "build_chunk",
-    "sample_fourbars",
-]
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
 
 #: Bumped whenever sampling, circuits or descriptors change: older atlases are refused.
 FORMAT_VERSION = 1
@@ -123,6 +118,13 @@ class Manifest:
         d = {k: getattr(self, k) for k in self.__dataclass_fields__}
         d["format"] = "machdyn-atlas"
         return json.dumps(d, indent=1, sort_keys=True)
+
+
+def folder_path(field: str, value: Any) -> Path:
+    """A folder argument as a Path (a str or path-like, not empty), else :class:`InputError`."""
+    if not isinstance(value, str | os.PathLike) or not str(os.fspath(value)).strip():
+        raise InputError(field, f"must be a folder path, got {value!r:.60}")
+    return Path(os.fspath(value))
 
 
 def chunk_name(index: int) -> str:
@@ -253,6 +255,11 @@ def even_curves(meta: np.ndarray, m: int, samples: int, compiled: bool | None = 
 
     ``compiled``: True/False to choose; None lets :mod:`machdyn.jit` decide.
     """
+    if "topology" in meta.dtype.names:  # six-bars: the engine's dyads, NumPy
+        from .sixbar import sixbar_points
+
+        P = sixbar_points(meta, np.linspace(0.0, 2 * np.pi, m, endpoint=False))[0]
+        return resample_closed(np.where(np.isfinite(P), P, 0.0), samples)
     f = {k: meta[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
     circuit = meta["circuit"].astype(float)
     if compiled is None:
@@ -297,7 +304,12 @@ def build_chunk(
     manifest = Manifest(**{k: v for k, v in json.loads(manifest_json).items() if k != "format"})
     folder = Path(path)
     rng = np.random.default_rng([manifest.seed, index])
-    meta = sample_fourbars(rng, manifest.rows(index))
+    if manifest.kind == "sixbar":
+        from .sixbar import sample_sixbars
+
+        meta = sample_sixbars(rng, manifest.rows(index), manifest.circuit_samples)
+    else:
+        meta = sample_fourbars(rng, manifest.rows(index))
     desc = describe_entries(meta, manifest, compiled)
     info: dict[str, Any] = {"rows": int(meta.size)}
     for suffix, array in (("desc", desc), ("meta", meta)):
@@ -335,6 +347,7 @@ def build_atlas(
     scheduler: str | None = None,
     workers: int | None = None,
     progress: bool = True,
+    kind: str = "fourbar",
 ) -> Manifest:
     """Build (or finish building) a four-bar coupler-curve atlas of ``count`` entries.
 
@@ -358,6 +371,9 @@ def build_atlas(
         Worker processes of the local cluster (default: the CPU count).
     progress : bool
         Show a progress bar (on stderr).
+    kind : {"fourbar", "sixbar"}
+        Four-bars over every Barker class and circuit, or crank-driven Watt and
+        Stephenson six-bars (:mod:`machdyn.synthesis.sixbar`).
 
     Returns
     -------
@@ -371,14 +387,22 @@ def build_atlas(
     >>> m.n_chunks, m.complete, sorted(m.chunks)
     (3, True, ['00000', '00001', '00002'])
     """
-    count = integer("count", count, minimum=1)
-    chunk_size = integer("chunk_size", chunk_size, minimum=1)
-    seed = integer("seed", seed, minimum=0)
+    folder = folder_path("path", path)
+    count = integer("count", count, minimum=1, maximum=10**10)
+    chunk_size = integer("chunk_size", chunk_size, minimum=1, maximum=1 << 24)
+    seed = integer("seed", seed, minimum=0, maximum=2**63)
+    kind = choice("kind", kind, ("fourbar", "sixbar"))
+    progress = boolean("progress", progress)
+    if workers is not None:
+        workers = integer("workers", workers, minimum=1, maximum=4096)
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise InputError("scheduler", f"must be 'local' or an address, got {scheduler!r:.60}")
     from .. import __version__
 
-    folder = Path(path)
     folder.mkdir(parents=True, exist_ok=True)
-    manifest = Manifest(count=count, chunk_size=chunk_size, seed=seed, machdyn_version=__version__)
+    manifest = Manifest(
+        count=count, chunk_size=chunk_size, seed=seed, machdyn_version=__version__, kind=kind
+    )
     manifest = _resume(folder, manifest)
     todo = [i for i in range(manifest.n_chunks) if f"{i:05d}" not in manifest.chunks]
     _save_manifest(folder, manifest)

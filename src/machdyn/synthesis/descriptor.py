@@ -32,13 +32,9 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = [
-    "align_closed",
-    "curve_descriptor",
-    "descriptor_variants",
-    "interpolate_closed",
-    "resample_closed",
-]
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
 
 #: Harmonics kept on each side (k = ±1 … ±HARMONICS): 4·HARMONICS floats per curve.
 HARMONICS = 8
@@ -127,7 +123,11 @@ def curve_descriptor(z: Any, harmonics: int = HARMONICS, *, resampled: bool = Fa
     >>> bool(np.abs(d1 - d2).max() < 1e-4), round(float(d1 @ d1), 5)
     (True, 1.0)
     """
-    z = np.asarray(z, dtype=complex)
+    from .._validate import boolean, integer
+
+    harmonics = integer("harmonics", harmonics, minimum=1, maximum=1024)
+    resampled = boolean("resampled", resampled)
+    z = _curve("z", z)
     if not resampled:
         z = resample_closed(z, max(SAMPLES, 4 * harmonics))
     m = z.shape[-1]
@@ -147,6 +147,20 @@ def curve_descriptor(z: Any, harmonics: int = HARMONICS, *, resampled: bool = Fa
     out[..., 0::2] = c.real
     out[..., 1::2] = c.imag
     return out
+
+
+def _curve(field: str, z: Any) -> np.ndarray:
+    """Curves as a finite complex array with at least 3 points per curve, else InputError."""
+    try:
+        z = np.asarray(z)
+    except (ValueError, TypeError):
+        raise InputError(field, "must be an array of points (complex numbers)") from None
+    if z.dtype.kind not in "fiuc" or z.ndim == 0 or z.shape[-1] < 3:
+        raise InputError(field, "must be points (complex x + jy) along a curve, at least 3")
+    z = z.astype(complex)
+    if not np.all(np.isfinite(z)):
+        raise InputError(field, "must be finite (no NaN or infinity)")
+    return z
 
 
 def descriptor_variants(d: Any) -> np.ndarray:
