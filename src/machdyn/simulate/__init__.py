@@ -10,7 +10,7 @@ actuator, or by a motor between two moving links)::
 ``I(q)`` is the generalised inertia (Σ m |∂r_G/∂q|² + I_G (∂θ/∂q)²), ``Q`` the
 generalised force of gravity, springs and the model's constant loads, ``C``
 its viscous damping, all taken from the model's own force analysis (see
-:mod:`machdyn.simulate.table`); ``I_add`` is the flywheel and drive line.
+:mod:`machdyn.simulate._table`); ``I_add`` is the flywheel and drive line.
 Motors (:mod:`machdyn.simulate.motors`): constant, DC, induction, any
 function of time, angle and speed. Loads (:mod:`machdyn.simulate.loads`):
 torques and forces as functions of time and of their own link's or point's
@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import choice, finite_scalar, integer, nonnegative, positive
+from .._validate import finite_scalar, in_range
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -68,8 +68,6 @@ __all__ = [
     "step",
     "torque",
 ]
-
-_STOPS = ("stall", "reversal")
 
 # The classes load on first use, so that ``import machdyn`` (which imports this
 # package for the ``machdyn.simulate`` function) stays fast.
@@ -122,7 +120,7 @@ def simulate(
     rtol: float = 1e-9,
     atol: float = 1e-10,
     method: str = "DOP853",
-    max_step: float = math.inf,
+    max_step: float | None = None,
     table: bool = True,
     table_tol: float = 1e-9,
     steady_tol: float = 1e-7,
@@ -167,7 +165,8 @@ def simulate(
         Number of uniform time samples in the result.
     rtol, atol, method, max_step
         Passed to :func:`scipy.integrate.solve_ivp` (``atol`` is for θ and ω;
-        the work integrals get it scaled to the energies).
+        the work integrals get it scaled to the energies; ``max_step`` None: no
+        limit).
     table : bool
         Tabulate the coefficients once (default, fast) or solve the model at
         every step (``False``: slow, for checking).
@@ -213,50 +212,39 @@ def simulate(
     >>> bool(abs(run.energy.residual).max() < 1e-8 * run.energy.kinetic[0])
     True
     """
-    from .integrate import Runner
-    from .loads import Load
-    from .motors import as_motor
-    from .plant import make_plant
+    from ._integrate import Runner
+    from ._setup import prepare, solver_options, stops, time_limit
+    from ._table import Exact, Table
     from .result import Simulation
-    from .table import Exact, Table
 
-    motor = as_motor(motor)
-    loads = tuple(loads)
-    for n, load in enumerate(loads):
-        if not isinstance(load, Load):
-            raise InputError(f"loads[{n}]", f"build loads with torque() or force(); got {load!r}")
-    plant = make_plant(model, dynamics, form=form, branch=branch, driver=driver)
-    for load in loads:
-        plant.check(load)
-    q0 = plant.default_q0() if theta0 is None else finite_scalar("theta0", theta0, "radian")
-    w0 = finite_scalar("omega0", omega0, "radian / second")
-    added = nonnegative("flywheel", flywheel) + (motor.reflected_inertia if motor else 0.0)
-    if until is not None:
-        choice("until", until, ("steady",))
-    t_end = _time_limit(t_end, turns, until)
-    stops = frozenset(stop_on)
-    for s in stops:
-        choice("stop_on", s, _STOPS)
-    samples = integer("samples", samples, minimum=2)
-    rtol = positive("rtol", rtol)
-    atol = positive("atol", atol)
-    table_tol = positive("table_tol", table_tol)
-    choice("method", method, ("RK45", "DOP853", "Radau", "BDF", "LSODA", "RK23"))
+    setup = prepare(model, motor, loads, dynamics, form=form, branch=branch, driver=driver,
+                    theta0=theta0, flywheel=flywheel)  # fmt: skip
+    plant, motor, loads, q0 = setup.plant, setup.motor, setup.loads, setup.q0
+    w0 = finite_scalar("omega0", omega0, "radian / second" if plant.angular else None)
+    t_end, turns = time_limit(t_end, turns, until)
+    stop_set = stops(stop_on)
+    opts = solver_options(samples=samples, rtol=rtol, atol=atol, method=method,
+                          max_step=max_step, table=table, table_tol=table_tol)  # fmt: skip
+    steady = in_range("steady_tol", steady_tol, 1e-14, 0.1)
 
     span = plant.span(q0)
     if span.period is None and turns is not None:
         raise InputError("turns", "the input does not turn fully (it is a rocker): give t_end")
     if span.period is None and until is not None:
         raise InputError("until", "a steady state needs an input that turns fully (a crank)")
-    coef = Table(plant, loads, q0, span, table_tol) if table else Exact(plant, loads, span)
+    if opts["table"]:
+        coef = Table(plant, loads, q0, span, opts["table_tol"])
+    else:
+        coef = Exact(plant, loads, span)
     if coef.period is None and not coef.lo <= q0 <= coef.hi:
         raise InputError(
             "theta0", f"{q0:.6g} is too close to the end of the input's range ({span.hi_reason})"
         )
     runner = Runner(
-        plant, coef, span, motor, loads, added,
-        rtol=rtol, atol=atol, method=method, max_step=float(max_step),
+        plant, coef, span, motor, loads, setup.added,
+        rtol=opts["rtol"], atol=opts["atol"], method=opts["method"], max_step=opts["max_step"],
     )  # fmt: skip
+    runner.check_start(q0, w0)
     q_stop = None
     if turns is not None:
         q_stop = q0 + math.copysign(2.0 * math.pi * turns, w0 if w0 else _push(motor, q0))
@@ -266,21 +254,12 @@ def simulate(
         w0,
         t_end,
         q_stop=q_stop,
-        steady_tol=positive("steady_tol", steady_tol) if until else None,
-        stop_on=stops,
+        steady_tol=steady if until else None,
+        stop_on=stop_set,
         breakpoints=breaks,
     )
-    return _result(Simulation, runner, plant, coef, status, message, samples, q0, w0, added)
-
-
-def _time_limit(t_end: Any, turns: Any, until: Any) -> float:
-    if t_end is None and turns is None and until is None:
-        raise InputError("t_end", "say how long to simulate: t_end=, turns= or until='steady'")
-    if turns is not None:
-        positive("turns", turns)
-    if t_end is None:
-        return 1e9  # bounded by the turns or the steady state
-    return positive("t_end", t_end, "second")
+    return _result(Simulation, runner, plant, coef, status, message, opts["samples"], q0, w0,
+                   setup.added)  # fmt: skip
 
 
 def _push(motor: Any, q0: float) -> float:

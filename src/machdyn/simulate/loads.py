@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_scalar
+from .._validate import complex_scalar, finite_scalar, text
 from ..errors import InputError
 from .motors import call_law
 
@@ -73,16 +73,17 @@ class Step:
 
 
 def step(at: float, before: float | complex, after: float | complex) -> Step:
-    """A load that steps from ``before`` to ``after`` at time ``at`` (see :class:`Step`)."""
-    at = finite_scalar("step at", at, "second")
+    """A load that steps from ``before`` to ``after`` at time ``at`` (see :class:`Step`).
+
+    Examples
+    --------
+    >>> step(1.0, 0.0, -5.0)
+    Step(at=1.0, before=0.0, after=-5.0)
+    """
+    at = finite_scalar("at", at, "second")
     values = []
     for name, value in (("before", before), ("after", after)):
-        try:
-            z = complex(value)
-        except (TypeError, ValueError):
-            raise InputError(f"step {name}", f"must be a number, got {value!r}") from None
-        if not np.isfinite(z):
-            raise InputError(f"step {name}", f"must be finite, got {value!r}")
+        z = complex_scalar(name, value)
         values.append(z.real if z.imag == 0.0 else z)
     return Step(at, values[0], values[1])
 
@@ -149,12 +150,13 @@ def torque(link: int | str, value: float | Callable[..., Any]) -> Load:
     >>> torque(4, -5.0).describe()
     'torque on 4'
     """
+    link = _link(link)
     if not callable(value):
-        value = finite_scalar(f"torque on {link}", value)
-    return Load(_link(link), value, None)
+        value = finite_scalar("value", value)
+    return Load(link, value, None)
 
 
-def force(link: int | str, point: Any, value: complex | Callable[..., Any]) -> Load:
+def force(link: int | str, point: complex | str, value: complex | Callable[..., Any]) -> Load:
     """A force at ``point`` of ``link``: a constant ``Fx + jFy`` or a law ``f(t, P, V)``.
 
     ``point`` is a complex position in the link's frame (FourBar and
@@ -165,31 +167,16 @@ def force(link: int | str, point: Any, value: complex | Callable[..., Any]) -> L
     >>> force(3, 3.5 + 1j, -10j).describe()
     'force on 3 at (3.5+1j)'
     """
-    if isinstance(point, str):
-        if not point:
-            raise InputError("force point", "a point name is a non-empty string")
-    else:
-        try:
-            point = complex(point)
-        except (TypeError, ValueError):
-            raise InputError("force point", f"a point is x + yj or a name, got {point!r}") from None
-        if not np.isfinite(point):
-            raise InputError("force point", f"must be finite, got {point!r}")
+    link = _link(link)
+    point = text("point", point) if isinstance(point, str) else complex_scalar("point", point)
     if not callable(value):
-        try:
-            value = complex(value)
-        except (TypeError, ValueError):
-            raise InputError(
-                f"force on {link}", f"must be complex Fx + jFy, got {value!r}"
-            ) from None
-        if not np.isfinite(value):
-            raise InputError(f"force on {link}", f"must be finite, got {value!r}")
-    return Load(_link(link), value, point)
+        value = complex_scalar("value", value)
+    return Load(link, value, point)
 
 
 def _link(link: Any) -> int | str:
     if isinstance(link, str) and link:
         return link
-    if isinstance(link, (int, np.integer)) and not isinstance(link, bool):
+    if isinstance(link, int | np.integer) and not isinstance(link, bool) and 1 <= link < 1000:
         return int(link)
-    raise InputError("load link", f"a link number (2, 3, 4) or a link name, got {link!r}")
+    raise InputError("link", f"a link number (2, 3, 4) or a link name, got {link!r:.60}")

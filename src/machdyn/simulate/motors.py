@@ -29,19 +29,28 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_scalar, nonnegative, positive
-from ..errors import InputError
+from .._validate import (
+    LIMIT,
+    complex_array,
+    finite_array,
+    finite_scalar,
+    in_range,
+    nonnegative,
+    positive,
+)
+from ..errors import InputError, ModelError
 
-__all__ = ["ConstantTorque", "DCMotor", "InductionMotor", "Motor", "TorqueFunction", "as_motor"]
+__all__ = ["ConstantTorque", "DCMotor", "InductionMotor", "Motor", "TorqueFunction"]
 
 
 class Motor:
     """Base class: a torque source on the input shaft, through an ideal gearbox.
 
-    Subclasses implement :meth:`shaft_torque` (torque on the motor's own shaft at
-    the motor speed). Calling the motor, ``motor(t, theta, omega)``, gives the
-    torque on the *input* (``ratio × shaft_torque(t, theta, ratio × omega)``,
-    zero from ``off_at`` on); it broadcasts over arrays.
+    Subclasses implement ``_law(t, theta, omega_motor)``, the torque on the
+    motor's own shaft at the motor speed (:meth:`shaft_torque` is that law with
+    its arguments checked). Calling the motor, ``motor(t, theta, omega)``, gives
+    the torque on the *input* (``ratio × law(t, theta, ratio × omega)``, zero
+    from ``off_at`` on); both broadcast over arrays.
 
     Parameters
     ----------
@@ -54,9 +63,9 @@ class Motor:
     """
 
     def __init__(self, *, inertia: float = 0.0, ratio: float = 1.0, off_at: Any = None) -> None:
-        self.inertia = nonnegative("motor inertia", inertia)
-        self.ratio = positive("motor ratio", ratio)
-        self.off_at = None if off_at is None else finite_scalar("motor off_at", off_at, "second")
+        self.inertia = nonnegative("inertia", inertia)
+        self.ratio = in_range("ratio", ratio, 1e-6, 1e6)
+        self.off_at = None if off_at is None else finite_scalar("off_at", off_at, "second")
 
     @property
     def reflected_inertia(self) -> float:
@@ -68,13 +77,27 @@ class Motor:
         """Times where the torque jumps (the integration is split there)."""
         return () if self.off_at is None else (self.off_at,)
 
+    def _law(self, t: Any, theta: Any, omega_motor: Any) -> Any:
+        raise ModelError(f"{type(self).__name__} gives no torque law: subclass Motor with _law()")
+
     def shaft_torque(self, t: Any, theta: Any, omega_motor: Any) -> Any:
-        """Torque on the motor shaft at the motor speed (override in subclasses)."""
-        raise NotImplementedError
+        """Torque on the motor's own shaft at time ``t``, input angle ``theta``, motor speed.
+
+        Examples
+        --------
+        >>> DCMotor(2.0, 100.0).shaft_torque(0.0, 0.0, [0.0, 50.0]).tolist()
+        [2.0, 1.0]
+        """
+        t, theta, omega_motor = _checked(t, theta, omega_motor, "omega_motor")
+        return self._law(t, theta, omega_motor)
 
     def __call__(self, t: Any, theta: Any, omega: Any) -> Any:
         """Torque on the input at time ``t``, input angle ``theta`` and input speed ``omega``."""
-        torque = self.ratio * self.shaft_torque(t, theta, self.ratio * omega)
+        if not (type(t) is float and type(theta) is float and type(omega) is float):
+            t, theta, omega = _checked(t, theta, omega, "omega")
+        elif not (abs(t) <= LIMIT and abs(theta) <= LIMIT and abs(omega) <= LIMIT):
+            _checked(t, theta, omega, "omega")  # raises: NaN or beyond the range
+        torque = self.ratio * self._law(t, theta, self.ratio * omega)
         if self.off_at is None:
             return torque
         if np.ndim(t) == 0 and np.ndim(torque) == 0:
@@ -103,10 +126,9 @@ class ConstantTorque(Motor):
 
     def __init__(self, torque: float, **options: Any) -> None:
         super().__init__(**options)
-        self.torque = finite_scalar("motor torque", torque)
+        self.torque = finite_scalar("torque", torque)
 
-    def shaft_torque(self, t: Any, theta: Any, omega_motor: Any) -> Any:
-        """``T``, whatever the speed."""
+    def _law(self, t: Any, theta: Any, omega_motor: Any) -> Any:
         return self.torque + 0.0 * omega_motor
 
     def __repr__(self) -> str:
@@ -155,14 +177,15 @@ class DCMotor(Motor):
         ``T = kt (V − ke ω) / R``: stall torque ``kt V / R``, no-load speed
         ``V / ke`` (``ke = kt`` in SI units, the default).
         """
-        voltage = finite_scalar("voltage", voltage)
-        resistance = positive("resistance", resistance)
+        voltage = finite_scalar("voltage", voltage, "volt")
+        if voltage == 0.0:
+            raise InputError("voltage", "must be non-zero (the motor's supply)")
+        resistance = positive("resistance", resistance, "ohm")
         kt = positive("kt", kt)
         ke = kt if ke is None else positive("ke", ke)
         return cls(kt * voltage / resistance, voltage / ke, **options)
 
-    def shaft_torque(self, t: Any, theta: Any, omega_motor: Any) -> Any:
-        """``T_stall (1 − ω_m/ω_no_load)``."""
+    def _law(self, t: Any, theta: Any, omega_motor: Any) -> Any:
         return self.stall_torque * (1.0 - omega_motor / self.no_load_speed)
 
     def __repr__(self) -> str:
@@ -250,8 +273,7 @@ class InductionMotor(Motor):
         s_b = self.breakdown_slip
         return 2.0 * self.breakdown_torque * s_b / (1.0 + s_b * s_b)
 
-    def shaft_torque(self, t: Any, theta: Any, omega_motor: Any) -> Any:
-        """Kloss's ``2 T_b s s_b / (s² + s_b²)``."""
+    def _law(self, t: Any, theta: Any, omega_motor: Any) -> Any:
         s = 1.0 - omega_motor / self.synchronous_speed
         s_b = self.breakdown_slip
         return 2.0 * self.breakdown_torque * s * s_b / (s * s + s_b * s_b)
@@ -286,15 +308,14 @@ class TorqueFunction(Motor):
         if not callable(func):
             raise InputError("motor", f"a torque function must be callable, got {func!r}")
         self.func = func
-        self._breaks = tuple(finite_scalar("breakpoints", b) for b in breakpoints)
+        self._breaks = _times("breakpoints", breakpoints)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
         """The given jump times (and ``off_at``)."""
         return self._breaks + super().breakpoints
 
-    def shaft_torque(self, t: Any, theta: Any, omega_motor: Any) -> Any:
-        """``func(t, theta, omega_motor)`` (element by element if it refuses arrays)."""
+    def _law(self, t: Any, theta: Any, omega_motor: Any) -> Any:
         return call_law(self.func, t, theta, omega_motor, "motor")
 
     def __repr__(self) -> str:
@@ -304,7 +325,8 @@ class TorqueFunction(Motor):
 def call_law(func: Callable[..., Any], t: Any, x: Any, v: Any, field: str) -> Any:
     """Call a user law ``func(t, x, v)``; with arrays, fall back to one call per sample.
 
-    The result must be finite and broadcast with the inputs.
+    The result must be a finite number (real, or complex for a force), or an
+    array of them that broadcasts with the inputs.
     """
     scalar = np.ndim(t) == 0 and np.ndim(x) == 0 and np.ndim(v) == 0
     try:
@@ -313,31 +335,61 @@ def call_law(func: Callable[..., Any], t: Any, x: Any, v: Any, field: str) -> An
         if scalar:
             raise InputError(field, f"the function raised {type(exc).__name__}: {exc}") from exc
         out = None
-    if not scalar:
-        shape = np.broadcast_shapes(np.shape(t), np.shape(x), np.shape(v))
-        if out is None or np.shape(out) not in (shape, ()):
-            tb, xb, vb = (np.broadcast_to(a, shape) for a in (t, x, v))
-            out = np.array(
-                [
-                    func(ti, xi, vi)
-                    for ti, xi, vi in zip(tb.ravel(), xb.ravel(), vb.ravel(), strict=True)
-                ]
-            ).reshape(shape)
-    if not np.all(np.isfinite(out)):
-        raise InputError(field, f"the function returned a non-finite value at t = {t!r}")
-    return out
+    if scalar:
+        if type(out) is float and abs(out) <= LIMIT:  # the integrator's fast path
+            return out
+        return _law_value(field, out, ())
+    shape = np.broadcast_shapes(np.shape(t), np.shape(x), np.shape(v))
+    if out is None or np.shape(out) not in (shape, ()):
+        tb, xb, vb = (np.broadcast_to(a, shape) for a in (t, x, v))
+        rows = zip(tb.ravel(), xb.ravel(), vb.ravel(), strict=True)
+        out = [_law_value(field, func(ti, xi, vi), ()) for ti, xi, vi in rows]
+    return _law_value(field, out, shape)
+
+
+def _law_value(field: str, out: Any, shape: tuple[int, ...]) -> Any:
+    """A law's value checked: finite, real unless complex, broadcast to ``shape``."""
+    arr = complex_array(field, out)
+    if np.shape(arr) not in (shape, ()):
+        raise InputError(field, f"the function returned shape {np.shape(arr)}, not {shape}")
+    if not np.any(arr.imag):
+        arr = arr.real
+    if not shape:
+        return arr.item()
+    return np.broadcast_to(arr, shape)
 
 
 def as_motor(motor: Any) -> Motor | None:
     """A :class:`Motor` from ``None``, a number (constant torque), a callable or a Motor."""
     if motor is None or isinstance(motor, Motor):
         return motor
-    if callable(motor):
+    if callable(motor) and not isinstance(motor, type):
         return TorqueFunction(motor)
-    if isinstance(motor, (int, float, np.floating, np.integer)) and not isinstance(motor, bool):
-        return ConstantTorque(float(motor))
+    if isinstance(motor, int | float | np.floating | np.integer) and not isinstance(
+        motor, bool | np.bool_
+    ):
+        return ConstantTorque(finite_scalar("motor", motor))
     raise InputError(
         "motor",
         f"give a Motor (DCMotor, InductionMotor, ConstantTorque, TorqueFunction), a constant "
-        f"torque or a function f(t, theta, omega); got {motor!r}",
+        f"torque or a function f(t, theta, omega); got {type(motor).__name__}",
     )
+
+
+def _checked(t: Any, theta: Any, omega: Any, name: str) -> tuple[Any, Any, Any]:
+    """Time, angle and speed as finite floats or arrays (each as given: scalar or array)."""
+    out = []
+    for field, value, unit in (("t", t, "second"), ("theta", theta, "radian"), (name, omega, None)):
+        arr = finite_array(field, value, unit)
+        out.append(float(arr) if arr.ndim == 0 else arr)
+    return out[0], out[1], out[2]
+
+
+def _times(field: str, values: Any) -> tuple[float, ...]:
+    """A sequence of finite times (a load's or motor's switching times)."""
+    from ._setup import listed
+
+    arr = finite_array(field, listed(field, values, "times"), "second")
+    if arr.ndim != 1:
+        raise InputError(field, f"must be a flat sequence of times, got shape {arr.shape}")
+    return tuple(float(x) for x in arr)

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, ModelError
-from .integrate import parabola_peak
+from ._integrate import parabola_peak
 
 __all__ = ["PeriodicMotion", "steady_state"]
 
@@ -70,10 +70,23 @@ class PeriodicMotion:
     _solution: Any = field(repr=False, default=None)
 
     def at(self, theta: Any) -> np.ndarray:
-        """ω at any angles (periodic continuation of the dense solution)."""
-        theta = np.asarray(theta, dtype=float)
+        """ω at any angles (periodic continuation of the dense solution).
+
+        Examples
+        --------
+        >>> import machdyn
+        >>> p = steady_state(machdyn.FourBar(8, 4, 7, 6), omega_avg=10.0, flywheel=1.0,
+        ...                  mass=(1, 2, 1.5), inertia=(0.1, 0.5, 0.3), cg=(2, 3.5, 3))
+        >>> bool(np.isclose(p.at(p.theta[3] + 2 * np.pi), p.omega[3]))
+        True
+        """
+        from .._validate import finite_array
+
+        theta = finite_array("theta", theta, "radian")
+        if theta.size == 0:
+            return np.empty(theta.shape)
         local = self.theta[0] + np.mod(theta - self.theta[0], self.theta[-1] - self.theta[0])
-        return self._solution(local)[0]
+        return self._solution(local.ravel())[0].reshape(theta.shape)
 
     def __str__(self) -> str:
         what = "" if self.torque is None else f" with a constant torque {self.torque:.6g}"
@@ -140,18 +153,14 @@ def steady_state(
     >>> round(p.omega_avg, 9), round(p.k, 4), abs(p.torque) < 1e-9
     (30.0, 0.023, True)
     """
-    from .._validate import finite_scalar, integer, nonnegative, positive
-    from .integrate import Runner
-    from .motors import as_motor
-    from .plant import make_plant
-    from .table import Table
+    from .._validate import in_range, integer, positive
+    from ._integrate import Runner
+    from ._setup import prepare
+    from ._table import Table
 
-    motor = as_motor(motor)
-    loads = tuple(loads)
-    plant = make_plant(model, dynamics, form=form, branch=branch, driver=driver)
-    for load in loads:
-        plant.check(load)
-    q0 = plant.default_q0() if theta0 is None else finite_scalar("theta0", theta0, "radian")
+    setup = prepare(model, motor, loads, dynamics, form=form, branch=branch, driver=driver,
+                    theta0=theta0, flywheel=flywheel)  # fmt: skip
+    plant, motor, q0 = setup.plant, setup.motor, setup.q0
     span = plant.span(q0)
     if span.period is None:
         raise InputError("model", "a periodic steady state needs an input that turns fully")
@@ -161,18 +170,18 @@ def steady_state(
             "give either a motor (its law fixes the speed) or omega_avg (a constant torque is "
             "found that runs at it), not both",
         )
-    added = nonnegative("flywheel", flywheel) + (motor.reflected_inertia if motor else 0.0)
-    table = Table(plant, loads, q0, span, positive("table_tol", table_tol))
-    runner = Runner(plant, table, span, motor, loads, added,
+    rtol = in_range("rtol", rtol, 1e-13, 1e-3)
+    samples = integer("samples", samples, minimum=3, maximum=10**7)
+    table = Table(plant, setup.loads, q0, span, in_range("table_tol", table_tol, 1e-14, 1e-2))
+    runner = Runner(plant, table, span, motor, setup.loads, setup.added,
                     rtol=rtol, atol=1e-12, method="DOP853", max_step=math.inf)  # fmt: skip
-    turn = _Turn(runner, q0, span.period, positive("rtol", rtol))
-    samples = integer("samples", samples, minimum=3)
+    turn = _Turn(runner, q0, span.period, rtol)
     if motor is None:
         target = positive("omega_avg", omega_avg, "radian / second")
         torque, w0 = turn.solve_average(target)
     else:
         torque, w0 = None, turn.solve_motor()
-    return turn.result(w0, torque, samples, added)
+    return turn.result(w0, torque, samples, setup.added)
 
 
 class _Turn:
@@ -253,13 +262,13 @@ class _Turn:
     def solve_average(self, target: float) -> tuple[float, float]:
         """Constant torque and ``ω0`` of the periodic turn whose average speed is ``target``.
 
-        Nested one-dimensional solves, each monotonic: for a start speed, the
-        torque that closes the turn (more torque, a faster end); then the start
-        speed that gives the average (a faster start, a shorter turn).
+        Nested one-dimensional solves, each monotonic and nearly linear (secant
+        steps, bracketed if they stall): for a start speed, the torque that
+        closes the turn (``Δ(½ I ω²) = ∮ (T + Q) dθ``: more torque, a faster
+        end); then the start speed that gives the average.
         """
         c = self.runner.coef.many(self.q0 + np.linspace(0.0, self.period, 256, endpoint=False))
-        # torque scale: the kinetic energy per radian at the target speed
-        scale = float(np.mean(c[0]) + self.runner.added) * target * target / self.period
+        inertia = float(np.mean(c[0])) + self.runner.added
         mean_q, mean_c = float(np.mean(c[3])), float(np.mean(c[2]))
 
         def closing_torque(w0: float) -> float:
@@ -267,14 +276,15 @@ class _Turn:
                 self.torque = torque
                 return self.end(w0)[0] - w0
 
-            guess = -mean_q + mean_c * w0
-            return _bracketed_root(gap, guess, 1e-3 * scale, increasing=True)
+            # a torque step dT changes the end speed by about period dT / (I ω0)
+            step = 1e-3 * inertia * w0 * w0 / self.period
+            return _root(gap, -mean_q + mean_c * w0, step)
 
         def speed_gap(w0: float) -> float:
             self.torque = closing_torque(w0)
             return self.period / self.end(w0)[1] - target
 
-        w0 = _bracketed_root(speed_gap, target, 1e-3 * target, increasing=True, low=0.0)
+        w0 = _root(speed_gap, target, 1e-3 * target, low=0.0)
         return closing_torque(w0), w0
 
     def result(self, w0: float, torque: float | None, samples: int, added: float) -> PeriodicMotion:
@@ -310,17 +320,28 @@ class _Turn:
         )
 
 
-def _bracketed_root(
-    f: Any, guess: float, step: float, *, increasing: bool, low: float | None = None
-) -> float:
-    """The root of a monotonic ``f`` near ``guess``: bracket by growing steps, then Brent."""
+def _root(f: Any, guess: float, step: float, *, low: float | None = None) -> float:
+    """The root of an increasing, nearly linear ``f`` near ``guess``.
+
+    Secant steps from ``guess`` and ``guess + step``; if they do not converge in
+    a few steps, the root is bracketed by growing steps and found by Brent's method.
+    """
     from scipy.optimize import brentq
 
-    value = f(guess)
-    if value == 0.0:
-        return guess
-    direction = -1.0 if (value > 0.0) == increasing else 1.0
-    a, fa = guess, value
+    x0, x1 = guess, guess + step
+    f0, f1 = f(x0), f(x1)
+    for _ in range(8):
+        if f1 == f0:
+            break
+        x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
+        if low is not None and x2 <= low:
+            break
+        x0, f0, x1 = x1, f1, x2
+        f1 = f(x1)
+        if abs(x1 - x0) <= max(1e-13 * abs(x1), 1e-7 * abs(step)) or f1 == 0.0:
+            return x1
+    a, fa = (x1, f1)
+    direction = -1.0 if fa > 0.0 else 1.0
     for _ in range(60):
         b = a + direction * step
         if low is not None and b <= low:
@@ -328,7 +349,8 @@ def _bracketed_root(
         fb = f(b)
         if (fa > 0.0) != (fb > 0.0) or fb == 0.0:
             lo, hi = (a, b) if a < b else (b, a)
-            return float(brentq(f, lo, hi, xtol=1e-14 * max(abs(lo), abs(hi), 1e-300), rtol=1e-14))
+            xtol = max(1e-14 * max(abs(lo), abs(hi)), 1e-8 * abs(step))
+            return float(brentq(f, lo, hi, xtol=xtol, rtol=1e-14))
         a, fa = b, fb
         step *= 2.0
     raise ModelError("no periodic turn was found near the expected speed and torque")

@@ -159,8 +159,19 @@ class Simulation:
         return int(self.t.size)
 
     def at(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
-        """``(theta, omega)`` at any times within the simulation (dense output)."""
-        return self._runner.state(np.asarray(t, dtype=float))
+        """``(theta, omega)`` at any times within the simulation (dense output).
+
+        Times outside ``[0, t[-1]]`` are refused.
+        """
+        from .._validate import finite_array
+        from ..errors import InputError
+
+        t = finite_array("t", t, "second")
+        if t.size and (t.min() < self.t[0] or t.max() > self.t[-1]):
+            raise InputError("t", f"must lie within the simulated [0, {self.t[-1]:.6g}] s")
+        if not self._runner.segments:  # it never moved
+            return np.full(t.shape, self.theta[0]), np.full(t.shape, self.omega[0])
+        return self._runner.state(t)
 
     def forces(self) -> Any:
         """The model's force analysis along the simulated motion (pin forces, ``T12``).

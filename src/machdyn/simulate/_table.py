@@ -122,7 +122,7 @@ class Table:
     Parameters
     ----------
     plant : model adapter
-        Gives ``efforts_at`` and ``geometry`` (see :mod:`machdyn.simulate.plant`).
+        Gives ``efforts_at`` and ``geometry`` (see :mod:`machdyn.simulate._plant`).
     loads : sequence of Load
     q0 : float
         The initial coordinate (the table of a crank starts there).

@@ -20,9 +20,10 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import InputError
+from ._table import _Unsolved, load_layout
 from .loads import Load
 from .result import Energy, Event, SteadyState
-from .table import _Unsolved, load_layout
 
 __all__ = ["Runner"]
 
@@ -100,7 +101,20 @@ class Runner:
         """``dy/dt`` for ``solve_ivp``: q̇, q̈ and the four powers."""
         q, w = self._base + float(y[0]), float(y[1])
         _, alpha, torque, q_loads, damping, q_model = self.terms(t, q, w)
-        return [w, alpha, torque * w, q_loads * w, -damping * w * w, q_model * w]
+        out = [w, alpha, torque * w, q_loads * w, -damping * w * w, q_model * w]
+        if not all(abs(v) <= _HUGE for v in out):  # NaN fails too
+            raise _Diverged(t, q, w)
+        return out
+
+    def check_start(self, q0: float, w0: float) -> None:
+        """Refuse a start whose energy or acceleration is out of floating-point range."""
+        self._base = 0.0
+        try:
+            self.rhs(0.0, np.array([q0, w0, 0.0, 0.0, 0.0, 0.0]))
+        except _Diverged:
+            raise InputError(
+                "omega0", f"{w0:g} is too fast for this machine: its energy overflows"
+            ) from None
 
     # ------------------------------------------------------------------ the run
     def run(
@@ -180,7 +194,7 @@ class Runner:
                 dense_output=True,
                 max_step=self.max_step,
             )
-        except _Unsolved as exc:  # exact mode only: the model failed at a trial step
+        except (_Unsolved, _Diverged) as exc:  # the model failed, or the motion ran away
             sol = _Failed(t0, local, str(exc))
         if sol.status != -1 and sol.t.size > 1:
             self.segments.append((float(sol.t[0]), float(sol.t[-1]), sol.sol, base))
@@ -356,6 +370,17 @@ class Runner:
         return self.plant.forces(q, w, alpha, extra)
 
 
+#: Largest state derivative the integration accepts (beyond it the motion has run away).
+_HUGE = 1e150
+
+
+class _Diverged(ArithmeticError):
+    """The motion ran out of floating-point range (raised inside the integration)."""
+
+    def __init__(self, t: float, q: float, w: float) -> None:
+        super().__init__(f"the motion ran away at t = {t:.6g} (q = {q:.6g}, speed {w:.6g})")
+
+
 class _LevelEvent:
     """``q`` reaching ``level`` (``base`` is set by the segment that uses it)."""
 
@@ -388,7 +413,7 @@ class _Failed:
 
 
 def _reached(q: float, q_stop: float | None, q0: float) -> bool:
-    """Has ``q`` reached ``q_stop`` (from ``q0``), up to rounding? (Coinciding events.)"""
+    """Whether ``q`` reached ``q_stop`` (from ``q0``) up to rounding: events may coincide."""
     if q_stop is None:
         return False
     slack = 1e-12 * max(1.0, abs(q_stop))

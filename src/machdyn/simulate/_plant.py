@@ -22,8 +22,8 @@ import numpy as np
 from ..errors import InputError, ModelError
 from ..fourbar import FourBar
 from ..slidercrank import SliderCrank
+from ._table import Span
 from .loads import Load
-from .table import Span
 
 __all__ = ["make_plant"]
 
