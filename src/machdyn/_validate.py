@@ -27,7 +27,10 @@ __all__ = [
     "finite_scalar",
     "in_range",
     "input_motion",
+    "instance",
     "integer",
+    "is_scalar",
+    "items",
     "magnitude",
     "nonnegative",
     "point",
@@ -431,6 +434,65 @@ def point(field: str, value: Any, unit: str | None = None) -> complex:
         x, y = value
         return complex(finite_scalar(f"{field} x", x, unit), finite_scalar(f"{field} y", y, unit))
     return complex_scalar(field, value, unit)
+
+
+def items(field: str, value: Any, count: int | None = None, what: str = "values") -> tuple:
+    """``value`` (a list, tuple or array) as a tuple, with ``count`` items if given.
+
+    Examples
+    --------
+    >>> items("mass", [1, 2, 3], 3)
+    (1, 2, 3)
+    >>> items("mass", 2.0, 3, "masses (links 2, 3, 4)")
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: mass: must be a sequence of 3 masses (links 2, 3, 4), got 2.0
+    """
+    size = "" if count is None else f"{count} "
+    scalar_quantity = _is_quantity(value) and not np.ndim(value.magnitude)
+    if value is None or isinstance(value, str | bytes) or scalar_quantity:
+        raise InputError(field, f"must be a sequence of {size}{what}, got {_describe(value)}")
+    try:
+        out = tuple(value)
+    except TypeError:
+        raise InputError(
+            field, f"must be a sequence of {size}{what}, got {_describe(value)}"
+        ) from None
+    if count is not None and len(out) != count:
+        raise InputError(field, f"must have exactly {count} {what}, got {len(out)}")
+    return out
+
+
+def instance(field: str, value: Any, kind: type | tuple[type, ...], what: str = "") -> Any:
+    """``value`` if it is an instance of ``kind``, else :class:`InputError` saying what is wanted.
+
+    Examples
+    --------
+    >>> instance("fourbar", 3, dict, "a FourBar")
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: fourbar: must be a FourBar, got 3
+    """
+    if isinstance(value, kind):
+        return value
+    if not what:
+        kinds = kind if isinstance(kind, tuple) else (kind,)
+        what = " or ".join(f"a {k.__name__}" for k in kinds)
+    raise InputError(field, f"must be {what}, got {_describe(value)}")
+
+
+def is_scalar(value: Any) -> bool:
+    """Whether ``value`` is one number (``np.ndim`` 0); False for ragged lists too.
+
+    Examples
+    --------
+    >>> is_scalar(1.0), is_scalar([1.0]), is_scalar([[1.0], [2.0, 3.0]])
+    (True, False, False)
+    """
+    try:
+        return np.ndim(value) == 0
+    except ValueError:
+        return False
 
 
 def choice(field: str, value: Any, options: Iterable[Any]) -> Any:

@@ -55,7 +55,7 @@ import numpy as np
 
 from ._flags import Flagged
 from ._validate import broadcast as _broadcast
-from ._validate import choice, finite_array, finite_scalar, magnitude, nonnegative
+from ._validate import choice, finite_array, finite_scalar, items, magnitude, nonnegative
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
 from .slidercrank import SliderCrank, SliderCrankMotion
@@ -117,14 +117,7 @@ class LinkProperties:
 
 
 def _triple(field: str, value: Any) -> tuple[Any, Any, Any]:
-    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
-        raise InputError(
-            field, f"must be a sequence of three values (links 2, 3, 4), got {value!r}"
-        )
-    items = tuple(value)
-    if len(items) != 3:
-        raise InputError(field, f"must have exactly three values (links 2, 3, 4), got {len(items)}")
-    return items  # type: ignore[return-value]
+    return items(field, value, 3, "values (links 2, 3, 4)")  # type: ignore[return-value]
 
 
 def unit_system(length_unit: str | None) -> dict[str, str]:
@@ -182,7 +175,7 @@ def link_properties(
     >>> link_properties((1, 2), (0.1, 0.2, 0.3), (0, 0, 0))
     Traceback (most recent call last):
     ...
-    machdyn.errors.InputError: mass: must have exactly three values (links 2, 3, 4), got 2
+    machdyn.errors.InputError: mass: must have exactly 3 values (links 2, 3, 4), got 2
     """
     masses = _triple("mass", mass)
     inertias = _triple("inertia", inertia)

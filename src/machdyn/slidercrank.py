@@ -24,7 +24,14 @@ import numpy as np
 
 from ._angles import wrap_2pi
 from ._flags import Flagged
-from ._validate import choice, common_length_unit, finite_scalar, input_motion, length
+from ._validate import (
+    choice,
+    common_length_unit,
+    finite_scalar,
+    input_motion,
+    is_scalar,
+    length,
+)
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
 from .units import UnitSystem, from_quantity_unit
@@ -265,7 +272,7 @@ class SliderCrank:
             If ``theta2`` is a single angle the rod cannot reach (arrays are flagged).
         """
         choice("form", form, (1, 2))
-        scalar = np.ndim(theta2) == 0
+        scalar = is_scalar(theta2)
         extent = max(self.a, self.b, abs(self.c), 0.0 if self.point is None else self.point[0])
         _, (t2, w2, a2, j2) = input_motion(
             theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
@@ -512,7 +519,7 @@ class InvertedSliderCrank:
     ) -> InvertedSliderCrankMotion:
         """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
         choice("form", form, (1, 2))
-        scalar = np.ndim(theta2) == 0
+        scalar = is_scalar(theta2)
         extent = max(self.a, self.d, abs(self.c))
         _, (t2, w2, a2, j2) = input_motion(
             theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
