@@ -81,6 +81,9 @@ NOT_CALLED = {
     "machdyn.cams:TimeMotion",
     "machdyn.centres:InstantCentre",
     "machdyn.centres:InstantCentres",
+    "machdyn.centrodes:Centrodes",
+    "machdyn.centrodes:PitchCurves",
+    "machdyn.centrodes:RolledMotion",
     "machdyn.classify:Classification",
     "machdyn.dynamics:FourBarForces",
     "machdyn.dynamics:LinkEquations",
@@ -369,6 +372,31 @@ def catalogue() -> dict[str, Call]:
         ),
     )
     meth("machdyn.centres:InstantCentres.omega_ratio", _ics, i=3, j=2, ground=1)
+    meth("machdyn.centres:InstantCentres.method", _ics, i=1, j=3)
+    fn("machdyn.centrodes:centrodes", model=_fb(), values=THETA, moving=3, fixed=1, form=1)
+    fn("machdyn.centrodes:gear_pitch_curves", model=_fb(), values=THETA, link_a=2, link_b=4)
+    cent = lambda: __import__("machdyn.centrodes").centrodes.centrodes(_fb(), THETA, 3)  # noqa: E731
+    meth("machdyn.centrodes:Centrodes.placed", cent, k=2)
+    meth("machdyn.centrodes:Centrodes.roll", cent)
+    meth("machdyn.centrodes:Centrodes.to_pandas", cent)
+    meth(
+        "machdyn.centres:InstantCentres.mechanical_advantage",
+        _ics,
+        input=2,
+        output=4,
+        r_in=1.0,
+        r_out=2.0,
+        ground=1,
+    )
+    fn("machdyn.centres:instant_centres_of", lk=_linkage(), values=THETA, velocity=1.0)
+    fn("machdyn.centres:linkage_centres", lk=_linkage(), motion=_linkage().solve(THETA, 1.0))
+    meth("machdyn.linkage:Linkage.instant_centres", _linkage, values=THETA, velocity=2.0)
+    meth(
+        "machdyn.slidercrank:InvertedSliderCrank.instant_centres",
+        lambda: __import__("machdyn").InvertedSliderCrank(2.0, 4.0),
+        theta2=THETA,
+        form=1,
+    )
     meth("machdyn.fourbar:FourBar.inversions", _fb, n=101)
     fn("machdyn.inversions:inversions", r1=6.0, r2=9.0, r3=3.0, r4=8.0, n=101)
     arc = (math.radians(30.0), math.radians(90.0))
