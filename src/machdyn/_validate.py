@@ -387,11 +387,14 @@ def _require_finite(field: str, out: np.ndarray, nan_ok: bool = False) -> None:
     )
 
 
-def complex_array(field: str, value: Any, unit: str | None = None) -> np.ndarray:
+def complex_array(
+    field: str, value: Any, unit: str | None = None, *, nan_ok: bool = False
+) -> np.ndarray:
     """Return ``value`` as a finite complex128 array (points ``x + jy``) or raise.
 
     Real numbers are points on the x axis. Refused: None, text, bools, ragged
-    lists, non-finite values.
+    lists, non-finite values (NaN passes with ``nan_ok``, as in
+    :func:`finite_array`).
 
     Examples
     --------
@@ -400,7 +403,7 @@ def complex_array(field: str, value: Any, unit: str | None = None) -> np.ndarray
     """
     out = _array(field, value, unit, "fc", "a complex number x + jy or an array of them")
     out = out.astype(complex, copy=False)
-    _require_finite(field, out)
+    _require_finite(field, out, nan_ok)
     return out
 
 
@@ -557,29 +560,28 @@ def positive_length(field: str, value: Any, unit: str | None = None) -> float:
     --------
     >>> positive_length("r2", 4)
     4.0
+    >>> positive_length("r4", 1e-320)
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: r4: 1e-320 is subnormal (below 2.2e-308); use smaller units
     """
     out = length(field, value, unit)
     if out <= 0.0:
         raise InputError(field, f"must be a positive length, got {out:g}")
+    if out < _SMALLEST_NORMAL:
+        raise InputError(field, f"{out:g} is subnormal (below 2.2e-308); use smaller units")
     return out
 
 
 def length(field: str, value: Any, unit: str | None = None) -> float:
-    """A length of a scale-free closed form: finite, within ±1e250, not subnormal.
+    """A length (or offset) of a scale-free closed form: finite and within ±1e250.
 
     Examples
     --------
-    >>> length("r1", 8e-200)
-    8e-200
-    >>> length("r1", 1e-320)
-    Traceback (most recent call last):
-    ...
-    machdyn.errors.InputError: r1: 1e-320 is subnormal (below 2.2e-308); use smaller units
+    >>> length("offset", -8e-200)
+    -8e-200
     """
-    out = finite_scalar(field, value, unit, limit=LENGTH_LIMIT)
-    if out and abs(out) < _SMALLEST_NORMAL:
-        raise InputError(field, f"{out:g} is subnormal (below 2.2e-308); use smaller units")
-    return out
+    return finite_scalar(field, value, unit, limit=LENGTH_LIMIT)
 
 
 _SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)

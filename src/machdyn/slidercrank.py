@@ -33,7 +33,11 @@ from ._validate import (
     is_scalar,
     length,
 )
-from .centres import InstantCentres, at_infinity, finite, intersect, line_through
+from .centres import InstantCentres
+from .centres import _at_infinity as at_infinity
+from .centres import _cross3 as intersect
+from .centres import _cross3 as line_through
+from .centres import _finite as finite
 from .errors import AssemblyError, InputError
 from .units import UnitSystem, from_quantity_unit
 
