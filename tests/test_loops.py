@@ -853,12 +853,22 @@ def _careful(monkeypatch, solve):
         monkeypatch.undo()
 
 
+def _try_fast(s: LoopSystem, name: str, values: np.ndarray, guess: dict):
+    """The fast path's own answer for this sweep (None: it declined)."""
+    from machdyn.loops import solve as core
+
+    c = s._checked((name,))
+    q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
+    first = core.newton_one(c, q0, values[None, :1])
+    want = np.sign(first.gdet[:, 0])
+    options = {"max_step": 0.4, "tol": 1e-12, "max_iter": 50, "sing_tol": core.SINGULAR_RCOND}
+    return core._sweep_fast(c, values[None], q0, want, first, **options)
+
+
 def _fast_taken(s: LoopSystem, theta2: np.ndarray, guess: dict) -> bool:
     from machdyn.loops import solve as core
 
-    c = s._checked(("theta2",))
-    q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
-    res = core._sweep_fast(c, theta2[None], q0, 0.4, 1e-12, 50, core.SINGULAR_RCOND)
+    res = _try_fast(s, "theta2", theta2, guess)
     return res is not None and bool((res.code == core.OK).all())
 
 
@@ -936,9 +946,7 @@ def test_hard_sweeps_fall_back_to_the_careful_path(monkeypatch):
     from machdyn.loops import solve as core
 
     for s, name, values, guess in cases:
-        c = s._checked((name,))
-        q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
-        assert core._sweep_fast(c, values[None], q0, 0.4, 1e-12, 50, 1e-4) is None
+        assert _try_fast(s, name, values, guess) is None
 
         def solve(s=s, name=name, values=values, guess=guess):
             return s.solve({name: values}, guess=guess, velocity={name: 1.0})
@@ -1042,13 +1050,14 @@ def test_failed_fill_samples_are_re_solved_carefully_on_their_stretch_only(monke
     fast = core._sweep_fast
     spans = []
 
-    def failing(*args):
-        res = fast(*args)
+    def failing(*args, **kw):
+        res = fast(*args, **kw)
         code = res.code.copy()
         code[[1000, 1001, 1500]] = core.NO_ASSEMBLY  # as if they failed a check
         q = res.q.copy()
         q[:, code != core.OK] = np.nan
-        return core.Positions(q, code, res.residual, res.det, res.rcond)
+        kept = (res.residual, res.det, res.rcond, res.gdet, res.grc, res.group, res.want)
+        return core.Positions(q, code, *kept)
 
     solve_positions = core.solve_positions
 
