@@ -200,3 +200,26 @@ def test_view_is_read_only():
     old = lk.points
     lk.point("A", (3.0, 0.5))
     assert old["A"] == 3 + 0j and lk.points["A"] == 3 + 0.5j
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_drawn_inputs_reproduce_the_drawing(name):
+    lk = CASES[name][0]()
+    m = lk.solve(dict(lk.drawn_inputs))
+    assert m.ok.all()
+    for p, z in lk.points.items():
+        if p in m.points:
+            assert abs(complex(m.points[p][()]) - z) < 1e-12 * max(1.0, abs(z)), p
+
+
+def test_drawn_inputs_of_a_slider_are_measured_from_the_foot_of_through():
+    lk = (
+        Linkage({"O2": (0, 0), "A": (0, 2), "B": (6, 1), "T": (1, 1)})
+        .ground("O2", "T")
+        .link("crank", "O2", "A")
+        .link("rod", "A", "B")
+        .link("block", "B")
+        .slider("block", "ground", "B", 0.0, through="T", name="guide")
+        .drive("guide")
+    )
+    assert lk.drawn_inputs["guide"] == pytest.approx(5.0)  # B − T along +x

@@ -943,7 +943,6 @@ def test_hard_sweeps_fall_back_to_the_careful_path(monkeypatch):
         (crank, "theta2", there_and_back, crank_guess),  # reverses: not one straight sweep
         (crank, "theta2", np.linspace(0, 1, 1000) ** 2, crank_guess),  # uneven steps
     ]
-    from machdyn.loops import solve as core
 
     for s, name, values, guess in cases:
         assert _try_fast(s, name, values, guess) is None

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from closed_forms import circle_meet, line_meet
+from closed_forms import circle_meet, slide_meet
 from machdyn.loops import LoopSystem
 
 # ----------------------------------------------------------------------------- drawings
@@ -65,7 +65,7 @@ class Drawing:
                     foot = ((pts[p] - pts[g]) * np.conj(e)).real
                     t = ((pts[n] - pts[g]) * np.conj(e)).real
                     side = 1.0 if t >= foot else -1.0
-                    out[n] = line_meet(out[p], abs(pts[n] - pts[p]), pts[g], phi, side)
+                    out[n] = slide_meet(out[p], abs(pts[n] - pts[p]), pts[g], phi, side)
                 else:  # rigid
                     _, p, q, n = step
                     turn = (pts[n] - pts[p]) / (pts[q] - pts[p])

@@ -109,6 +109,26 @@ def test_linkage_without_coupler_draws_no_triangle():
     assert not ax.texts
 
 
+def centres_drawn(ax):
+    """Every centre as drawn: a labelled cross in the view, or an arrow at the border whose
+    label gives its coordinates (or 'at ∞' and its direction)."""
+    found = {}
+    for t in ax.texts:
+        text = t.get_text()
+        if not text.startswith("I"):
+            continue
+        name = text[:3]
+        if t.get_gid() and t.get_gid().startswith("centre_arrow_"):
+            if "∞" in text:
+                found[name] = complex("inf")
+            else:
+                x, y = text[text.index("(") + 1 : text.index(")")].split(",")
+                found[name] = complex(float(x), float(y))
+        else:
+            found[name] = complex(*t.xy)
+    return found
+
+
 def test_instant_centres_obey_kennedy_and_keep_the_view(hw6):
     theta2 = np.radians(50)
     plain = draw_fourbar(hw6, theta2)
@@ -116,18 +136,30 @@ def test_instant_centres_obey_kennedy_and_keep_the_view(hw6):
     draw_fourbar(hw6, theta2, ax=ax, instant_centres=True)
     m = hw6.solve(theta2)
     A, B = complex(m.A), complex(m.B)
-    marks = ends(by_gid(ax.lines, "instant_centres"))
-    assert len(marks) == 6
-    labels = {t.get_text(): complex(*t.xy) for t in ax.texts if t.get_text().startswith("I")}
+    labels = centres_drawn(ax)
+    assert sorted(labels) == ["I12", "I13", "I14", "I23", "I24", "I34"]
     assert labels["I12"] == pytest.approx(0) and labels["I14"] == pytest.approx(8)
     assert labels["I23"] == pytest.approx(A) and labels["I34"] == pytest.approx(B)
+    marks = ends(by_gid(ax.lines, "instant_centres"))
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    inside = [n for n, z in labels.items() if x0 <= z.real <= x1 and y0 <= z.imag <= y1]
+    assert len(marks) == len(inside) >= 4
+    # a centre off the view has an arrow at the border, pointing towards it
+    for name in set(labels) - set(inside):
+        arrow = by_gid(ax.texts, f"centre_arrow_{name}")
+        tip, tail = complex(*arrow.xy), complex(*arrow.xyann)
+        assert x0 <= tip.real <= x1 and y0 <= tip.imag <= y1
+        direction = (labels[name] - tail) / (tip - tail)
+        assert abs(np.angle(direction)) < 1e-3  # the arrow points at the printed centre
 
     def collinear(p, q, r):
         return abs(((q - p).conjugate() * (r - p)).imag) / (abs(q - p) * abs(r - p))
 
     # Kennedy: I13 on lines I12-I23 and I14-I34; I24 on lines I12-I14 and I23-I34
-    assert collinear(0, A, labels["I13"]) < 1e-9 and collinear(8, B, labels["I13"]) < 1e-9
-    assert collinear(0, 8, labels["I24"]) < 1e-9 and collinear(A, B, labels["I24"]) < 1e-9
+    # (coordinates as printed, 4 significant digits)
+    assert collinear(0, A, labels["I13"]) < 1e-3 and collinear(8, B, labels["I13"]) < 1e-3
+    assert collinear(0, 8, labels["I24"]) < 1e-3 and collinear(A, B, labels["I24"]) < 1e-3
     assert ax.get_xlim() == pytest.approx(plain.get_xlim())
 
 
@@ -135,9 +167,11 @@ def test_parallel_links_put_a_centre_at_infinity():
     # a parallelogram: links 2 and 4 stay parallel, so I13 is at infinity
     fb = FourBar(5, 2, 5, 2)
     ax = draw_fourbar(fb, np.radians(70), instant_centres=True)
-    notes = [t.get_text() for t in ax.texts]
-    # links 2 and 4 stay parallel (I13 at infinity), and so do links 1 and 3 (I24)
-    assert "I13, I24 at infinity" in notes
+    notes = {t.get_gid(): t.get_text() for t in ax.texts if t.get_gid()}
+    # links 2 and 4 stay parallel (I13 at infinity along them, at 70°), and so do
+    # links 1 and 3 (I24 along the ground, at 0°)
+    assert notes["centre_arrow_I13"] == "I13 at ∞ (70.0°)"
+    assert notes["centre_arrow_I24"] == "I24 at ∞ (0.0°)"
     assert len(ends(by_gid(ax.lines, "instant_centres"))) == 4
 
 
@@ -274,9 +308,10 @@ def test_slider_crank_pose_and_block():
     assert B.imag == pytest.approx(0.5)  # on the slide line
     np.testing.assert_allclose(ends(by_gid(ax.lines, "link2")), [0, A])
     np.testing.assert_allclose(ends(by_gid(ax.lines, "link3")), [A, B])
-    block = by_gid(ax.patches, "slider")
-    centre = complex(block.get_x() + block.get_width() / 2, block.get_y() + block.get_height() / 2)
+    block = by_gid(ax.patches, "slider").get_xy()[:4]
+    centre = complex(*block.mean(axis=0))
     assert centre == pytest.approx(B)
+    assert abs(complex(*(block[1] - block[0])).imag) < 1e-12  # along the slide line
     guide = ends(by_gid(ax.lines, "slide_guide"))
     lo, hi = sc.stroke(1)
     assert guide.real.min() < lo and guide.real.max() > hi  # the guide covers the stroke
@@ -374,8 +409,10 @@ def test_gif_has_the_requested_frames(tmp_path, hw6):
     full = np.frombuffer(buf.getvalue(), np.uint8).reshape(*last.shape[:2], 4)[..., :3]
     diff = np.abs(full.astype(int) - last.astype(int)).max(axis=2)
     assert diff.mean() < 4 and diff.max() <= 64
+    # the coupler curve behind the linkage is the model's, closed over the turn
     curve = ends(by_gid(ax.lines, "coupler_curve"))
-    np.testing.assert_allclose(curve, hw6.solve(np.radians(np.arange(0, 361, 60))).coupler)
+    np.testing.assert_allclose(curve[:-1], hw6.coupler_curve(1, 360).points)
+    assert curve[0] == curve[-1]
 
 
 def test_animation_of_explicit_angles_flags_what_cannot_be_drawn(tmp_path):
@@ -394,14 +431,14 @@ def test_animation_of_explicit_angles_flags_what_cannot_be_drawn(tmp_path):
 
 def test_animate_rejects_bad_input(tmp_path, hw6):
     with pytest.raises(InputError, match=r"\.gif"):
-        animate(hw6, path=tmp_path / "x.mp4", n=4)
-    assert not (tmp_path / "x.mp4").exists()
+        animate(hw6, path=tmp_path / "x.avi", n=4)
+    assert not (tmp_path / "x.avi").exists()
     with pytest.raises(InputError, match="fps"):
         animate(hw6, fps=0, n=4)
     with pytest.raises(InputError, match="n"):
         animate(hw6, n=1)
-    with pytest.raises(InputError, match="fourbar"):
-        animate(SliderCrank(2, 6), n=4)
+    with pytest.raises(InputError, match="cannot draw a str"):
+        animate("a four-bar", n=4)
 
 
 # --------------------------------------------------------------------------------------

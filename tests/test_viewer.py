@@ -2,7 +2,7 @@
 
 Independent references: FourBar.solve called directly, the link lengths
 (|A| = R2, |B − A| = R3, |B − O4| = R4) and the transmission angle from the
-joint coordinates.
+joint coordinates. The page itself is checked in a browser in test_draw_browser.py.
 """
 
 from __future__ import annotations
@@ -16,16 +16,25 @@ import numpy as np
 import pytest
 
 from machdyn import FourBar, SliderCrank
+from machdyn.draw.html import DATA_CLASS, script_json
 from machdyn.errors import InputError
-from machdyn.viewer import DATA_ID, _script_json, page_data, to_html
+from machdyn.viewer import page_data, to_html
 
 
 def embedded(page: str) -> dict:
     found = re.findall(
-        rf'<script type="application/json" id="{DATA_ID}">(.*?)</script>', page, re.S
+        rf'<script type="application/json" class="{DATA_CLASS}">(.*?)</script>', page, re.S
     )
     assert len(found) == 1
     return json.loads(found[0])
+
+
+def column(data: dict, j: int, frames: int) -> np.ndarray:
+    """A point's embedded x + jy in every frame (a fixed point is written once)."""
+    x, y = data["x"][j], data["y"][j]
+    x = arr(x) if isinstance(x, list) else np.full(frames, x)
+    y = arr(y) if isinstance(y, list) else np.full(frames, y)
+    return x + 1j * y
 
 
 def arr(values) -> np.ndarray:
@@ -36,95 +45,109 @@ def test_poses_round_trip_through_the_page():
     fb = FourBar(8, 4, 7, 6, coupler=(5.0, np.radians(30)))
     page = to_html(fb, n=72, omega2=10.0)
     data = embedded(page)
-    F = data["frames"]
+    tol = 0.5 * 10.0 ** -data["decimals"]  # coordinates are printed to this many places
     theta2 = np.radians(np.arange(0.0, 360.0, 5.0))
-    np.testing.assert_allclose(arr(F["theta2_deg"]), np.degrees(theta2), atol=1e-9)
     m = fb.solve(theta2, omega2=10.0)
-    for key, ref in (
-        ("theta3_deg", np.degrees(m.theta3)),
-        ("theta4_deg", np.degrees(m.theta4)),
-        ("omega3", m.omega3),
-        ("omega4", m.omega4),
-        ("mu_deg", np.degrees(m.mu)),
-        ("Ax", m.A.real),
-        ("Ay", m.A.imag),
-        ("Bx", m.B.real),
-        ("By", m.B.imag),
-        ("Px", m.coupler.real),
-        ("Py", m.coupler.imag),
+    names = ("O2", "O4", "A", "B", "P")
+    drawn = {n: column(data, j, 72) for j, n in enumerate(names)}
+    for name, ref in (("A", m.A), ("B", m.B), ("P", m.coupler), ("O2", 0j), ("O4", 8 + 0j)):
+        np.testing.assert_allclose(drawn[name].real, np.real(ref), atol=tol, rtol=0, err_msg=name)
+        np.testing.assert_allclose(drawn[name].imag, np.imag(ref), atol=tol, rtol=0, err_msg=name)
+    readout = {r["label"]: arr(r["v"]) for r in data["readout"]}
+    for key, ref, digits in (
+        ("θ2", np.degrees(theta2), 2),
+        ("θ3", np.degrees(m.theta3), 2),
+        ("θ4", np.degrees(m.theta4), 2),
+        ("ω3", m.omega3, 4),
+        ("ω4", m.omega4, 4),
+        ("μ", np.degrees(m.mu), 2),
     ):
-        np.testing.assert_allclose(arr(F[key]), ref, rtol=1e-10, atol=1e-10, err_msg=key)
-    # the geometry holds in the embedded numbers themselves
-    A = arr(F["Ax"]) + 1j * arr(F["Ay"])
-    B = arr(F["Bx"]) + 1j * arr(F["By"])
-    np.testing.assert_allclose(np.abs(A), 4, rtol=1e-10)
-    np.testing.assert_allclose(np.abs(B - A), 7, rtol=1e-10)
-    np.testing.assert_allclose(np.abs(B - 8), 6, rtol=1e-10)
-    # μ: the acute angle between coupler AB and output O4B
-    between = np.degrees(np.abs(np.angle((B - 8) / (B - A))))
-    np.testing.assert_allclose(arr(F["mu_deg"]), np.minimum(between, 180 - between), atol=1e-8)
-    # the coupler curve is the model's, and every frame's P lies on the drawn extent
+        np.testing.assert_allclose(readout[key], ref, atol=0.5 * 10.0**-digits + 1e-12, err_msg=key)
+    # the geometry holds in the embedded numbers themselves (to the printed precision)
+    A, B = drawn["A"], drawn["B"]
+    np.testing.assert_allclose(np.abs(A), 4, atol=4 * tol)
+    np.testing.assert_allclose(np.abs(B - A), 7, atol=4 * tol)
+    np.testing.assert_allclose(np.abs(B - 8), 6, atol=4 * tol)
+    # the coupler curve is the model's, drawn as one closed polyline in the SVG
     curve = fb.coupler_curve(1, 72).points
-    np.testing.assert_allclose(arr(data["curve"]["x"]) + 1j * arr(data["curve"]["y"]), curve)
-    E = data["extent"]
-    for z in (*A, *B, *curve, 0, 8):
-        assert E["xmin"] < z.real < E["xmax"] and E["ymin"] < z.imag < E["ymax"]
-    assert data["closed"] is True and data["barker_class"] == "GCRR"
+    line = re.search(r'id="(md\d+)-coupler_curve".*?<polyline points="([^"]*)"', page).group(2)
+    xy = np.array([[float(v) for v in p.split(",")] for p in line.split()])
+    np.testing.assert_allclose(xy[:-1, 0], curve.real, atol=tol, rtol=0)
+    np.testing.assert_allclose(xy[:-1, 1], curve.imag, atol=tol, rtol=0)
+    assert np.allclose(xy[0], xy[-1])
+    assert data["closed"] is True and "GCRR" in page
 
 
 def test_page_is_self_contained_and_interactive():
     page = to_html(FourBar(8, 4, 7, 6, coupler=(5.0, 0.5)), n=36)
     assert page.startswith("<!DOCTYPE html>")
-    assert not re.search(r"https?:", page, re.I)
+    body = page.replace('xmlns="http://www.w3.org/2000/svg"', "")  # a namespace, not a fetch
+    assert not re.search(r"https?:", body, re.I)
     assert not re.search(r"\b(src|href)\s*=", page, re.I)  # nothing is fetched
     assert "<link" not in page and "@import" not in page
-    assert set(re.findall(r"url\(([^)]*)\)", page)) == {"#hatch"}  # only in-page references
-    for needle in ('id="play"', 'id="slider"', 'type="range"', "<svg", "requestAnimationFrame"):
+    assert {u.split("-", 1)[1] for u in re.findall(r"url\(#([^)]*)\)", page)} == {"hatch"}
+    for needle in (
+        'class="play"',
+        'class="frame"',
+        'type="range"',
+        "<svg",
+        "requestAnimationFrame",
+    ):
         assert needle in page
-    for readout in ("theta2", "theta3", "theta4", "omega3", "omega4", "mu"):
-        assert f'id="r-{readout}"' in page
+    for label in ("θ2", "θ3", "θ4", "ω3", "ω4", "μ"):
+        assert f"<td>{label}</td>" in page
     assert "deg" in page and "rad/s" in page
+
+
+def test_other_models_draw_too():
+    # the viewer used to refuse anything but a FourBar (InputError: expected a FourBar)
+    page = to_html(SliderCrank(2, 6, 0.5), n=24)
+    data = embedded(page)
+    assert data["frames"] == 24
+    assert re.search(r'<g id="md\d+-slider"', page)  # the block on its guide
+    assert re.search(r'<g id="md\d+-slide_guide"', page)
 
 
 def test_linkage_without_coupler():
     page = to_html(FourBar(8, 4, 7, 6), n=12)
     data = embedded(page)
-    assert data["curve"] is None
-    assert "Px" not in data["frames"]
-    assert len(data["frames"]["Ax"]) == 12
+    assert "coupler_curve" not in page and "coupler_triangle" not in page
+    assert len(data["x"]) == 4 and len(data["x"][2]) == 12  # O2, O4, A, B; A moves
 
 
 def test_rocker_page_goes_there_and_back_with_nulls_at_toggles():
     fb = FourBar(4, 7, 5, 3)  # RRR2: link 2 rocks; its limits are toggles of links 3 and 4
     data = embedded(to_html(fb, n=10))
-    F = data["frames"]
-    assert len(F["theta2_deg"]) == 18 and data["input"] == "rocker" and not data["closed"]
+    readout = {r["label"]: r["v"] for r in data["readout"]}
+    assert data["frames"] == 18 and not data["closed"]
     rng = fb.input_range(1)
-    assert F["theta2_deg"][0] == pytest.approx(np.degrees(rng.lo))
-    assert F["theta2_deg"][9] == pytest.approx(np.degrees(rng.hi))
+    assert readout["θ2"][0] == pytest.approx(np.degrees(rng.lo), abs=0.005)
+    assert readout["θ2"][9] == pytest.approx(np.degrees(rng.hi), abs=0.005)
     grid = rng.grid(10)
     m = fb.solve(np.concatenate([grid, grid[-2:0:-1]]))
-    # rates are undefined at the toggles: embedded as null (JSON has no NaN)
-    assert [v is None for v in F["omega3"]] == list(~m.ok)
-    assert F["omega3"][0] is None and F["omega3"][9] is None
-    assert all(F["assembled"])  # the poses themselves are drawn
-    assert F["omega2"][:10] == [1.0] * 10 and F["omega2"][10:] == [-1.0] * 8
+    # rates are undefined at the toggles: embedded as null (JSON has no NaN), never 0
+    assert [v is None for v in readout["ω3"]] == list(~m.ok)
+    assert readout["ω3"][0] is None and readout["ω3"][9] is None
+    assert all(data["shown"])  # the poses themselves are drawn
+    # the return stroke runs backwards: ω3 changes sign against the forward stroke
+    fwd = fb.solve(grid[1:-1], omega2=1.0).omega3
+    np.testing.assert_allclose(arr(readout["ω3"][10:])[::-1], -fwd[::-1][::-1], atol=1e-4)
 
 
 def test_embedded_text_cannot_close_the_script():
     evil = {"title": "</script><script>alert(1)</script>&\u2028", "x": [1.5, None]}
-    text = _script_json(evil)
+    text = script_json(evil)
     assert "<" not in text and ">" not in text and "&" not in text and "\u2028" not in text
     assert json.loads(text) == evil
 
 
 def test_title_is_escaped(monkeypatch):
-    fb = FourBar(8, 4, 7, 6)
-    monkeypatch.setattr(FourBar, "__repr__", lambda self: "<b>&")
-    page = to_html(fb, n=4)
-    assert "<b>&" not in page.split("<script")[0]
+    import machdyn.draw.build as build
+
+    monkeypatch.setattr(build, "describe", lambda fb: "<b>&")
+    page = to_html(FourBar(8, 4, 7, 6), n=4)
+    assert "<b>&" not in page
     assert "&lt;b&gt;&amp;" in page
-    assert embedded(page)["title"] == "<b>&, form 1"
 
 
 def test_writes_the_file(tmp_path):
@@ -150,7 +173,7 @@ def test_bad_input(kwargs, field):
     assert err.value.field == field
 
 
-def test_only_four_bars():
+def test_page_data_is_for_four_bars():
     with pytest.raises(InputError, match="FourBar"):
         page_data(SliderCrank(2, 6))
 

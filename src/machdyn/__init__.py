@@ -55,19 +55,28 @@ _LAZY_MODULES = frozenset(
         "loops",
         "massprops",
         "plot",
+        "rotor",
         "shaking",
+        "spec",
         "synthesis",
+        "units",
         "viewer",
         "virtual_work",
     }
 )
 
 
+#: Functions of lazily loaded modules offered at the top level.
+_LAZY_FUNCTIONS = {"load": "spec", "from_spec": "spec"}
+
+
 def __getattr__(name: str) -> Any:
     if name in _LAZY_MODULES:
         return importlib.import_module(f".{name}", __name__)
+    if name in _LAZY_FUNCTIONS:
+        return getattr(importlib.import_module(f".{_LAZY_FUNCTIONS[name]}", __name__), name)
     raise AttributeError(f"module 'machdyn' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(__all__) | _LAZY_MODULES)
+    return sorted(set(__all__) | _LAZY_MODULES | set(_LAZY_FUNCTIONS))

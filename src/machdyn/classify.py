@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ._validate import positive
+from ._validate import positive_length as positive
 from .errors import AssemblyError
 
 __all__ = [

@@ -39,18 +39,24 @@ import numpy as np
 from . import jit
 from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._flags import Flagged
-from ._parallel import for_slices
+from ._parallel import for_slices, require_memory
 from ._validate import (
     as_array,
+    boolean,
+    broadcast,
     choice,
     common_length_unit,
+    count,
+    finite_array,
     finite_scalar,
     input_motion,
-    positive,
+    length,
+    positive_length,
 )
 from .centres import fourbar_centres
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
+from .units import UnitSystem, from_quantity_unit
 
 __all__ = [
     "STATUS_REASONS",
@@ -171,6 +177,11 @@ def _rot(p: Any, q: Any, ex: np.ndarray, ey: np.ndarray) -> tuple[np.ndarray, np
     return p * ex - q * ey, p * ey + q * ex
 
 
+#: Memory per pose of :meth:`FourBar.solve` (8 angle and rate arrays, 6 complex point
+#: arrays and the status), for the budget check made before solving.
+_BYTES_PER_POSE = 8 * 8 + 6 * 16 + 1
+
+
 def positions(
     r1: float, r2: float, r3: float, r4: float, theta2: Any, branch: int = 1
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -202,9 +213,11 @@ def positions(
     >>> round(float(np.degrees(th3)), 4), round(float(np.degrees(th4)), 4), bool(ok)
     (58.8114, 93.5833, True)
     """
-    r1, r2, r3, r4 = (positive(f"r{k}", r) for k, r in enumerate((r1, r2, r3, r4), start=1))
+    r1, r2, r3, r4 = (positive_length(f"r{k}", r) for k, r in enumerate((r1, r2, r3, r4), start=1))
     sign = float(choice("branch", branch, (1, -1)))
-    return _positions(r1, r2, r3, r4, as_array("theta2", theta2), sign)
+    theta2 = as_array("theta2", theta2, "radian")
+    require_memory("theta2", 25 * theta2.size, f"{theta2.size:,} poses")
+    return _positions(r1, r2, r3, r4, theta2, sign)
 
 
 def _positions(
@@ -284,7 +297,9 @@ def velocities(
     >>> round(float(w3), 6), round(float(w4), 6)
     (-1.0, -1.0)
     """
-    theta2, theta3, theta4 = (np.asarray(t, dtype=float) for t in (theta2, theta3, theta4))
+    r2, r3, r4, theta2, theta3, theta4, omega2 = _checked_closed_form(
+        r2, r3, r4, theta2, theta3, theta4, omega2=omega2
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
         omega3 = r2 * omega2 * np.sin(theta4 - theta2) / (r3 * np.sin(theta3 - theta4))
         omega4 = r2 * omega2 * np.sin(theta2 - theta3) / (r4 * np.sin(theta4 - theta3))
@@ -307,9 +322,11 @@ def accelerations(
 
     Solves ``a(jα2 − ω2²)e^{jθ2} + b(jα3 − ω3²)e^{jθ3} − c(jα4 − ω4²)e^{jθ4} = 0``.
     """
-    return _derivative_from_angles(
-        r2, r3, r4, theta2, theta3, theta4, _acceleration_rhs, omega2, omega3, omega4, alpha2
-    )
+    args = _checked_closed_form(
+        r2, r3, r4, theta2, theta3, theta4,
+        omega2=omega2, omega3=omega3, omega4=omega4, alpha2=alpha2,
+    )  # fmt: skip
+    return _derivative_from_angles(*args[:6], _acceleration_rhs, *args[6:])
 
 
 def jerks(
@@ -331,22 +348,27 @@ def jerks(
 
     Solves ``Σ ± r (jφ − 3αω − jω³) e^{jθ} = 0`` for the jerks φ3, φ4.
     """
-    return _derivative_from_angles(
-        r2,
-        r3,
-        r4,
-        theta2,
-        theta3,
-        theta4,
-        _jerk_rhs,
-        omega2,
-        omega3,
-        omega4,
-        alpha2,
-        alpha3,
-        alpha4,
-        jerk2,
-    )
+    args = _checked_closed_form(
+        r2, r3, r4, theta2, theta3, theta4,
+        omega2=omega2, omega3=omega3, omega4=omega4,
+        alpha2=alpha2, alpha3=alpha3, alpha4=alpha4, jerk2=jerk2,
+    )  # fmt: skip
+    return _derivative_from_angles(*args[:6], _jerk_rhs, *args[6:])
+
+
+def _checked_closed_form(r2, r3, r4, theta2, theta3, theta4, **rates) -> list:
+    """Arguments of the public closed forms, checked: lengths, angles, then rates.
+
+    θ3 and θ4 may hold NaN (the unassembled samples of :func:`positions`): they
+    stay NaN in the result. The rates come out broadcast as arrays.
+    """
+    lengths = [positive_length(f"r{k}", r) for k, r in ((2, r2), (3, r3), (4, r4))]
+    angles = {"theta2": finite_array("theta2", theta2, "radian")}
+    for name, value in (("theta3", theta3), ("theta4", theta4)):
+        angles[name] = finite_array(name, value, "radian", nan_ok=True)
+    checked = {name: finite_array(name, value) for name, value in rates.items()}
+    broadcast(**angles, **checked)
+    return [*lengths, *angles.values(), *checked.values()]
 
 
 def _derivative_from_angles(r2, r3, r4, theta2, theta3, theta4, rhs, *rates):
@@ -442,6 +464,8 @@ class FourBarMotion(Flagged):
     status: np.ndarray
     form: int
     lengths: tuple[float, float, float, float] = field(repr=False)
+    #: The model's unit system (labels of :meth:`to_pandas`); None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     # -- flags -----------------------------------------------------------------
     @property
@@ -453,37 +477,37 @@ class FourBarMotion(Flagged):
     @cached_property
     def phi12(self) -> np.ndarray:
         """φ12 = θ4 − θ3: the angle between links 3 and 4 (faces links 1 and 2)."""
-        return named_angle("phi12", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi12", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi13(self) -> np.ndarray:
         """φ13 = θ2 − θ4: the angle between links 2 and 4."""
-        return named_angle("phi13", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi13", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi14(self) -> np.ndarray:
         """φ14 = π − θ2 + θ3: the internal angle at A, between links 2 and 3."""
-        return named_angle("phi14", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi14", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi23(self) -> np.ndarray:
         """φ23 = π − θ4: the internal angle at O4, between links 1 and 4."""
-        return named_angle("phi23", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi23", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi24(self) -> np.ndarray:
         """φ24 = θ3: the angle between links 1 and 3."""
-        return named_angle("phi24", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi24", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def phi34(self) -> np.ndarray:
         """φ34 = θ2: the internal angle at O2, between links 1 and 2."""
-        return named_angle("phi34", self.theta2, self.theta3, self.theta4)
+        return _named_angle("phi34", self.theta2, self.theta3, self.theta4)
 
     @cached_property
     def mu(self) -> np.ndarray:
         """Transmission angle μ: the acute angle between coupler and output, [0, π/2]."""
-        return named_angle("mu", self.theta2, self.theta3, self.theta4)
+        return _named_angle("mu", self.theta2, self.theta3, self.theta4)
 
     # -- presentation ------------------------------------------------------------
     def to_pandas(self, degrees: bool = False):
@@ -494,7 +518,9 @@ class FourBarMotion(Flagged):
         """
         import pandas as pd
 
-        columns: dict[str, np.ndarray] = {}
+        from .units import RATE_KINDS, columns
+
+        degrees = boolean("degrees", degrees)
         angles = (
             "theta2",
             "theta3",
@@ -505,40 +531,28 @@ class FourBarMotion(Flagged):
             "phi23",
             "phi24",
             "phi34",
-            "mu",
         )
-        rates = (
-            "omega2",
-            "omega3",
-            "omega4",
-            "alpha2",
-            "alpha3",
-            "alpha4",
-            "jerk2",
-            "jerk3",
-            "jerk4",
-        )
-        for name in angles:
-            value = np.ravel(getattr(self, name))
-            columns[f"{name}_deg" if degrees else name] = np.degrees(value) if degrees else value
-        for name in rates:
-            if getattr(self, name) is not None:
-                columns[name] = np.ravel(getattr(self, name))
+        spec: list[tuple[str, str | None, Any]] = [
+            (name, "angle", getattr(self, name)) for name in (*angles, "mu")
+        ]
+        for name in ("omega", "alpha", "jerk"):
+            for n in (2, 3, 4):
+                if getattr(self, f"{name}{n}") is not None:
+                    spec.append((f"{name}{n}", RATE_KINDS[name], getattr(self, f"{name}{n}")))
         points = {
-            "A": self.A,
-            "B": self.B,
-            "P": self.coupler,
-            "VP": self.coupler_velocity,
-            "AP": self.coupler_acceleration,
-            "JP": self.coupler_jerk,
+            "A": (self.A, "length"),
+            "B": (self.B, "length"),
+            "P": (self.coupler, "length"),
+            "VP": (self.coupler_velocity, "velocity"),
+            "AP": (self.coupler_acceleration, "acceleration"),
+            "JP": (self.coupler_jerk, "jerk"),
         }
-        for name, value in points.items():
+        for name, (value, kind) in points.items():
             if value is not None:
-                columns[f"{name}_x"] = np.ravel(value.real)
-                columns[f"{name}_y"] = np.ravel(value.imag)
-        columns["ok"] = np.ravel(self.ok)
-        columns["reason"] = np.ravel(self.reason)
-        return pd.DataFrame(columns)
+                spec += [(f"{name}_x", kind, value.real), (f"{name}_y", kind, value.imag)]
+        spec += [("ok", None, self.ok), ("reason", None, self.reason)]
+        table = columns(self.units, spec, degrees)
+        return pd.DataFrame(table)
 
     def __len__(self) -> int:
         return int(np.size(self.theta2))
@@ -699,6 +713,10 @@ class FourBar:
     array([93.583, 81.759, 77.426])
     """
 
+    #: The units the model computes in and labels its results with (set by
+    #: :func:`machdyn.load`, or from the unit of length quantities); None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, r1: Any, r2: Any, r3: Any, r4: Any, coupler: Any = None) -> None:
         lengths, unit = common_length_unit(r1=r1, r2=r2, r3=r3, r4=r4)
         for name, value in lengths.items():
@@ -706,6 +724,7 @@ class FourBar:
                 raise InputError(name, f"must be a positive length, got {value:g}")
         self.r1, self.r2, self.r3, self.r4 = (lengths[k] for k in ("r1", "r2", "r3", "r4"))
         self.length_unit: str | None = unit
+        self.units = from_quantity_unit(unit)
         self.classification: Classification = classify(self.r1, self.r2, self.r3, self.r4)
         if coupler is None:
             self.coupler: tuple[float, float] | None = None
@@ -714,13 +733,24 @@ class FourBar:
                 p, delta = coupler
             except (TypeError, ValueError):
                 raise InputError("coupler", f"expected (p, delta), got {coupler!r}") from None
-            p = finite_scalar("coupler p", p, unit)
+            p = length("coupler p", p, unit)
             if p < 0.0:
                 raise InputError("coupler p", f"must be a distance >= 0, got {p:g}")
             delta = finite_scalar("coupler delta", delta, "radian")
             self.coupler = (p, delta)
 
+    @property
+    def _extent(self) -> float:
+        """The longest length of the linkage (links and coupler point): its scale."""
+        return max(*self.lengths, 0.0 if self.coupler is None else self.coupler[0])
+
     # -- description --------------------------------------------------------------
+    def to_spec(self, name: str = "fourbar") -> dict[str, Any]:
+        """The four-bar as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from .spec import model_spec
+
+        return model_spec(self, "fourbar", name)
+
     def __repr__(self) -> str:
         extra = (
             "" if self.coupler is None else f", coupler=({self.coupler[0]:g}, {self.coupler[1]:g})"
@@ -819,7 +849,9 @@ class FourBar:
         (128.25, 109.85)
         """
         single = np.ndim(theta2) == 0
-        shape, arrays = input_motion(theta2, omega2, alpha2, jerk2)
+        shape, arrays = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=self._extent
+        )
         branch_sign, side = self._branch_and_side(form, branch)
         order = choice("order", order, (0, 1, 2, 3))
         t2, w2, a2, j2 = (x.ravel() for x in arrays)
@@ -832,7 +864,7 @@ class FourBar:
         reshaped = {
             k: (v.reshape(shape) if isinstance(v, np.ndarray) else v) for k, v in out.items()
         }
-        return FourBarMotion(form=form, lengths=self.lengths, **reshaped)
+        return FourBarMotion(form=form, lengths=self.lengths, units=self.units, **reshaped)
 
     def _range_hint(self, form: int) -> str:
         rng = self.input_range(form)
@@ -959,6 +991,7 @@ class FourBar:
     def _form_samples(self, form: int, n: int) -> list[tuple[np.ndarray, int]]:
         """(θ2 grid, branch) pieces covering the motion of a form."""
         branch_sign, _ = self._branch_and_side(form, None)
+        n = count("n", n, minimum=2, bytes_each=64, what="samples")
         rng = self.input_range(form)
         grid = rng.grid(n)
         if self.form_rule == "phi34":
@@ -991,7 +1024,7 @@ class FourBar:
         poses = [_positions(*self.lengths, grid, float(br))[:2] for grid, br in pieces]
         for name in names:
             values = [
-                named_angle(name, grid, th3, th4)
+                _named_angle(name, grid, th3, th4)
                 for (grid, _), (th3, th4) in zip(pieces, poses, strict=True)
             ]
             if _sweeps_all_directions(np.concatenate(values), closed):
@@ -1111,6 +1144,12 @@ class FourBar:
         from .viewer import to_html
 
         return to_html(self, **options)
+
+    def report(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML design report (and PDF) (:func:`machdyn.report.report`)."""
+        from .report import report
+
+        return report(self, path, **options)
 
     # -- instant centres and mechanical advantage ----------------------------------
     def instant_centres(self, theta2: Any, form: int = 1, *, branch: int | None = None):
@@ -1392,6 +1431,19 @@ def named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
     >>> float(named_angle("phi14", 0.0, np.pi / 2, 0.0) / np.pi)
     -0.5
     """
+    name = choice("name", name, ("theta3", "theta4", "mu", *_PHI_NAMES))
+    theta2 = finite_array("theta2", theta2, "radian")
+    theta3 = finite_array("theta3", theta3, "radian", nan_ok=True)
+    theta4 = finite_array("theta4", theta4, "radian", nan_ok=True)
+    broadcast(theta2=theta2, theta3=theta3, theta4=theta4)
+    return _named_angle(name, theta2, theta3, theta4)
+
+
+_PHI_NAMES = ("phi12", "phi13", "phi14", "phi23", "phi24", "phi34")
+
+
+def _named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
+    """:func:`named_angle` for arguments already checked (NaN for unassembled samples)."""
     if name == "theta3":
         return theta3
     if name == "theta4":
@@ -1413,7 +1465,7 @@ def named_angle(name: str, theta2: Any, theta3: Any, theta4: Any) -> np.ndarray:
 def _angle_of(fb: FourBar, name: str, theta2: np.ndarray, branch: int) -> np.ndarray:
     """One named angle along a branch, from the closed-form positions."""
     th3, th4, _ = _positions(*fb.lengths, theta2, float(branch))
-    return named_angle(name, theta2, th3, th4)
+    return _named_angle(name, theta2, th3, th4)
 
 
 def _refine(

@@ -24,9 +24,13 @@ import numpy as np
 
 from ._angles import wrap_2pi
 from ._flags import Flagged
-from ._validate import choice, common_length_unit, finite_scalar, input_motion
+from ._validate import choice, common_length_unit, finite_scalar, input_motion, length
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
+from .units import UnitSystem, from_quantity_unit
+
+#: Memory per pose of a solve (rate arrays, complex points, status) for the budget check.
+_BYTES_PER_POSE = 12 * 8 + 5 * 16 + 1
 
 __all__ = ["InvertedSliderCrank", "InvertedSliderCrankMotion", "SliderCrank", "SliderCrankMotion"]
 
@@ -88,6 +92,8 @@ class SliderCrankMotion(Flagged):
     status: np.ndarray
     form: int
     offset: float = field(repr=False)
+    #: The model's unit system (labels of :meth:`to_pandas`); None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     @property
     def assembled(self) -> np.ndarray:
@@ -98,21 +104,16 @@ class SliderCrankMotion(Flagged):
         """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily)."""
         import pandas as pd
 
-        names = (
-            "theta2",
-            "theta3",
-            "omega2",
-            "omega3",
-            "alpha2",
-            "alpha3",
-            "jerk2",
-            "jerk3",
-            "d",
-            "d_dot",
-            "d_ddot",
-            "d_dddot",
-        )
-        cols = {n: np.ravel(getattr(self, n)) for n in names}
+        from .units import columns
+
+        kinds = {"theta": "angle", "omega": "angular_velocity", "alpha": "angular_acceleration"}
+        kinds |= {"jerk": "angular_jerk"}
+        spec: list[tuple[str, str | None, Any]] = [
+            (f"{k}{n}", kind, getattr(self, f"{k}{n}")) for k, kind in kinds.items() for n in (2, 3)
+        ]
+        spec += [("d", "length", self.d), ("d_dot", "velocity", self.d_dot)]
+        spec += [("d_ddot", "acceleration", self.d_ddot), ("d_dddot", "jerk", self.d_dddot)]
+        cols = columns(self.units, spec)
         cols["ok"] = np.ravel(self.ok)
         cols["reason"] = np.ravel(self.reason)
         return pd.DataFrame(cols)
@@ -149,6 +150,9 @@ class SliderCrank:
     array([ -0.,  -20., 0.])
     """
 
+    #: The units the model computes in and labels its results with; None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, crank: Any, coupler: Any, offset: Any = 0.0, point: Any = None) -> None:
         values, unit = common_length_unit(crank=crank, coupler=coupler, offset=offset)
         for name in ("crank", "coupler"):
@@ -156,6 +160,7 @@ class SliderCrank:
                 raise InputError(name, f"must be a positive length, got {values[name]:g}")
         self.a, self.b, self.c = values["crank"], values["coupler"], values["offset"]
         self.length_unit = unit
+        self.units = from_quantity_unit(unit)
         if abs(self.c) >= self.a + self.b:
             raise AssemblyError(
                 f"offset {self.c:g} is out of reach: |offset| must be less than "
@@ -169,9 +174,15 @@ class SliderCrank:
             except (TypeError, ValueError):
                 raise InputError("point", f"expected (p, delta), got {point!r}") from None
             self.point = (
-                finite_scalar("point p", p, unit),
+                length("point p", p, unit),
                 finite_scalar("point delta", delta, "radian"),
             )
+
+    def to_spec(self, name: str = "slider_crank") -> dict[str, Any]:
+        """The slider-crank as a machine-file dict (see ``docs/spec.md``)."""
+        from .spec import model_spec
+
+        return model_spec(self, "slider_crank", name)
 
     def __repr__(self) -> str:
         return f"SliderCrank(crank={self.a:g}, coupler={self.b:g}, offset={self.c:g})"
@@ -255,7 +266,10 @@ class SliderCrank:
         """
         choice("form", form, (1, 2))
         scalar = np.ndim(theta2) == 0
-        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
+        extent = max(self.a, self.b, abs(self.c), 0.0 if self.point is None else self.point[0])
+        _, (t2, w2, a2, j2) = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
+        )
         a, b, c = self.a, self.b, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         s3 = (a * e2.imag - c) / b
@@ -317,6 +331,7 @@ class SliderCrank:
             status=status,
             form=form,
             offset=c,
+            units=self.units,
         )
 
     def draw(self, theta2: Any, ax: Any = None, **options: Any):
@@ -324,6 +339,18 @@ class SliderCrank:
         from .plot import plot_slider_crank
 
         return plot_slider_crank(self, theta2, ax=ax, **options)
+
+    def animate(self, **options: Any):
+        """A matplotlib animation; GIF/MP4/HTML with ``path=`` (:func:`machdyn.plot.animate`)."""
+        from .draw import animate
+
+        return animate(self, **options)
+
+    def to_html(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML page animating the mechanism (:func:`machdyn.draw.to_html`)."""
+        from .draw import to_html
+
+        return to_html(self, path, **options)
 
     def dynamics(self, theta2: Any, omega2: Any, alpha2: Any = 0.0, **options: Any):
         """Joint forces, guide normal force and crank torque (with slider friction).
@@ -403,6 +430,8 @@ class InvertedSliderCrankMotion(Flagged):
     A: np.ndarray
     status: np.ndarray
     form: int
+    #: The model's unit system; None: unit-free.
+    units: Any = field(default=None, repr=False)
 
     @property
     def theta3(self) -> np.ndarray:
@@ -433,6 +462,9 @@ class InvertedSliderCrank:
     153.4349 4.472136
     """
 
+    #: The units the model computes in and labels its results with; None: unit-free.
+    units: UnitSystem | None = None
+
     def __init__(self, crank: Any, ground: Any, offset: Any = 0.0) -> None:
         values, unit = common_length_unit(crank=crank, ground=ground, offset=offset)
         for name in ("crank", "ground"):
@@ -440,9 +472,34 @@ class InvertedSliderCrank:
                 raise InputError(name, f"must be a positive length, got {values[name]:g}")
         self.a, self.d, self.c = values["crank"], values["ground"], values["offset"]
         self.length_unit = unit
+        self.units = from_quantity_unit(unit)
+
+    def to_spec(self, name: str = "inverted_slider_crank") -> dict[str, Any]:
+        """The inverted slider-crank as a machine-file dict (see ``docs/spec.md``)."""
+        from .spec import model_spec
+
+        return model_spec(self, "inverted_slider_crank", name)
 
     def __repr__(self) -> str:
         return f"InvertedSliderCrank(crank={self.a:g}, ground={self.d:g}, offset={self.c:g})"
+
+    def draw(self, frame: int | None = None, ax: Any = None, **options: Any):
+        """Draw the mechanism in one pose of its turn (see :func:`machdyn.draw.draw`)."""
+        from .draw import draw
+
+        return draw(self, frame, ax, **options)
+
+    def animate(self, **options: Any):
+        """A matplotlib animation; GIF/MP4/HTML with ``path=`` (:func:`machdyn.plot.animate`)."""
+        from .draw import animate
+
+        return animate(self, **options)
+
+    def to_html(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML page animating the mechanism (:func:`machdyn.draw.to_html`)."""
+        from .draw import to_html
+
+        return to_html(self, path, **options)
 
     def solve(
         self,
@@ -456,7 +513,10 @@ class InvertedSliderCrank:
         """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
         choice("form", form, (1, 2))
         scalar = np.ndim(theta2) == 0
-        _, (t2, w2, a2, j2) = input_motion(theta2, omega2, alpha2, jerk2)
+        extent = max(self.a, self.d, abs(self.c))
+        _, (t2, w2, a2, j2) = input_motion(
+            theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
+        )
         a, d, c = self.a, self.d, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         S = a * e2 - d
@@ -507,4 +567,5 @@ class InvertedSliderCrank:
             A=a * e2,
             status=status,
             form=form,
+            units=self.units,
         )

@@ -22,6 +22,7 @@ Examples
 
 from __future__ import annotations
 
+from .critical_path import CriticalPathMotion
 from .geometry import (
     CamProfile,
     DesignCheck,
@@ -66,6 +67,7 @@ __all__ = [
     "CamProfile",
     "CamProgram",
     "ContinuityReport",
+    "CriticalPathMotion",
     "DesignCheck",
     "Discontinuity",
     "LawValues",

@@ -39,7 +39,11 @@ import numpy as np
 from .._validate import broadcast, choice, finite_array, finite_scalar, nonnegative, positive
 from ..errors import InputError, ModelError
 from ._interference import loop_pieces, polyline_crossings
+from .critical_path import CriticalPathMotion
 from .program import CamProgram, Motion
+
+#: What a follower's ``profile()`` accepts: a program, a table motion or a sampled motion.
+MotionSource = Motion | CamProgram | CriticalPathMotion
 
 __all__ = [
     "CamProfile",
@@ -742,7 +746,7 @@ class TranslatingRoller:
         """Rb = Rp − Rf."""
         return self.prime_radius - self.roller_radius
 
-    def profile(self, motion: Motion | CamProgram, n: int = 3600) -> CamProfile:
+    def profile(self, motion: MotionSource, n: int = 3600) -> CamProfile:
         """Cam geometry for a program (sampled at ``n`` points) or a sampled motion."""
         m = _as_motion(motion, n)
         rp, eps, rf = self.prime_radius, self.eccentricity, self.roller_radius
@@ -775,7 +779,7 @@ class TranslatingFlatFace:
         object.__setattr__(self, "base_radius", positive("base_radius", self.base_radius))
         object.__setattr__(self, "eccentricity", finite_scalar("eccentricity", self.eccentricity))
 
-    def profile(self, motion: Motion | CamProgram, n: int = 3600) -> CamProfile:
+    def profile(self, motion: MotionSource, n: int = 3600) -> CamProfile:
         """Cam geometry for a program (sampled at ``n`` points) or a sampled motion."""
         m = _as_motion(motion, n)
         rb = self.base_radius
@@ -882,7 +886,7 @@ class OscillatingRoller:
         c, arm, rp = self.pivot_distance, self.arm_length, self.prime_radius
         return float(np.arccos(-self._sigma * (rp * rp - c * c - arm * arm) / (2.0 * c * arm)))
 
-    def profile(self, motion: Motion | CamProgram, n: int = 3600) -> CamProfile:
+    def profile(self, motion: MotionSource, n: int = 3600) -> CamProfile:
         """Cam geometry for a program (sampled at ``n`` points) or a sampled motion."""
         m = _as_motion(motion, n)
         arm, sigma = self.arm_length, self._sigma
@@ -907,12 +911,15 @@ class OscillatingRoller:
 Follower = TranslatingRoller | TranslatingFlatFace | OscillatingRoller
 
 
-def _as_motion(motion: Motion | CamProgram, n: int) -> Motion:
-    if isinstance(motion, CamProgram):
+def _as_motion(motion: MotionSource, n: int) -> Motion:
+    if isinstance(motion, CamProgram | CriticalPathMotion):
         return motion.sample(n)
     if isinstance(motion, Motion):
         return motion
-    raise InputError("motion", f"must be a CamProgram or a Motion, got {type(motion).__name__}")
+    raise InputError(
+        "motion",
+        f"must be a CamProgram, a CriticalPathMotion or a Motion, got {type(motion).__name__}",
+    )
 
 
 def _roller_result(

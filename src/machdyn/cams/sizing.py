@@ -16,6 +16,7 @@ import numpy as np
 
 from .._validate import choice, finite_scalar, nonnegative, positive
 from ..errors import InputError, ModelError
+from .critical_path import CriticalPathMotion
 from .geometry import (
     DEFAULT_MAX_PRESSURE_ANGLE,
     OscillatingRoller,
@@ -66,7 +67,7 @@ def _smallest(ok: Callable[[float], bool], lo: float, hi: float, rtol: float = 1
 
 
 def size_roller(
-    motion: CamProgram | Motion,
+    motion: CamProgram | CriticalPathMotion | Motion,
     roller_radius: float,
     eccentricity: float = 0.0,
     max_pressure_angle: float = DEFAULT_MAX_PRESSURE_ANGLE,
@@ -118,7 +119,7 @@ def size_roller(
 
 
 def size_flat_face(
-    motion: CamProgram | Motion, min_radius_of_curvature: float, n: int = 3600
+    motion: CamProgram | CriticalPathMotion | Motion, min_radius_of_curvature: float, n: int = 3600
 ) -> Sizing:
     """Smallest base circle for a flat-faced follower: ``Rb + s + a ≥ ρmin`` everywhere.
 
@@ -141,7 +142,7 @@ def size_flat_face(
 
 
 def size_oscillating_roller(
-    motion: CamProgram | Motion,
+    motion: CamProgram | CriticalPathMotion | Motion,
     roller_radius: float,
     pivot_distance: float,
     arm_length: float,

@@ -75,7 +75,9 @@ def dumps(payload: Any) -> str:
 RICH_ROWS = 200
 
 
-def print_table(title: str, columns: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
+def print_table(
+    title: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], plain: bool = False
+) -> None:
     """Print a right-aligned table with rich (plain text when not a terminal, or long).
 
     Examples
@@ -86,7 +88,7 @@ def print_table(title: str, columns: Sequence[str], rows: Sequence[Sequence[Any]
     1.0000  x
     ...
     """
-    if len(rows) > RICH_ROWS:
+    if plain or len(rows) > RICH_ROWS:
         cells = [[_cell(v) for v in row] for row in rows]
         widths = [max([len(c), *(len(r[k]) for r in cells)]) for k, c in enumerate(columns)]
         lines = [title, "  ".join(c.rjust(w) for c, w in zip(columns, widths, strict=True))]
@@ -94,13 +96,15 @@ def print_table(title: str, columns: Sequence[str], rows: Sequence[Sequence[Any]
         print("\n".join(lines))
         return
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
-    table = Table(title=title, title_justify="left", box=None, pad_edge=False)
+    # escape: a unit in brackets ("theta3 [deg]") is not rich markup
+    table = Table(title=escape(title), title_justify="left", box=None, pad_edge=False)
     for name in columns:
-        table.add_column(name, justify="right")
+        table.add_column(escape(name), justify="right")
     for row in rows:
-        table.add_row(*(_cell(v) for v in row))
+        table.add_row(*(escape(_cell(v)) for v in row))
     Console(width=max(100, 12 * len(columns))).print(table)
 
 

@@ -21,12 +21,15 @@ def _root() -> None:
 def _register() -> None:
     # Imported here so that each module can import ``app`` from this one.
     from . import fourbar  # noqa: F401  (registers `fourbar` and `demo` on app)
+    from .atlas import atlas_app
     from .balance import balance_app
     from .cam import cam_app
     from .flywheel import flywheel as flywheel_command
     from .gear import gear_app
     from .linkage import linkage
     from .plot import animate
+    from .report import report
+    from .run import run
     from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
@@ -35,7 +38,10 @@ def _register() -> None:
     app.add_typer(gear_app, name="gear")
     app.command("linkage")(linkage)
     app.command("animate")(animate)
+    app.command("report")(report)
     app.add_typer(synth_app, name="synth")
+    app.add_typer(atlas_app, name="atlas")
+    app.command("run")(run)
 
 
 _register()

@@ -14,6 +14,7 @@ import typer
 
 from ..balancing import TwoPlaneBalance, bearing_balance, static_balance, two_plane
 from ..errors import InputError
+from ..rotor import Rotor
 from ._common import dumps, print_table
 
 __all__ = ["balance_app", "parse_numbers"]
@@ -123,17 +124,70 @@ def rotor(
     radius_b: Annotated[
         float | None, typer.Option("--radius-b", help="Radius in plane B (default: A's).")
     ] = None,
+    bearings: Annotated[
+        str | None,
+        typer.Option("--bearings", help="ZA,ZB: axial positions of two bearings (with --omega)."),
+    ] = None,
+    omega: Annotated[
+        float | None, typer.Option("--omega", help="Speed, rad/s, for the bearing loads.")
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
 ) -> None:
-    """Two-plane dynamic balance of masses at axial positions z."""
-    unbalance, z = [], []
+    """Two-plane dynamic balance of masses at axial positions z (and bearing loads)."""
+    unbalance, z, masses, radii = [], [], [], []
     for text in mass:
         m, r, angle, zi = parse_numbers("--mass", text, 4, "m,R,angle_deg,z")
         _check_signs("--mass", text, [m, r, angle, zi], "m,R,angle_deg,z")
         unbalance.append(m * _phasor(r, angle))
         z.append(zi)
+        masses.append(m)
+        radii.append(_phasor(r, angle))
     radius_a, radius_b = _radius("--radius-a", radius_a), _radius("--radius-b", radius_b)
-    _report(two_plane(unbalance, z, plane_a, plane_b), radius_a, radius_b, as_json)
+    if (bearings is None) != (omega is None):
+        raise InputError("--bearings" if bearings is None else "--omega", "give both or neither")
+    result = two_plane(unbalance, z, plane_a, plane_b)
+    if bearings is None or omega is None:
+        _report(result, radius_a, radius_b, as_json)
+        return
+    z_a, z_b = parse_numbers("--bearings", bearings, 2, "ZA,ZB")
+    rotor_ = Rotor.from_masses(masses, radii, z)
+    try:  # check the bearings before printing anything
+        rotor_.bearing_reactions(omega, z_a, z_b)
+    except InputError as exc:
+        field = "--bearings" if exc.field.startswith("z_") else "--omega"
+        raise InputError(field, exc.message) from None
+    _report(result, radius_a, radius_b, as_json)
+    _bearing_loads(rotor_, result, z_a, z_b, omega, as_json)
+
+
+def _bearing_loads(
+    rotor: Rotor, fix: TwoPlaneBalance, z_a: float, z_b: float, omega: float, as_json: bool
+) -> None:
+    """Bearing loads of the rotor at omega (rotor angle 0), before and after the correction."""
+    corrected = rotor.with_masses(
+        [abs(fix.mR_a), abs(fix.mR_b)],
+        [fix.mR_a / max(abs(fix.mR_a), 1e-300), fix.mR_b / max(abs(fix.mR_b), 1e-300)],
+        [fix.plane_a, fix.plane_b],
+    )
+    rows: list[list] = []
+    scale = 0.0
+    for label, body in (("before", rotor), ("after", corrected)):
+        r = body.bearing_reactions(omega, z_a, z_b)
+        for name, load in (("A", complex(r.load_a)), ("B", complex(r.load_b))):
+            scale = max(scale, abs(load))
+            if abs(load) <= 1e-12 * scale:  # rounding left by the correction
+                load = 0j
+            phase = math.degrees(math.atan2(load.imag, load.real)) % 360.0
+            rows.append([label, name, abs(load), phase])
+    if as_json:
+        print(dumps({"omega": omega, "bearings": [z_a, z_b], "loads": rows}))
+        return
+    print(f"Bearing loads at omega = {omega:g} rad/s: the force of the rotor on each bearing")
+    print_table(
+        "(phase from the rotor's zero line)",
+        ["", "bearing", "|F|", "phase_deg"],
+        rows,
+    )
 
 
 @balance_app.command("bearings")

@@ -25,7 +25,7 @@ from ..cams.program import MOTIONS, closure_message
 from ..errors import InputError, ModelError
 from ._common import dumps, print_table
 
-__all__ = ["cam_app", "load_program_file", "parse_segment"]
+__all__ = ["cam_app", "load_program_file", "load_table", "parse_segment"]
 
 cam_app = typer.Typer(
     help="Cam design: svaj program, continuity, pressure angle, curvature, undercut.",
@@ -294,6 +294,17 @@ def cam(
     program: Annotated[
         Path | None, typer.Option("--program", help="TOML cam file instead of --segment")
     ] = None,
+    table: Annotated[
+        Path | None,
+        typer.Option(
+            "--table",
+            help="critical path motion: CSV of theta_deg,s points (one turn) instead of segments",
+        ),
+    ] = None,
+    degree: Annotated[int, typer.Option(help="spline degree for --table (3-7)")] = 5,
+    smoothing: Annotated[
+        float, typer.Option(help="RMS deviation allowed from the --table points (0: through)")
+    ] = 0.0,
     follower: Annotated[
         str | None, typer.Option(help="roller | flat | oscillating (default roller)")
     ] = None,
@@ -339,12 +350,16 @@ def cam(
     file_segments: list[dict[str, Any]] = []
     file_follower: dict[str, Any] = {}
     file_top: dict[str, Any] = {}
+    if table is not None and (segment or program is not None):
+        raise InputError("--table", "give the motion as --table, --segment or --program, not two")
     if program is not None:
         if segment:
             raise InputError("--segment", "give segments either with --segment or --program")
         file_segments, file_follower, file_top = load_program_file(program)
-    elif not segment:
-        raise InputError("--segment", "give the program as --segment options or --program FILE")
+    elif not segment and table is None:
+        raise InputError(
+            "--segment", "give the program as --segment options, --program FILE or --table FILE"
+        )
 
     cli_values = {
         "type": follower,
@@ -362,7 +377,15 @@ def cam(
     if kind not in FOLLOWERS:
         raise InputError(fields["type"], f"must be one of {', '.join(FOLLOWERS)}; got {kind!r}")
     oscillating = kind == "oscillating"
-    if program is not None:
+    prog: cams.CamProgram | cams.CriticalPathMotion
+    if table is not None:
+        theta_deg, values = load_table(table)
+        if oscillating:
+            values = np.radians(values)
+        names = {"degree": "--degree", "smoothing": "--smoothing"}
+        with _renamed({"theta": "--table", "s": "--table"}, f"{table}: "), _renamed(names):
+            prog = cams.CriticalPathMotion.from_degrees(theta_deg, values, degree, smoothing)
+    elif program is not None:
         segs = [_segment_from_table(t, i, oscillating) for i, t in enumerate(file_segments)]
         prog = _build_program(segs, oscillating, "--program", f"{program}: ")
     else:
@@ -390,7 +413,8 @@ def cam(
 
     with _renamed({"n": "--points"}):
         motion = prog.sample(points)
-    with _renamed({"s": "--segment" if program is None else "--program"}):
+    source = "--table" if table is not None else "--program" if program else "--segment"
+    with _renamed({"s": source}):
         profile = fol.profile(motion)
     continuity = prog.continuity()
     with _renamed({"face_width": "--face-width"}):
@@ -461,7 +485,20 @@ def _follower_text(profile: cams.CamProfile, kind: str) -> str:
     )
 
 
-def _segments_text(prog: cams.CamProgram, kind: str) -> list[str]:
+def _segments_text(prog: cams.CamProgram | cams.CriticalPathMotion, kind: str) -> list[str]:
+    if isinstance(prog, cams.CriticalPathMotion):
+        unit = "°" if kind == "oscillating" else ""
+        s_shown = np.degrees(prog.s) if kind == "oscillating" else prog.s
+        out = [
+            f"  critical path motion: {prog.theta.size} points, periodic B-spline of degree "
+            f"{prog.degree}" + (f", smoothing (RMS) {prog.smoothing:g}" if prog.smoothing else ""),
+            f"  largest deviation from the points: {prog.residual:.3g}",
+        ]
+        out += [
+            f"    θ = {np.degrees(t):8.3f}°  s = {v:.6g}{unit}"
+            for t, v in zip(prog.theta, s_shown, strict=True)
+        ]
+        return out
     out = []
     for k, seg in enumerate(prog.segments, start=1):
         beta = np.degrees(seg.beta)
@@ -474,7 +511,7 @@ def _segments_text(prog: cams.CamProgram, kind: str) -> list[str]:
 
 
 def _print_report(
-    prog: cams.CamProgram,
+    prog: cams.CamProgram | cams.CriticalPathMotion,
     motion: cams.Motion,
     profile: cams.CamProfile,
     continuity: cams.ContinuityReport,
@@ -544,7 +581,7 @@ def _print_report(
 
 
 def _payload(
-    prog: cams.CamProgram,
+    prog: cams.CamProgram | cams.CriticalPathMotion,
     motion: cams.Motion,
     profile: cams.CamProfile,
     continuity: cams.ContinuityReport,
@@ -556,15 +593,7 @@ def _payload(
     deg = np.degrees
     out: dict[str, Any] = {
         "follower": profile.follower,
-        "segments": [
-            {
-                "motion": seg.motion,
-                "law": seg.law.name,
-                "h": float(deg(seg.h)) if kind == "oscillating" else seg.h,
-                "beta_deg": float(deg(seg.beta)),
-            }
-            for seg in prog.segments
-        ],
+        "segments": _segments_payload(prog, kind),
         "continuity": {
             "ok": continuity.ok,
             "discontinuities": [
@@ -608,6 +637,75 @@ def _payload(
             "governed_by": sizing.governed_by,
         }
     return out
+
+
+def _segments_payload(
+    prog: cams.CamProgram | cams.CriticalPathMotion, kind: str
+) -> list[dict[str, Any]] | dict[str, Any]:
+    deg = np.degrees
+    if isinstance(prog, cams.CriticalPathMotion):
+        return {
+            "critical_path": True,
+            "degree": prog.degree,
+            "smoothing": prog.smoothing,
+            "residual": prog.residual,
+            "theta_deg": deg(prog.theta).tolist(),
+            "s": (deg(prog.s) if kind == "oscillating" else prog.s).tolist(),
+        }
+    return [
+        {
+            "motion": seg.motion,
+            "law": seg.law.name,
+            "h": float(deg(seg.h)) if kind == "oscillating" else seg.h,
+            "beta_deg": float(deg(seg.beta)),
+        }
+        for seg in prog.segments
+    ]
+
+
+def load_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    r"""Read a critical-path table: lines ``theta_deg,s`` (a header and ``#`` comments allowed).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d) / "t.csv"
+    ...     _ = p.write_text("theta_deg,s\n0,0\n90,1\n# peak\n180,2\n")
+    ...     load_table(p)[1].tolist()
+    [0.0, 1.0, 2.0]
+    """
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError("--table", f"cannot read {path}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError("--table", f"{path} is not UTF-8 text (byte {exc.start})") from None
+    rows: list[tuple[float, float]] = []
+    header = False
+    for number, line in enumerate(text.splitlines(), start=1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        cells = [c.strip() for c in re.split(r"[,;\t ]+", line) if c.strip()]
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            if not rows and not header:
+                header = True  # the first line that is not numbers: column names
+                continue
+            raise InputError(
+                "--table", f"{path}, line {number}: expected theta_deg,s numbers, got {line!r}"
+            ) from None
+        if len(values) != 2:
+            raise InputError(
+                "--table", f"{path}, line {number}: expected two numbers theta_deg,s, got {line!r}"
+            )
+        rows.append((values[0], values[1]))
+    if not rows:
+        raise InputError("--table", f"{path} holds no theta_deg,s points")
+    data = np.array(rows)
+    return data[:, 0], data[:, 1]
 
 
 def _save_plots(

@@ -605,11 +605,9 @@ def _print(table: Table, drivers: int, forces_from: str | None) -> None:
 
 
 def _header(name: str, unit: str) -> str:
-    from rich.markup import escape
-
     # spaces let rich wrap a long header instead of cutting it; the unit in brackets
     label = name.removesuffix("_deg").replace("_", " ")
-    return escape(f"{label} [{unit}]" if unit else label)
+    return f"{label} [{unit}]" if unit else label
 
 
 def linkage(

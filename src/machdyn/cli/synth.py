@@ -1,4 +1,4 @@
-"""``machdyn synth ...``: three-position motion generation and function generation.
+"""``machdyn synth ...``: three-position motion, function and path generation (from an atlas).
 
 Registered by the application as ``app.add_typer(synth_app, name="synth")``.
 Only parsing and presentation live here; the synthesis is
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 from collections.abc import Callable
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -17,11 +18,18 @@ import typer
 from ..errors import AssemblyError, InputError
 from ._common import dumps, print_table
 
-__all__ = ["parse_function", "parse_points", "synth_app"]
+__all__ = [
+    "candidate_spec",
+    "parse_function",
+    "parse_points",
+    "read_points_csv",
+    "sixbar_spec",
+    "synth_app",
+]
 
 synth_app = typer.Typer(
     name="synth",
-    help="Synthesis of four-bars: three-position motion generation, function generation.",
+    help="Synthesis of four-bars: three-position motion, function and path generation.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -288,3 +296,258 @@ def function_cmd(
         )
     if g.defects:
         raise AssemblyError("the linkage cannot generate the function: " + "; ".join(g.defects))
+
+
+def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    r"""Target points from a CSV file: ``x,y`` per line (``x,y,theta2_deg`` with timing).
+
+    A first line that is not numbers is a header; blank lines and lines
+    starting with ``#`` are skipped.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.csv"
+    >>> _ = f.write_text("x,y,theta2\n0,0,0\n1,0.5,90\n")
+    >>> pts, th = read_points_csv(f, timing=True)
+    >>> pts, np.degrees(th)
+    (array([0.+0.j , 1.+0.5j]), array([ 0., 90.]))
+    """
+    import csv
+
+    text = Path(file).read_text()
+    rows = []
+    first = True
+    for number, row in enumerate(csv.reader(text.splitlines()), 1):
+        cells = [c.strip() for c in row]
+        if not cells or not any(cells) or cells[0].startswith("#"):
+            continue
+        header, first = first, False
+        try:
+            values = [float(c) for c in cells if c]
+        except ValueError:
+            if header and not any(_is_number(c) for c in cells):
+                continue  # a header
+            raise InputError(str(file), f"line {number}: expected numbers, got {row!r}") from None
+        want = 3 if timing else 2
+        if len(values) < want:
+            what = "x, y, theta2 (deg)" if timing else "x, y"
+            raise InputError(str(file), f"line {number}: expected {what}, got {len(values)} values")
+        rows.append(values[:want])
+    if not rows:
+        raise InputError(str(file), "holds no points (expected lines 'x,y')")
+    data = np.array(rows, dtype=float)
+    points = data[:, 0] + 1j * data[:, 1]
+    return points, (np.radians(data[:, 2]) if timing else None)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+@synth_app.command("path")
+def path_cmd(
+    points: Annotated[
+        Path, typer.Argument(help="CSV of target points 'x,y' (with --timing 'x,y,theta2_deg').")
+    ],
+    open_path: Annotated[
+        bool, typer.Option("--open", help="An open path (or part of a closed one).")
+    ] = False,
+    timing: Annotated[
+        bool, typer.Option("--timing", help="Third column: input angle at each point (deg).")
+    ] = False,
+    n: Annotated[int, typer.Option("-n", "--n", help="How many linkages to print.")] = 5,
+    atlas: Annotated[
+        Path | None,
+        typer.Option(
+            "--atlas",
+            help="Atlas folder (default $MACHDYN_ATLAS or ~/.cache/machdyn/fourbar.atlas).",
+        ),
+    ] = None,
+    no_crank: Annotated[
+        bool, typer.Option("--no-crank", help="Do not require link 2 to turn fully.")
+    ] = False,
+    mu_min: Annotated[
+        float, typer.Option("--mu-min", help="Smallest transmission angle (deg).")
+    ] = 30.0,
+    out: Annotated[
+        Path, typer.Option("--out", help="Folder for the candidates' spec files.")
+    ] = Path("path_candidates"),
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", help="Query on a Dask scheduler (tcp://HOST:PORT).")
+    ] = None,
+    json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
+) -> None:
+    """Four-bars whose coupler point passes through the target points, from an atlas.
+
+    Prints the candidates with their errors and writes each one's spec
+    (machdyn = 1 TOML, with the placement in the plane) into --out.
+    Exits with status 1 when no candidate is free of defects.
+    """
+    from ..synthesis import path_from_atlas
+    from .atlas import default_atlas
+
+    if not 1 <= n <= 100:
+        raise InputError("-n", f"must be between 1 and 100, got {n}")
+    if not 0.0 <= mu_min < 90.0:
+        raise InputError("--mu-min", f"must be between 0 and 90 deg, got {mu_min:g}")
+    targets, theta = read_points_csv(points, timing)
+    options = dict(
+        closed=not open_path, timing=theta, n=n, crank=not no_crank, mu_min=np.radians(mu_min)
+    )
+    if scheduler is None:
+        res = path_from_atlas(targets, atlas or default_atlas(), **options)
+    else:
+        from ..synthesis.atlas_dask import client_for
+
+        with client_for(scheduler) as client:
+            res = path_from_atlas(targets, atlas or default_atlas(), client=client, **options)
+    shown = res.candidates or res.rejected[:n]
+    size = float(np.max(np.abs(res.targets - res.targets.mean())))
+    out.mkdir(parents=True, exist_ok=True)
+    files = []
+    six = bool(shown) and hasattr(shown[0], "chain")
+    for i, c in enumerate(shown, 1):
+        file = out / f"candidate_{i}.toml"
+        title = f"candidate {i} for {points.name}"
+        file.write_text(sixbar_spec(c, title) if six else candidate_spec(c, title))
+        files.append(str(file))
+    if six:
+        _print_sixbars(res, shown, files, size, json)
+    elif json:
+        print(dumps({
+            "candidates": [_candidate_json(c, size, f) for c, f in zip(shown, files, strict=True)],
+            "defect_free": bool(res.candidates),
+            "near": res.near,
+            "note": res.note,
+            "seconds": res.seconds,
+        }))  # fmt: skip
+    else:
+        rows = []
+        for i, c in enumerate(shown, 1):
+            pl = c.linkage
+            rows.append([
+                i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
+                c.barker_class, " ".join(f"{v:.4g}" for v in pl.lengths),
+                f"{pl.fourbar.coupler[0]:.4g} {np.degrees(pl.fourbar.coupler[1]):.1f}",
+                f"{_point(pl.O2)} {np.degrees(pl.theta1):.1f}", f"{np.degrees(c.mu_min):.1f}",
+                "; ".join(c.defects) or "-",
+            ])  # fmt: skip
+        title = (
+            "Path synthesis from the atlas"
+            if res.candidates
+            else "Best linkages found (with defects)"
+        )
+        print_table(
+            title,
+            ["#", "max dist", "% of size", "class", "r1 r2 r3 r4", "p delta(deg)",
+             "O2 theta1(deg)", "mu min(deg)", "defects"],
+            rows,
+        )  # fmt: skip
+        print(f"specs: {', '.join(files)}")
+        secs = res.seconds
+        print(
+            f"retrieve {secs['retrieve']:.2f} s, refine {secs['refine']:.2f} s, "
+            f"total {secs['total']:.2f} s"
+        )
+        if res.note:
+            print(f"note: {res.note}")
+    if not res.candidates:
+        raise AssemblyError(res.note or "no defect-free linkage found for these targets")
+
+
+def _print_sixbars(res, shown, files, size, json) -> None:
+    """The six-bar candidates: a table or JSON."""
+    names = ("O2x", "O2y", "theta1", "r1", "r2", "r3", "r4", "cu", "cv", "du", "dv", "a", "b",
+             "pu", "pv")  # fmt: skip
+    rows = [
+        {
+            "chain": c.chain, "max_distance": float(np.max(c.distance)),
+            "max_distance_over_size": float(np.max(c.distance) / size),
+            "design": dict(zip(names, map(float, c.design), strict=True)),
+            "theta2_deg": np.degrees(c.theta2), "defects": list(c.defects), "spec": f,
+        }
+        for c, f in zip(shown, files, strict=True)
+    ]  # fmt: skip
+    if json:
+        print(dumps({"candidates": rows, "defect_free": bool(res.candidates), "near": res.near,
+                     "note": res.note, "seconds": res.seconds}))  # fmt: skip
+        return
+    print_table(
+        "Six-bar path synthesis from the atlas",
+        ["#", "max dist", "% of size", "chain", "defects"],
+        [[i, f"{r['max_distance']:.3e}", f"{100 * r['max_distance_over_size']:.2e}", r["chain"],
+          "; ".join(r["defects"]) or "-"] for i, r in enumerate(rows, 1)],
+    )  # fmt: skip
+    print(f"specs (machdyn linkage files): {', '.join(files)}")
+    if res.note:
+        print(f"note: {res.note}")
+
+
+def sixbar_spec(c, title: str) -> str:
+    """A six-bar result as a ``machdyn linkage`` TOML file (drawn at the first target's pose)."""
+    lk = c.linkage
+    ground = ", ".join(f'"{p}"' for p in lk.ground_points)
+    lines = [f'title = "{title}: {c.chain}"', f"ground = [{ground}]", 'drive = ["crank"]',
+             'report = ["P"]', "", "[points]"]  # fmt: skip
+    for name, z in lk.points.items():
+        lines.append(f"{name} = [{float(z.real)!r}, {float(z.imag)!r}]")
+    for name, link in lk.links.items():
+        if name == "ground":
+            continue
+        pts = ", ".join(f'"{p}"' for p in link.points)
+        lines += ["", "[[link]]", f'name = "{name}"', f"points = [{pts}]"]
+    start = float(np.degrees(c.design[2] + c.theta2[0]))
+    lines += ["", "[motion.crank]", f"sweep = [{start!r}, {start + 360!r}, 10]"]
+    return "\n".join(lines) + "\n"
+
+
+def _candidate_json(c, size: float, file: str) -> dict:
+    pl = c.linkage
+    return {
+        "r1": pl.lengths[0], "r2": pl.lengths[1], "r3": pl.lengths[2], "r4": pl.lengths[3],
+        "p": pl.fourbar.coupler[0], "delta_deg": float(np.degrees(pl.fourbar.coupler[1])),
+        "O2": pl.O2, "theta1_deg": float(np.degrees(pl.theta1)), "branch": pl.branch,
+        "barker_class": c.barker_class, "max_distance": float(np.max(c.distance)),
+        "max_distance_over_size": float(np.max(c.distance) / size),
+        "distance": c.distance, "theta2_deg": np.degrees(c.theta2),
+        "mu_min_deg": float(np.degrees(c.mu_min)), "defects": list(c.defects), "spec": file,
+    }  # fmt: skip
+
+
+def candidate_spec(c, title: str) -> str:
+    """A path-synthesis result as a machine file (``machdyn = 1``; docs/spec.md's fourbar).
+
+    The placement in the plane (``O2``, ``theta1``) and the targets' distances
+    are in ``notes`` until the format has keys for them.
+    """
+    pl = c.linkage
+    r1, r2, r3, r4 = pl.lengths
+    p, delta = pl.fourbar.coupler
+    form = 1 if pl.branch > 0 else 2
+    note = (
+        f"placed with O2 = ({pl.O2.real:.12g}, {pl.O2.imag:.12g}), theta1 = "
+        f"{np.degrees(pl.theta1):.12g} deg (global = O2 + e^(j theta1) local); "
+        f"assembly sign of phi12 = {pl.branch:+d}; worst target distance {np.max(c.distance):.6g}"
+    )
+    lines = [
+        "machdyn = 1",
+        f'title = "{title}"',
+        "",
+        "[fourbar.candidate]",
+        f"r1 = {float(r1)!r}",
+        f"r2 = {float(r2)!r}",
+        f"r3 = {float(r3)!r}",
+        f"r4 = {float(r4)!r}",
+        f'coupler = {{ p = {float(p)!r}, delta = "{float(np.degrees(delta))!r} deg" }}',
+    ]
+    if c.barker_class in ("GRCR", "GRRC"):
+        lines.append(f"branch = {pl.branch}")
+    else:
+        lines.append(f"form = {form}")
+    lines.append(f'notes = "{note}"')
+    return "\n".join(lines) + "\n"

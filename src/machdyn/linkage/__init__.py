@@ -57,12 +57,14 @@ The package, one room per concept:
 
 from .builder import Linkage
 from .forces import FORCE_REASONS, LinkageForces
+from .groups import Group
 from .kinematics import LinkageMotion
 from .view import JOINT_KINDS, Joint, Link, Spring, TorsionSpring
 
 __all__ = [
     "FORCE_REASONS",
     "JOINT_KINDS",
+    "Group",
     "Joint",
     "Link",
     "Linkage",

@@ -12,12 +12,13 @@ from ..loops import LoopSystem
 from ..massprops import MassProperties
 from ..mobility import mobility_of
 from . import kinematics as _kinematics
-from ._common import GROUND, _complex_point
+from ._common import GROUND, _complex_point, _ref_angle
 from .elements import _ElementMethods, _Spring, _Torsion
 from .forces import LinkageForces, _forces
+from .groups import Group, decompose
 from .joints import _JointMethods
 from .kinematics import LinkageMotion
-from .topology import _Compiled, _Edge, compile_loops, edges_of
+from .topology import _Edge, _Model, edges_of
 from .view import Joint, Link, Spring, TorsionSpring, elements_of, joints_of
 
 
@@ -59,7 +60,7 @@ class Linkage(_JointMethods, _ElementMethods):
         self._springs: dict[str, _Spring] = {}
         self._torsions: dict[str, _Torsion] = {}
         self._drivers: list[str] = []
-        self._compiled: _Compiled | None = None
+        self._compiled: _Model | None = None
         self._points_extra: dict[str, complex] = {}
         for name, xy in (points or {}).items():
             self.point(name, xy)
@@ -307,6 +308,58 @@ class Linkage(_JointMethods, _ElementMethods):
         """The springs and torsion springs (known loads), in the order they were added."""
         return elements_of(self)
 
+    @property
+    def drawn_inputs(self) -> Mapping[str, float]:
+        """Every driver's value in the drawn pose (radians for angles, lengths otherwise).
+
+        A link's angle ``theta`` (its first → second point), a motor's
+        ``theta_b − theta_a``, a slider's or slot's displacement along its line
+        from the foot of the guide's first point (or of ``through``), an
+        actuator's length: the values :meth:`solve` reproduces the drawing at.
+
+        Examples
+        --------
+        >>> lk = (Linkage({"O2": (0, 0), "A": (0, 2), "B": (6, 0)}).ground("O2")
+        ...       .link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+        ...       .slider("block", "ground", "B", 0.0, name="guide").drive("crank", "guide"))
+        >>> {k: round(v, 6) for k, v in lk.drawn_inputs.items()}
+        {'crank': 1.570796, 'guide': 6.0}
+        """
+        out = {}
+        for d in self._drivers:
+            if d in self._links:
+                out[d] = _ref_angle(self, d)
+            elif d in self._motors:
+                a, b = self._motor_links(d)
+                out[d] = _ref_angle(self, b) - _ref_angle(self, a)
+            elif d in self._actuators:
+                start, end = self._actuators[d][:2]
+                out[d] = float(abs(self._points[end] - self._points[start]))
+            else:
+                _, on, at, u, through = {**self._sliders, **self._slots}[d]
+                ref = self._points[through] if through else self._first_point(on)
+                out[d] = float(((self._points[at] - ref) * u.conjugate()).real)
+        return MappingProxyType(out)
+
+    # ------------------------------------------------------------------ pictures
+    def draw(self, frame: int | None = None, ax: Any = None, **options: Any) -> Any:
+        """Draw the linkage in one pose (:func:`machdyn.draw.draw`)."""
+        from ..draw import draw
+
+        return draw(self, frame, ax, **options)
+
+    def animate(self, path: Any = None, **options: Any) -> Any:
+        """Animate the linkage (:func:`machdyn.draw.animate`)."""
+        from ..draw import animate
+
+        return animate(self, path, **options)
+
+    def to_html(self, path: Any = None, **options: Any) -> str:
+        """A self-contained HTML page of the motion (:func:`machdyn.draw.to_html`)."""
+        from ..draw import to_html
+
+        return to_html(self, path, **options)
+
     # ------------------------------------------------------------------ structure
 
     def _owner(self, point: str, preferred: str = "") -> str:
@@ -367,7 +420,7 @@ class Linkage(_JointMethods, _ElementMethods):
             return 3 * (n_links - 1)
         return mobility_of(joints, links=n_links)
 
-    def _compile(self) -> _Compiled:
+    def _compile(self) -> _Model:
         if self._compiled is not None:
             return self._compiled
         if not self._ground:
@@ -395,14 +448,21 @@ class Linkage(_JointMethods, _ElementMethods):
         if not self._drivers:
             raise ModelError(f"mobility is {m} but no driver was named: call drive(...)")
         if m != len(self._drivers):
+            where = ""
+            try:  # the Assur decomposition names the links and joints at fault
+                decompose(self, edges)
+            except ModelError as exc:
+                where = f"; {exc}"
             raise ModelError(
                 f"mobility (Kutzbach–Gruebler) is {m} but {len(self._drivers)} driver(s) were "
                 f"named ({', '.join(self._drivers)}): name {m} driver(s)"
                 + (" — the drawing is a structure" if m <= 0 else "")
+                + where
             )
         for name in [*self._springs, *self._torsions]:
             self._element_links(name)  # ends on two different links
-        self._compiled = compile_loops(self, edges)
+        groups, program = decompose(self, edges)
+        self._compiled = _Model(self, edges, groups, program)
         return self._compiled
 
     # ------------------------------------------------------------------ solving
@@ -418,17 +478,44 @@ class Linkage(_JointMethods, _ElementMethods):
         3 variables, 2 equations: DOF 1
         ...
         """
-        return self._compile().system
+        return self._compile().loops().system
+
+    @property
+    def groups(self) -> tuple[Group, ...]:
+        """The drivers and Assur groups in solving order (:class:`~machdyn.linkage.groups.Group`).
+
+        Each group's kind (``"driver"``, a dyad ``"RRR"``, ``"RRP"``, ... or
+        ``"general"``), links, joints and the assembly sign from the drawing,
+        which every sample keeps.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> lk = (Linkage({"O2": (0, 0), "A": (2, 0), "B": (8, 0)}).ground("O2")
+        ...       .link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+        ...       .slider("block", "ground", "B", 0.0, name="guide").drive("crank"))
+        >>> [(g.kind, g.links, g.sign) for g in lk.groups]
+        [('driver', ('crank',), 0), ('RRP', ('rod', 'block'), 1)]
+        """
+        return self._compile().groups
 
     def solve(
         self,
         values: Any,
         velocity: Any = None,
         acceleration: Any = 0.0,
+        jerk: Any = None,
         *,
         continuation: bool | None = None,
     ) -> LinkageMotion:
-        """Positions, velocities and accelerations of every link, point and centre of mass.
+        """Positions, velocities, accelerations (and jerks) of every link, point and centre of mass.
+
+        The linkage is solved group by group (:attr:`groups`): drivers and
+        dyads in closed form, each dyad on the assembly sign of the drawing at
+        every sample; a group the closed forms do not cover by the vector-loop
+        core. A sample where a group cannot be assembled, or sits at a toggle,
+        is flagged (``ok``, ``reason``) naming the group; the links of the
+        groups that depend on it are NaN there, never taken from another branch.
 
         Parameters
         ----------
@@ -440,6 +527,9 @@ class Linkage(_JointMethods, _ElementMethods):
         velocity, acceleration : array_like or mapping, optional
             Their first and second time derivatives (``acceleration`` defaults
             to 0). Without ``velocity`` only positions are computed.
+        jerk : array_like or mapping, optional
+            The drivers' third derivatives; given (0 for a steady speed), the
+            jerks are computed too (``LinkageMotion.jerk``, ``point_jerk``, ...).
         continuation : bool, optional
             Follow a 1-D sweep along one circuit (default for 1-D arrays).
             The circuit is the drawn one: the solver first marches from the
@@ -461,7 +551,7 @@ class Linkage(_JointMethods, _ElementMethods):
         >>> bool(m.ok.all()), m.omega["rocker"].shape
         (True, (36,))
         """
-        return _kinematics.solve(self, values, velocity, acceleration, continuation)
+        return _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
 
     def forces(
         self,

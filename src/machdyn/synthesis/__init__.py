@@ -7,6 +7,9 @@ The notes' Ch. 3 (graphical synthesis, done algebraically) and Norton,
 from __future__ import annotations
 
 from .atlas import CouplerAtlas, atlas, coupler_points
+from .atlas_path import Atlas, PathCandidates, open_atlas, path_from_atlas
+from .atlas_store import AtlasError, build_atlas
+from .descriptor import curve_descriptor
 from .function import (
     FunctionGenerator,
     StructuralError,
@@ -31,24 +34,31 @@ from .placed import PlacedFourBar
 from .quick_return import QuickReturn, quick_return, time_ratio_angle
 
 __all__ = [
+    "Atlas",
+    "AtlasError",
     "CouplerAtlas",
     "DrivingDyad",
     "FunctionGenerator",
     "MotionSynthesis",
+    "PathCandidates",
     "PathSynthesis",
     "PlacedFourBar",
     "QuickReturn",
     "RotopoleLink",
     "StructuralError",
     "atlas",
+    "build_atlas",
     "chebyshev_spacing",
     "circumcentre",
     "coupler_points",
+    "curve_descriptor",
     "driving_dyad",
     "freudenstein_coefficients",
     "function_generator",
     "intersect_lines",
     "lengths_from_freudenstein",
+    "open_atlas",
+    "path_from_atlas",
     "path_objective",
     "perpendicular_bisector",
     "quick_return",

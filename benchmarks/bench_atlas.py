@@ -1,0 +1,150 @@
+"""Benchmarks of the coupler-curve atlas: build rate, Dask scaling, disk, query and synthesis time.
+
+Run:
+    python benchmarks/bench_atlas.py               # 2^19 entries; Dask scaling 1 vs 2 workers
+    python benchmarks/bench_atlas.py --atlas DIR   # also query and synthesis on an existing atlas
+    python benchmarks/bench_atlas.py --build DIR --count 10000000 --scheduler local
+                                                   # the big build (once, late: minutes)
+
+Targets (issue 14): >= 10^7 four-bars in <= 15 min and <= 4 GB on the 2-core machine;
+linear in workers within +-20 % from 1 to 2; query on a 10^7 atlas <= 1 s; query + refine
+of 10 candidates <= 3 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from machdyn import jit
+from machdyn.fourbar import FourBar
+from machdyn.synthesis import PlacedFourBar, build_atlas, open_atlas, path_from_atlas
+
+
+def timed(fn):
+    t0 = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t0, out
+
+
+def disk(folder: Path) -> int:
+    return sum(f.stat().st_size for f in folder.glob("*"))
+
+
+def scaling(count: int, chunk: int, rounds: int) -> None:
+    """Dask LocalCluster, 1 worker vs 2 workers, interleaved; the cluster start is not counted."""
+    from distributed import Client, LocalCluster, wait
+
+    from machdyn.synthesis.atlas_dask import WORKER_ENV
+    from machdyn.synthesis.atlas_store import Manifest, build_chunk
+
+    rates: dict[int, list[float]] = {1: [], 2: []}
+    clusters = {
+        w: LocalCluster(n_workers=w, threads_per_worker=1, processes=True,
+                        dashboard_address=None, env=WORKER_ENV)
+        for w in (1, 2)
+    }  # fmt: skip
+    try:
+        clients = {w: Client(c) for w, c in clusters.items()}
+        for w, client in clients.items():  # warm-up: compile/load kernels in every worker
+            folder = Path(tempfile.mkdtemp(prefix="bench_atlas_warm"))
+            recipe = Manifest(count=2 * w * 1000, chunk_size=1000).to_json()
+            wait(
+                [
+                    client.submit(build_chunk, str(folder), recipe, i, True, pure=False)
+                    for i in range(2 * w)
+                ]
+            )
+            shutil.rmtree(folder)
+        for r in range(rounds):
+            for w in (1, 2) if r % 2 == 0 else (2, 1):
+                folder = Path(tempfile.mkdtemp(prefix="bench_atlas_scale"))
+                recipe = Manifest(count=count, chunk_size=chunk, seed=r).to_json()
+                n = -(-count // chunk)
+                t0 = time.perf_counter()
+                wait(
+                    [
+                        clients[w].submit(build_chunk, str(folder), recipe, i, True, pure=False)
+                        for i in range(n)
+                    ]
+                )
+                rates[w].append(count / (time.perf_counter() - t0))
+                shutil.rmtree(folder)
+        for c in clients.values():
+            c.close()
+    finally:
+        for c in clusters.values():
+            c.close()
+    r1, r2 = statistics.median(rates[1]), statistics.median(rates[2])
+    print(f"Dask LocalCluster build, {count:,} entries ({chunk:,} per task), median of {rounds}:")
+    print(f"  1 worker : {r1:12,.0f} entries/s")
+    print(
+        f"  2 workers: {r2:12,.0f} entries/s   speed-up {r2 / r1:.2f} "
+        "(linear: 2.00, +-20 %: 1.6-2.4)"
+    )
+
+
+def query_bench(folder: Path, repeats: int) -> None:
+    t_open, at = timed(lambda: open_atlas(folder))
+    print(f"atlas {folder}: {len(at):,} entries, {disk(folder) / 1e9:.2f} GB on disk; "
+          f"open + verify CRCs {t_open:.2f} s")  # fmt: skip
+    at.nearest(at.desc[0][0], 160)  # touch every page once (the OS keeps them)
+    rng = np.random.default_rng(5)
+    qs = [at.desc[int(rng.integers(len(at.desc)))][int(rng.integers(1000))] for _ in range(repeats)]
+    times = [timed(lambda q=q: at.nearest(q, 160))[0] for q in qs]
+    print(f"  k-nearest query (k = 160, 4 variants): median {statistics.median(times):.3f} s, "
+          f"max {max(times):.3f} s over {repeats}")  # fmt: skip
+    known = PlacedFourBar(FourBar(5, 2, 5, 4, coupler=(3.0, 0.6)), 1 + 2j, 0.3, 1)
+    th = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    targets = known.pose(th)[2]
+    size = float(np.max(np.abs(targets - targets.mean())))
+    for label, kw in (("closed, untimed", {}), ("closed, timed", {"timing": th})):
+        runs = [timed(lambda kw=kw: path_from_atlas(targets, at, n=5, **kw)) for _ in range(3)]
+        t = statistics.median(r[0] for r in runs)
+        res = runs[-1][1]
+        print(f"  synthesis ({label}, 12 points, 10 refined): median {t:.2f} s "
+              f"(retrieve {res.seconds['retrieve']:.2f}, refine {res.seconds['refine']:.2f}); "
+              f"best max error / size {np.max(res.best.distance) / size:.1e}")  # fmt: skip
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--atlas", type=Path, help="an existing atlas to query")
+    ap.add_argument("--build", type=Path, help="build an atlas here (timed)")
+    ap.add_argument("--count", type=int, default=1 << 19)
+    ap.add_argument("--scheduler", default=None)
+    ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--no-scaling", action="store_true")
+    args = ap.parse_args()
+    jit.load()
+    print(f"kernels: {'compiled' if jit.active() else 'NumPy'}")
+    if args.build is not None:
+        t, m = timed(lambda: build_atlas(args.build, args.count, scheduler=args.scheduler,
+                                         workers=args.workers, progress=True))  # fmt: skip
+        print(f"built {m.count:,} entries in {t:.1f} s ({m.count / t:,.0f}/s), "
+              f"{disk(args.build) / 1e9:.2f} GB")  # fmt: skip
+        query_bench(args.build, 20)
+    else:
+        folder = Path(tempfile.mkdtemp(prefix="bench_atlas"))
+        t, m = timed(lambda: build_atlas(folder, args.count, progress=False))
+        print(f"serial build, this process: {m.count:,} entries in {t:.2f} s "
+              f"({m.count / t:,.0f}/s); "
+              f"{disk(folder) / m.count:.0f} bytes per entry "
+              f"(10^7 entries: {1e7 / (m.count / t) / 60:.1f} min on one core, "
+              f"{disk(folder) / m.count * 1e7 / 1e9:.2f} GB)")  # fmt: skip
+        shutil.rmtree(folder)
+        if not args.no_scaling:
+            scaling(args.count, 1 << 16, args.rounds)
+    if args.atlas is not None:
+        query_bench(args.atlas, 20)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,191 @@
+"""``machdyn run FILE``: analyse whatever a machine file describes (see ``docs/spec.md``).
+
+Prints, for each part, a short summary and its tables with every column
+labelled in the file's output units; ``--json`` and ``--csv`` carry the same
+labels; ``--out DIR`` writes everything. Only parsing, calling and presenting
+happen here: the analyses are the library's, reached through :mod:`machdyn.spec`.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from ..errors import InputError
+from ._common import dumps, print_table
+
+__all__ = ["payload", "run", "table_rows", "write_csv"]
+
+
+def _cell(value: Any) -> Any:
+    if isinstance(value, np.bool_ | bool):
+        return bool(value)
+    if isinstance(value, float | np.floating):
+        value = float(value)
+        return value if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+def table_rows(columns: dict[str, np.ndarray]) -> list[list[Any]]:
+    """Rows of plain values (NaN as None) from labelled columns."""
+    arrays = [np.asarray(v, dtype=object) for v in columns.values()]
+    return [[_cell(a[i]) for a in arrays] for i in range(len(arrays[0]) if arrays else 0)]
+
+
+def _shown(value: Any) -> Any:
+    """A summary value for JSON: numbers, lists of numbers, or text."""
+    if isinstance(value, list | tuple | np.ndarray):
+        return [_cell(v) for v in value]
+    return _cell(value)
+
+
+def payload(machine: Any, results: dict[str, Any]) -> dict[str, Any]:
+    """Everything ``--json`` prints: summaries and tables per part, labelled with units."""
+    system = machine.units
+    parts = {}
+    for name, r in results.items():
+        summary = {}
+        for item in r.summary:
+            label, value = item.shown(system)
+            summary[label] = _shown(value)
+        tables = {}
+        for table in r.tables:
+            cols = table.labelled(system)
+            tables[table.name] = {
+                "title": table.title,
+                "columns": list(cols),
+                "rows": table_rows(cols),
+            }
+        parts[name] = {
+            "kind": r.part.kind,
+            "summary": summary,
+            "tables": tables,
+            "flagged": r.flagged,
+        }
+    return {
+        "machdyn": 1,
+        "title": machine.title,
+        "units": system.to_spec(),
+        "parts": parts,
+    }
+
+
+def write_csv(columns: dict[str, np.ndarray], out: Any) -> None:
+    """Write labelled columns as CSV (``ok`` as true/false, no value as an empty cell)."""
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(list(columns))
+    for row in table_rows(columns):
+        writer.writerow(
+            [
+                "" if v is None else (str(v).lower() if isinstance(v, bool) else _repr(v))
+                for v in row
+            ]
+        )
+
+
+def _repr(value: Any) -> Any:
+    return repr(value) if isinstance(value, float) else value
+
+
+def _summary_text(value: Any) -> str:
+    if isinstance(value, list | tuple | np.ndarray):
+        return " to ".join(_summary_text(v) for v in value)
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.6g}" if math.isfinite(value) else "-"
+    return str(value)
+
+
+def _print_part(machine: Any, r: Any) -> None:
+    system = machine.units
+    print(f"{r.part.kind} {r.part.name}")
+    items = [item.shown(system) for item in r.summary]
+    width = max((len(label) for label, _ in items), default=0)
+    for label, value in items:
+        print(f"  {label.ljust(width)}  {_summary_text(value)}")
+    for table in r.tables:
+        cols = table.labelled(system)
+        if "ok" in cols:
+            cols["ok"] = np.where(np.asarray(cols["ok"], dtype=bool), "yes", "NO")
+        cols.pop("reason", None)
+        print()
+        # plain text: rich's import and layout would cost a third of the 0.6 s budget
+        print_table(table.title, list(cols), table_rows(cols), plain=True)
+    if r.flagged:
+        print()
+        for line in r.flagged:
+            print(f"  {line}")
+    print()
+
+
+def _units_line(system: Any) -> str:
+    if system.is_unit_free:
+        return "units: none (bare numbers, any consistent system); angles in deg"
+    shown = ", ".join(f"{k} {v}" for k, v in system.to_spec().items())
+    return f"units: {shown}"
+
+
+def run(
+    file: Annotated[Path, typer.Argument(help="A machine file (.toml or .json; docs/spec.md).")],
+    part: Annotated[
+        str | None, typer.Option("--part", help="Analyse only this part (and what it uses).")
+    ] = None,
+    json: Annotated[bool, typer.Option("--json", help="Print JSON (columns with units).")] = False,
+    csv_out: Annotated[
+        bool, typer.Option("--csv", help="Print the part's main table as CSV (units in header).")
+    ] = False,
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", help="Write every table (CSV), result.json and machine.toml here."),
+    ] = None,
+) -> None:
+    """Analyse a machine file and print every part's results, each column with its unit."""
+    from ..spec import dumps as spec_dumps
+    from ..spec import load_machine
+
+    if json and csv_out:
+        raise InputError("--csv", "choose one of --json and --csv")
+    machine = load_machine(file)
+    if part is not None and part not in machine.parts:
+        raise InputError("--part", f"{part!r} is not a part; parts: {', '.join(machine.parts)}")
+    if out is not None and out.exists() and not out.is_dir():
+        raise InputError("--out", f"{out} is a file, not a folder")
+    results = machine.run([part] if part else None)
+    if part is not None:
+        results = {part: results[part]}
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        for name, r in results.items():
+            for table in r.tables:
+                with open(out / f"{name}-{table.name}.csv", "w", newline="", encoding="utf-8") as f:
+                    write_csv(table.labelled(machine.units), f)
+        (out / "result.json").write_text(dumps(payload(machine, results)) + "\n", encoding="utf-8")
+        (out / "machine.toml").write_text(spec_dumps(machine.to_spec()), encoding="utf-8")
+    if json:
+        print(dumps(payload(machine, results)))
+    elif csv_out:
+        tabled = {n: r for n, r in results.items() if r.tables}
+        if len(tabled) != 1:
+            raise InputError(
+                "--csv",
+                f"the file has {len(tabled)} parts with tables ({', '.join(tabled) or 'none'}): "
+                "pick one with --part NAME, or write them all with --out DIR",
+            )
+        r = next(iter(tabled.values()))
+        buffer = io.StringIO()
+        write_csv(r.tables[0].labelled(machine.units), buffer)
+        print(buffer.getvalue(), end="")
+    else:
+        heading = machine.title or Path(file).name
+        print(f"{heading}  ({_units_line(machine.units)})\n")
+        for r in results.values():
+            _print_part(machine, r)
+        if out is not None:
+            print(f"wrote {out}/ (CSV per table, result.json, machine.toml)")

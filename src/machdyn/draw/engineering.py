@@ -1,0 +1,372 @@
+"""Engineering plots: pin-force polars, torque with flywheel lobes, shaking force, μ over the cycle.
+
+Each plot is first a :class:`~machdyn.draw.chart.Chart` (``*_chart`` functions:
+what is shown, every axis labelled with quantity and unit) and then drawn by
+matplotlib (``plot_*`` functions, returning the Figure or Axes) or written as
+inline SVG by the report. Lengths are in the model's unit (or "model units"),
+forces and torques in the units the model's numbers imply (:func:`force_units`),
+angles in degrees. Unsolved samples are gaps, never zeros.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import InputError
+from .chart import Chart, Series
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "force_units",
+    "pin_force_charts",
+    "plot_pin_forces",
+    "plot_shaking",
+    "plot_torque",
+    "plot_transmission_angle",
+    "shaking_charts",
+    "torque_chart",
+    "transmission_chart",
+]
+
+
+def force_units(length_unit: str | None) -> tuple[str, str]:
+    """Labels of force and torque for a model with ``length_unit`` (masses in kg, time in s).
+
+    Examples
+    --------
+    >>> force_units("m")
+    ('N', 'N·m')
+    >>> force_units("mm")
+    ('kg·mm/s²', 'kg·mm²/s²')
+    >>> force_units(None)
+    ('force units', 'torque units')
+    """
+    if not length_unit:
+        return "force units", "torque units"
+    if length_unit in ("m", "meter", "metre"):
+        return "N", "N·m"
+    return f"kg·{length_unit}/s²", f"kg·{length_unit}²/s²"
+
+
+def _gaps(values: Any, ok: Any = None) -> np.ndarray:
+    v = np.array(np.ravel(np.asarray(values)), dtype=complex if np.iscomplexobj(values) else float)
+    if ok is not None:
+        v[~np.ravel(np.asarray(ok, bool))] = np.nan
+    return v
+
+
+def _axes(ax: Any, figsize: tuple[float, float]) -> Axes:
+    if ax is not None:
+        return ax
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=figsize, layout="constrained").add_subplot()
+
+
+# --------------------------------------------------------------------------------------
+# Transmission angle
+
+
+def transmission_chart(theta2: Any, mu: Any, *, ok: Any = None, limit_deg: float = 40.0) -> Chart:
+    """μ (deg) over the cycle, the design limit, and the minimum marked.
+
+    Examples
+    --------
+    >>> c = transmission_chart(np.radians([0, 90, 180]), np.radians([50, 30, 60]))
+    >>> c.ylabel, c.notes[0][2]
+    ('transmission angle μ (deg)', 'μ min = 30.00° at θ2 = 90.0°')
+    """
+    x = np.degrees(np.ravel(theta2).astype(float))
+    y = np.degrees(_gaps(mu, ok).astype(float))
+    chart = Chart(
+        "transmission angle over the cycle",
+        "θ2 (deg)",
+        "transmission angle μ (deg)",
+        [Series(x, y, "μ")],
+        hlines=[(limit_deg, f"limit {limit_deg:g}°", "#d62728")],
+        ylim=(0.0, 95.0),
+    )
+    if np.isfinite(y).any():
+        k = int(np.nanargmin(y))
+        chart.series.append(Series(x[k : k + 1], y[k : k + 1], colour="#d62728", marker=True))
+        chart.notes.append((x[k], max(y[k] - 8.0, 4.0), f"μ min = {y[k]:.2f}° at θ2 = {x[k]:.1f}°"))
+    chart.bands.append((x, np.zeros_like(x), np.full_like(x, limit_deg), "#ff9896"))
+    return chart
+
+
+def plot_transmission_angle(
+    theta2: Any, mu: Any, *, ok: Any = None, limit_deg: float = 40.0, ax: Axes | None = None
+) -> Axes:
+    """The transmission angle μ over the cycle, with its limit (see :func:`transmission_chart`).
+
+    Examples
+    --------
+    >>> from machdyn import FourBar
+    >>> m = FourBar(8, 4, 7, 6).solve(np.radians(np.arange(0, 360.0)))
+    >>> ax = plot_transmission_angle(m.theta2, m.mu)
+    >>> ax.get_ylabel(), ax.get_xlabel()
+    ('transmission angle μ (deg)', 'θ2 (deg)')
+    """
+    return transmission_chart(theta2, mu, ok=ok, limit_deg=limit_deg).to_mpl(_axes(ax, (7, 3.2)))
+
+
+# --------------------------------------------------------------------------------------
+# Pin forces
+
+
+def pin_force_charts(
+    forces: Mapping[str, Any], *, ok: Any = None, theta2: Any = None, unit: str = "force units"
+) -> list[Chart]:
+    """One polar chart per pin force, as Norton's programs draw them: the locus of the force's tip.
+
+    The pin is at the origin, both axes at the same scale; the largest force
+    is drawn as a point and named with its magnitude, direction and input angle.
+    """
+    if not forces:
+        raise InputError("forces", "give at least one pin force")
+    charts = []
+    for name, F in forces.items():
+        F = _gaps(np.asarray(F, complex), ok)
+        title = f"{name} (polar)"
+        chart = Chart(
+            title, f"Fx ({unit})", f"Fy ({unit})", [Series(F.real, F.imag, "")], equal=True
+        )
+        chart.series.append(Series(np.array([0.0]), np.array([0.0]), colour="#000", marker=True))
+        if np.isfinite(F).any():
+            k = int(np.nanargmax(np.abs(F)))
+            z = F[k]
+            where = "" if theta2 is None else f" at θ2 = {np.degrees(np.ravel(theta2)[k]):.1f}°"
+            chart = Chart(
+                f"{name}: max |F| = {abs(z):.4g} {unit}, {np.degrees(np.angle(z)):.1f}°{where}",
+                chart.xlabel,
+                chart.ylabel,
+                [
+                    *chart.series,
+                    Series(np.array([0, z.real]), np.array([0, z.imag]), colour="#d62728"),
+                ],
+                equal=True,
+            )
+        charts.append(chart)
+    return charts
+
+
+def plot_pin_forces(
+    forces: Mapping[str, Any],
+    *,
+    ok: Any = None,
+    theta2: Any = None,
+    unit: str = "force units",
+    fig: Figure | None = None,
+    columns: int = 2,
+) -> Figure:
+    """Polar plots of pin forces (see :func:`pin_force_charts`), one panel each.
+
+    Examples
+    --------
+    >>> from machdyn import FourBar
+    >>> th = np.radians(np.arange(0, 360.0, 5))
+    >>> f = FourBar(8, 4, 7, 6).dynamics(th, 10.0, mass=(1, 2, 1.5), inertia=(.1, .5, .3),
+    ...                                  cg=(2, 3.5, 3))
+    >>> fig = plot_pin_forces({"F12": f.F12, "F32": f.F32}, theta2=th, unit="N")
+    >>> fig.axes[0].get_xlabel()
+    'Fx (N)'
+    """
+    charts = pin_force_charts(forces, ok=ok, theta2=theta2, unit=unit)
+    cols = min(columns, len(charts))
+    rows = -(-len(charts) // cols)
+    if fig is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(3.6 * cols, 3.4 * rows), layout="constrained")
+    axes = fig.subplots(rows, cols, squeeze=False).ravel()
+    for ax, chart in zip(axes, charts, strict=False):
+        chart.to_mpl(ax)
+    for ax in axes[len(charts) :]:
+        ax.set_visible(False)
+    return fig
+
+
+# --------------------------------------------------------------------------------------
+# Torque and flywheel
+
+
+def torque_chart(
+    theta: Any, torque: Any, *, flywheel: Any = None, ok: Any = None, unit: str = "torque units"
+) -> Chart:
+    """The input torque over the cycle; with a flywheel, its lobes shaded and their areas labelled.
+
+    ``flywheel`` is a :class:`~machdyn.flywheel.FlywheelResult` of the same
+    curve: the mean torque is drawn, each lobe between the curve and it is
+    shaded (red: energy taken from the flywheel, blue: given back) and labelled
+    with its area ``ΔE`` (the notes' Table 11-1).
+
+    Examples
+    --------
+    >>> from machdyn.flywheel import size_flywheel
+    >>> th = np.radians(np.arange(0, 360.0))
+    >>> T = 20 + 5 * np.sin(2 * th)
+    >>> c = torque_chart(th, T, flywheel=size_flywheel(th, T, 50.0, 0.05), unit="N·m")
+    >>> sorted(t for _, _, t in c.notes)
+    ['ΔE = -4.999', 'ΔE = -4.999', 'ΔE = 4.999', 'ΔE = 4.999']
+    """
+    x = np.degrees(np.ravel(theta).astype(float))
+    T = _gaps(torque, ok).astype(float)
+    chart = Chart(
+        "input torque",
+        "θ2 (deg)",
+        f"input torque T12 ({unit})",
+        [Series(x, T, "T12", colour="#000")],
+        hlines=[(0.0, "", "#999")],
+    )
+    if flywheel is None:
+        if np.isfinite(T).any():
+            k = int(np.nanargmax(np.abs(T)))
+            chart.series.append(Series(x[k : k + 1], T[k : k + 1], colour="#d62728", marker=True))
+            chart.notes.append((x[k], T[k], f"{T[k]:.4g} {unit} at {x[k]:.1f}°"))
+        return chart
+    avg = float(flywheel.torque_avg)
+    th = np.degrees(np.asarray(flywheel.theta, float))
+    Tf = np.asarray(flywheel.torque, float)
+    above = np.where(Tf >= avg, Tf, avg)
+    below = np.where(Tf < avg, Tf, avg)
+    chart.bands.append((th, np.full_like(th, avg), above, "#d62728"))
+    chart.bands.append((th, below, np.full_like(th, avg), "#1f77b4"))
+    chart.hlines.append((avg, f"T avg = {avg:.4g} {unit}", "#2ca02c"))
+    lobes = flywheel.lobes
+    t0 = float(th[0])
+    for a, b, area in zip(
+        np.degrees(lobes.theta_from), np.degrees(lobes.theta_to), lobes.area, strict=True
+    ):
+        if b < a:
+            b += 360.0
+        mid = t0 + (0.5 * (a + b) - t0) % 360.0
+        y = float(np.interp(mid, th, Tf))
+        chart.notes.append((mid, 0.5 * (y + avg), f"ΔE = {area:.4g}"))
+    return Chart(
+        f"input torque and flywheel lobes: ΔE = {flywheel.delta_e:.4g}, "
+        f"I = {flywheel.inertia:.4g} for k = {flywheel.k:g}",
+        chart.xlabel,
+        chart.ylabel,
+        chart.series,
+        chart.bands,
+        chart.hlines,
+        chart.notes,
+    )
+
+
+def plot_torque(
+    theta: Any,
+    torque: Any,
+    *,
+    flywheel: Any = None,
+    ok: Any = None,
+    unit: str = "torque units",
+    ax: Axes | None = None,
+) -> Axes:
+    """The input torque over the cycle with the flywheel's lobes (see :func:`torque_chart`).
+
+    Examples
+    --------
+    >>> from machdyn.flywheel import size_flywheel
+    >>> th = np.radians(np.arange(0, 360.0))
+    >>> T = 20 + 5 * np.sin(2 * th)
+    >>> ax = plot_torque(th, T, flywheel=size_flywheel(th, T, 50.0, 0.05), unit="N·m")
+    >>> len([t for t in ax.texts if t.get_text().startswith("ΔE")])
+    4
+    """
+    chart = torque_chart(theta, torque, flywheel=flywheel, ok=ok, unit=unit)
+    return chart.to_mpl(_axes(ax, (7, 3.4)))
+
+
+# --------------------------------------------------------------------------------------
+# Shaking
+
+
+def shaking_charts(
+    before: Any,
+    after: Any = None,
+    *,
+    moment_before: Any = None,
+    moment_after: Any = None,
+    theta: Any = None,
+    force_unit: str = "force units",
+    torque_unit: str = "torque units",
+) -> list[Chart]:
+    """The shaking force as a polar chart before/after balancing, and the shaking moment."""
+    series = []
+    for z, label, colour in (
+        (before, "before balancing", "#d62728"),
+        (after, "after balancing", "#2ca02c"),
+    ):
+        if z is not None:
+            z = np.ravel(np.asarray(z, complex))
+            series.append(
+                Series(z.real, z.imag, f"{label}: max {np.nanmax(np.abs(z)):.4g}", colour=colour)
+            )
+    series.append(Series(np.array([0.0]), np.array([0.0]), colour="#000", marker=True))
+    charts = [
+        Chart(
+            f"shaking force (polar), {force_unit}",
+            f"Fs x ({force_unit})",
+            f"Fs y ({force_unit})",
+            series,
+            equal=True,
+        )
+    ]
+    if moment_before is not None and theta is not None:
+        x = np.degrees(np.ravel(theta).astype(float))
+        ms = [Series(x, np.ravel(moment_before).astype(float), "before", colour="#d62728")]
+        if moment_after is not None:
+            ms.append(
+                Series(
+                    x, np.ravel(moment_after).astype(float), "after", colour="#2ca02c", dashed=True
+                )
+            )
+        charts.append(
+            Chart("shaking moment about O2", "θ2 (deg)", f"shaking moment Ms ({torque_unit})", ms)
+        )
+    return charts
+
+
+def plot_shaking(
+    before: Any,
+    after: Any = None,
+    *,
+    moment_before: Any = None,
+    moment_after: Any = None,
+    theta: Any = None,
+    force_unit: str = "force units",
+    torque_unit: str = "torque units",
+    fig: Figure | None = None,
+) -> Figure:
+    """Shaking force polar plot before/after balancing, and the moment (:func:`shaking_charts`).
+
+    Examples
+    --------
+    >>> th = np.radians(np.arange(0, 360.0, 5))
+    >>> fig = plot_shaking(3 * np.exp(1j * th), 0.1 * np.exp(2j * th), theta=th, force_unit="N")
+    >>> fig.axes[0].get_xlabel()
+    'Fs x (N)'
+    """
+    charts = shaking_charts(
+        before,
+        after,
+        moment_before=moment_before,
+        moment_after=moment_after,
+        theta=theta,
+        force_unit=force_unit,
+        torque_unit=torque_unit,
+    )
+    if fig is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(4.2 * len(charts), 3.8), layout="constrained")
+    for ax, chart in zip(fig.subplots(1, len(charts), squeeze=False).ravel(), charts, strict=True):
+        chart.to_mpl(ax)
+    return fig

@@ -1,0 +1,110 @@
+"""A design report of a machine: one self-contained HTML page (and a PDF where Chromium is).
+
+``report(model, path)`` — or ``model.report(path)`` — writes everything the
+library can say about the model: the model and its (animated) drawing,
+mobility and class, circuits and toggles, the input range, φ and μ extremes,
+mechanical advantage, kinematics plots, peak pin forces and input torque and
+where they occur, shaking force and moment, flywheel, balancing — and a
+self-check section with independent checks on this very machine. Every
+number comes from the public API; the page loads nothing from the network.
+
+Examples
+--------
+>>> from machdyn import FourBar
+>>> page = report(FourBar(8, 4, 7, 6), n=72)
+>>> page.startswith("<!DOCTYPE html>"), "GCRR" in page
+(True, True)
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+
+__all__ = ["report", "to_pdf"]
+
+
+def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
+    """The design report of ``model`` as an HTML page (also written to ``path``).
+
+    Parameters
+    ----------
+    model : FourBar or Linkage
+    path : str or Path, optional
+        Where to write the page (``.html``); ``.pdf`` prints it with Chromium.
+    **options
+        FourBar: ``form``, ``omega2``, ``n``, ``mass``, ``inertia``, ``cg``,
+        ``gravity``, ``load_torque4``, ``k`` (flywheel), ``mu_limit_deg``.
+        Linkage: ``values`` (driver sweep), ``velocity``, ``n``, ``gravity``, ``k``.
+
+    Returns
+    -------
+    str
+        The page.
+    """
+    from ..fourbar import FourBar
+    from ..linkage import Linkage
+
+    if isinstance(model, FourBar):
+        from .fourbar import fourbar_report
+
+        page = fourbar_report(model, **options).html()
+    elif isinstance(model, Linkage):
+        from .linkage import linkage_report
+
+        page = linkage_report(model, **options).html()
+    else:
+        raise InputError(
+            "model", f"no report for a {type(model).__name__}; give a FourBar or a Linkage"
+        )
+    if path is not None:
+        path = Path(path)
+        if path.suffix.lower() == ".pdf":
+            html_path = path.with_suffix(".html")
+            html_path.write_text(page, encoding="utf-8")
+            to_pdf(html_path, path)
+        else:
+            path.write_text(page, encoding="utf-8")
+    return page
+
+
+def to_pdf(html_path: str | Path, pdf_path: str | Path) -> Path:
+    """Print an HTML report to PDF with headless Chromium (``chromium --print-to-pdf``).
+
+    Raises
+    ------
+    InputError
+        If no ``chromium`` is on the PATH (then open the page in any browser
+        and print it, or run ``chromium --headless --print-to-pdf=out.pdf report.html``).
+    """
+    exe = (
+        shutil.which("chromium")
+        or shutil.which("chromium-browser")
+        or shutil.which("google-chrome")
+    )
+    if exe is None:
+        raise InputError(
+            "path",
+            "PDF needs chromium on the PATH; write .html and print it from a "
+            "browser, or: chromium --headless --print-to-pdf=out.pdf report.html",
+        )
+    html_path, pdf_path = Path(html_path).resolve(), Path(pdf_path).resolve()
+    subprocess.run(
+        [
+            exe,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-pdf-header-footer",
+            f"--print-to-pdf={pdf_path}",
+            html_path.as_uri(),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=120,
+    )
+    return pdf_path

@@ -1,0 +1,285 @@
+"""The report's self-checks: identities a correct motion satisfies, computed apart from the solver.
+
+Each check takes the solved motion as *data* (point positions, velocities,
+accelerations; link angular velocities and accelerations; forces) and tests an
+identity that does not share the solver's code path:
+
+* **loop closure** — every link is rigid: the distance between two of its
+  points stays constant, and the velocity and acceleration fields obey
+  ``v_q − v_p = jω (q − p)``, ``a_q − a_p = (jα − ω²)(q − p)`` (the vector
+  loop and its two derivatives, Norton §6.7, §7.3);
+* **finite differences** — five-point central differences of the positions
+  along the (uniform) input sweep, times the input speed, against the
+  velocities; and of the velocities against the accelerations;
+* **power balance** — the input power plus the power of the loads equals the
+  rate of change of kinetic energy, ``Σ m v_G·a_G + I_G ω α`` (Norton §11.3);
+* **Kennedy** — the instant centre of every pair of links, found from the two
+  velocity fields, is collinear with the other two centres of every triple
+  (Norton §6.5).
+
+A wrong motion (e.g. accelerations scaled by 1.01) fails the acceleration
+checks; Kennedy's rule is a velocity-level identity (accelerations do not
+enter it), failed by a wrong angular velocity.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from itertools import combinations
+
+import numpy as np
+
+__all__ = ["Check", "RigidMotion", "finite_differences", "kennedy", "loop_closure", "power_balance"]
+
+
+@dataclass(frozen=True)
+class Check:
+    """One self-check: its value against a tolerance, and what it compared."""
+
+    name: str
+    value: float
+    tolerance: float
+    what: str
+    samples: int
+
+    @property
+    def passed(self) -> bool:
+        """True where the measured discrepancy is within the tolerance (and was measured)."""
+        return bool(np.isfinite(self.value) and self.value <= self.tolerance and self.samples > 0)
+
+
+@dataclass(frozen=True)
+class RigidMotion:
+    """A solved motion as data for the checks (one entry per sample).
+
+    Attributes
+    ----------
+    x : ndarray
+        The input variable of the sweep (uniform steps), e.g. θ2.
+    xdot : float
+        Its constant rate (the input speed).
+    points : mapping of name to (position, velocity, acceleration)
+        Complex arrays per sample.
+    links : mapping of name to (point names, omega, alpha)
+        Each rigid body with the points it carries (the ground with ω = α = 0).
+    ok : ndarray of bool
+    pins : mapping of (link, link) to point name
+        The pins joining pairs of links (their primary instant centres).
+    """
+
+    x: np.ndarray
+    xdot: float
+    points: Mapping[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
+    links: Mapping[str, tuple[tuple[str, ...], np.ndarray, np.ndarray]]
+    ok: np.ndarray
+    pins: Mapping[tuple[str, str], str] = field(default_factory=dict)
+
+    @property
+    def size(self) -> float:
+        """The largest span of the points (the scale of position residuals)."""
+        z = np.concatenate([np.ravel(p[0][self.ok]) for p in self.points.values()])
+        z = z[np.isfinite(z)]
+        return max(float(np.ptp(z.real)), float(np.ptp(z.imag)), 1e-300) if z.size else 1.0
+
+
+def _max(values: Sequence[np.ndarray]) -> float:
+    vals = [np.nanmax(v) for v in values if np.size(v) and np.isfinite(v).any()]
+    return float(max(vals)) if vals else float("nan")
+
+
+def loop_closure(m: RigidMotion, tol: float = 1e-8) -> list[Check]:
+    """Rigidity of every link at position, velocity and acceleration level (relative residuals)."""
+    pos, vel, acc = [], [], []
+    n = 0
+    vscale = ascale = 0.0
+    for _, v, a in m.points.values():
+        vscale = max(vscale, float(np.nanmax(np.abs(v[m.ok]), initial=0.0)))
+        ascale = max(ascale, float(np.nanmax(np.abs(a[m.ok]), initial=0.0)))
+    vscale, ascale = max(vscale, 1e-300), max(ascale, 1e-300)
+    for names, w, al in m.links.values():
+        for i, j in combinations(names, 2):
+            (p, v, a), (q, vq, aq) = m.points[i], m.points[j]
+            ok = m.ok & np.isfinite(p) & np.isfinite(q)
+            if not ok.any():
+                continue
+            r = q[ok] - p[ok]
+            d = np.abs(r)
+            pos.append(np.abs(d - np.median(d)) / m.size)
+            good = ok & np.isfinite(w) & np.isfinite(vq) & np.isfinite(v)
+            vel.append(np.abs(vq - v - 1j * w * (q - p))[good] / vscale)
+            good &= np.isfinite(al) & np.isfinite(aq) & np.isfinite(a)
+            acc.append(np.abs(aq - a - (1j * al - w * w) * (q - p))[good] / ascale)
+            n += int(ok.sum())
+    return [
+        Check(
+            "loop closure: positions",
+            _max(pos),
+            tol,
+            "max |  |q − p| − its median  | / drawing size, over every pair of points on a link",
+            n,
+        ),
+        Check(
+            "loop closure: velocities",
+            _max(vel),
+            tol,
+            "max | v_q − v_p − jω(q − p) | / max |v|, every pair on a link",
+            n,
+        ),
+        Check(
+            "loop closure: accelerations",
+            _max(acc),
+            tol,
+            "max | a_q − a_p − (jα − ω²)(q − p) | / max |a|, every pair on a link",
+            n,
+        ),
+    ]
+
+
+def _d5(y: np.ndarray, h: float) -> np.ndarray:
+    """Five-point central difference dy/dx (NaN at the two ends)."""
+    out = np.full(y.shape, np.nan, dtype=y.dtype)
+    out[2:-2] = (y[:-4] - 8 * y[1:-3] + 8 * y[3:-1] - y[4:]) / (12 * h)
+    return out
+
+
+def finite_differences(m: RigidMotion, tol: float = 1e-5) -> list[Check]:
+    """Velocities and accelerations against five-point differences along the sweep."""
+    h = np.diff(m.x)
+    if h.size < 4 or np.ptp(h) > 1e-9 * max(abs(h.mean()), 1e-300):
+        nan = float("nan")
+        return [
+            Check("finite differences: velocity", nan, tol, "needs a uniform sweep", 0),
+            Check("finite differences: acceleration", nan, tol, "needs a uniform sweep", 0),
+        ]
+    step = float(h.mean())
+    near = np.convolve(~m.ok, np.ones(5), mode="same") == 0  # the stencil sees only ok samples
+    ev, ea, n = [], [], 0
+    vs = max(
+        max(float(np.nanmax(np.abs(v[m.ok]), initial=0)) for _, v, _ in m.points.values()), 1e-300
+    )
+    as_ = max(
+        max(float(np.nanmax(np.abs(a[m.ok]), initial=0)) for _, _, a in m.points.values()), 1e-300
+    )
+    for p, v, a in m.points.values():
+        dv = _d5(p, step) * m.xdot
+        da = _d5(v, step) * m.xdot
+        good = near & np.isfinite(dv) & np.isfinite(v)
+        ev.append(np.abs(dv - v)[good] / vs)
+        good = near & np.isfinite(da) & np.isfinite(a)
+        ea.append(np.abs(da - a)[good] / as_)
+        n = max(n, int(good.sum()))
+    return [
+        Check(
+            "finite differences: velocity",
+            _max(ev),
+            tol,
+            "max | Δ⁵p/Δx · ẋ − v | / max |v|, five-point central differences",
+            n,
+        ),
+        Check(
+            "finite differences: acceleration",
+            _max(ea),
+            tol,
+            "max | Δ⁵v/Δx · ẋ − a | / max |a|, five-point central differences",
+            n,
+        ),
+    ]
+
+
+def power_balance(
+    power_in: np.ndarray,
+    dke: np.ndarray,
+    ok: np.ndarray,
+    tol: float = 1e-8,
+    scale: np.ndarray | None = None,
+) -> Check:
+    """Input power (drivers and loads) against the rate of change of kinetic energy.
+
+    The residual is divided by the largest power that enters the balance
+    (``scale``: the sum of the magnitudes of every term, per sample, when
+    given), so a machine whose energy does not change is still measured.
+    """
+    good = ok & np.isfinite(power_in) & np.isfinite(dke)
+    value, n = float("nan"), int(good.sum())
+    if n:
+        terms = np.abs(dke) + np.abs(power_in) if scale is None else np.abs(scale)
+        value = float(np.abs(power_in - dke)[good].max()) / max(float(terms[good].max()), 1e-300)
+    return Check(
+        "power balance",
+        value,
+        tol,
+        "max | P_in + P_loads − Σ(m v_G·a_G + I_G ω α) | / the largest power term",
+        n,
+    )
+
+
+def kinetic_energy_rate(
+    bodies: Mapping[str, tuple[float, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray]],
+) -> np.ndarray:
+    """``Σ m Re(conj(v_G) a_G) + I_G ω α`` from (m, I_G, v_G, a_G, ω, α) per body."""
+    total = 0.0
+    for m, inertia, vg, ag, w, al in bodies.values():
+        total = total + m * (np.conj(vg) * ag).real + inertia * w * al
+    return np.asarray(total)
+
+
+def kennedy(m: RigidMotion, tol: float = 1e-7) -> Check:
+    """Kennedy's rule: each secondary centre lies on the line through two primary centres.
+
+    For every triple of links in which two pairs are joined by pins (primary
+    centres, at the pins' solved positions), the third pair's instant centre —
+    found from the two links' velocity fields, ``v_i(P) = v_j(P)`` — must lie on
+    the line through those two pins (Norton §6.5). The distance from that line
+    is measured in drawing sizes. (Three rigid motions alone always have
+    collinear centres; the pins are what make the check bite.)
+    """
+    ref = {
+        name: (m.points[pts[0]][0], m.points[pts[0]][1], w) for name, (pts, w, _) in m.links.items()
+    }
+
+    def field_centre(i: str, j: str) -> np.ndarray:
+        pi, vi, wi = ref[i]
+        pj, vj, wj = ref[j]
+        dw = wi - wj
+        with np.errstate(all="ignore"):
+            c = (vj - vi + 1j * wi * pi - 1j * wj * pj) / (1j * dw)
+        far = ~np.isfinite(c) | (np.abs(dw) < 1e-9 * np.maximum(np.abs(wi), np.abs(wj)))
+        return np.where(far, np.nan, c)
+
+    def pin(i: str, j: str) -> str | None:
+        return m.pins.get((i, j)) or m.pins.get((j, i))
+
+    worst, n, size = [], 0, m.size
+    for tri in combinations(m.links, 3):
+        for a, b, c in (
+            (tri[0], tri[1], tri[2]),
+            (tri[1], tri[2], tri[0]),
+            (tri[0], tri[2], tri[1]),
+        ):
+            # primary centres I_ab and I_bc (pins), secondary I_ac from the fields
+            p1, p2 = pin(a, b), pin(b, c)
+            if p1 is None or p2 is None or pin(a, c) is not None:
+                continue
+            P1, P2 = m.points[p1][0], m.points[p2][0]
+            X = field_centre(a, c)
+            u = P2 - P1
+            with np.errstate(all="ignore"):
+                dist = np.abs((np.conj(u) * (X - P1)).imag) / np.abs(u)
+            good = m.ok & np.isfinite(dist) & (np.abs(u) > 1e-9 * size) & (np.abs(X) < 100 * size)
+            if good.any():
+                worst.append(dist[good] / size)
+                n += int(good.sum())
+    return Check(
+        "Kennedy's rule",
+        _max(worst),
+        tol,
+        "max distance of each secondary centre (from the velocity fields) from the line through "
+        "its two primary centres (pins) / drawing size",
+        n,
+    )
+
+
+def describe(value: float) -> str:
+    """A check's value as printed (scientific, 2 digits)."""
+    return "not measured" if not np.isfinite(value) else f"{value:.2e}"

@@ -1,0 +1,633 @@
+"""Path synthesis from an atlas: retrieve similar coupler curves, refine them, check them.
+
+1. **Retrieve.** A closed target is interpolated (a periodic spline through
+   the points), resampled by arc length and reduced to its descriptor
+   (:mod:`~machdyn.synthesis.descriptor`); the ``k`` nearest atlas entries in
+   any of its four variants are found by one float32 matrix product per chunk
+   (BLAS) and a partial sort. An open (or partial) target is instead matched
+   arc by arc (:func:`~machdyn.synthesis.descriptor.align_partial`) against an
+   evenly spread pool of atlas entries, since the descriptor of a whole curve
+   says nothing about where a part of it lies.
+2. **Place.** Each retrieved curve is rebuilt from its parameters and fitted
+   onto the target by a rotation, scale and translation (closed form, all
+   starting points at once by FFT): the atlas's unit-crank linkage becomes a
+   linkage placed in the target's plane.
+3. **Refine.** :func:`~machdyn.synthesis.refine.refine` minimises the real
+   distances of the targets to the coupler curve (or to the timed points).
+4. **Check.** Each result is checked by the four-bar's own code
+   (:class:`~machdyn.synthesis.PlacedFourBar`): one circuit (by
+   construction), branch (no toggle between targets), order, Grashof/crank
+   requirement and minimum transmission angle; the survivors are ranked by
+   their worst distance and thinned to distinct linkages.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._validate import boolean, finite_array, finite_scalar, integer, positive
+from ..classify import classify
+from ..errors import InputError
+from ..fourbar import FourBar
+from .atlas_store import (
+    META_DTYPE,
+    AtlasError,
+    Manifest,
+    chunk_is_good,
+    chunk_name,
+    even_curves,
+    folder_path,
+    read_manifest,
+)
+from .circuits import circuit_angles, circuit_points, circuit_range, coupler_at
+from .descriptor import (
+    align_closed,
+    align_partial,
+    curve_descriptor,
+    descriptor_variants,
+    interpolate_closed,
+    interpolate_open,
+    resample_closed,
+)
+from .geometry import as_points
+from .path import PathSynthesis, _mu_min
+from .placed import PlacedFourBar
+from .refine import refine
+from .sixbar import SIXBAR_DTYPE
+
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
+
+#: Atlas entries retrieved per query, and how many of the best-placed are refined.
+RETRIEVE = 160
+REFINE = 10
+#: How many of the refined candidates are refined on to convergence.
+POLISH = 3
+#: Size of the pool an open target is matched against (entries spread over the atlas).
+OPEN_POOL = 4_000
+#: A best result farther than this (over the target's size) means no entry came near.
+NEAR = 0.05
+#: Minimum number of target points: a closed or open path, with prescribed timing.
+MIN_POINTS = {"closed": 5, "open": 5, "timed": 4}
+
+
+class Atlas:
+    """An opened atlas: descriptors and parameters of its entries, chunk by chunk.
+
+    Use :func:`open_atlas`. The arrays are memory-mapped: the operating
+    system keeps them in memory after the first query.
+    """
+
+    def __init__(self, path: Path, manifest: Manifest, desc: list, meta: list) -> None:
+        self.path = path
+        self.manifest = manifest
+        self.desc = desc
+        self.meta = meta
+        self.offsets = np.concatenate([[0], np.cumsum([m.size for m in meta])])
+
+    def __len__(self) -> int:
+        return int(self.offsets[-1])
+
+    def __repr__(self) -> str:
+        return f"Atlas({str(self.path)!r}, {len(self):,} entries)"
+
+    def entries(self, index: Any) -> np.ndarray:
+        """Parameter rows of the entries at flat indices."""
+        index = np.atleast_1d(finite_array("index", index)).ravel()
+        if index.size and (
+            np.any(index != np.round(index)) or index.min() < 0 or index.max() >= len(self)
+        ):
+            raise InputError("index", f"must be whole numbers from 0 to {len(self) - 1}")
+        index = index.astype(np.int64)
+        chunk = np.searchsorted(self.offsets, index, side="right") - 1
+        out = np.empty(index.size, dtype=self.meta[0].dtype)
+        for c in np.unique(chunk):
+            sel = chunk == c
+            out[sel] = self.meta[c][index[sel] - self.offsets[c]]
+        return out
+
+    def nearest(self, descriptor: Any, k: int = RETRIEVE, *, crank: bool = True, client=None):
+        """The ``k`` entries nearest to a descriptor in any of its variants.
+
+        ``client``: a ``distributed.Client``: each chunk is then scored by a
+        task on the cluster (whose workers must see the atlas folder).
+        Returns flat indices and squared distances (best first).
+        """
+        width = 4 * self.manifest.harmonics
+        descriptor = np.ravel(finite_array("descriptor", descriptor))
+        if descriptor.size != width:
+            raise InputError("descriptor", f"must have {width} numbers, got {descriptor.size}")
+        k = integer("k", k, minimum=1, maximum=1_000_000)
+        crank = boolean("crank", crank)
+        if client is not None and not callable(getattr(client, "submit", None)):
+            raise InputError("client", "must be a distributed.Client (or None)")
+        variants = descriptor_variants(descriptor).reshape(4, -1).T.copy()  # (D, 4)
+        if client is None:
+            parts = [
+                chunk_topk(d, m["barker"], variants, k, crank)
+                for d, m in zip(self.desc, self.meta, strict=True)
+            ]
+        else:
+            futures = [
+                client.submit(chunk_topk_file, str(self.path), c, variants, k, crank, pure=False)
+                for c in range(len(self.desc))
+            ]
+            parts = client.gather(futures)
+        idx = np.concatenate([top + self.offsets[c] for c, (top, _) in enumerate(parts)])
+        score = np.concatenate([s for _, s in parts])
+        order = np.argsort(-score)[:k]
+        keep = np.isfinite(score[order])
+        return idx[order][keep], (2.0 - 2.0 * score[order][keep]).astype(float)
+
+    def pool(self, size: int = OPEN_POOL, *, crank: bool = True) -> np.ndarray:
+        """Flat indices of up to ``size`` entries spread evenly over the atlas."""
+        size = integer("size", size, minimum=1, maximum=10**9)
+        crank = boolean("crank", crank)
+        barker = np.concatenate([m["barker"] for m in self.meta])
+        allowed = np.flatnonzero(barker <= 2) if crank else np.arange(len(self))
+        if allowed.size <= size:
+            return allowed
+        return allowed[np.linspace(0, allowed.size - 1, size).astype(np.int64)]
+
+
+def chunk_topk(
+    desc: np.ndarray, barker: np.ndarray, variants: np.ndarray, k: int, crank: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and scores (cosine) of the ``k`` best entries of one chunk (a BLAS product)."""
+    score = (desc @ variants).max(axis=1)
+    if crank:
+        score = np.where(barker <= 2, score, -np.inf)  # GCCC, GCRR: link 2 turns fully
+    kk = min(k, score.size)
+    top = np.argpartition(-score, kk - 1)[:kk]
+    return top, score[top]
+
+
+def chunk_topk_file(path: str, index: int, variants: np.ndarray, k: int, crank: bool):
+    """:func:`chunk_topk` on a chunk read from the atlas folder (a Dask task)."""
+    folder = Path(path)
+    desc = np.load(folder / f"{chunk_name(index)}.desc.npy", mmap_mode="r")
+    meta = np.load(folder / f"{chunk_name(index)}.meta.npy", mmap_mode="r")
+    return chunk_topk(desc, np.asarray(meta["barker"]), variants, k, crank)
+
+
+def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
+    """Open an atlas folder built by :func:`~machdyn.synthesis.build_atlas`.
+
+    Parameters
+    ----------
+    path : path-like
+    verify : bool
+        Check every chunk's CRC-32 (reads the whole atlas once).
+
+    Raises
+    ------
+    AtlasError
+        No manifest, another format version, an unfinished build, a missing,
+        truncated or corrupted chunk: never a wrong answer from a stale atlas.
+    """
+    folder = folder_path("path", path)
+    verify = boolean("verify", verify)
+    manifest = read_manifest(folder)
+    if not manifest.complete:
+        raise AtlasError(
+            folder,
+            f"unfinished build ({len(manifest.chunks)} of {manifest.n_chunks} chunks); "
+            "run the same 'machdyn atlas build' again to finish it",
+        )
+    desc, meta = [], []
+    width = 4 * manifest.harmonics
+    for i in range(manifest.n_chunks):
+        info = manifest.chunks[f"{i:05d}"]
+        why = chunk_is_good(folder, i, info) if verify else ""
+        if why:
+            raise AtlasError(folder, f"{why}; rebuild the atlas")
+        try:
+            d = np.load(folder / f"{chunk_name(i)}.desc.npy", mmap_mode="r")
+            m = np.load(folder / f"{chunk_name(i)}.meta.npy", mmap_mode="r")
+        except (OSError, ValueError) as exc:
+            raise AtlasError(
+                folder, f"chunk {i} cannot be read ({exc}); rebuild the atlas"
+            ) from None
+        want = SIXBAR_DTYPE if manifest.kind == "sixbar" else META_DTYPE
+        if (
+            d.shape != (info["rows"], width)
+            or d.dtype != np.float32
+            or m.shape != (info["rows"],)
+            or m.dtype != want
+        ):
+            raise AtlasError(folder, f"chunk {i} does not have the shape its manifest says")
+        desc.append(d)
+        meta.append(np.asarray(m))
+    return Atlas(folder, manifest, desc, meta)
+
+
+@dataclass(frozen=True, eq=False)
+class PathCandidates:
+    """Linkages for a path, best first, from :func:`path_from_atlas`.
+
+    Attributes
+    ----------
+    candidates : tuple of PathSynthesis
+        Defect-free, distinct linkages, best (smallest worst distance) first.
+    rejected : tuple of PathSynthesis
+        Refined linkages that failed a check (with their ``defects``).
+    targets : ndarray of complex
+    near : bool
+        False when even the best result misses a target by more than
+        :data:`NEAR` of the target's size (no atlas entry came near).
+    note : str
+        What to know about the result (empty if nothing).
+    seconds : dict
+        Time spent retrieving and refining.
+    """
+
+    candidates: tuple[PathSynthesis, ...]
+    rejected: tuple[PathSynthesis, ...]
+    targets: np.ndarray
+    near: bool
+    note: str
+    seconds: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def best(self) -> PathSynthesis:
+        """The best candidate (or the best rejected one if none passed)."""
+        pool = self.candidates or self.rejected
+        if not pool:
+            raise InputError("targets", "no linkage was found for these targets")
+        return pool[0]
+
+
+def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    try:
+        pts = as_points("targets", targets)
+    except (OverflowError, TypeError) as exc:
+        raise InputError("targets", f"must be points (x, y) or x + jy, got {exc}") from None
+    kind = "timed" if timing is not None else ("closed" if closed else "open")
+    need = MIN_POINTS[kind]
+    if pts.size < need:
+        raise InputError(
+            "targets",
+            f"{pts.size} points are too few for a {kind} path: at least {need} are needed "
+            "(a four-bar's coupler curve has 9 free parameters; fewer points fit countless "
+            "linkages: use motion generation, synthesis.three_position, for 2 or 3 positions)",
+        )
+    centre = pts.mean()
+    size = float(np.max(np.abs(pts - centre)))
+    if size == 0.0:
+        raise InputError("targets", "all target points coincide")
+    step = np.abs(np.diff(np.concatenate([pts, pts[:1]]) if closed else pts))
+    same = np.flatnonzero(step <= 1e-9 * size)
+    if same.size:
+        i = int(same[0])
+        raise InputError(
+            "targets",
+            f"points {i + 1} and {(i + 1) % pts.size + 1} coincide; give each point once",
+        )
+    if timing is not None:
+        timing = np.ravel(finite_array("timing", timing, "radian"))
+        if timing.size != pts.size:
+            raise InputError(
+                "timing", f"needs one angle per target ({pts.size}), got {timing.size}"
+            )
+        timing = timing - timing[0]
+    return pts, timing
+
+
+def path_from_atlas(
+    targets: Any,
+    atlas: Atlas | Any,
+    *,
+    closed: bool = True,
+    timing: Any = None,
+    n: int = 5,
+    crank: bool = True,
+    mu_min: float = np.radians(30.0),
+    tolerance: float | None = None,
+    retrieve: int = RETRIEVE,
+    refine_count: int = REFINE,
+    client: Any = None,
+) -> PathCandidates:
+    """Four-bars whose coupler curve passes through target points, from an atlas.
+
+    Parameters
+    ----------
+    targets : sequence of complex or (x, y)
+        Points along the wanted path, in order.
+    atlas : Atlas or path-like
+        An opened atlas (:func:`open_atlas`) or its folder.
+    closed : bool
+        True: the points go round a closed path. False: an open path (or a
+        part of a closed one), matched against arcs of the coupler curves.
+    timing : sequence of float, optional
+        Input-angle increments (radians) at which the targets must be reached
+        (prescribed timing); link 2 must then be a crank.
+    n : int
+        How many distinct linkages to return.
+    crank : bool
+        Require link 2 to turn fully (a motor drives it round).
+    mu_min : float
+        Smallest acceptable transmission angle, radians.
+    tolerance : float, optional
+        A target farther than this from the curve is a defect.
+    retrieve, refine_count : int
+        Entries taken from the atlas, and how many of the best-placed are refined.
+    client : distributed.Client, optional
+        Score the atlas's chunks as tasks on this Dask cluster.
+
+    Returns
+    -------
+    PathCandidates
+
+    Raises
+    ------
+    InputError
+        Too few points, NaN, coincident points, a timing list of the wrong length.
+    AtlasError
+        The atlas is missing, from another version, unfinished or corrupted.
+    """
+    start = time.perf_counter()
+    if not isinstance(atlas, Atlas):
+        atlas = open_atlas(atlas)
+    closed = boolean("closed", closed)
+    pts, timing = _targets(targets, timing, closed)
+    n = integer("n", n, minimum=1, maximum=1000)
+    mu_min = finite_scalar("mu_min", mu_min, "radian")
+    if not 0.0 <= mu_min < np.pi / 2:
+        raise InputError("mu_min", f"must be between 0 and 90 deg, got {np.degrees(mu_min):g} deg")
+    if tolerance is not None:
+        tolerance = positive("tolerance", tolerance)
+    retrieve = integer("retrieve", retrieve, minimum=1, maximum=100_000)
+    refine_count = integer("refine_count", refine_count, minimum=1, maximum=10_000)
+    if client is not None and not callable(getattr(client, "submit", None)):
+        raise InputError("client", "must be a distributed.Client (or None)")
+    crank = boolean("crank", crank) or timing is not None
+    size = float(np.max(np.abs(pts - pts.mean())))
+    t0 = time.perf_counter()
+    if atlas.manifest.kind == "sixbar":
+        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count,
+                            client, start)  # fmt: skip
+    if timing is None:
+        entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
+        starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
+    else:
+        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client)
+    t1 = time.perf_counter()
+    options = dict(timing=timing, crank=crank, mu_min=mu_min)
+    fits = [refine(*first, pts, max_nfev=40, **options) for first in starts if first is not None]
+    # the few best go on until they converge (the rest rarely overtake them)
+    fits.sort(key=lambda f: f.rms)
+    for i in range(min(POLISH, len(fits))):
+        more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
+        fits[i] = more if more.rms <= fits[i].rms else fits[i]
+    results = []
+    for fit in fits:
+        res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
+        if res is not None:
+            results.append(res)
+    t2 = time.perf_counter()
+    results.sort(key=lambda r: float(np.max(r.distance)))
+    good = [r for r in results if r.ok]
+    chosen = _distinct(good, n, size)
+    rejected = tuple(r for r in results if not r.ok)[: max(n, 5)]
+    best = chosen[0] if chosen else (rejected[0] if rejected else None)
+    worst = float(np.max(best.distance)) / size if best is not None else np.inf
+    near = worst <= NEAR
+    note = ""
+    if best is None:
+        note = "no atlas entry could be placed on these targets"
+    elif not near:
+        note = (
+            f"no atlas entry comes near these targets: the best linkage found misses by "
+            f"{100 * worst:.1f} % of the targets' size (is the path one a four-bar can trace?)"
+        )
+    elif not chosen:
+        note = "every linkage found has a defect (see rejected)"
+    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+
+
+def _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count, client, start):
+    """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
+    from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    t0 = time.perf_counter()
+    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client)
+    t1 = time.perf_counter()
+    fits = [(*refine_sixbar(x0, th0, fx, pts, timing=timing, max_nfev=40), fx)
+            for x0, th0, fx in starts]  # fmt: skip
+    fits.sort(key=lambda f: f[2])
+    for i in range(min(POLISH, len(fits))):
+        x, th, rms, fx = fits[i]
+        more = refine_sixbar(x, th, fx, pts, timing=timing, max_nfev=400)
+        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance) for x, th, _, fx in fits]
+    results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
+    t2 = time.perf_counter()
+    chosen, rejected = [], []
+    for r in results:
+        if not r.ok:
+            rejected.append(r)
+        elif all(np.max(np.abs(r.design[3:] - c.design[3:])) > 0.02 * size for c in chosen):
+            chosen.append(r)
+    chosen = chosen[:n]
+    best = chosen[0] if chosen else (rejected[0] if rejected else None)
+    worst = float(np.max(best.distance)) / size if best is not None else np.inf
+    note = "" if worst <= NEAR else (
+        f"no atlas entry comes near these targets: the best six-bar found misses by "
+        f"{100 * worst:.1f} % of the targets' size"
+    )  # fmt: skip
+    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
+                          seconds)  # fmt: skip
+
+
+def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None):
+    """Atlas rows and the similarity transforms (h, t) that place their curves on the target."""
+    man = atlas.manifest
+    if closed:
+        dense = interpolate_closed(pts, 8 * man.samples)
+        even = resample_closed(dense, man.samples)
+        q = curve_descriptor(even, man.harmonics, resampled=True)
+        idx, _ = atlas.nearest(q, retrieve, crank=crank, client=client)
+        rows = atlas.entries(idx)
+        curves = even_curves(rows, man.circuit_samples, man.samples)
+        transforms, residual = align_closed(even, curves)
+    else:
+        idx = atlas.pool(OPEN_POOL, crank=crank)
+        rows = atlas.entries(idx)
+        curves = even_curves(rows, man.circuit_samples, man.samples)
+        target = interpolate_open(pts, 24)
+        transforms, residual = align_partial(target, curves)
+    order = np.argsort(residual)[:refine_count]
+    return rows[order], transforms[order]
+
+
+def _start_untimed(row, tr, pts):
+    """Refinement start of an atlas entry placed by ``tr = (h, t)``: design, θ_k, assembly_k."""
+    h, t = tr
+    if not np.isfinite(h) or h == 0:
+        return None
+    r1, r3, r4, p, delta = (float(row[k]) for k in ("r1", "r3", "r4", "p", "delta"))
+    circuit = float(row["circuit"])
+    s, rot = abs(h), np.angle(h)
+    # dense samples of the circuit, to start each target at its nearest point
+    local, theta2 = circuit_points([r1], 1.0, [r3], [r4], [p], [delta], [circuit], 720)
+    c, hw, ck = circuit_range(r1, 1.0, r3, r4, circuit)
+    u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    _, branch = circuit_angles(u, c, hw, ck, circuit)
+    x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, delta, t.real, t.imag, rot])
+    near = np.argmin(np.abs((t + h * local[0])[None, :] - pts[:, None]), axis=1)
+    return x0, theta2[0][near], branch[near]
+
+
+#: Entries scanned for timed targets, and crank angles tried for the first target.
+TIMED_POOL = 8_000
+TIMED_GRID = 60
+
+
+def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None):
+    """Refinement starts for timed targets: scan θ0 for every entry of a pool, fit each.
+
+    For each crank entry (and its mirror image: δ → −δ on the other assembly,
+    which runs the other way round for the same crank rotation) and each of
+    ``TIMED_GRID`` starting angles θ0, the coupler points at ``θ0 + Δ_k`` are
+    fitted onto the targets by a rotation, scale and offset (closed form); the
+    best fits start the refinements.
+    """
+    man = atlas.manifest
+    idx = atlas.pool(TIMED_POOL, crank=True)
+    if closed:
+        dense = interpolate_closed(pts, 8 * man.samples)
+        q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
+        idx = np.union1d(idx, atlas.nearest(q, retrieve, crank=True, client=client)[0])
+    rows = atlas.entries(idx)
+    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+    th = grid[:, None] + timing[None, :]  # (G, K)
+    a0 = pts - pts.mean()
+    aa = float(np.sum(np.abs(a0) ** 2))
+    best = []
+    for mirror in (1.0, -1.0):
+        for lo in range(0, rows.size, 2048):  # blocks keep the (rows, θ0, targets) arrays small
+            best.append(_timed_fits(rows[lo : lo + 2048], mirror, th, pts, aa))
+    score, g, hh, off, mirror = (np.concatenate(x) for x in zip(*best, strict=True))
+    order = np.argsort(-score)[:refine_count]
+    rows2 = np.concatenate([rows, rows])  # the order of the blocks: all unmirrored, then mirrored
+    starts = []
+    for i in order:
+        row, m, h = rows2[i], mirror[i], hh[i]
+        r1, r3, r4, p, delta = (float(row[k]) for k in ("r1", "r3", "r4", "p", "delta"))
+        s = abs(h)
+        x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, m * delta, off[i].real, off[i].imag,
+                       np.angle(h)])  # fmt: skip
+        theta = grid[g[i]] + timing
+        starts.append((x0, theta, np.full(pts.size, m * float(row["circuit"]))))
+    return starts
+
+
+def _timed_fits(rows, mirror, th, pts, aa):
+    """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets."""
+    f = {k: rows[k].astype(float)[:, None, None] for k in ("r1", "r3", "r4", "p", "delta")}
+    circuit = rows["circuit"].astype(float)[:, None, None] * mirror
+    Q = coupler_at(f["r1"], 1.0, f["r3"], f["r4"], f["p"], mirror * f["delta"], th, circuit)
+    qm = Q.mean(axis=2, keepdims=True)
+    q0 = Q - qm
+    a0 = pts - pts.mean()
+    c = np.sum(np.conj(q0) * a0, axis=2)  # (R, G)
+    v = np.sum(np.abs(q0) ** 2, axis=2)
+    score = np.abs(c) ** 2 / np.where(v > 0, v, np.inf) / aa  # 1 − normalised residual²
+    g = np.argmax(score, axis=1)
+    r = np.arange(rows.size)
+    hh = c[r, g] / v[r, g]
+    off = pts.mean() - hh * qm[r, g, 0]
+    return score[r, g], g, hh, off, np.full(rows.size, mirror)
+
+
+def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesis | None:
+    """The refined linkage as a PathSynthesis, checked by the four-bar's own code."""
+    r1, r2, r3, r4, p, delta, ox, oy, theta1 = fit.x
+    try:
+        fb = FourBar(r1, r2, r3, r4, coupler=(p, delta))
+    except InputError:
+        return None
+    except Exception:  # AssemblyError: lengths that cannot form a four-bar
+        return None
+    branches = np.unique(fit.branch)
+    placed = PlacedFourBar(
+        fb, complex(ox, oy), float(theta1), int(np.sign(np.sum(fit.branch)) or 1)
+    )
+    theta = np.mod(fit.theta, 2 * np.pi)
+    P = np.empty(pts.size, dtype=complex)
+    ok = np.ones(pts.size, dtype=bool)
+    for b in branches:  # the four-bar's own solver, on each target's assembly
+        sel = fit.branch == b
+        other = PlacedFourBar(fb, placed.O2, placed.theta1, int(b))
+        _, _, P[sel], ok[sel] = other.pose(theta[sel])
+    distance = np.where(ok, np.abs(P - pts), np.inf)
+    cls = classify(*fb.lengths)
+    is_crank = 2 in cls.cranks
+    dense = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    okd = placed.pose(dense)[3] if is_crank else np.ones(dense.size, bool)
+    lengths = {k: np.array([v]) for k, v in zip(("r1", "r2", "r3", "r4"), fb.lengths, strict=True)}
+    mu = float(_mu_min(lengths, dense, okd[None, :])[0]) if is_crank else float("nan")
+    in_order = _in_order(theta, closed, timing)
+    defects = []
+    if crank and not is_crank:
+        defects.append(f"link 2 is not a full-turn crank ({cls.code})")
+    if branches.size > 1:
+        defects.append("branch defect: the linkage must pass a toggle between targets")
+    if is_crank and mu < mu_min - np.radians(0.5):
+        defects.append(f"transmission angle falls to {np.degrees(mu):.1f} deg")
+    if not in_order:
+        defects.append("order defect: the coupler point meets the targets out of order")
+    if not np.all(ok):
+        defects.append("the linkage cannot be assembled at some target")
+    if tolerance is not None:
+        far = np.flatnonzero(~(distance <= tolerance))
+        if far.size:
+            defects.append(f"targets {[int(i) + 1 for i in far]} are farther than {tolerance:g}")
+    return PathSynthesis(
+        linkage=placed,
+        targets=pts,
+        theta2=theta,
+        distance=distance,
+        barker_class=cls.code,
+        is_crank=is_crank,
+        mu_min=mu,
+        in_order=in_order,
+        objective=fit.rms,
+        defects=tuple(defects),
+    )
+
+
+def _in_order(theta: np.ndarray, closed: bool, timing) -> bool:
+    """True when the targets follow each other one way along the curve."""
+    if timing is not None:
+        return True
+    steps = np.mod(np.diff(np.concatenate([theta, theta[:1]]) if closed else theta), 2 * np.pi)
+    full = 2 * np.pi
+    fwd = float(np.sum(steps))
+    back = float(np.sum(np.mod(-steps, full)))
+    limit = full + 1e-6
+    return fwd <= limit or back <= limit
+
+
+def _distinct(results: list[PathSynthesis], n: int, size: float) -> list[PathSynthesis]:
+    """Up to ``n`` results whose pivots and lengths differ by more than 2 % of the size."""
+    chosen: list[PathSynthesis] = []
+    keys: list[np.ndarray] = []
+    for r in results:
+        pl = r.linkage
+        key = np.array([*pl.lengths, pl.O2.real, pl.O2.imag, pl.O4.real, pl.O4.imag]) / size
+        if all(np.max(np.abs(key - k)) > 0.02 for k in keys):
+            chosen.append(r)
+            keys.append(key)
+        if len(chosen) == n:
+            break
+    return chosen

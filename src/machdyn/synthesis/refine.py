@@ -1,0 +1,224 @@
+"""Least-squares refinement of a placed four-bar onto target points, with an analytic Jacobian.
+
+The unknowns are the design ``x = (r1, r2, r3, r4, p, δ, O2x, O2y, θ1)`` and
+the input angle of each target: ``θ_k`` free (the point of the curve nearest
+to target k, so at the optimum the residual *is* the point-to-curve
+distance) or, with prescribed timing, ``θ_k = θ0 + Δ_k`` with one ``θ0``.
+The residuals are ``G(x, θ_k) − T_k`` (x and y), with ``G = O2 + e^{jθ1} P``
+and ``P = A + p e^{jδ} e^{jθ3}`` the coupler point of the notes' closed form.
+
+Jacobian: differentiating the loop ``r2 e^{jθ2} + r3 e^{jθ3} − r4 e^{jθ4} − r1 = 0``
+with respect to any unknown ``ξ`` gives ``w + j r3 e^{jθ3} θ3' − j r4 e^{jθ4} θ4' = 0``
+(``w`` the loop's explicit derivative: ``−1, e^{jθ2}, e^{jθ3}, −e^{jθ4}, j r2 e^{jθ2}``
+for ``r1, r2, r3, r4, θ2``), whose component along ``e^{jθ4}`` is
+``θ3' = Re(w e^{−jθ4}) / (r3 sin(θ3 − θ4))`` (Norton, *Design of Machinery*,
+sec. 6.7, the same 2×2 system as the velocity analysis). Then
+``P' = A' + (p e^{jδ})' e^{jθ3} + j p e^{jδ} e^{jθ3} θ3'`` and ``G' = e^{jθ1} P'``.
+
+Two requirements that the defect filter checks afterwards are also soft
+constraints here (so a refinement does not walk out of them): link 2 turns
+fully (``|r3 − r4| ≤ |r1 − r2|`` and ``r1 + r2 ≤ r3 + r4``), and the
+transmission angle at the two extremes of a crank-rocker's motion stays above
+``mu_min``. Those four rows depend on the lengths only; their derivatives are
+taken by central differences.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
+
+#: Weight of the soft constraints (per unit of violation, lengths over the target size).
+_W_CONSTRAINT = 30.0
+
+
+@dataclass(frozen=True)
+class Refined:
+    """The outcome of :func:`refine`."""
+
+    x: np.ndarray  # r1, r2, r3, r4, p, delta, O2x, O2y, theta1
+    theta: np.ndarray  # input angle at each target
+    branch: np.ndarray  # assembly (sign of φ12) at each target
+    rms: float  # RMS point residual
+    success: bool
+
+
+def coupler_and_jacobian(
+    x: np.ndarray, theta: np.ndarray, branch: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Global coupler point at each ``theta`` and its derivatives.
+
+    Returns ``G`` (K,) complex, ``dG/dx`` (K, 9) complex, ``dG/dθ`` (K,) complex
+    and the clamped law-of-cosines excess ``|cos γ| − 1`` (K,) (positive where
+    the linkage cannot be assembled at that angle).
+
+    Examples
+    --------
+    Against central differences:
+
+    >>> x = np.array([5.0, 2.0, 5.0, 4.0, 3.0, 0.6, 1.0, 2.0, 0.3])
+    >>> th, br = np.array([0.4, 2.0]), np.array([1.0, 1.0])
+    >>> G, J, Jt, _ = coupler_and_jacobian(x, th, br)
+    >>> h = 1e-6
+    >>> def G_of(x):
+    ...     return coupler_and_jacobian(x, th, br)[0]
+    >>> fd = np.array([(G_of(x + h * e) - G_of(x - h * e)) / (2 * h) for e in np.eye(9)])
+    >>> bool(np.allclose(fd.T, J, atol=1e-7))
+    True
+    """
+    r1, r2, r3, r4, p, delta, ox, oy, theta1 = x
+    e2 = np.exp(1j * theta)
+    a = r2 * e2
+    s = a - r1  # O4 → A
+    dd = np.abs(s) ** 2
+    d = np.sqrt(dd)
+    cg_raw = (r4 * r4 - r3 * r3 + dd) / (2.0 * r4 * d)
+    excess = np.abs(cg_raw) - 1.0
+    cg = np.clip(cg_raw, -1.0, 1.0)
+    sg = np.sqrt(1.0 - cg * cg) * branch
+    e4 = (s / d) * (cg - 1j * sg)
+    b = r1 + r4 * e4
+    e3 = (b - a) / r3
+    ed = np.exp(1j * delta)
+    P = a + p * ed * e3
+    rot = np.exp(1j * theta1)
+    G = ox + 1j * oy + rot * P
+    sin34 = np.imag(e3 * np.conj(e4))  # sin(θ3 − θ4)
+    safe = np.where(np.abs(sin34) > 1e-12, sin34, 1e-12)
+    ce4 = np.conj(e4)
+    tail = 1j * p * ed * e3  # ∂P/∂θ3
+
+    def dtheta3(w: np.ndarray) -> np.ndarray:
+        return np.real(w * ce4) / (r3 * safe)
+
+    J = np.empty((theta.size, 9), dtype=complex)
+    J[:, 0] = tail * dtheta3(-np.ones_like(e2))
+    J[:, 1] = e2 + tail * dtheta3(e2)
+    J[:, 2] = tail * dtheta3(e3)
+    J[:, 3] = tail * dtheta3(-e4)
+    J[:, 4] = ed * e3
+    J[:, 5] = 1j * p * ed * e3
+    J[:, :6] *= rot
+    J[:, 6] = 1.0
+    J[:, 7] = 1j
+    J[:, 8] = 1j * rot * P
+    jt = rot * (1j * a + tail * dtheta3(1j * a))
+    return G, J, jt, excess
+
+
+def _constraints(lengths: np.ndarray, cos_mu: float, crank: bool, scale: float) -> np.ndarray:
+    """Violations (≥ 0) of the crank and transmission-angle requirements, dimensionless."""
+    r1, r2, r3, r4 = lengths
+    if not crank:
+        return np.zeros(0)
+    out = [
+        max(0.0, abs(r3 - r4) - abs(r1 - r2)) / scale,
+        max(0.0, r1 + r2 - r3 - r4) / scale,
+    ]
+    for dgl in (abs(r1 - r2), r1 + r2):
+        c = (r3 * r3 + r4 * r4 - dgl * dgl) / (2.0 * r3 * r4)
+        out.append(max(0.0, abs(c) - cos_mu))
+    return np.array(out)
+
+
+def refine(
+    x0: np.ndarray,
+    theta0: np.ndarray,
+    branch: np.ndarray,
+    targets: np.ndarray,
+    *,
+    timing: np.ndarray | None = None,
+    crank: bool = True,
+    mu_min: float = 0.0,
+    max_nfev: int = 60,
+) -> Refined:
+    """Refine a placed four-bar so its coupler curve passes through ``targets``.
+
+    Parameters
+    ----------
+    x0 : ndarray, shape (9,)
+        Starting design ``r1, r2, r3, r4, p, δ, O2x, O2y, θ1``.
+    theta0 : ndarray, shape (K,)
+        Starting input angle at each target (with ``timing``: ``θ0 + Δ_k``).
+    branch : ndarray, shape (K,)
+        Assembly at each target (kept).
+    targets : ndarray of complex, shape (K,)
+    timing : ndarray, shape (K,), optional
+        Prescribed input-angle increments ``Δ_k``.
+    crank, mu_min :
+        Soft constraints: link 2 a crank, transmission angle above ``mu_min``.
+
+    Examples
+    --------
+    A perturbed linkage slides back onto points of the original's curve:
+
+    >>> x = np.array([5.0, 2.0, 5.0, 4.0, 3.0, 0.6, 1.0, 2.0, 0.3])
+    >>> th = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    >>> T = coupler_and_jacobian(x, th, np.ones(12))[0]
+    >>> r = refine(x * 1.03, th + 0.05, np.ones(12), T)
+    >>> r.success, bool(r.rms < 1e-9)
+    (True, True)
+    """
+    from scipy.optimize import least_squares
+
+    targets = np.asarray(targets, dtype=complex)
+    k = targets.size
+    scale = float(np.max(np.abs(targets - targets.mean()))) or 1.0
+    cos_mu = float(np.cos(mu_min))
+    timed = timing is not None
+    nvar = 9 + (1 if timed else k)
+    z0 = np.concatenate([x0, [theta0[0] - timing[0]] if timed else theta0])
+
+    def angles(z: np.ndarray) -> np.ndarray:
+        return z[9] + timing if timed else z[9:]
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        G, _, _, excess = coupler_and_jacobian(z[:9], angles(z), branch)
+        d = (G - targets) / scale
+        pen = _W_CONSTRAINT * np.maximum(excess, 0.0)
+        con = _W_CONSTRAINT * _constraints(z[:4], cos_mu, crank, scale)
+        return np.concatenate([d.real, d.imag, pen, con])
+
+    def jacobian(z: np.ndarray) -> np.ndarray:
+        _, J, jt, _ = coupler_and_jacobian(z[:9], angles(z), branch)
+        out = np.zeros((2 * k + k + (4 if crank else 0), nvar))
+        J = J / scale
+        jt = jt / scale
+        out[:k, :9], out[k : 2 * k, :9] = J.real, J.imag
+        if timed:
+            out[:k, 9], out[k : 2 * k, 9] = jt.real, jt.imag
+        else:
+            idx = np.arange(k)
+            out[idx, 9 + idx], out[k + idx, 9 + idx] = jt.real, jt.imag
+        # rows of the assembly penalty: by differences (rarely active)
+        if crank:
+            h = 1e-7 * scale
+            for j in range(4):
+                e = np.zeros(4)
+                e[j] = h
+                hi = _constraints(z[:4] + e, cos_mu, crank, scale)
+                lo = _constraints(z[:4] - e, cos_mu, crank, scale)
+                out[3 * k :, j] = _W_CONSTRAINT * (hi - lo) / (2 * h)
+        return out
+
+    lo = np.full(nvar, -np.inf)
+    lo[:4] = 1e-6 * scale
+    lo[4] = 0.0
+    hi = np.full(nvar, np.inf)
+    z0 = np.clip(z0, lo + 1e-12, hi)
+    try:
+        sol = least_squares(
+            residual, z0, jac=jacobian, bounds=(lo, hi), method="trf", x_scale="jac",
+            max_nfev=max_nfev, xtol=1e-13, ftol=1e-13, gtol=1e-13,
+        )  # fmt: skip
+        z, ok = sol.x, bool(sol.status > 0)
+    except (ValueError, np.linalg.LinAlgError):
+        z, ok = z0, False
+    G = coupler_and_jacobian(z[:9], angles(z), branch)[0]
+    rms = float(np.sqrt(np.mean(np.abs(G - targets) ** 2)))
+    return Refined(z[:9].copy(), np.asarray(angles(z), dtype=float), branch, rms, ok)

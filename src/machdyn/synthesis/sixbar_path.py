@@ -1,0 +1,339 @@
+"""Path synthesis of six-bars from a six-bar atlas: place, refine, check, build the Linkage.
+
+The design of a placed six-bar is 15 numbers, ``x = (O2x, O2y, θ1, r1, r2, r3,
+r4, cu, cv, du, dv, a, b, pu, pv)`` (see :mod:`machdyn.synthesis.sixbar`), plus
+the assembly signs, the topology and the coupler link, which stay as retrieved.
+The coupler point is built in the plane by the same steps as the atlas —
+the crank pin, two RRR dyads, points in link frames — and its derivatives are
+carried along each step (forward mode, analytic): an RRR dyad's pin ``E``
+with ``|E − C| = a``, ``|E − D| = b`` moves by the ``dE`` that solves
+``Re(conj(E − C)(dE − dC)) = a da`` and ``Re(conj(E − D)(dE − dD)) = b db``
+(the circle equations differentiated; Cramer's rule). The refinement is
+:func:`scipy.optimize.least_squares` on the real distances, as for four-bars.
+The results are :class:`~machdyn.linkage.Linkage` objects drawn in the plane;
+their distances to the targets are measured by the Linkage's own solver.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .sixbar import TOPOLOGIES
+
+# Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
+# open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
+__all__: list[str] = []
+
+_NP = 15  # design numbers
+
+
+class _D:
+    """A complex value per target with its gradient (targets, 15 design numbers + θ)."""
+
+    __slots__ = ("g", "v")
+
+    def __init__(self, v, g):
+        self.v, self.g = v, g
+
+    def __add__(self, o):
+        return _D(self.v + o.v, self.g + o.g)
+
+    def __sub__(self, o):
+        return _D(self.v - o.v, self.g - o.g)
+
+    def __mul__(self, o):
+        return _D(self.v * o.v, self.g * o.v[:, None] + self.v[:, None] * o.g)
+
+
+def _param(x, i, k, imag=False):
+    g = np.zeros((k, _NP + 1), complex)
+    g[:, i] = 1j if imag else 1.0
+    return _D(np.full(k, x[i] * (1j if imag else 1.0)), g)
+
+
+def _expi(phi: _D) -> _D:
+    e = np.exp(1j * phi.v.real)
+    return _D(e, 1j * e[:, None] * phi.g.real)
+
+
+def _rrr(C: _D, D: _D, a: _D, b: _D, sign: float) -> tuple[_D, np.ndarray]:
+    from ..linkage.dyads import rrr
+
+    pin = rrr(C.v, D.v, a.v.real, b.v.real, sign)
+    E, ok = pin.B, pin.ok
+    w1, w2 = E - C.v, E - D.v
+    # Re(conj(w) dE) = rhs: [w1.re w1.im; w2.re w2.im] [dx; dy] = [r1; r2]
+    r1 = a.v.real[:, None] * a.g.real + (np.conj(w1)[:, None] * C.g).real
+    r2 = b.v.real[:, None] * b.g.real + (np.conj(w2)[:, None] * D.g).real
+    det = w1.real * w2.imag - w1.imag * w2.real
+    det = np.where(np.abs(det) > 1e-300, det, 1e-300)[:, None]
+    dx = (r1 * w2.imag[:, None] - r2 * w1.imag[:, None]) / det
+    dy = (w1.real[:, None] * r2 - w2.real[:, None] * r1) / det
+    return _D(E, dx + 1j * dy), ok
+
+
+def sixbar_coupler(x: np.ndarray, theta: np.ndarray, fixed: dict[str, int]):
+    """Coupler point of a placed six-bar at crank angles ``theta``, with its derivatives.
+
+    Returns ``P`` (K,), ``dP/dx`` (K, 15), ``dP/dθ`` (K,) and ``ok`` (K,).
+
+    Examples
+    --------
+    Against central differences:
+
+    >>> fixed = dict(s4=1, s6=1, topology=1, on=6)
+    >>> x = np.array([0.5, 0.2, 0.3, 3, 1, 3.5, 2.5, 4 / 3, 2 / 3, 1, 0, 3, 3, 0.5, 0.1])
+    >>> th = np.array([0.3, 2.0])
+    >>> P, J, Jt, ok = sixbar_coupler(x, th, fixed)
+    >>> h = 1e-6
+    >>> fd = [(sixbar_coupler(x + h * e, th, fixed)[0] - sixbar_coupler(x - h * e, th, fixed)[0])
+    ...       / (2 * h) for e in np.eye(15)]
+    >>> bool(ok.all()) and bool(np.allclose(np.array(fd).T, J, atol=1e-6))
+    True
+    """
+    k = theta.size
+    p = [_param(x, i, k) for i in range(_NP)]
+    ox, oy, th1, r1, r2, r3, r4, cu, cv, du, dv, a, b, pu, pv = p
+    g = np.zeros((k, _NP + 1), complex)
+    g[:, _NP] = 1.0
+    th = _D(np.asarray(theta, complex), g)
+
+    def j(d: _D) -> _D:
+        return _D(1j * d.v, 1j * d.g)
+
+    O2 = ox + j(oy)
+    e1 = _expi(th1)
+    O4 = O2 + r1 * e1
+    A = O2 + r2 * e1 * _expi(th)
+    B, ok4 = _rrr(A, O4, r3, r4, fixed["s4"])
+    frames = {1: (O2, O4), 2: (O2, A), 3: (A, B), 4: (O4, B)}
+    (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
+    o1, x1 = frames[l1]
+    o2, x2 = frames[l2]
+    C = o1 + (cu + j(cv)) * (x1 - o1)
+    D = o2 + (du + j(dv)) * (x2 - o2)
+    E, ok6 = _rrr(C, D, a, b, fixed["s6"])
+    base = D if fixed["on"] == 6 else C
+    P = base + (pu + j(pv)) * (E - base)
+    return P.v, P.g[:, :_NP], P.g[:, _NP], ok4 & ok6
+
+
+def refine_sixbar(x0, theta0, fixed, targets, *, timing=None, max_nfev=200):
+    """Least squares on the distances of the coupler point to the targets (analytic Jacobian)."""
+    from scipy.optimize import least_squares
+
+    k = targets.size
+    scale = float(np.max(np.abs(targets - targets.mean()))) or 1.0
+    timed = timing is not None
+    z0 = np.concatenate([x0, [theta0[0] - timing[0]] if timed else theta0])
+
+    def angles(z):
+        return z[_NP] + timing if timed else z[_NP:]
+
+    def residual(z):
+        P, _, _, ok = sixbar_coupler(z[:_NP], angles(z), fixed)
+        d = np.where(ok, (P - targets) / scale, 10.0)
+        return np.concatenate([d.real, d.imag])
+
+    def jacobian(z):
+        _, J, jt, ok = sixbar_coupler(z[:_NP], angles(z), fixed)
+        J = np.where(ok[:, None] & np.isfinite(J), J, 0.0)  # a constant residual where apart
+        jt = np.where(ok & np.isfinite(jt), jt, 0.0)
+        out = np.zeros((2 * k, z.size))
+        out[:k, :_NP], out[k:, :_NP] = (J / scale).real, (J / scale).imag
+        if timed:
+            out[:k, _NP], out[k:, _NP] = (jt / scale).real, (jt / scale).imag
+        else:
+            i = np.arange(k)
+            out[i, _NP + i], out[k + i, _NP + i] = (jt / scale).real, (jt / scale).imag
+        return out
+
+    lo = np.full(z0.size, -np.inf)
+    lo[[3, 4, 5, 6, 11, 12]] = 1e-6 * scale
+    z0 = np.maximum(z0, lo + 1e-12)
+    try:
+        sol = least_squares(residual, z0, jac=jacobian, bounds=(lo, np.inf), method="trf",
+                            x_scale="jac", max_nfev=max_nfev, xtol=1e-13, ftol=1e-13,
+                            gtol=1e-13)  # fmt: skip
+        z = sol.x
+    except (ValueError, np.linalg.LinAlgError):
+        z = z0
+    P, _, _, ok = sixbar_coupler(z[:_NP], angles(z), fixed)
+    rms = float(np.sqrt(np.mean(np.abs(P - targets) ** 2))) if ok.all() else np.inf
+    return z[:_NP], np.asarray(angles(z), float), rms
+
+
+def sixbar_linkage(x: np.ndarray, fixed: dict[str, int], theta2: float = 0.0):
+    """The placed six-bar as a :class:`~machdyn.linkage.Linkage`, drawn at crank angle ``theta2``.
+
+    Points: ``O2 O4 A B C D E P`` (and ``G`` for a ground attachment, the
+    dyad's fixed pivot); links ``crank``, ``coupler``, ``rocker``, ``link5``,
+    ``link6`` (a ground attachment's link is pivoted on the ground); the driver
+    is the crank (its absolute angle is ``θ1 + θ2``).
+    """
+    from ..linkage import Linkage
+
+    P = sixbar_coupler(x, np.array([theta2]), fixed)[0]
+    pts = _joints(x, theta2, fixed)
+    (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
+    on = {1: [], 2: ["O2", "A"], 3: ["A", "B"], 4: ["O4", "B"]}
+    on[l1] = on[l1] + ["C"]
+    on[l2] = on[l2] + ["D"]
+    link5 = ["C", "E"] + (["P"] if fixed["on"] == 5 else [])
+    link6 = ["D", "E"] + (["P"] if fixed["on"] == 6 else [])
+    lk = Linkage({**pts, "P": complex(P[0])})
+    lk.ground("O2", "O4", *(["C"] if l1 == 1 else []))
+    lk.link("crank", *on[2])
+    lk.link("coupler", *on[3])
+    lk.link("rocker", *on[4])
+    lk.link("link5", *link5)
+    lk.link("link6", *link6)
+    lk.drive("crank")
+    return lk
+
+
+def _joints(x, theta2, fixed):
+    from ..linkage.dyads import rrr
+
+    ox, oy, th1, r1, r2, r3, r4, cu, cv, du, dv, a, b = x[:13]
+    O2 = complex(ox, oy)
+    e1 = np.exp(1j * th1)
+    O4 = O2 + r1 * e1
+    A = O2 + r2 * e1 * np.exp(1j * theta2)
+    B = complex(rrr(A, O4, r3, r4, fixed["s4"]).B)
+    frames = {1: (O2, O4), 2: (O2, A), 3: (A, B), 4: (O4, B)}
+    (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
+    C = frames[l1][0] + complex(cu, cv) * (frames[l1][1] - frames[l1][0])
+    D = frames[l2][0] + complex(du, dv) * (frames[l2][1] - frames[l2][0])
+    E = complex(rrr(C, D, a, b, fixed["s6"]).B)
+    return {"O2": O2, "O4": O4, "A": A, "B": B, "C": C, "D": D, "E": E}
+
+
+@dataclass(frozen=True, eq=False)
+class SixBarPath:
+    """A six-bar found by path synthesis, checked by the Linkage solver.
+
+    Attributes
+    ----------
+    linkage : machdyn.linkage.Linkage
+        Drawn in the plane at the first target's crank angle; driver ``crank``.
+    chain : str
+        ``"Watt I"``, ``"Watt II"`` or ``"Stephenson"`` and the dyad's links.
+    design : ndarray, shape (15,)
+        ``O2x O2y θ1 r1 r2 r3 r4 cu cv du dv a b pu pv``.
+    targets, theta2, distance : ndarray
+        Targets, crank angle (from the ground line) at each, distance to the curve.
+    defects : tuple of str
+    """
+
+    linkage: Any
+    chain: str
+    design: np.ndarray
+    fixed: dict
+    targets: np.ndarray
+    theta2: np.ndarray
+    distance: np.ndarray
+    defects: tuple[str, ...]
+    barker_class: str = ""
+    is_crank: bool = True
+    mu_min: float = float("nan")
+    in_order: bool = True
+
+    @property
+    def ok(self) -> bool:
+        """True when no defect was found."""
+        return not self.defects
+
+
+_FIXED = ("s4", "s6", "topology", "on")
+
+
+def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
+    """The placed design of an atlas row under the similarity ``t + h·z`` (mirrored: z → z̄)."""
+    s = abs(h)
+    f = {k: float(row[k]) for k in ("r1", "r3", "r4", "cu", "cv", "du", "dv", "a", "b", "pu", "pv")}
+    x = np.array([
+        t.real, t.imag, np.angle(h), f["r1"] * s, s, f["r3"] * s, f["r4"] * s,
+        f["cu"], mirror * f["cv"], f["du"], mirror * f["dv"], f["a"] * s, f["b"] * s,
+        f["pu"], mirror * f["pv"],
+    ])  # fmt: skip
+    fixed = {k: int(row[k]) for k in _FIXED}
+    fixed["s4"] *= int(mirror)
+    fixed["s6"] *= int(mirror)
+    return x, fixed
+
+
+def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None):
+    """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries."""
+    from .atlas_path import TIMED_GRID, TIMED_POOL, _retrieve
+    from .sixbar import sixbar_points
+
+    starts = []
+    if timing is None:
+        rows, transforms = _retrieve(atlas, pts, closed, True, retrieve, refine_count, client)
+        u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+        local = sixbar_points(rows, u)[0]
+        for row, (h, t), z in zip(rows, transforms, local, strict=True):
+            if not np.isfinite(h) or h == 0:
+                continue
+            x0, fixed = _design_of(row, h, t)
+            near = np.argmin(np.abs((t + h * z)[None, :] - pts[:, None]), axis=1)
+            starts.append((x0, u[near], fixed))
+        return starts
+    rows = atlas.entries(atlas.pool(TIMED_POOL, crank=True))
+    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+    a0 = pts - pts.mean()
+    found = []
+    for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
+        for lo in range(0, rows.size, 1024):
+            block = rows[lo : lo + 1024]
+            th = mirror * (grid[:, None] + timing[None, :]).ravel()
+            Q = sixbar_points(block, th)[0].reshape(block.size, grid.size, -1)
+            Q = Q.conj() if mirror < 0 else Q
+            qm = np.nanmean(Q, axis=2, keepdims=True)
+            c = np.sum(np.conj(Q - qm) * a0, axis=2)
+            v = np.sum(np.abs(Q - qm) ** 2, axis=2)
+            score = np.nan_to_num(np.abs(c) ** 2 / np.where(v > 0, v, np.inf), nan=-1.0)
+            g = np.argmax(score, axis=1)
+            r = np.arange(block.size)
+            hh = c[r, g] / v[r, g]
+            off = pts.mean() - hh * qm[r, g, 0]
+            found += [(score[i, g[i]], block[i], hh[i], off[i], grid[g[i]], mirror) for i in r]
+    found.sort(key=lambda f: -f[0])
+    for _, row, h, t, g0, mirror in found[:refine_count]:
+        x0, fixed = _design_of(row, h, t, mirror)
+        starts.append((x0, g0 + timing, fixed))
+    return starts
+
+
+def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance) -> SixBarPath | None:
+    """Check a refined six-bar with the Linkage solver; None if it cannot be built."""
+    from .atlas_path import _in_order
+
+    theta = np.mod(theta, 2 * np.pi)
+    try:
+        lk = sixbar_linkage(x, fixed, float(theta[0]))
+    except Exception:  # a drawing the Linkage refuses (coincident joints …)
+        return None
+    m = lk.solve(x[2] + theta, continuation=False)
+    distance = np.where(m.ok, np.abs(m.points["P"] - pts), np.inf)
+    turn = lk.solve(x[2] + theta[0] + np.linspace(0, 2 * np.pi, 361))
+    defects = []
+    if not np.all(turn.ok):
+        defects.append("the six-bar cannot be driven round a whole turn of the crank")
+    in_order = _in_order(theta, closed, timing)
+    if not in_order:
+        defects.append("order defect: the coupler point meets the targets out of order")
+    if not np.all(m.ok):
+        defects.append("the linkage cannot be assembled at some target")
+    if tolerance is not None:
+        far = np.flatnonzero(~(distance <= tolerance))
+        if far.size:
+            defects.append(f"targets {[int(i) + 1 for i in far]} are farther than {tolerance:g}")
+    (l1, l2), chain = TOPOLOGIES[fixed["topology"]]
+    name = f"{chain} (dyad on links {l1} and {l2}, point on link {fixed['on']})"
+    return SixBarPath(lk, name, x, fixed, pts, theta, distance, tuple(defects),
+                      in_order=in_order)  # fmt: skip

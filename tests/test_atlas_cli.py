@@ -1,0 +1,91 @@
+"""``machdyn atlas build/info`` and ``machdyn synth path``, through the real entry point."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from machdyn.cli import main
+from machdyn.fourbar import FourBar
+from machdyn.synthesis import PlacedFourBar
+
+KNOWN = PlacedFourBar(FourBar(5, 2, 5, 4, coupler=(3.0, 0.6)), 1 + 2j, 0.3, 1)
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cli") / "a.atlas"
+    assert main(["atlas", "build", str(path), "--count", "20000", "--chunk-size", "10000",
+                 "--seed", "11", "--no-progress"]) == 0  # fmt: skip
+    return path
+
+
+def _csv(tmp_path, timing=False):
+    th = np.linspace(0, 2 * np.pi, 10, endpoint=False)
+    P = KNOWN.pose(th)[2]
+    lines = ["x,y,theta2"] + [
+        f"{float(p.real)!r},{float(p.imag)!r},{float(np.degrees(t))!r}"
+        for p, t in zip(P, th, strict=True)
+    ]
+    file = tmp_path / "points.csv"
+    file.write_text("\n".join(lines) + "\n")
+    return file, P
+
+
+def test_atlas_info(folder, capsys):
+    assert main(["atlas", "info", str(folder), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["entries"] == 20000 and info["chunks"] == 2
+    assert all(v > 0 for v in info["barker_classes"].values())
+
+
+@pytest.mark.parametrize("timing", [False, True])
+def test_synth_path_prints_candidates_and_writes_specs(folder, tmp_path, capsys, timing):
+    import tomllib
+
+    file, P = _csv(tmp_path, timing)
+    out = tmp_path / "cands"
+    args = ["synth", "path", str(file), "--atlas", str(folder), "-n", "2", "--out", str(out)]
+    assert main([*args, "--json"] + (["--timing"] if timing else [])) == 0
+    res = json.loads(capsys.readouterr().out)
+    best = res["candidates"][0]
+    size = np.max(np.abs(P - P.mean()))
+    assert best["max_distance"] <= 1e-6 * size and best["defects"] == []
+    spec = tomllib.loads((out / "candidate_1.toml").read_text())
+    part = spec["fourbar"]["candidate"]
+    assert spec["machdyn"] == 1
+    np.testing.assert_allclose(
+        [part["r1"], part["r2"], part["r3"], part["r4"]],
+        [best["r1"], best["r2"], best["r3"], best["r4"]],
+    )
+    # the spec's linkage, placed as its notes say, passes through the targets
+    delta = np.radians(float(part["coupler"]["delta"].split()[0]))
+    fb = FourBar(
+        part["r1"], part["r2"], part["r3"], part["r4"], coupler=(part["coupler"]["p"], delta)
+    )
+    placed = PlacedFourBar(fb, best["O2"]["x"] + 1j * best["O2"]["y"],
+                           np.radians(best["theta1_deg"]), best["branch"])  # fmt: skip
+    got = placed.pose(np.radians(best["theta2_deg"]))[2]
+    assert np.max(np.abs(got - P)) <= 1e-6 * size
+    assert main(args) == 0  # the table
+    text = capsys.readouterr().out
+    assert "Path synthesis from the atlas" in text and "GCRR" in text
+
+
+def test_synth_path_bad_input_is_one_line(folder, tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("0,0\n1,x\n")
+    assert main(["synth", "path", str(bad), "--atlas", str(folder)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("machdyn: error:") and "line 2" in err and err.count("\n") == 1
+    few = tmp_path / "few.csv"
+    few.write_text("0,0\n1,0\n1,1\n")
+    assert main(["synth", "path", str(few), "--atlas", str(folder)]) == 1
+    assert "too few" in capsys.readouterr().err
+    file, _ = _csv(tmp_path)
+    assert main(["synth", "path", str(file), "--atlas", str(tmp_path / "none")]) == 1
+    assert "not an atlas" in capsys.readouterr().err
+    assert main(["synth", "path", str(file), "--atlas", str(folder), "-n", "0"]) == 1
+    assert main(["atlas", "build", str(tmp_path / "x"), "--count", "0"]) == 1

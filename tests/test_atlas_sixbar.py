@@ -1,0 +1,163 @@
+"""Six-bar atlas: positions by circle intersections, rebuilt entries, Jacobian, recovery."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from tests.closed_forms import circle_meet
+
+from machdyn.synthesis import build_atlas, open_atlas, path_from_atlas
+from machdyn.synthesis.descriptor import curve_descriptor, descriptor_variants
+from machdyn.synthesis.sixbar import SIXBAR_DTYPE, TOPOLOGIES, sample_sixbars, sixbar_points
+from machdyn.synthesis.sixbar_path import sixbar_coupler
+
+
+def _sides(a, c, la, lc, e_drawn):
+    """circle_meet's side that gives the drawn point."""
+    return min((1.0, -1.0), key=lambda s: abs(circle_meet(a, la, c, lc, s) - e_drawn))
+
+
+def _independent(row, theta, place=(0j, 0.0, 1.0), drawn=None):
+    """The six-bar's coupler point by circle intersections (no machdyn solver).
+
+    ``row``: a mapping of the design numbers (lengths over the crank); ``place``:
+    ``(O2, θ1, r2)``. The assembly of each dyad is the side of its base line that
+    reproduces ``drawn`` (B, E at the first angle), by default sixbar_points' pose.
+    """
+    f = {k: float(row[k]) for k in SIXBAR_DTYPE.names}
+    (l1, l2), _ = TOPOLOGIES[int(row["topology"])]
+    O2, th1, r2 = place
+    e1 = np.exp(1j * th1)
+
+    def pose(t, s4, s6):
+        O4, A = O2 + r2 * f["r1"] * e1, O2 + r2 * e1 * np.exp(1j * t)
+        B = circle_meet(A, r2 * f["r3"], O4, r2 * f["r4"], s4)
+        fr = {1: (O2, O4), 2: (O2, A), 3: (A, B), 4: (O4, B)}
+        C = fr[l1][0] + complex(f["cu"], f["cv"]) * (fr[l1][1] - fr[l1][0])
+        D = fr[l2][0] + complex(f["du"], f["dv"]) * (fr[l2][1] - fr[l2][0])
+        E = circle_meet(C, r2 * f["a"], D, r2 * f["b"], s6)
+        base = D if f["on"] == 6 else C
+        return base + complex(f["pu"], f["pv"]) * (E - base), B, E
+
+    if drawn is None:
+        _, _, j = sixbar_points(np.array([tuple(row[k] for k in SIXBAR_DTYPE.names)], SIXBAR_DTYPE),
+                                np.array([theta[0]]), joints=True)  # fmt: skip
+        drawn = (O2 + r2 * e1 * j["B"][0, 0], O2 + r2 * e1 * j["E"][0, 0])
+    with np.errstate(invalid="ignore"):
+        s4 = min((1.0, -1.0), key=lambda s: abs(pose(theta[0], s, 1.0)[1] - drawn[0]))
+        s6 = min((1.0, -1.0), key=lambda s: abs(pose(theta[0], s4, s)[2] - drawn[1]))
+    with np.errstate(invalid="ignore"):  # the side tries may miss: NaN, never chosen
+        return np.array([pose(t, s4, s6)[0] for t in theta])
+
+
+@pytest.fixture(scope="module")
+def rows():
+    return sample_sixbars(np.random.default_rng(4), 300)
+
+
+def test_every_topology_and_coupler_link_is_sampled(rows):
+    assert set(np.unique(rows["topology"])) == set(range(6))
+    assert set(np.unique(rows["on"])) == {5, 6}
+    ground_first = np.array([t[0][0] == 1 for t in TOPOLOGIES])[rows["topology"]]
+    assert np.all(rows["on"][ground_first] == 6)  # link 5 pivoted on the ground is no coupler
+    assert set(np.unique(rows["barker"])) <= {1, 2}  # crank-driven: GCCC, GCRR
+
+
+def test_sixbar_points_match_circle_intersections(rows):
+    theta = np.linspace(0, 2 * np.pi, 25)
+    P, ok = sixbar_points(rows[:40], theta)
+    assert ok.all()
+    for row, p in zip(rows[:40], P, strict=True):
+        np.testing.assert_allclose(p, _independent(row, theta), atol=1e-9)
+
+
+def test_analytic_jacobian_against_differences(rows):
+    for row in rows[:12]:
+        fixed = {k: int(row[k]) for k in ("s4", "s6", "topology", "on")}
+        names = ("r1", "r3", "r4", "cu", "cv", "du", "dv", "a", "b", "pu", "pv")
+        r1, r3, r4, *rest = (float(row[k]) for k in names)
+        x = np.array([0.3, -0.2, 0.4, r1, 1.0, r3, r4, *rest])
+        th = np.array([0.5, 2.5, 4.0])
+        _, J, Jt, ok = sixbar_coupler(x, th, fixed)
+        assert ok.all()
+        h = 1e-6
+
+        def P_of(x, th=th, fixed=fixed):
+            return sixbar_coupler(x, th, fixed)[0]
+
+        fd = np.array([(P_of(x + h * e) - P_of(x - h * e)) / (2 * h) for e in np.eye(15)]).T
+        np.testing.assert_allclose(J, fd, atol=2e-6 * (1 + np.abs(J).max()))
+        fdt = (sixbar_coupler(x, th + h, fixed)[0] - sixbar_coupler(x, th - h, fixed)[0]) / (2 * h)
+        np.testing.assert_allclose(Jt, fdt, atol=2e-6 * (1 + np.abs(Jt).max()))
+
+
+@pytest.fixture(scope="module")
+def atlas6(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("six")
+    build_atlas(folder, 12_000, chunk_size=6_000, seed=2, kind="sixbar", progress=False)
+    return open_atlas(folder)
+
+
+def test_stored_sixbars_rebuild_to_their_descriptors(atlas6):
+    idx = np.arange(0, 12_000, 997)
+    for i, row in zip(idx, atlas6.entries(idx), strict=True):
+        curve = _independent(row, np.linspace(0, 2 * np.pi, 3000, endpoint=False))
+        c = np.searchsorted(atlas6.offsets, i, side="right") - 1
+        stored = atlas6.desc[c][i - atlas6.offsets[c]]
+        gap = np.min(np.abs(descriptor_variants(curve_descriptor(curve)) - stored).max(axis=-1))
+        assert gap < 2e-3
+
+
+def test_target_from_a_known_sixbar_is_recovered(atlas6):
+    # a known six-bar: an atlas entry with its lengths changed by 2 % and its points moved
+    row = atlas6.entries([4321])[0].copy()
+    for k in ("r1", "r3", "r4", "a", "b"):
+        row[k] *= 1.02
+    for k in ("cu", "dv", "pu"):
+        row[k] += 0.02
+    theta = np.linspace(0, 2 * np.pi, 15, endpoint=False)
+    assert sixbar_points(row[None], np.linspace(0, 2 * np.pi, 720))[1].all()
+    local = _independent(row, theta)
+    targets = (3 - 1j) + 2.5 * np.exp(0.7j) * local
+    size = np.max(np.abs(targets - targets.mean()))
+    res = path_from_atlas(targets, atlas6, n=2)
+    best = res.best
+    assert best.ok, best.defects
+    # the result's coupler point at its crank angles, by circle intersections (float64,
+    # from its design numbers; its drawn assembly from its Linkage): on the targets
+    x, fx = best.design, best.fixed
+    r2 = x[4]
+    f = dict(zip(("r1", "r3", "r4"), x[[3, 5, 6]] / r2, strict=True))
+    f.update(zip(("cu", "cv", "du", "dv"), x[7:11], strict=True))
+    f.update(a=x[11] / r2, b=x[12] / r2, pu=x[13], pv=x[14], **fx)
+    f.update(barker=0, circuit=0)
+    m = best.linkage.solve(x[2] + best.theta2[:1], continuation=False)
+    drawn = (m.points["B"][0], m.points["E"][0])
+    got = _independent(f, best.theta2, (complex(x[0], x[1]), x[2], r2), drawn)
+    assert np.max(np.abs(got - targets)) <= 1e-6 * size
+    assert np.max(best.distance) <= 1e-6 * size
+
+
+def test_synth_path_cli_on_a_sixbar_atlas_writes_runnable_linkage_files(atlas6, tmp_path, capsys):
+    import json
+
+    from machdyn.cli import main
+
+    row = atlas6.entries([777])[0]
+    P = 2 - 1j + 1.5 * sixbar_points(row[None], np.linspace(0, 2 * np.pi, 12, endpoint=False))[0][0]
+    file = tmp_path / "p.csv"
+    file.write_text("".join(f"{float(p.real)!r},{float(p.imag)!r}\n" for p in P))
+    out = tmp_path / "c"
+    args = ["synth", "path", str(file), "--atlas", str(atlas6.path), "--out", str(out), "-n", "1"]
+    assert main([*args, "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    size = np.max(np.abs(P - P.mean()))
+    assert res["candidates"][0]["max_distance"] <= 1e-6 * size
+    # the written file is a `machdyn linkage` file whose P passes through the first target
+    assert main(["linkage", str(out / "candidate_1.toml"), "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    assert len(rows) == 37 and all(r["ok"] for r in rows)  # solved round the whole turn
+    first = complex(rows[0]["P_x"], rows[0]["P_y"])  # drawn at the first target's pose
+    assert np.min(np.abs(P - first)) <= 1e-6 * size
+    assert main(["atlas", "info", str(atlas6.path), "--json", "--no-verify"]) == 0
+    assert json.loads(capsys.readouterr().out)["kind"] == "sixbar"

@@ -1,0 +1,223 @@
+"""Drawings of every model, looked at in a real browser (headless Chromium, Playwright).
+
+Independent references: the solver's own coordinates (``Linkage.solve``,
+``FourBar.solve``) read back from the DOM the page's script produced, to the
+printed precision; the link lengths of the six-bar checked on the drawn
+numbers themselves; nothing loaded but the file; no console error.
+Screenshots: ``tests/screenshots/`` (or ``$MACHDYN_SCREENSHOTS``).
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from browser import Page, chromium
+from closed_forms import circle_meet
+from machdyn import FourBar, InvertedSliderCrank, SliderCrank
+from machdyn.draw import scene, to_html
+from machdyn.linkage import Linkage
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with chromium() as b:
+        yield b
+
+
+@pytest.fixture
+def tab(browser):
+    page = Page(browser)
+    yield page
+    page.close()
+
+
+def watt_with_slider(theta2: float = np.pi / 6, names: dict | None = None) -> Linkage:
+    """Watt II six-bar (crank-rocker 8-2-7-6, ternary rocker O4-B-C) driving a slider on y = 8."""
+    n = {k: k for k in ("O2", "O4", "A", "B", "C", "D", "G", "2", "3", "4", "5", "6")}
+    n.update(names or {})
+    O4 = 8.0 + 0j
+    A = 2.0 * np.exp(1j * theta2)
+    B = circle_meet(A, 7.0, O4, 6.0)
+    C = O4 + 4.0 * (B - O4) / abs(B - O4) * np.exp(1j * np.radians(-35))
+    D = complex(C.real + np.sqrt(36 - (8 - C.imag) ** 2), 8.0)
+    pts = {n["O2"]: 0j, n["O4"]: O4, n["A"]: A, n["B"]: B, n["C"]: C, n["D"]: D, n["G"]: 8j}
+    lk = Linkage(pts).ground(n["O2"], n["O4"], n["G"])
+    lk.link(n["2"], n["O2"], n["A"]).link(n["3"], n["A"], n["B"])
+    lk.link(n["4"], n["O4"], n["B"], n["C"]).link(n["5"], n["C"], n["D"]).link(n["6"], n["D"])
+    lk.slider(n["6"], "ground", n["D"], 0.0, name="slide", through=n["G"])
+    return lk.drive(n["2"])
+
+
+DRAWN = """(uid) => {
+  const svg = document.getElementById(uid);
+  const out = {bars: [], plates: [], pins: [], sliders: [], frame: svg.getAttribute("data-frame")};
+  svg.querySelectorAll("g.moving line.bar, g.static line.bar").forEach((l) => out.bars.push({
+    name: l.getAttribute("data-name"), visible: l.getAttribute("visibility") !== "hidden",
+    xy: ["x1", "y1", "x2", "y2"].map((a) => Number(l.getAttribute(a)))}));
+  svg.querySelectorAll("polygon.plate").forEach((p) => out.plates.push({
+    name: p.getAttribute("data-name"),
+    xy: p.getAttribute("points").trim().split(/\\s+/).map((s) => s.split(",").map(Number))}));
+  svg.querySelectorAll("g[id$='-pins'] circle").forEach((c) => out.pins.push(
+    [Number(c.getAttribute("cx")), Number(c.getAttribute("cy"))]));
+  svg.querySelectorAll("g[id*='-slider']").forEach((g) => out.sliders.push(
+    g.getAttribute("transform")));
+  return out;
+}"""
+
+
+def show(tab: Page, k: int) -> dict:
+    tab.page.evaluate(f"document.querySelector('.machdyn-scene').machdynShow({k})")
+    uid = tab.page.evaluate("document.querySelector('svg.machdyn-drawing').id")
+    return tab.page.evaluate(DRAWN, uid)
+
+
+def test_six_bar_with_a_slider_is_drawn_at_the_solved_coordinates(tab, tmp_path):
+    lk = watt_with_slider()
+    s = scene(lk, n=60)
+    path = tmp_path / "watt_slider.html"
+    to_html(lk, path, n=60)
+    page = tab.open(path)
+    tab.assert_clean(path)
+    places = int(page.evaluate("document.querySelector('svg').getAttribute('data-decimals')"))
+    tol = 0.5 * 10.0**-places + 1e-12
+    # the frames' driver values, read from the scene, solved again here directly
+    theta2 = np.radians(s.readout[0].values)
+    m = lk.solve(theta2)
+    assert m.ok.all()
+    for k in (0, 7, 23, 41, 59):
+        drawn = show(tab, k)
+        assert drawn["frame"] == str(k)
+        bars = {b["name"]: np.array(b["xy"]) for b in drawn["bars"]}
+        assert set(bars) == {"2", "3", "5"}  # binary links as bars; 4 is a plate
+        for name, (p, q) in (("2", ("O2", "A")), ("3", ("A", "B")), ("5", ("C", "D"))):
+            ref = [
+                m.points[p][k].real,
+                m.points[p][k].imag,
+                m.points[q][k].real,
+                m.points[q][k].imag,
+            ]
+            np.testing.assert_allclose(bars[name], ref, atol=tol, rtol=0, err_msg=f"{name} at {k}")
+        (plate,) = drawn["plates"]
+        corners = {complex(round(x, places), round(y, places)) for x, y in plate["xy"]}
+        for p in ("O4", "B", "C"):
+            z = m.points[p][k]
+            assert any(abs(c - z) <= 2 * tol for c in corners), (p, k)
+        pins = np.array(drawn["pins"])
+        for p in ("O2", "A", "B", "D", "O4", "C"):
+            hit = np.abs(pins[:, 0] + 1j * pins[:, 1] - m.points[p][k]).min()
+            assert hit <= 2 * tol, (p, k)
+        # the block sits on the solved D, along the ground guide (y = 8)
+        (slider,) = drawn["sliders"]
+        x, y, angle = map(float, re.findall(r"-?\d+(?:\.\d+)?(?:e-?\d+)?", slider)[:3])
+        assert abs(x - m.points["D"][k].real) <= tol and abs(y - 8.0) <= tol and angle == 0
+        # the drawn numbers keep the link lengths (to the printed precision)
+        A, B = bars["3"][:2] @ [1, 1j], bars["3"][2:] @ [1, 1j]
+        assert abs(abs(B - A) - 7.0) < 4 * tol
+    tab.shot("linkage_watt_slider")
+
+
+@pytest.mark.parametrize(
+    ("name", "model", "expect"),
+    [
+        (
+            "fourbar_hw6",
+            FourBar(8, 4, 7, 6, coupler=(5, np.radians(30))),
+            ("link2", "coupler_curve"),
+        ),
+        ("slidercrank", SliderCrank(2.0, 6.0, 0.5, point=(3.0, 0.4)), ("slider", "slide_guide")),
+        ("inverted_slidercrank", InvertedSliderCrank(2.0, 4.0, 0.5), ("slider", "link4")),
+    ],
+)
+def test_each_closed_form_model_draws_in_the_browser(tab, tmp_path, name, model, expect):
+    path = tmp_path / f"{name}.html"
+    to_html(model, path, n=48)
+    page = tab.open(path)
+    tab.assert_clean(path)
+    uid = page.evaluate("document.querySelector('svg.machdyn-drawing').id")
+    for gid in expect:
+        assert page.locator(f"#{uid}-{gid}").count() == 1, gid
+    # playing moves the drawing, and the readout shows numbers for the frame shown
+    first = page.evaluate("document.querySelector('svg').getAttribute('data-frame')")
+    page.wait_for_timeout(250)
+    assert page.evaluate("document.querySelector('svg').getAttribute('data-frame')") != first
+    cells = page.locator("table.readout td.v").all_inner_texts()
+    assert cells and all(re.fullmatch(r"-?\d+\.\d+|–", c) for c in cells), cells
+    box = page.locator("svg.machdyn-drawing").bounding_box()
+    assert box["width"] > 600 and box["height"] > 250  # not collapsed
+    tab.shot(f"draw_{name}")
+
+
+def test_user_names_are_text_never_markup(tab, tmp_path):
+    evil = "<script>alert(1)</script>"
+    lk = watt_with_slider(names={"3": evil, "C": "<b>C</b>", "4": "a&b"})
+    path = tmp_path / "evil.html"
+    page_text = to_html(lk, path, n=12)
+    assert evil not in page_text and "<b>C</b>" not in page_text
+    page = tab.open(path)
+    tab.assert_clean(path)  # no alert() dialog ran
+    titles = page.locator("svg title").all_text_contents()
+    assert evil in titles and "a&b" in titles  # shown as the names they are
+    labels = page.locator("svg g.labels text").all_text_contents()
+    assert "<b>C</b>" in labels
+    rows = page.locator("table.readout td:first-child").all_text_contents()
+    assert f"θ {evil}" in rows
+
+
+# --------------------------------------------------------------------------------------
+# the design report, as a person sees it
+
+
+def test_the_report_renders_and_plays(tab, tmp_path):
+    from machdyn.report import report
+
+    fb = FourBar(8, 4, 7, 6, coupler=(5, np.radians(30)))
+    path = tmp_path / "report.html"
+    report(fb, path, omega2=10.0, mass=(1, 2, 1.5), inertia=(0.1, 0.5, 0.3), cg=(2, 3.5, 3), k=0.05)
+    page = tab.open(path, wait_ms=500)
+    tab.assert_clean(path)
+    assert page.locator("#headline").inner_text().startswith("four-bar 8-4-7-6 (GCRR)")
+    for section in (
+        "model",
+        "class",
+        "toggles",
+        "angles",
+        "ma",
+        "kinematics",
+        "forces",
+        "flywheel",
+        "balancing",
+        "selfcheck",
+    ):
+        assert page.locator(f"section#{section}").count() == 1, section
+    assert page.locator("table.checks td.state").all_inner_texts() == ["pass"] * 7
+    charts = page.locator("svg.chart")
+    assert charts.count() >= 10
+    for k in range(charts.count()):  # every chart is laid out with a real size
+        box = charts.nth(k).bounding_box()
+        assert box["width"] > 250 and box["height"] > 150
+    # the drawing in the report plays
+    first = page.evaluate(
+        "document.querySelector('svg.machdyn-drawing').getAttribute('data-frame')"
+    )
+    page.wait_for_timeout(200)
+    assert (
+        page.evaluate("document.querySelector('svg.machdyn-drawing').getAttribute('data-frame')")
+        != first
+    )
+    tab.shot("report_fourbar_hw6")
+
+
+def test_the_report_prints_to_pdf(tmp_path):
+    from machdyn.report import report
+
+    pytest.importorskip("playwright.sync_api")
+    path = tmp_path / "hw6.pdf"
+    report(FourBar(8, 4, 7, 6), path, n=90)
+    data = path.read_bytes()
+    assert data.startswith(b"%PDF") and len(data) > 10_000
+    assert (tmp_path / "hw6.html").exists()

@@ -1,0 +1,235 @@
+"""Every public callable × a catalogue of bad values: a machdyn error or a checked answer.
+
+The public API is walked from the modules' ``__all__`` (and the public methods of
+its classes), so a new function is fuzzed as soon as it is exported: it needs a
+valid call in tests/fuzz_catalogue.py, or this file fails. Each argument of each
+call is replaced in turn by each value of ``fuzz_support.BAD`` (None, text, NaN,
+±inf, 0, −1, 1e308, 5e-324, 10**400, a complex number, a bool, empty, ragged and
+2-d arrays, a pint quantity in seconds, an arbitrary object). The call must then
+
+* raise a :class:`machdyn.MachdynError` (an ``InputError`` naming the argument), or
+* return a result that passes :func:`fuzz_support.verdict`: a value no numeric
+  argument may take (None, text, complex, bool, ragged, seconds, …) was not
+  accepted; NaN or ±inf was accepted only with samples flagged (``ok`` False, a
+  ``status`` or ``reason``); no non-finite number hides in an unflagged result;
+  and the entry's own independent check holds where it has one.
+
+NumPy RuntimeWarnings count as failures (a warning is how garbage leaks out).
+"""
+
+from __future__ import annotations
+
+import collections
+import os
+
+import pytest
+
+from fuzz_catalogue import catalogue
+from fuzz_support import BAD, parameters, public_callables, run_case
+
+CATALOGUE = catalogue()
+
+#: Callables whose bad-input cases are not all clean yet (issue #17 in progress).
+PENDING: set[str] = {
+    "machdyn.balancing:bearing_balance",
+    "machdyn.balancing:shaking_force",
+    "machdyn.balancing:shaking_moment",
+    "machdyn.balancing:static_balance",
+    "machdyn.balancing:two_plane",
+    "machdyn.cams:CamProfile.checks",
+    "machdyn.cams:CamProgram",
+    "machdyn.cams:CamProgram.continuity",
+    "machdyn.cams:CamProgram.double_dwell",
+    "machdyn.cams:CamProgram.sample",
+    "machdyn.cams:CriticalPathMotion.continuity",
+    "machdyn.cams:CriticalPathMotion.sample",
+    "machdyn.cams:OscillatingRoller.profile",
+    "machdyn.cams:PolynomialLaw.coefficients",
+    "machdyn.cams:TranslatingFlatFace.profile",
+    "machdyn.cams:TranslatingRoller.profile",
+    "machdyn.cams:cam_profile",
+    "machdyn.cams:dwell",
+    "machdyn.cams:fall",
+    "machdyn.cams:polynomial_law",
+    "machdyn.cams:size_flat_face",
+    "machdyn.cams:size_oscillating_roller",
+    "machdyn.cams:size_roller",
+    "machdyn.cams:surface_self_intersection",
+    "machdyn.centres:InstantCentres.omega_ratio",
+    "machdyn.centres:at_infinity",
+    "machdyn.centres:collinearity",
+    "machdyn.centres:finite",
+    "machdyn.centres:intersect",
+    "machdyn.centres:line_through",
+    "machdyn.dynamics:LinkEquations.residual",
+    "machdyn.dynamics:PointLoad",
+    "machdyn.dynamics:fourbar_dynamics",
+    "machdyn.dynamics:fourbar_forces",
+    "machdyn.dynamics:link_equations",
+    "machdyn.dynamics:link_properties",
+    "machdyn.dynamics:slidercrank_dynamics",
+    "machdyn.dynamics:slidercrank_forces",
+    "machdyn.dynamics:unit_system",
+    "machdyn.flywheel:size_flywheel",
+    "machdyn.fourbar:FourBar.coupler_curve",
+    "machdyn.fourbar:FourBar.dynamics",
+    "machdyn.fourbar:FourBar.extrema",
+    "machdyn.fourbar:FourBar.instant_centres",
+    "machdyn.fourbar:FourBar.inversions",
+    "machdyn.fourbar:FourBar.mechanical_advantage",
+    "machdyn.fourbar:FourBar.solve",
+    "machdyn.fourbar:FourBar.transmission_angle",
+    "machdyn.fourbar:accelerations",
+    "machdyn.fourbar:jerks",
+    "machdyn.fourbar:named_angle",
+    "machdyn.fourbar:positions",
+    "machdyn.fourbar:velocities",
+    "machdyn.gears:Gear",
+    "machdyn.gears:Gear.outline",
+    "machdyn.gears:Gear.thickness_at",
+    "machdyn.gears:GearPair",
+    "machdyn.gears:GearPair.with_center_distance",
+    "machdyn.gears:PlanetaryTrain",
+    "machdyn.gears:PlanetaryTrain.ratio",
+    "machdyn.gears:backlash_from_center_distance",
+    "machdyn.gears:base_pitch",
+    "machdyn.gears:belt_ratio",
+    "machdyn.gears:chain_ratio",
+    "machdyn.gears:contact_ratio",
+    "machdyn.gears:default_tip_radius",
+    "machdyn.gears:gear_outline",
+    "machdyn.gears:inverse_involute",
+    "machdyn.gears:involute",
+    "machdyn.gears:length_of_action",
+    "machdyn.gears:max_gear_teeth",
+    "machdyn.gears:mesh_outlines",
+    "machdyn.gears:min_pinion_teeth",
+    "machdyn.gears:min_profile_shift",
+    "machdyn.gears:min_teeth_equal_gears",
+    "machdyn.gears:min_teeth_rack",
+    "machdyn.gears:onset_gear_teeth",
+    "machdyn.gears:operating_pressure_angle",
+    "machdyn.gears:reverted_compound",
+    "machdyn.gears:simple_train_value",
+    "machdyn.gears:stage_ratio",
+    "machdyn.gears:tooth_thickness_at",
+    "machdyn.gears:train_value",
+    "machdyn.gears:undercut",
+    "machdyn.inversions:AngleRange",
+    "machdyn.inversions:AngleRange.contains",
+    "machdyn.inversions:AngleRange.intersection",
+    "machdyn.inversions:AngleRange.text",
+    "machdyn.inversions:inversions",
+    "machdyn.linkage:Linkage",
+    "machdyn.linkage:Linkage.actuator",
+    "machdyn.linkage:Linkage.forces",
+    "machdyn.linkage:Linkage.ground",
+    "machdyn.linkage:Linkage.link",
+    "machdyn.linkage:Linkage.motor",
+    "machdyn.linkage:Linkage.point",
+    "machdyn.linkage:Linkage.position",
+    "machdyn.linkage:Linkage.roll",
+    "machdyn.linkage:Linkage.slider",
+    "machdyn.linkage:Linkage.slot",
+    "machdyn.linkage:Linkage.solve",
+    "machdyn.linkage:Linkage.spring",
+    "machdyn.linkage:Linkage.torsion_spring",
+    "machdyn.linkage:LinkageForces.F",
+    "machdyn.linkage:LinkageMotion.angle",
+    "machdyn.loops:LoopSystem.check",
+    "machdyn.loops:LoopSystem.evaluate",
+    "machdyn.loops:LoopSystem.inputs",
+    "machdyn.loops:LoopSystem.point",
+    "machdyn.loops:LoopSystem.solve",
+    "machdyn.loops:Vector",
+    "machdyn.loops:lu_factor",
+    "machdyn.loops:lu_solve",
+    "machdyn.massprops:MassProperties",
+    "machdyn.massprops:MassProperties.inertia_about",
+    "machdyn.massprops:MassProperties.moved",
+    "machdyn.massprops:MassProperties.radius_of_gyration_about",
+    "machdyn.massprops:annulus",
+    "machdyn.massprops:cg_motion",
+    "machdyn.massprops:disc",
+    "machdyn.massprops:parallel_axis",
+    "machdyn.massprops:plate",
+    "machdyn.massprops:point_mass",
+    "machdyn.massprops:radius_of_gyration",
+    "machdyn.massprops:ring",
+    "machdyn.massprops:rod",
+    "machdyn.mobility:Joint",
+    "machdyn.mobility:mobility",
+    "machdyn.mobility:mobility_of",
+    "machdyn.rotor:Rotor",
+    "machdyn.rotor:Rotor.from_masses",
+    "machdyn.rotor:Rotor.is_balanced",
+    "machdyn.rotor:Rotor.with_masses",
+    "machdyn.shaking:Counterweights.apply",
+    "machdyn.shaking:fourbar_counterweights",
+    "machdyn.slidercrank:InvertedSliderCrank.solve",
+    "machdyn.slidercrank:SliderCrank.instant_centres",
+    "machdyn.slidercrank:SliderCrank.mechanical_advantage",
+    "machdyn.slidercrank:SliderCrank.solve",
+    "machdyn.synthesis.geometry:as_points",
+    "machdyn.synthesis:FunctionGenerator.structural_error",
+    "machdyn.synthesis:FunctionGenerator.theta2_of",
+    "machdyn.synthesis:FunctionGenerator.theta4_of",
+    "machdyn.synthesis:MotionSynthesis.driving_dyad",
+    "machdyn.synthesis:MotionSynthesis.to_pandas",
+    "machdyn.synthesis:PathSynthesis.curve",
+    "machdyn.synthesis:PlacedFourBar",
+    "machdyn.synthesis:PlacedFourBar.from_pivots",
+    "machdyn.synthesis:PlacedFourBar.pose",
+    "machdyn.synthesis:PlacedFourBar.theta2_of",
+    "machdyn.synthesis:PlacedFourBar.to_global",
+    "machdyn.synthesis:PlacedFourBar.to_local",
+    "machdyn.synthesis:atlas",
+    "machdyn.synthesis:chebyshev_spacing",
+    "machdyn.synthesis:circumcentre",
+    "machdyn.synthesis:coupler_points",
+    "machdyn.synthesis:driving_dyad",
+    "machdyn.synthesis:function_generator",
+    "machdyn.synthesis:intersect_lines",
+    "machdyn.synthesis:lengths_from_freudenstein",
+    "machdyn.synthesis:path_objective",
+    "machdyn.synthesis:perpendicular_bisector",
+    "machdyn.synthesis:quick_return",
+    "machdyn.synthesis:rigid_motion",
+    "machdyn.synthesis:rotopole",
+    "machdyn.synthesis:rotopole_link",
+    "machdyn.synthesis:synthesize_path",
+    "machdyn.synthesis:three_position",
+    "machdyn.synthesis:three_position_fixed_pivots",
+    "machdyn.synthesis:two_position",
+    "machdyn.virtual_work:fourbar_input_torque",
+    "machdyn.virtual_work:fourbar_mechanical_advantage",
+    "machdyn.virtual_work:mechanical_advantage",
+    "machdyn.virtual_work:power",
+    "machdyn.virtual_work:virtual_work",
+}
+
+
+def test_every_public_callable_is_catalogued():
+    public = public_callables()
+    missing = sorted(set(public) - set(CATALOGUE))
+    assert not missing, f"add a valid call of each to tests/fuzz_catalogue.py: {missing}"
+    stale = sorted(set(CATALOGUE) - set(public))
+    assert not stale, f"no longer public, drop from tests/fuzz_catalogue.py: {stale}"
+
+
+@pytest.mark.parametrize("key", sorted(CATALOGUE))
+def test_bad_inputs(key):
+    call = CATALOGUE[key]
+    outcome, detail = run_case(key, call, None, None)
+    assert outcome == "accepted", f"the catalogue's valid call fails: {outcome} {detail}"
+    if key in PENDING and not os.environ.get("HARDEN_NO_PENDING"):
+        pytest.skip("bad-input handling not finished (issue #17)")
+    problems = []
+    counts: collections.Counter[str] = collections.Counter()
+    for name, _ in parameters(key, call):
+        for bad in BAD:
+            outcome, detail = run_case(key, call, name, bad)
+            counts[outcome] += 1
+            if outcome in ("foreign", "silent"):
+                problems.append(f"{name}={bad}: {outcome}: {detail}")
+    assert not problems, "\n".join(problems)

@@ -1,0 +1,318 @@
+"""The design report: its numbers are the API's, its self-checks catch a wrong motion.
+
+Independent references: the public API called here (FourBar.transmission_angle,
+FourBar.dynamics, size_flywheel, Linkage.forces) for the numbers printed; the
+self-checks fed motions made wrong on purpose (accelerations × 1.01, ω3 × 1.01,
+a joint moved by 1e-5); the page opened in a real browser (test_report_browser).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from closed_forms import circle_meet
+from machdyn import FourBar
+from machdyn.flywheel import size_flywheel
+from machdyn.linkage import Linkage
+from machdyn.report import report
+from machdyn.report.fourbar import fourbar_checks, fourbar_report, fourbar_sweep
+from machdyn.report.linkage import linkage_checks
+
+MASS, INERTIA, CG = (1.0, 2.0, 1.5), (0.1, 0.5, 0.3), (2.0, 3.5 + 0.5j, 3.0)
+
+
+def cell(page: str, key: str) -> str:
+    found = re.findall(rf'data-key="{key}"[^>]*>(.*?)</(?:td|span)>', page, re.S)
+    assert len(found) == 1, (key, found)
+    return re.sub(r"<[^>]+>", "", found[0])
+
+
+def number(text: str) -> float:
+    return float(re.match(r"\s*(-?[\d.]+(?:e[-+]?\d+)?)", text).group(1))
+
+
+def at_deg(text: str) -> float:
+    return float(re.search(r"(?:at θ2 =|=)\s*(-?[\d.]+)°?\s*$", text.strip()).group(1))
+
+
+def checks_of(page: str) -> dict[str, str]:
+    return dict(re.findall(r'data-check="(\w+)".*?class="state">([\w ]+)<', page, re.S))
+
+
+@pytest.fixture(scope="module")
+def hw6():
+    return FourBar(8, 4, 7, 6, coupler=(5.0, np.radians(30)))
+
+
+@pytest.fixture(scope="module")
+def hw6_page(hw6):
+    return report(hw6, omega2=10.0, mass=MASS, inertia=INERTIA, cg=CG, k=0.05, gravity=9.81)
+
+
+def test_the_first_line_says_what_the_machine_is(hw6_page):
+    first = re.search(r'<body>\s*<p class="headline" id="headline">(.*?)</p>', hw6_page).group(1)
+    assert first.startswith("four-bar 8-4-7-6 (GCRR)") and "full turn" in first
+
+
+def test_report_numbers_equal_the_api(hw6, hw6_page):
+    page = hw6_page
+    assert cell(page, "barker_class") == "GCRR"
+    ta = hw6.transmission_angle(1)
+    text = cell(page, "mu_min_deg")
+    assert number(text) == pytest.approx(np.degrees(ta.min), abs=5e-4)
+    assert at_deg(text) == pytest.approx(np.degrees(ta.theta2_at_min), abs=5e-3)
+    ex = hw6.extrema(1)
+    assert number(cell(page, "theta4_min_deg")) == pytest.approx(
+        np.degrees(ex["theta4"].min), abs=5e-4
+    )
+    # peak pin force and torque, and where, from FourBar.dynamics on the report's sweep
+    th = fourbar_sweep(hw6, 1, 360)
+    f = hw6.dynamics(th, 10.0, mass=MASS, inertia=INERTIA, cg=CG, gravity=9.81)
+    k = int(np.argmax(np.abs(f.F32)))
+    text = cell(page, "peak_F32")
+    assert number(text) == pytest.approx(abs(f.F32[k]), rel=5e-4)
+    assert at_deg(text) == pytest.approx(np.degrees(th[k]), abs=0.05)
+    assert number(cell(page, "T12_max")) == pytest.approx(f.T12.max(), rel=5e-4)
+    fly = size_flywheel(th, f.T12, 10.0, 0.05)
+    assert number(cell(page, "flywheel_inertia")) == pytest.approx(fly.inertia, rel=5e-4)
+    assert number(cell(page, "delta_e")) == pytest.approx(fly.delta_e, rel=5e-4)
+    # toggles: the API's four output limits, listed in the table
+    for t in hw6.toggles():
+        assert f"{np.degrees(t.theta2):.3f}" in page
+
+
+def test_every_self_check_passes_on_the_solved_motion(hw6_page):
+    states = checks_of(hw6_page)
+    assert len(states) == 7 and set(states.values()) == {"pass"}, states
+
+
+def wrong_motions(fb):
+    th = fourbar_sweep(fb, 1, 360)
+    m = fb.solve(th, 10.0)
+    return m, {
+        "accelerations × 1.01": replace(
+            m,
+            alpha3=m.alpha3 * 1.01,
+            alpha4=m.alpha4 * 1.01,
+            coupler_acceleration=m.coupler_acceleration * 1.01,
+        ),
+        "ω3 × 1.01": replace(m, omega3=m.omega3 * 1.01),
+        "ω4 × 1.01": replace(m, omega4=m.omega4 * 1.01),
+        "B moved by 1e-5": replace(m, B=m.B + 1e-5),
+    }
+
+
+def test_self_checks_fail_on_a_wrong_motion(hw6):
+    th = fourbar_sweep(hw6, 1, 360)
+    f = hw6.dynamics(th, 10.0, mass=MASS, inertia=INERTIA, cg=CG)
+    right, wrong = wrong_motions(hw6)
+    assert all(c.passed for c in fourbar_checks(hw6, right, 10.0, f, MASS, INERTIA, CG))
+    failed = {}
+    for label, m in wrong.items():
+        failed[label] = {
+            c.name for c in fourbar_checks(hw6, m, 10.0, f, MASS, INERTIA, CG) if not c.passed
+        }
+    # accelerations × 1.01: every check that involves accelerations fails
+    assert failed["accelerations × 1.01"] == {
+        "loop closure: accelerations",
+        "finite differences: acceleration",
+        "power balance",
+    }
+    # a wrong angular velocity: the velocity field, Kennedy's rule and the power balance
+    assert {"loop closure: velocities", "Kennedy's rule", "power balance"} <= failed["ω3 × 1.01"]
+    # the output's rate against the differences of its positions
+    assert "finite differences: velocity" in failed["ω4 × 1.01"]
+    # a wrong position: the loop itself (and the fields built on it)
+    assert "loop closure: positions" in failed["B moved by 1e-5"]
+    # every check is failed by one of the wrong motions
+    names = {c.name for c in fourbar_checks(hw6, right, 10.0, f, MASS, INERTIA, CG)}
+    assert set().union(*failed.values()) == names
+
+
+def test_a_failed_check_is_the_first_thing_the_page_says(hw6):
+    _, wrong = wrong_motions(hw6)
+    page = fourbar_report(
+        hw6, omega2=10.0, mass=MASS, inertia=INERTIA, cg=CG, motion=wrong["accelerations × 1.01"]
+    ).html()
+    first = re.search(r'id="headline">(.*?)</p>', page).group(1)
+    assert first.startswith("SELF-CHECK FAILED")
+    assert checks_of(page)["power_balance"] == "FAIL"
+
+
+def watt(names=None, masses=True) -> Linkage:
+    n = {k: k for k in ("O2", "O4", "O6", "A", "B", "C", "D", "E", "2", "3", "4", "5", "6")}
+    n.update(names or {})
+    O4, O6 = 8.0 + 0j, 12.0 + 6.0j
+    A = 2.0 * np.exp(1j * np.pi / 6)
+    B = circle_meet(A, 7.0, O4, 6.0)
+    C = O4 + 4.0 * (B - O4) / abs(B - O4) * np.exp(1j * np.radians(-35))
+    D = circle_meet(C, 6.0, O6, 5.0, -1.0)
+    pts = {
+        n["O2"]: 0j,
+        n["O4"]: O4,
+        n["O6"]: O6,
+        n["A"]: A,
+        n["B"]: B,
+        n["C"]: C,
+        n["D"]: D,
+        n["E"]: C + 2.0 + 1j,
+    }
+    lk = Linkage(pts).ground(n["O2"], n["O4"], n["O6"])
+    p = (lambda m, i, c: {"mass": m, "inertia": i, "cg": c}) if masses else (lambda *a: {})
+    lk.link(n["2"], n["O2"], n["A"], **p(1.0, 0.4, 1.0 + 0.1j))
+    lk.link(n["3"], n["A"], n["B"], **p(2.0, 8.0, 3.5 + 0.3j))
+    lk.link(n["4"], n["O4"], n["B"], n["C"], **p(3.0, 6.0, 2 + 0.5j))
+    lk.link(n["5"], n["C"], n["D"], n["E"], **p(1.5, 4.5, n["E"]))
+    lk.link(n["6"], n["O6"], n["D"], **p(2.5, 5.0, 2.5 - 0.2j))
+    return lk.drive(n["2"])
+
+
+def test_linkage_report_numbers_and_checks():
+    lk = watt()
+    page = report(lk, velocity=10.0, n=360, gravity=9.81, k=0.05)
+    assert set(checks_of(page).values()) == {"pass"}
+    assert cell(page, "mobility") == "1"
+    x = np.radians(30.0) + np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    m = lk.solve(x, velocity=10.0)
+    f = lk.forces(m, gravity=9.81)
+    T = f.driver["2"]
+    assert number(cell(page, "driver_2_max")) == pytest.approx(T.max(), rel=5e-4)
+    F = f.pins[("3", "4")]
+    assert number(cell(page, "peak_F_3_4")) == pytest.approx(np.abs(F).max(), rel=5e-4)
+    fly = size_flywheel(x, T, 10.0, 0.05)
+    assert number(cell(page, "flywheel_inertia")) == pytest.approx(fly.inertia, rel=5e-4)
+
+
+def test_linkage_self_checks_fail_on_a_wrong_motion():
+    lk = watt()
+    x = np.radians(30.0) + np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    m = lk.solve(x, velocity=10.0)
+    f = lk.forces(m)
+    assert all(c.passed for c in linkage_checks(lk, m, x, 10.0, f))
+    bad = replace(
+        m,
+        alpha={k: v * 1.01 for k, v in m.alpha.items()},
+        point_acceleration={k: v * 1.01 for k, v in m.point_acceleration.items()},
+    )
+    failed = {c.name for c in linkage_checks(lk, bad, x, 10.0, f) if not c.passed}
+    assert {"finite differences: acceleration", "power balance"} <= failed
+    bad = replace(m, omega={k: v * (1.01 if k == "3" else 1.0) for k, v in m.omega.items()})
+    failed = {c.name for c in linkage_checks(lk, bad, x, 10.0, f) if not c.passed}
+    assert {"loop closure: velocities", "Kennedy's rule"} <= failed
+
+
+def test_unreachable_driver_values_give_a_first_line_and_the_drawing_as_given():
+    # a rocker-driven four-bar asked for angles it cannot reach
+    A = 9.0 * np.exp(1j * np.radians(60))
+    B = A + 3 * np.exp(1j * np.radians(-10))
+    d = abs(B)
+    a = (6**2 - 8**2 + d**2) / (2 * d)
+    O4 = a * B / d + np.sqrt(36 - a**2) * 1j * B / d
+    lk = Linkage({"O2": 0j, "O4": O4, "A": A, "B": B}).ground("O2", "O4")
+    lk = lk.link("in", "O2", "A").link("c", "A", "B").link("out", "O4", "B").drive("in")
+    far = np.radians(60) + np.pi + np.linspace(-0.05, 0.05, 5)
+    assert not lk.solve(far).ok.any()
+    page = report(lk, values=far)
+    first = re.search(r'id="headline">(.*?)</p>', page).group(1)
+    assert "cannot be assembled" in first and first.startswith("linkage of 3 moving links")
+    # the drawing as given: the drawn coordinates of B are in the page's SVG
+    svg = re.search(r"<svg id=.*?</svg>", page, re.S).group(0)
+    assert f"{B.real:.4f}".rstrip("0") in svg
+
+
+def test_user_names_are_escaped_everywhere():
+    evil = "<script>alert(1)</script>"
+    lk = watt(names={"3": evil, "C": "<b>C</b>", "5": 'a"b&c'})
+    page = report(lk, velocity=5.0, n=90)
+    assert evil not in page and "<b>C</b>" not in page and 'a"b&c' not in page
+    assert "&lt;script&gt;alert(1)&lt;/script&gt;" in page
+    assert "&lt;b&gt;C&lt;/b&gt;" in page
+
+
+def test_the_page_loads_nothing(hw6_page):
+    assert not re.search(r"\b(src|href)\s*=\s*\"(?!#)", hw6_page)
+    assert "<link" not in hw6_page and "@import" not in hw6_page
+    assert not re.search(r"https?:", hw6_page)
+
+
+def test_bad_model_is_refused():
+    from machdyn.errors import InputError
+
+    with pytest.raises(InputError, match="no report for a str"):
+        report("four-bar")
+
+
+# --------------------------------------------------------------------------------------
+# machdyn report FILE -o report.html
+
+
+@pytest.fixture
+def cli(capsys):
+    from machdyn.cli import main
+
+    def run(*args):
+        code = main(["report", *map(str, args)])
+        out = capsys.readouterr()
+        return code, out.out + out.err
+
+    return run
+
+
+EXAMPLES = __import__("pathlib").Path(__file__).parent.parent / "docs" / "examples"
+
+
+def test_cli_writes_the_report_of_a_linkage_file(cli, tmp_path):
+    out = tmp_path / "lid.html"
+    code, output = cli(EXAMPLES / "lid.toml", "-o", out, "--samples", 120)
+    assert code == 0, output
+    page = out.read_text(encoding="utf-8")
+    first = re.search(r'id="headline">(.*?)</p>', page).group(1)
+    assert first in output.replace("'", "&#x27;")
+    assert "0 to 90 deg" in first  # the file's sweep range
+    assert set(checks_of(page).values()) <= {"pass", "not measured"}
+    assert "x (m)" in page  # the file's length unit labels the tables
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("nofile.toml", "-o", "x.html"), "no such file"),
+        ((EXAMPLES / "lid.toml", "-o", "x.docx"), "--out"),
+        ((EXAMPLES / "lid.toml", "-o", "x.html", "--samples", 2), "--samples"),
+        ((EXAMPLES / "lid.toml", "-o", "x.html", "--k", 0.9), "--k"),
+    ],
+)
+def test_cli_bad_input_is_one_line(cli, args, needle, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, output = cli(*args)
+    assert code != 0
+    assert needle in output and "Traceback" not in output and len(output.splitlines()) == 1
+
+
+def test_cli_reports_a_machine_file_with_its_units_and_masses(cli, tmp_path):
+    import machdyn
+
+    out = tmp_path / "hw6.html"
+    code, output = cli(EXAMPLES / "hw6.toml", "-o", out, "--k", 0.05)
+    assert code == 0, output
+    page = out.read_text(encoding="utf-8")
+    # the file's model, speed, masses, load and gravity, solved here through the API
+    fb = machdyn.spec.load_machine(EXAMPLES / "hw6.toml")["hw6"]
+    th = fourbar_sweep(fb, 1, 360)
+    f = fb.dynamics(
+        th,
+        10.0,
+        mass=(0.002, 0.004, 0.003),
+        inertia=(0.003, 0.02, 0.01),
+        cg=(2, 3.5 + 1j, 3),
+        gravity=386.08858267716533,
+        load_torque4=-5.0,
+    )
+    text = cell(page, "peak_F32")
+    assert number(text) == pytest.approx(np.abs(f.F32).max(), rel=5e-4)
+    assert "lbf" in text and "in)" in page  # the file's units label the numbers
+    assert set(checks_of(page).values()) == {"pass"}

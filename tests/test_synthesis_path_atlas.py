@@ -1,0 +1,144 @@
+"""Path synthesis from an atlas: known linkages recovered, errors checked apart, bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from tests.closed_forms import circle_meet
+
+from machdyn.errors import InputError
+from machdyn.fourbar import FourBar
+from machdyn.synthesis import PlacedFourBar
+from machdyn.synthesis.atlas_path import open_atlas, path_from_atlas
+from machdyn.synthesis.atlas_store import build_atlas
+
+
+@pytest.fixture(scope="module")
+def atlas(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("atlas")
+    build_atlas(folder, 20_000, chunk_size=10_000, seed=11, progress=False)
+    return open_atlas(folder)
+
+
+def _coupler(lengths, coupler, O2, theta1, side, theta2):
+    """Coupler point by circle intersection, placed in the plane (no machdyn solver)."""
+    r1, r2, r3, r4 = lengths
+    p, delta = coupler
+    a = r2 * np.exp(1j * theta2)
+    b = circle_meet(a, r3, complex(r1), r4, side)
+    return O2 + np.exp(1j * theta1) * (a + p * np.exp(1j * delta) * (b - a) / r3)
+
+
+def _curve_distance(result, targets):
+    """Distance from each target to the result's coupler curve, written out independently.
+
+    The curve is swept densely by circle intersection; the nearest sample is then
+    polished by a bounded scalar minimisation of the distance over the input angle.
+    """
+    from scipy.optimize import minimize_scalar
+
+    pl = result.linkage
+    lengths, coupler = pl.fourbar.lengths, pl.fourbar.coupler
+    # which side of AO4 is the linkage's assembly: the one that reproduces its pose
+    th0 = float(result.theta2[0])
+    want = pl.pose(th0)[2]
+    side = min(
+        (1.0, -1.0), key=lambda s: abs(_coupler(lengths, coupler, pl.O2, pl.theta1, s, th0) - want)
+    )
+    grid = np.linspace(0, 2 * np.pi, 20_000, endpoint=False)
+    curve = np.array([_coupler(lengths, coupler, pl.O2, pl.theta1, side, t) for t in grid])
+    out = []
+    for T in targets:
+        i = int(np.nanargmin(np.abs(curve - T)))
+        res = minimize_scalar(
+            lambda t, T=T: abs(_coupler(lengths, coupler, pl.O2, pl.theta1, side, t) - T),
+            bounds=(grid[i] - 1e-3, grid[i] + 1e-3),
+            method="bounded",
+            options={"xatol": 1e-13},
+        )
+        out.append(min(res.fun, abs(curve[i] - T)))
+    return np.array(out)
+
+
+KNOWN = PlacedFourBar(FourBar(5, 2, 5, 4, coupler=(3.0, 0.6)), 1 + 2j, 0.3, 1)
+
+
+def test_closed_target_from_a_known_linkage_is_recovered(atlas):
+    th = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    targets = KNOWN.pose(th)[2]
+    size = np.max(np.abs(targets - targets.mean()))
+    res = path_from_atlas(targets, atlas, n=3)
+    assert res.near and res.candidates
+    best = res.best
+    assert best.ok and best.is_crank and best.in_order
+    d = _curve_distance(best, targets)
+    assert d.max() <= 1e-6 * size
+    np.testing.assert_allclose(best.distance, d, atol=1e-7 * size)  # its own report agrees
+
+
+def test_timed_target_from_a_known_linkage_is_recovered(atlas):
+    th = np.radians([10, 50, 90, 140, 200, 260, 320])
+    targets = KNOWN.pose(th)[2]
+    size = np.max(np.abs(targets - targets.mean()))
+    res = path_from_atlas(targets, atlas, timing=th, n=2)
+    best = res.best
+    assert best.ok
+    pl = best.linkage
+    # the coupler point at θ0 + Δk, by circle intersection, lands on each target
+    side = min(
+        (1.0, -1.0),
+        key=lambda s: abs(
+            _coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, s, best.theta2[0])
+            - targets[0]
+        ),
+    )
+    P = np.array(
+        [
+            _coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, side, t)
+            for t in best.theta2
+        ]
+    )
+    assert np.max(np.abs(P - targets)) <= 1e-6 * size
+    steps = np.mod(np.diff(best.theta2) - np.diff(th) + np.pi, 2 * np.pi) - np.pi
+    np.testing.assert_allclose(steps, 0.0, atol=1e-9)  # the timing is the prescribed one
+
+
+def test_open_target_on_part_of_a_curve(atlas):
+    th = np.linspace(0.3, 2.6, 9)
+    targets = KNOWN.pose(th)[2]
+    size = np.max(np.abs(targets - targets.mean()))
+    res = path_from_atlas(targets, atlas, closed=False, n=2)
+    assert res.candidates
+    d = _curve_distance(res.best, targets)
+    assert d.max() <= 1e-3 * size
+    assert res.best.in_order
+
+
+def test_a_target_no_entry_comes_near_is_reported(atlas):
+    # a ten-pointed star with sharp spikes: no four-bar coupler curve follows it
+    k = np.arange(20)
+    star = np.where(k % 2 == 0, 1.0, 0.15) * np.exp(2j * np.pi * k / 20)
+    res = path_from_atlas(star, atlas, n=2)
+    assert not res.near
+    assert "no atlas entry comes near" in res.note
+    assert np.max(res.best.distance) > 0.05  # the best found, reported honestly
+
+
+def test_bad_targets_are_refused(atlas):
+    pts = KNOWN.pose(np.linspace(0, 6, 8))[2]
+    with pytest.raises(InputError, match="too few"):
+        path_from_atlas(pts[:4], atlas)
+    with pytest.raises(InputError, match="too few"):
+        path_from_atlas(pts[:3], atlas, timing=[0, 1, 2])
+    bad = pts.copy()
+    bad[2] = complex(np.nan, 0)
+    with pytest.raises(InputError, match="targets"):
+        path_from_atlas(bad, atlas)
+    dup = pts.copy()
+    dup[3] = dup[2]
+    with pytest.raises(InputError, match="points 3 and 4 coincide"):
+        path_from_atlas(dup, atlas)
+    with pytest.raises(InputError, match="coincide"):
+        path_from_atlas(np.full(6, 1 + 1j), atlas)
+    with pytest.raises(InputError, match="timing"):
+        path_from_atlas(pts, atlas, timing=[0, 1])
