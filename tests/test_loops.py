@@ -978,7 +978,7 @@ def test_fill_that_cannot_converge_falls_back(monkeypatch):
 
 def test_sparse_lu_equals_dense_lu_and_numpy(rng):
     """lu_structure: skipping structural zeros gives the dense factors (pivots and all)."""
-    from machdyn.loops.solve import _factor, lu_structure
+    from machdyn.loops._linalg import _factor, lu_structure
 
     for n in (3, 4, 5, 6):
         for _ in range(4):
@@ -1004,7 +1004,7 @@ def test_sparse_lu_equals_dense_lu_and_numpy(rng):
 
 def test_2x2_closed_form_matches_pivoted_elimination(rng):
     """The 2x2 inverse reports the det and the pivot-ratio rcond of partial pivoting."""
-    from machdyn.loops.solve import _eliminate
+    from machdyn.loops._linalg import _eliminate
 
     a = rng.normal(size=(2, 2, 200))
     a[:, 0, :3] = 0.0  # a zero first column: singular, rcond 0
@@ -1022,7 +1022,7 @@ def test_2x2_closed_form_matches_pivoted_elimination(rng):
 
 
 def test_small_step_trig_rotation_is_exact_to_rounding(rng):
-    from machdyn.loops.solve import _step_terms, _vector_terms
+    from machdyn.loops._equations import _step_terms, _vector_terms
 
     s = fourbar_system(8, 2, 7, 6)
     c = s._checked(("theta2",))

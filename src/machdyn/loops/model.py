@@ -23,6 +23,7 @@ import numpy as np
 from .._validate import finite_array, finite_scalar, integer
 from ..errors import InputError, ModelError
 from . import solve as _solve
+from ._equations import derivatives, point_motion, residual_and_jacobian
 from ._parse import parse_linear, parse_signed_sum
 from .result import Motion, SystemReport
 
@@ -334,7 +335,8 @@ class LoopSystem:
                 + (" (over-determined: remove an equation or add a variable)" if dof < 0 else "")
             )
         self._check_rank(variables, labels, inputs)
-        return SystemReport(tuple(labels), tuple(variables), inputs, dof)
+        groups = tuple(g.names for g in self._compile(inputs).groups) if inputs else ()
+        return SystemReport(tuple(labels), tuple(variables), inputs, dof, groups)
 
     def _check_rank(self, variables: list[str], labels: list[str], inputs: tuple[str, ...]) -> None:
         """Structural rank test at random poses (a singular pose is not structural)."""
@@ -347,7 +349,7 @@ class LoopSystem:
         is_len = c.var_scale != 1.0
         x[is_len] = rng.uniform(0.5, 1.5, (int(is_len.sum()), n_try)) * c.scale
         cols = np.arange(len(variables))
-        _, jac = _solve.residual_and_jacobian(c, x, cols)
+        _, jac = residual_and_jacobian(c, x, cols)
         jac = jac * c.row_weight[:, None, None] * c.var_scale[None, :, None]
         best_full, best_q = None, None
         for t in range(n_try):
@@ -581,7 +583,7 @@ class LoopSystem:
         c = self._checked(inputs)
         names = list(c.names)
         x0, shape = self._input_arrays(values, tuple(names))
-        f, _ = _solve.residual_and_jacobian(c, x0, jacobian=False)
+        f, _ = residual_and_jacobian(c, x0, jacobian=False)
         resid = np.abs(f * c.row_weight[:, None]).max(axis=0) if f.size else np.zeros(x0.shape[1])
         code = np.zeros(x0.shape[1], dtype=np.int8)
         return self._finish(c, x0, code, resid, shape, velocity, acceleration, jerk, order)
@@ -603,7 +605,7 @@ class LoopSystem:
                 self._rates("jerk", jerk, inputs, shape, required=False),
             ][:order]
             reuse = pos.reuse if pos is not None else None
-            rates, fac = _solve.derivatives(c, x0, u_rates, reuse=reuse)
+            rates, fac = derivatives(c, x0, u_rates, reuse=reuse)
             states += rates
             det, rcond, gdet, grc = fac.det, fac.rcond, fac.block_det, fac.block_rcond
         else:
@@ -617,7 +619,7 @@ class LoopSystem:
             group[singular] = np.argmin(np.nan_to_num(grc[:, singular], nan=np.inf), axis=0)
         ok = code == _solve.OK
         terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
-        pts = _solve.point_motion(c, states, terms)
+        pts = point_motion(c, states, terms)
         bad_pos = (code != _solve.OK) & (code != _solve.SINGULAR)
         mask = [bad_pos] + [~ok] * (len(states) - 1)
 
@@ -671,7 +673,7 @@ def _determinants(c, x0: np.ndarray, pos) -> tuple[np.ndarray, ...]:
         todo = np.arange(n)
     if todo.size:
         x = np.nan_to_num(x0[:, todo])
-        _, jac = _solve.residual_and_jacobian(c, x, c.unknown)
+        _, jac = residual_and_jacobian(c, x, c.unknown)
         fac = c.factor(jac)
         det[todo], rcond[todo] = fac.det, fac.rcond
         gdet[:, todo], grc[:, todo] = fac.block_det, fac.block_rcond

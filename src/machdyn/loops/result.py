@@ -25,6 +25,10 @@ class SystemReport:
         The named inputs (empty when none were named yet).
     dof : int
         Degrees of freedom ``len(variables) - len(equations)``.
+    groups : tuple of tuple of str
+        The unknowns in groups, in solving order (the diagonal blocks of the
+        Jacobian's block-triangular form; each keeps its own branch along a
+        sweep); empty when no inputs were named.
 
     Examples
     --------
@@ -38,6 +42,7 @@ class SystemReport:
     variables: tuple[str, ...]
     inputs: tuple[str, ...]
     dof: int
+    groups: tuple[tuple[str, ...], ...] = ()
 
     @property
     def unknowns(self) -> tuple[str, ...]:
@@ -52,6 +57,8 @@ class SystemReport:
             "equations:",
             *(f"  {e}" for e in self.equations),
         ]
+        if self.groups:
+            lines.append("groups (solving order): " + " | ".join(", ".join(g) for g in self.groups))
         return "\n".join(lines)
 
 

@@ -16,39 +16,11 @@ import numpy as np
 
 from ._branches import assemble, fix_branches, wrong_groups
 from ._compiled import Compiled
-from ._equations import (
-    _step_terms,
-    _vector_terms,
-    derivatives,
-    point_motion,
-    residual_and_jacobian,
-)
-from ._linalg import Factor, _eliminate, _factor, lu_factor, lu_solve, lu_structure, solve
+from ._equations import _step_terms, _vector_terms, residual_and_jacobian
+from ._linalg import lu_factor, lu_solve, solve
 from ._newton import POLISH_FROM, NewtonResult, Scalar, newton, newton_one
 
-__all__ = [
-    "FAST_MAX_SAMPLES",
-    "REASONS",
-    "SINGULAR_RCOND",
-    "Compiled",
-    "Factor",
-    "NewtonResult",
-    "Positions",
-    "Scalar",
-    "_eliminate",
-    "_factor",
-    "_step_terms",
-    "_vector_terms",
-    "derivatives",
-    "lu_factor",
-    "lu_solve",
-    "lu_structure",
-    "newton",
-    "newton_one",
-    "point_motion",
-    "residual_and_jacobian",
-    "solve_positions",
-]
+__all__ = ["lu_factor", "lu_solve"]  # the rest is the engine behind LoopSystem
 
 #: Samples whose Jacobian has a (pivot-ratio) reciprocal condition below this are
 #: flagged singular. Newton converges only linearly to a toggle (a double root) and
