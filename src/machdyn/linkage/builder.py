@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._validate import finite_scalar
 from ..errors import InputError, ModelError
@@ -20,6 +20,9 @@ from .joints import _JointMethods
 from .kinematics import LinkageMotion
 from .topology import _Edge, _Model, edges_of
 from .view import Joint, Link, Spring, TorsionSpring, elements_of, joints_of
+
+if TYPE_CHECKING:
+    from ..centres import InstantCentres
 
 
 class Linkage(_JointMethods, _ElementMethods):
@@ -363,7 +366,7 @@ class Linkage(_JointMethods, _ElementMethods):
 
         return to_html(self, path, **options)
 
-    def instant_centres(self, values: Any, velocity: Any = None):
+    def instant_centres(self, values: Any, velocity: Any = None) -> InstantCentres:
         """All instant centres at driver ``values``: :func:`machdyn.centres.instant_centres_of`.
 
         Examples
