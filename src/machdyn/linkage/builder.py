@@ -51,6 +51,10 @@ class Linkage(_JointMethods, _ElementMethods):
     True
     """
 
+    #: The units the linkage computes in and labels its results with (a
+    #: :class:`machdyn.units.UnitSystem`, set by :func:`machdyn.load`); None: unit-free.
+    units: Any = None
+
     def __init__(self, points: Mapping[str, Any] | None = None) -> None:
         self._points: dict[str, complex] = {}
         self._links: dict[str, Link] = {}
@@ -303,6 +307,12 @@ class Linkage(_JointMethods, _ElementMethods):
         order they were added.
         """
         return joints_of(self)
+
+    def to_spec(self, name: str = "linkage") -> dict[str, Any]:
+        """The linkage as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "linkage", name)
 
     @property
     def drivers(self) -> tuple[str, ...]:
