@@ -353,3 +353,15 @@ def test_gear_report_numbers_are_the_pairs():
     assert number(cell(page, "contact_ratio")) == pytest.approx(pair.contact_ratio, rel=1e-5)
     assert number(cell(page, "center_distance")) == pytest.approx(pair.center_distance, rel=1e-5)
     assert "no interference" in re.search(r'id="headline">(.*?)</p>', page).group(1)
+
+
+def test_cli_report_of_a_machine_that_cannot_be_assembled_says_so_first(cli, tmp_path):
+    spec = tmp_path / "bad.toml"
+    spec.write_text("machdyn = 1\n[fourbar.bad]\nr1 = 20\nr2 = 4\nr3 = 7\nr4 = 6\n")
+    out = tmp_path / "bad.html"
+    code, output = cli(spec, "-o", out)
+    assert code == 0, output
+    page = out.read_text(encoding="utf-8")
+    first = re.search(r'<body>\s*<p class="headline bad" id="headline">(.*?)</p>', page).group(1)
+    assert "cannot be assembled" in first and "17" in first  # the sum of the other three
+    assert "r1 = 20" in page  # the machine as given

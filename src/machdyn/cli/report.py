@@ -14,7 +14,7 @@ from typing import Annotated, Any
 import numpy as np
 import typer
 
-from ..errors import InputError
+from ..errors import InputError, MachdynError
 
 __all__ = ["OUTPUT_KINDS", "load_model", "report"]
 
@@ -105,7 +105,13 @@ def report(
         raise InputError("--k", f"must be in (0, 0.5), got {k:g}")
     if speed is not None and not (np.isfinite(speed) and speed != 0.0):
         raise InputError("--speed", f"must be a finite non-zero speed, got {speed:g}")
-    model, options = load_model(file)
+    try:
+        model, options = load_model(file)
+    except MachdynError as err:
+        if "cannot be assembled" not in str(err):
+            raise
+        _unassemblable(file, out, str(err))
+        return
     from ..fourbar import FourBar
     from ..report import report as write_report
 
@@ -130,3 +136,24 @@ def report(
     import html
 
     print(html.unescape(first))
+
+
+def _unassemblable(file: Path, out: Path, message: str) -> None:
+    """A report whose first line says the machine cannot be assembled, with the file as given."""
+    from ..report.page import Page, esc
+
+    page = Page(file.stem, f"{file.name}: cannot be assembled anywhere — {message}")
+    page.failed = True
+    text = file.read_text(encoding="utf-8", errors="replace")
+    page.section("model", "The machine as given", f"<pre>{esc(text)}</pre>")
+    html_text = page.html()
+    if out.suffix.lower() == ".pdf":
+        from ..report import to_pdf
+
+        html_path = out.with_suffix(".html")
+        html_path.write_text(html_text, encoding="utf-8")
+        to_pdf(html_path, out)
+    else:
+        out.write_text(html_text, encoding="utf-8")
+    print(f"wrote {out}")
+    print(f"{file.name}: cannot be assembled anywhere — {message}")
