@@ -44,7 +44,7 @@ from .atlas_store import (
     folder_path,
     read_manifest,
 )
-from .circuits import circuit_angles, circuit_points, circuit_range, coupler_at
+from .circuits import circuit_angles, circuit_points, circuit_range
 from .descriptor import (
     align_closed,
     align_partial,
@@ -93,6 +93,7 @@ class Atlas:
         self.meta = meta
         self.offsets = np.concatenate([[0], np.cumsum([m.size for m in meta])])
         self._crank = [np.ascontiguousarray(m["barker"] <= 2) for m in meta]  # GCCC, GCRR
+        self._pools: dict[tuple[int, bool], np.ndarray] = {}
 
     def __len__(self) -> int:
         return int(self.offsets[-1])
@@ -154,11 +155,13 @@ class Atlas:
         """Flat indices of up to ``size`` entries spread evenly over the atlas."""
         size = integer("size", size, minimum=1, maximum=10**9)
         crank = boolean("crank", crank)
-        barker = np.concatenate([m["barker"] for m in self.meta])
-        allowed = np.flatnonzero(barker <= 2) if crank else np.arange(len(self))
-        if allowed.size <= size:
-            return allowed
-        return allowed[np.linspace(0, allowed.size - 1, size).astype(np.int64)]
+        key = (size, crank)
+        if key not in self._pools:  # the same pool every time: computed once
+            allowed = np.flatnonzero(np.concatenate(self._crank)) if crank else np.arange(len(self))
+            if allowed.size > size:
+                allowed = allowed[np.linspace(0, allowed.size - 1, size).astype(np.int64)]
+            self._pools[key] = allowed
+        return self._pools[key].copy()
 
 
 def chunk_topk(
@@ -558,15 +561,20 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
 
 def _timed_fits(rows, mirror, th, pts, aa):
     """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets."""
-    f = {k: rows[k].astype(float)[:, None, None] for k in ("r1", "r3", "r4", "p", "delta")}
-    circuit = rows["circuit"].astype(float)[:, None, None] * mirror
-    Q = coupler_at(f["r1"], 1.0, f["r3"], f["r4"], f["p"], mirror * f["delta"], th, circuit)
+    from .atlas import _kernel  # the compiled coupler-point kernel (angles shared by all rows)
+
+    f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
+    circuit = rows["circuit"].astype(float) * mirror
+    one = np.ones(rows.size)
+    Q, _ = _kernel(f["r1"], one, f["r3"], f["r4"], f["p"], mirror * f["delta"], th.ravel(), circuit)
+    Q = Q.reshape(rows.size, *th.shape)
     qm = Q.mean(axis=2, keepdims=True)
     q0 = Q - qm
     a0 = pts - pts.mean()
     c = np.sum(np.conj(q0) * a0, axis=2)  # (R, G)
     v = np.sum(np.abs(q0) ** 2, axis=2)
     score = np.abs(c) ** 2 / np.where(v > 0, v, np.inf) / aa  # 1 − normalised residual²
+    score = np.nan_to_num(score, nan=-1.0)  # a pose that cannot be assembled fits nothing
     g = np.argmax(score, axis=1)
     r = np.arange(rows.size)
     hh = c[r, g] / v[r, g]
