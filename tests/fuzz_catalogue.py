@@ -89,6 +89,7 @@ NOT_CALLED = {
     "machdyn.synthesis:Atlas",  # opened by open_atlas
     "machdyn.synthesis:AtlasError",
     "machdyn.synthesis:PathCandidates",
+    "machdyn.synthesis:SixBarPath",
     "machdyn.synthesis:CouplerAtlas",
     "machdyn.synthesis:DrivingDyad",
     "machdyn.synthesis:FunctionGenerator",

@@ -261,8 +261,9 @@ class PathCandidates:
 
     Attributes
     ----------
-    candidates : tuple of PathSynthesis
-        Defect-free, distinct linkages, best (smallest worst distance) first.
+    candidates : tuple of PathSynthesis or of SixBarPath
+        Defect-free, distinct linkages, best (smallest worst distance) first
+        (four-bars from a four-bar atlas, six-bars from a six-bar atlas).
     rejected : tuple of PathSynthesis
         Refined linkages that failed a check (with their ``defects``).
     targets : ndarray of complex
@@ -411,7 +412,7 @@ def path_from_atlas(
     # the few best go on until they converge (the rest rarely overtake them)
     fits.sort(key=lambda f: f.rms)
     for i in range(min(POLISH, len(fits))):
-        more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=200, **options)
+        more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
         fits[i] = more if more.rms <= fits[i].rms else fits[i]
     results = []
     for fit in fits:
