@@ -25,6 +25,12 @@ def _units():
     return UnitSystem(length="mm", mass="kg", time="s", force="N")
 
 
+def _lid():
+    from machdyn.spec import load_machine
+
+    return load_machine(EXAMPLES / "lid.toml")["lid"]
+
+
 def _model(module: str, name: str, *args: Any):
     def make():
         import importlib
@@ -39,6 +45,7 @@ def add_spec(c: dict, fn, meth) -> None:
     from fuzz_catalogue import Call, _mod
 
     fn("machdyn.spec:from_spec", spec=SPEC)
+    fn("machdyn.spec:read", doc=SPEC)
     fn("machdyn.spec:dumps", spec=SPEC)
     fn("machdyn.spec:schema")
     for name in ("load", "load_machine"):
@@ -54,6 +61,7 @@ def add_spec(c: dict, fn, meth) -> None:
             "machdyn.slidercrank:InvertedSliderCrank.to_spec",
             _model("machdyn", "InvertedSliderCrank", 2.0, 4.0),
         ),
+        ("machdyn.linkage:Linkage.to_spec", _lid),
     ):
         meth(key, factory, name="part")
         c[key].accepts["name"] = {"text"}

@@ -220,6 +220,11 @@ def solve_closed(
         codes = codes[:, take]
         st.reasons = {g: r[take] for g, r in st.reasons.items()}
     ok, reason = _flags(st, codes, model, info, n)
+    for g in np.flatnonzero((codes == NO_ASSEMBLY).any(axis=1)):
+        where = _reach(lk, model, info, int(g))
+        if where:
+            mine = reason == info.texts[g][0]
+            reason[mine] = f"{info.texts[g][0]} ({where})"
     return _motion(lk, st, info, vals, shape, ok, reason, order)
 
 
@@ -230,6 +235,69 @@ def _select(st: State, take: np.ndarray) -> None:
         for i, v in enumerate(table):
             if np.ndim(v):
                 table[i] = v[take]
+
+
+def _pos_ok(model: _Model, codes: np.ndarray, g: int) -> np.ndarray:
+    """Where group ``g`` and every group it depends on are placed."""
+    bad = codes == NO_ASSEMBLY
+    for h, dep in enumerate(model.program.deps[: g + 1]):
+        for d in dep:
+            bad[h] |= bad[d]
+    return ~bad[g]
+
+
+def _reach(lk: Linkage, model: _Model, info: _Info, g: int) -> str:
+    """Where group ``g`` closes, as the range of the driver — for one angle driver.
+
+    The closed forms are evaluated over a full turn of the driver (from the
+    drawn value) and each change of assembly refined by bisection.
+    """
+    key = f"reach {g}"
+    if key in model.cache:
+        return model.cache[key]  # type: ignore[return-value]
+    from .program import General
+
+    text = ""
+    steps = model.program.steps[: g + 1]
+    driver = lk._drivers[0]
+    if (
+        len(lk._drivers) == 1
+        and driver in info.angle_drivers
+        and not any(isinstance(s, General) for s in steps)
+    ):
+
+        def closes(theta: np.ndarray) -> np.ndarray:
+            u = [[theta, 0.0, 0.0, 0.0]]
+            _, codes = model.program.run(u, theta.size, 0, False)
+            return _pos_ok(model, codes, g)
+
+        n = 720
+        theta = info.start[0] + np.linspace(-np.pi, np.pi, n, endpoint=False)
+        ok = closes(theta)
+        if not ok.any():
+            text = f"it closes at no value of {driver}"
+        elif not ok.all():
+            lo = np.flatnonzero(ok != np.roll(ok, -1))
+            a, b = theta[lo], theta[lo] + 2 * np.pi / n
+            inside = ok[lo]  # True: a closing edge (ok at a, not at b)
+            for _ in range(44):
+                mid = 0.5 * (a + b)
+                same = closes(mid) == inside
+                a, b = np.where(same, mid, a), np.where(same, b, mid)
+            edges = 0.5 * (a + b)
+            starts = edges[~inside]  # where it starts closing (going up)
+            ends = edges[inside]
+            if ok[0] and ok[-1]:  # the range that straddles −180° + drawn
+                ends = np.roll(ends, -1) if ends.size else ends
+            spans = []
+            for s0 in starts:
+                later = ends[(ends - s0) % (2 * np.pi) > 0]
+                e0 = min(later, key=lambda e: (e - s0) % (2 * np.pi)) if later.size else s0
+                spans.append((s0, s0 + (e0 - s0) % (2 * np.pi)))
+            parts = [f"[{np.degrees(x):.5g}°, {np.degrees(y):.5g}°]" for x, y in sorted(spans)]
+            text = f"it closes for {driver} in " + " and ".join(parts)
+    model.cache[key] = text
+    return text
 
 
 def _flags(st: State, codes: np.ndarray, model: _Model, info: _Info, n: int):

@@ -28,7 +28,7 @@ from __future__ import annotations
 from typing import Any
 
 from ._context import SpecError
-from ._machine import VERSION, Machine, Part, from_spec, load, load_machine
+from ._machine import VERSION, Machine, Part, from_spec, load, load_machine, read
 from ._toml import dumps
 
 __all__ = [
@@ -40,6 +40,7 @@ __all__ = [
     "from_spec",
     "load",
     "load_machine",
+    "read",
     "schema",
 ]
 
