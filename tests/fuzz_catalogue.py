@@ -32,6 +32,18 @@ FRONT_ENDS = (
 )
 
 
+#: Modules of a package that serve its public functions and are not called by users
+#: (their names would better start with "_"); the package's __all__ is fuzzed instead.
+INTERNAL_MODULES = {
+    "machdyn.synthesis.atlas_dask": "Dask plumbing of build_atlas",
+    "machdyn.synthesis.atlas_store": "the atlas folder's chunks and manifest (build_atlas)",
+    "machdyn.synthesis.circuits": "circuit sampling inside the atlas builder",
+    "machdyn.synthesis.descriptor": "curve descriptors inside path_from_atlas",
+    "machdyn.synthesis.geometry": "points and lines inside the synthesis functions",
+    "machdyn.synthesis.refine": "least-squares refinement inside path_from_atlas",
+}
+
+
 def public_modules() -> list[str]:
     """Every public module of machdyn with an ``__all__`` (packages before their modules)."""
     import importlib
@@ -43,7 +55,9 @@ def public_modules() -> list[str]:
     for info in pkgutil.walk_packages(machdyn.__path__, "machdyn."):
         if any(part.startswith("_") for part in info.name.split(".")):
             continue
-        if info.name.startswith(FRONT_ENDS) or info.name == "machdyn.errors":
+        if info.name.startswith(FRONT_ENDS) or info.name in INTERNAL_MODULES:
+            continue
+        if info.name == "machdyn.errors":
             continue
         if getattr(importlib.import_module(info.name), "__all__", None):
             names.append(info.name)
@@ -67,6 +81,9 @@ NOT_CALLED = {
     "machdyn.cams:TimeMotion",
     "machdyn.centres:InstantCentre",
     "machdyn.centres:InstantCentres",
+    "machdyn.centrodes:Centrodes",
+    "machdyn.centrodes:PitchCurves",
+    "machdyn.centrodes:RolledMotion",
     "machdyn.classify:Classification",
     "machdyn.dynamics:FourBarForces",
     "machdyn.dynamics:LinkEquations",
@@ -355,6 +372,31 @@ def catalogue() -> dict[str, Call]:
         ),
     )
     meth("machdyn.centres:InstantCentres.omega_ratio", _ics, i=3, j=2, ground=1)
+    meth("machdyn.centres:InstantCentres.method", _ics, i=1, j=3)
+    fn("machdyn.centrodes:centrodes", model=_fb(), values=THETA, moving=3, fixed=1, form=1)
+    fn("machdyn.centrodes:gear_pitch_curves", model=_fb(), values=THETA, link_a=2, link_b=4)
+    cent = lambda: __import__("machdyn.centrodes").centrodes.centrodes(_fb(), THETA, 3)  # noqa: E731
+    meth("machdyn.centrodes:Centrodes.placed", cent, k=2)
+    meth("machdyn.centrodes:Centrodes.roll", cent)
+    meth("machdyn.centrodes:Centrodes.to_pandas", cent)
+    meth(
+        "machdyn.centres:InstantCentres.mechanical_advantage",
+        _ics,
+        input=2,
+        output=4,
+        r_in=1.0,
+        r_out=2.0,
+        ground=1,
+    )
+    fn("machdyn.centres:instant_centres_of", lk=_linkage(), values=THETA, velocity=1.0)
+    fn("machdyn.centres:linkage_centres", lk=_linkage(), motion=_linkage().solve(THETA, 1.0))
+    meth("machdyn.linkage:Linkage.instant_centres", _linkage, values=THETA, velocity=2.0)
+    meth(
+        "machdyn.slidercrank:InvertedSliderCrank.instant_centres",
+        lambda: __import__("machdyn").InvertedSliderCrank(2.0, 4.0),
+        theta2=THETA,
+        form=1,
+    )
     meth("machdyn.fourbar:FourBar.inversions", _fb, n=101)
     fn("machdyn.inversions:inversions", r1=6.0, r2=9.0, r3=3.0, r4=8.0, n=101)
     arc = (math.radians(30.0), math.radians(90.0))
@@ -783,8 +825,6 @@ def _add_design(c, fn, meth) -> None:
     fn("machdyn.synthesis:atlas", r1=[2.0, 3.0], r3=2.5, r4=2.0, p=1.0, delta=0.3, n=36)
     fn("machdyn.synthesis:chebyshev_spacing", x0=1.0, xf=2.0, n=3)
     fn("machdyn.synthesis:circumcentre", p1=0j, p2=1 + 0j, p3=1j)
-    fn("machdyn.synthesis.geometry:as_points", field="c", value=[(0, 1), 2 + 3j], count=2)
-    c["machdyn.synthesis.geometry:as_points"].accepts["count"] = {"none"}
     fn(
         "machdyn.synthesis:coupler_points",
         r1=5.0,

@@ -155,9 +155,12 @@ def test_synth_path_cli_on_a_sixbar_atlas_writes_runnable_linkage_files(atlas6, 
     assert res["candidates"][0]["max_distance"] <= 1e-6 * size
     # the written file is a `machdyn linkage` file whose P passes through the first target
     assert main(["linkage", str(out / "candidate_1.toml"), "--json"]) == 0
-    rows = json.loads(capsys.readouterr().out)["rows"]
+    (part,) = json.loads(capsys.readouterr().out)["parts"].values()
+    points = part["tables"]["points"]  # columns named with their units (docs/spec.md)
+    rows = [dict(zip(points["columns"], r, strict=True)) for r in points["rows"]]
     assert len(rows) == 37 and all(r["ok"] for r in rows)  # solved round the whole turn
-    first = complex(rows[0]["P_x"], rows[0]["P_y"])  # drawn at the first target's pose
+    x, y = (next(k for k in rows[0] if k.startswith(f"P_{c}")) for c in "xy")
+    first = complex(rows[0][x], rows[0][y])  # drawn at the first target's pose
     assert np.min(np.abs(P - first)) <= 1e-6 * size
     assert main(["atlas", "info", str(atlas6.path), "--json", "--no-verify"]) == 0
     assert json.loads(capsys.readouterr().out)["kind"] == "sixbar"

@@ -53,6 +53,40 @@ def watt_with_slider(theta2: float = np.pi / 6, names: dict | None = None) -> Li
     return lk.drive(n["2"])
 
 
+def _cam():
+    from machdyn import cams
+
+    prog = cams.CamProgram(
+        [
+            cams.Segment("rise", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+            cams.Segment("fall", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+        ]
+    )
+    return cams.TranslatingRoller(prime_radius=3.0, roller_radius=0.5).profile(prog)
+
+
+def _gears():
+    from machdyn.gears import Gear, GearPair
+
+    return GearPair(Gear(18, module=1.0), Gear(40, module=1.0))
+
+
+def _path():
+    from machdyn.synthesis import PlacedFourBar
+    from machdyn.synthesis.path import PathSynthesis
+
+    pl = PlacedFourBar.from_pivots(O2=0, O4=8, A=4, B=8 + 6j, P=5 + 3j)
+    targets = pl.pose(np.radians([0.0, 40.0, 80.0, 120.0]))[2] + 0.05
+    return PathSynthesis(
+        pl, targets, np.zeros(4), np.full(4, 0.07), "GCRR", True, 0.6, True, 0.0, ()
+    )
+
+
+ELEMENTS = {"cam": _cam, "gears": _gears, "path": _path}
+
+
 DRAWN = """(uid) => {
   const svg = document.getElementById(uid);
   const out = {bars: [], plates: [], pins: [], sliders: [], frame: svg.getAttribute("data-frame")};
@@ -131,9 +165,13 @@ def test_six_bar_with_a_slider_is_drawn_at_the_solved_coordinates(tab, tmp_path)
         ),
         ("slidercrank", SliderCrank(2.0, 6.0, 0.5, point=(3.0, 0.4)), ("slider", "slide_guide")),
         ("inverted_slidercrank", InvertedSliderCrank(2.0, 4.0, 0.5), ("slider", "link4")),
+        ("cam_roller", "cam", ("cam", "roller", "follower")),
+        ("gear_pair", "gears", ("pinion", "gear", "line_of_action")),
+        ("path_synthesis", "path", ("link2", "coupler_curve", "targets")),
     ],
 )
-def test_each_closed_form_model_draws_in_the_browser(tab, tmp_path, name, model, expect):
+def test_each_model_draws_in_the_browser(tab, tmp_path, name, model, expect):
+    model = ELEMENTS[model]() if isinstance(model, str) else model
     path = tmp_path / f"{name}.html"
     to_html(model, path, n=48)
     page = tab.open(path)

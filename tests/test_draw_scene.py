@@ -174,3 +174,42 @@ def test_bad_input_names_the_field():
     with pytest.raises(InputError) as err:
         to_svg(s, uid="1 bad")
     assert err.value.field == "uid"
+
+
+# ----------------------------------------------------------------------------- elements
+def test_the_roller_rides_the_turning_cam():
+    from machdyn import cams
+
+    prog = cams.CamProgram(
+        [
+            cams.Segment("rise", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+            cams.Segment("fall", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+        ]
+    )
+    cam = cams.TranslatingRoller(prime_radius=3.0, roller_radius=0.5).profile(prog, n=720)
+    s = scene(cam, n=48)
+    (shape,) = [i for i in s.items if i.gid == "cam"]
+    for f in range(0, 48, 7):
+        surface = shape.outline * np.exp(1j * s.angles["cam"][f])  # the cam as drawn
+        roller = s.point("roller")[f]
+        # the roller touches the cam: its centre is one roller radius from the surface
+        assert np.abs(surface - roller).min() == pytest.approx(0.5, abs=2e-3)
+        # and sits on the follower's axis (x = 0) at the prime radius + s
+        assert roller.real == pytest.approx(0.0, abs=1e-12)
+        assert roller.imag == pytest.approx(3.0 + cam.s[f * 15], abs=1e-12)
+
+
+def test_gears_turn_at_the_velocity_ratio_along_their_line_of_action():
+    from machdyn.gears import Gear, GearPair
+
+    pair = GearPair(Gear(18, module=1.0), Gear(40, module=1.0))
+    s = scene(pair, n=30)
+    np.testing.assert_allclose(np.diff(s.angles["gear"]) / np.diff(s.angles["pinion"]), -18 / 40)
+    first, last = s.point("first")[0], s.point("last")[0]
+    # the line of action is tangent to both base circles (Norton §9.2)
+    for centre, rb in ((0j, pair.pinion.base_radius), (s.point("Og")[0], pair.gear.base_radius)):
+        u = (last - first) / abs(last - first)
+        assert abs(((centre - first) * np.conj(u)).imag) == pytest.approx(rb, rel=1e-9)
+    assert abs(last - first) == pytest.approx(pair.length_of_action, rel=1e-9)

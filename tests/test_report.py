@@ -316,3 +316,52 @@ def test_cli_reports_a_machine_file_with_its_units_and_masses(cli, tmp_path):
     assert number(text) == pytest.approx(np.abs(f.F32).max(), rel=5e-4)
     assert "lbf" in text and "in)" in page  # the file's units label the numbers
     assert set(checks_of(page).values()) == {"pass"}
+
+
+# --------------------------------------------------------------------------------------
+# machine elements
+
+
+def test_cam_report_lists_the_profiles_own_checks():
+    from machdyn import cams
+
+    prog = cams.CamProgram(
+        [
+            cams.Segment("rise", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+            cams.Segment("fall", np.radians(60), 1.0, "cycloidal"),
+            cams.Segment("dwell", np.radians(120)),
+        ]
+    )
+    cam = cams.TranslatingRoller(prime_radius=3.0, roller_radius=0.5).profile(prog)
+    page = report(cam)
+    for check in cam.checks():
+        assert check.detail.replace("|", "|") in page.replace("&#x27;", "'")
+    first = re.search(r'id="headline">(.*?)</p>', page).group(1)
+    assert "passes every design check" in first
+    # a cam too small for its lift fails the pressure angle, and the first line says so
+    small = cams.TranslatingRoller(prime_radius=1.2, roller_radius=0.3).profile(prog)
+    first = re.search(r'id="headline">(.*?)</p>', report(small)).group(1)
+    assert "FAILS" in first and "pressure angle" in first
+
+
+def test_gear_report_numbers_are_the_pairs():
+    from machdyn.gears import Gear, GearPair
+
+    pair = GearPair(Gear(18, module=1.0), Gear(40, module=1.0))
+    page = report(pair)
+    assert number(cell(page, "contact_ratio")) == pytest.approx(pair.contact_ratio, rel=1e-5)
+    assert number(cell(page, "center_distance")) == pytest.approx(pair.center_distance, rel=1e-5)
+    assert "no interference" in re.search(r'id="headline">(.*?)</p>', page).group(1)
+
+
+def test_cli_report_of_a_machine_that_cannot_be_assembled_says_so_first(cli, tmp_path):
+    spec = tmp_path / "bad.toml"
+    spec.write_text("machdyn = 1\n[fourbar.bad]\nr1 = 20\nr2 = 4\nr3 = 7\nr4 = 6\n")
+    out = tmp_path / "bad.html"
+    code, output = cli(spec, "-o", out)
+    assert code == 0, output
+    page = out.read_text(encoding="utf-8")
+    first = re.search(r'<body>\s*<p class="headline bad" id="headline">(.*?)</p>', page).group(1)
+    assert "cannot be assembled" in first and "17" in first  # the sum of the other three
+    assert "r1 = 20" in page  # the machine as given

@@ -15,7 +15,7 @@ import machdyn
 from machdyn import units as u
 from machdyn.fourbar import FourBar
 from machdyn.slidercrank import InvertedSliderCrank, SliderCrank
-from machdyn.spec import SpecError, dumps, from_spec, load, load_machine
+from machdyn.spec import SpecError, dumps, from_spec, load, load_machine, read
 from machdyn.spec._lines import KeyLines
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "docs" / "examples"
@@ -173,7 +173,7 @@ def test_gravity_defaults_only_with_a_unit_system(units, gravity, expected):
         with pytest.raises(SpecError, match=expected):
             from_spec(spec)
     else:
-        assert from_spec(spec).gravity == pytest.approx(expected, rel=1e-12)
+        assert read(spec).gravity == pytest.approx(expected, rel=1e-12)
 
 
 # ------------------------------------------------------------------ the HW 6 example
@@ -207,9 +207,9 @@ def test_hw6_example_runs_as_the_python_api_computes_it():
 # ------------------------------------------------------------------ same machine, two unit systems
 def _mm_and_si(si: dict, mm: dict) -> tuple:
     """The same machine with SI units, and with mm, g, deg and rpm (and gravity as in si)."""
-    a = from_spec(doc(units={"length": "m", "mass": "kg", "time": "s", "angle": "rad"}, **si))
+    a = read(doc(units={"length": "m", "mass": "kg", "time": "s", "angle": "rad"}, **si))
     units = {"length": "mm", "mass": "g", "angle": "deg", "angular_velocity": "rpm"}
-    b = from_spec(doc(units=units, **({"gravity": True} if "gravity" in si else {}), **mm))
+    b = read(doc(units=units, **({"gravity": True} if "gravity" in si else {}), **mm))
     return a, b
 
 
@@ -369,7 +369,7 @@ def test_slider_cranks_round_trip(a, b, c, point):
 
 def test_machine_round_trips_with_its_settings():
     machine = load_machine(EXAMPLES / "hw6.toml")
-    again = from_spec(tomllib.loads(dumps(machine.to_spec())))
+    again = read(tomllib.loads(dumps(machine.to_spec())))
     assert again.to_spec() == machine.to_spec()
     assert again.gravity == machine.gravity and again.units == machine.units
     assert again["hw6"].lengths == machine["hw6"].lengths

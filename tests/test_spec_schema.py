@@ -19,8 +19,7 @@ from hypothesis import strategies as st
 
 from machdyn.cli import main
 from machdyn.errors import MachdynError
-from machdyn.spec import SpecError, dumps, from_spec, load_machine, schema
-from machdyn.spec._machine import read
+from machdyn.spec import SpecError, dumps, from_spec, load_machine, read, schema
 from machdyn.spec._schema import build
 
 jsonschema = pytest.importorskip("jsonschema")
@@ -147,7 +146,7 @@ VALUES = st.one_of(
 def test_fuzzed_files_are_read_completely_or_refused_in_one_line(path, value):
     doc = _set(_hw6(), path, value)
     try:
-        machine = read(doc)  # always a Machine (from_spec gives the lone part)
+        machine = read(doc)  # always a Machine (from_spec gives a lone part's model)
     except SpecError as exc:
         message = str(exc)
         assert "\n" not in message and message, message

@@ -24,7 +24,7 @@ import numpy as np
 
 from ._angles import wrap_2pi
 from ._flags import Flagged
-from ._validate import choice, common_length_unit, finite_scalar, input_motion, length
+from ._validate import choice, common_length_unit, finite_array, finite_scalar, input_motion, length
 from .centres import InstantCentres, at_infinity, finite, intersect, line_through
 from .errors import AssemblyError, InputError
 from .units import UnitSystem, from_quantity_unit
@@ -482,6 +482,40 @@ class InvertedSliderCrank:
 
     def __repr__(self) -> str:
         return f"InvertedSliderCrank(crank={self.a:g}, ground={self.d:g}, offset={self.c:g})"
+
+    def instant_centres(self, theta2: Any, form: int = 1) -> InstantCentres:
+        """The six instant centres (1 ground, 2 crank, 3 block, 4 slotted link).
+
+        By inspection I12 = O2, I23 = A, I14 = O4 and I34 at infinity normal to
+        the slot; by Kennedy's rule, as the notes' Problem 6-13(a) does it,
+        I13 on I12–I23 and I14–I34, I24 on I12–I14 and I23–I34.
+
+        Examples
+        --------
+        Crank 2, pivots 4 apart, θ2 = 90°: A = 2j, the slot runs from O4 toward
+        A, and the normal through O4 meets O2A at I13 = −8j:
+
+        >>> ics = InvertedSliderCrank(2.0, 4.0).instant_centres(np.radians(90))
+        >>> complex(np.round(ics[1, 3].point, 9) + 0), complex(np.round(ics[2, 4].point, 9) + 0)
+        (-8j, (-1+0j))
+        """
+        m = self.solve(finite_array("theta2", theta2), form=form)
+        shape = np.shape(m.A)
+        I12 = finite(np.zeros(shape, dtype=complex))
+        I14 = finite(np.full(shape, self.d, dtype=complex))
+        I23 = finite(m.A)
+        I34 = at_infinity(1j * np.exp(1j * m.theta4))
+        I13 = intersect(line_through(I12, I23), line_through(I14, I34))
+        I24 = intersect(line_through(I12, I14), line_through(I23, I34))
+        valid = m.status != NOT_ASSEMBLABLE
+        return InstantCentres(
+            {(1, 2): I12, (2, 3): I23, (3, 4): I34, (1, 4): I14, (1, 3): I13, (2, 4): I24},
+            valid,
+            bodies=(1, 2, 3, 4),
+            reason=np.where(valid, "", STATUS_REASONS[NOT_ASSEMBLABLE]),
+            methods={(1, 3): "kennedy", (2, 4): "kennedy"}
+            | dict.fromkeys([(1, 2), (2, 3), (1, 4), (3, 4)], "joint"),
+        )
 
     def draw(self, frame: int | None = None, ax: Any = None, **options: Any):
         """Draw the mechanism in one pose of its turn (see :func:`machdyn.draw.draw`)."""

@@ -29,7 +29,7 @@ def _register() -> None:
     from .linkage import linkage
     from .plot import animate
     from .report import report
-    from .run import run
+    from .run import run, spec_app
     from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
@@ -42,6 +42,7 @@ def _register() -> None:
     app.add_typer(synth_app, name="synth")
     app.add_typer(atlas_app, name="atlas")
     app.command("run")(run)
+    app.add_typer(spec_app, name="spec")
 
 
 _register()

@@ -7,13 +7,14 @@ linkage TOML files of ``machdyn linkage``), the page from :mod:`machdyn.report`.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated, Any
 
 import numpy as np
 import typer
 
-from ..errors import InputError
+from ..errors import InputError, MachdynError
 
 __all__ = ["OUTPUT_KINDS", "load_model", "report"]
 
@@ -27,19 +28,9 @@ def load_model(path: Path) -> tuple[Any, dict[str, Any]]:
     A machine file (``machdyn = 1``, docs/spec.md) is read by
     :func:`machdyn.spec.load_machine`: its first four-bar or linkage part is
     reported, with the file's speed, mass properties, loads, gravity and units.
-    Any other TOML file is read as a linkage file of ``machdyn linkage``.
+    An old ``machdyn linkage`` file (no ``machdyn = 1``) is upgraded on reading.
     """
-    import tomllib
-
-    if not path.is_file():
-        raise InputError(str(path), "no such file" if not path.exists() else "not a file")
-    try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(str(path), f"TOML syntax error: {exc}") from None
-    if "machdyn" in doc:
-        return _machine_part(path)
-    return _linkage_file(path)
+    return _machine_part(path)
 
 
 def _machine_part(path: Path) -> tuple[Any, dict[str, Any]]:
@@ -69,6 +60,17 @@ def _machine_part(path: Path) -> tuple[Any, dict[str, Any]]:
             return part.model, options
         if isinstance(part.model, Linkage):
             options["gravity"] = float(machine.gravity or 0.0)
+            first = v.get("motion", {}).get(part.model.drivers[0]) if part.model.drivers else None
+            if first is not None:  # a DriverSetting: values in the model's units (radians)
+                if first.velocity is not None:
+                    options["velocity"] = first.velocity
+                values = first.values.values if first.values is not None else ()
+                if len(values) > 1:  # the file's range, finely
+                    is_angle = first.kind == "angle"
+                    lo, hi = float(values[0]), float(values[-1])
+                    if is_angle:
+                        lo, hi = math.degrees(lo), math.degrees(hi)
+                    options["values"] = (lo, hi, is_angle)
             return part.model, options
     kinds = ", ".join(sorted({p.kind for p in machine.parts.values()})) or "none"
     raise InputError(
@@ -76,24 +78,6 @@ def _machine_part(path: Path) -> tuple[Any, dict[str, Any]]:
         f"no four-bar or linkage part to report (parts: {kinds}); the "
         "report covers [fourbar.NAME] and [linkage.NAME] parts",
     )
-
-
-def _linkage_file(path: Path) -> tuple[Any, dict[str, Any]]:
-    from .linkage import load
-
-    spec = load(path)
-    options: dict[str, Any] = {"gravity": spec.gravity}
-    if spec.units.get("length"):
-        options["length_unit"] = spec.units["length"]
-    if spec.drivers:
-        first = spec.motion.get(spec.drivers[0])
-        if first is not None:
-            options["velocity"] = first.velocity
-            if first.sweep is not None and first.sweep.size > 1:  # the file's range, finely
-                is_angle = spec.drivers[0] in spec.angle_drivers
-                lo, hi = float(first.sweep[0]), float(first.sweep[-1])
-                options["values"] = (lo, hi, is_angle)
-    return spec.linkage, options
 
 
 def report(
@@ -121,7 +105,13 @@ def report(
         raise InputError("--k", f"must be in (0, 0.5), got {k:g}")
     if speed is not None and not (np.isfinite(speed) and speed != 0.0):
         raise InputError("--speed", f"must be a finite non-zero speed, got {speed:g}")
-    model, options = load_model(file)
+    try:
+        model, options = load_model(file)
+    except MachdynError as err:
+        if "cannot be assembled" not in str(err):
+            raise
+        _unassemblable(file, out, str(err))
+        return
     from ..fourbar import FourBar
     from ..report import report as write_report
 
@@ -146,3 +136,24 @@ def report(
     import html
 
     print(html.unescape(first))
+
+
+def _unassemblable(file: Path, out: Path, message: str) -> None:
+    """A report whose first line says the machine cannot be assembled, with the file as given."""
+    from ..report.page import Page, esc
+
+    page = Page(file.stem, f"{file.name}: cannot be assembled anywhere — {message}")
+    page.failed = True
+    text = file.read_text(encoding="utf-8", errors="replace")
+    page.section("model", "The machine as given", f"<pre>{esc(text)}</pre>")
+    html_text = page.html()
+    if out.suffix.lower() == ".pdf":
+        from ..report import to_pdf
+
+        html_path = out.with_suffix(".html")
+        html_path.write_text(html_text, encoding="utf-8")
+        to_pdf(html_path, out)
+    else:
+        out.write_text(html_text, encoding="utf-8")
+    print(f"wrote {out}")
+    print(f"{file.name}: cannot be assembled anywhere — {message}")

@@ -97,7 +97,7 @@ def _repr(value: Any) -> Any:
 
 def _summary_text(value: Any) -> str:
     if isinstance(value, list | tuple | np.ndarray):
-        return " to ".join(_summary_text(v) for v in value)
+        return ", ".join(_summary_text(v) for v in value)
     if isinstance(value, float | np.floating):
         return f"{float(value):.6g}" if math.isfinite(value) else "-"
     return str(value)
@@ -153,6 +153,12 @@ def run(
     if json and csv_out:
         raise InputError("--csv", "choose one of --json and --csv")
     machine = load_machine(file)
+    if machine.legacy:
+        import sys
+
+        from ..spec._legacy import NOTE
+
+        print(NOTE.format(file=file), file=sys.stderr)
     if part is not None and part not in machine.parts:
         raise InputError("--part", f"{part!r} is not a part; parts: {', '.join(machine.parts)}")
     if out is not None and out.exists() and not out.is_dir():
@@ -189,3 +195,56 @@ def run(
             _print_part(machine, r)
         if out is not None:
             print(f"wrote {out}/ (CSV per table, result.json, machine.toml)")
+
+
+spec_app = typer.Typer(
+    help="Machine files: check one, upgrade an old linkage file, print the JSON Schema.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+
+@spec_app.command("check")
+def check(file: Annotated[Path, typer.Argument(help="A machine file (.toml or .json).")]) -> None:
+    """Read a machine file completely (units, names, references) without analysing it."""
+    from ..spec import load_machine
+
+    machine = load_machine(file)
+    listed = ", ".join(f"{p.kind} {p.name}" for p in machine.parts.values())
+    print(f"{file}: ok ({listed}; {_units_line(machine.units)})")
+
+
+@spec_app.command("upgrade")
+def upgrade(
+    file: Annotated[Path, typer.Argument(help="An old `machdyn linkage` file.")],
+) -> None:
+    """Print an old linkage file (no ``machdyn = 1``) in the machine-file format."""
+    import tomllib
+
+    from ..spec import dumps as spec_dumps
+    from ..spec import load_machine
+    from ..spec._legacy import upgrade as upgraded
+
+    load_machine(file)  # read completely first: errors name the old file's lines
+    doc = tomllib.loads(Path(file).read_text(encoding="utf-8"))
+    if "machdyn" in doc:
+        raise InputError(str(file), "is a machine file already (it has machdyn = 1)")
+    print(spec_dumps(upgraded(doc)), end="")
+
+
+@spec_app.command("schema")
+def schema_cmd(
+    path: Annotated[
+        bool, typer.Option("--path", help="Print where the schema file is instead of its text.")
+    ] = False,
+) -> None:
+    """Print the JSON Schema of machine files (for editors that check TOML/JSON files)."""
+    from ..spec import schema
+
+    if path:
+        from ..spec import __file__ as spec_init
+
+        print(Path(spec_init).with_name("machdyn.schema.json"))
+        return
+    print(dumps(schema()))

@@ -392,8 +392,28 @@ def scene(model: Any, *, n: int = 120, form: int = 1, theta2: Any = None, **opti
         t = _turn(n) if theta2 is None else np.ravel(theta2)
         with np.errstate(invalid="ignore", divide="ignore"):
             return inverted_scene(model, model.solve(t, omega2, form=form))
+    from ..cams import CamProfile
+    from ..gears import GearPair
     from ..linkage import Linkage
 
+    if isinstance(model, CamProfile):
+        from .elements import cam_scene
+
+        return cam_scene(model, n=n, **options)
+    if isinstance(model, GearPair):
+        from .elements import gear_scene
+
+        return gear_scene(model, n=n, **options)
+    from ..synthesis import MotionSynthesis, PathSynthesis
+
+    if isinstance(model, MotionSynthesis):
+        from .synthesis import motion_synthesis_scene
+
+        return motion_synthesis_scene(model, options.pop("targets", None))
+    if isinstance(model, PathSynthesis):
+        from .synthesis import path_synthesis_scene
+
+        return path_synthesis_scene(model, n=n)
     if isinstance(model, Linkage):
         from .linkage import scene_of_linkage
 

@@ -23,8 +23,10 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
 __all__ = [
+    "cam_charts",
     "force_units",
     "pin_force_charts",
+    "plot_cam_design",
     "plot_pin_forces",
     "plot_shaking",
     "plot_torque",
@@ -369,4 +371,134 @@ def plot_shaking(
         fig = Figure(figsize=(4.2 * len(charts), 3.8), layout="constrained")
     for ax, chart in zip(fig.subplots(1, len(charts), squeeze=False).ravel(), charts, strict=True):
         chart.to_mpl(ax)
+    return fig
+
+
+# --------------------------------------------------------------------------------------
+# Cams
+
+
+def cam_charts(
+    profile: Any, *, max_pressure_angle_deg: float = 30.0, length_unit: str | None = None
+) -> list[Chart]:
+    """SVAJ of a cam with its pressure angle and radius of curvature beside it.
+
+    Six charts against the cam angle θ (deg): s, v (per rad), a (per rad²),
+    j (per rad³) — the notes' svaj diagrams — then the pressure angle φ with its
+    limit (shaded beyond ±limit) and the radii of curvature of the pitch curve
+    and of the surface, with the roller radius drawn (a convex pitch radius
+    below it undercuts, Norton §8.7; negative ρ is concave). Values beyond
+    ±10 × the base radius (near inflections ρ → ∞) are left out as gaps.
+
+    Examples
+    --------
+    >>> from machdyn import cams
+    >>> prog = cams.CamProgram([cams.Segment("rise", np.pi / 2, 1.0, "cycloidal"),
+    ...                         cams.Segment("fall", np.pi / 2, 1.0, "cycloidal"),
+    ...                         cams.Segment("dwell", np.pi)])
+    >>> cam = cams.TranslatingRoller(prime_radius=3.0, roller_radius=0.5).profile(prog)
+    >>> [c.ylabel for c in cam_charts(cam)]  # doctest: +NORMALIZE_WHITESPACE
+    ['s (model units)', 'v (model units/rad)', 'a (model units/rad²)', 'j (model units/rad³)',
+     'pressure angle φ (deg)', 'radius of curvature ρ (model units)']
+    """
+    u = length_unit or "model units"
+    x = np.degrees(np.asarray(profile.theta, float))
+    charts = [
+        Chart(
+            "follower displacement",
+            "cam angle θ (deg)",
+            f"s ({u})",
+            [Series(x, np.asarray(profile.s, float), "s")],
+        ),
+        Chart(
+            "velocity",
+            "cam angle θ (deg)",
+            f"v ({u}/rad)",
+            [Series(x, np.asarray(profile.v, float), "v")],
+            hlines=[(0.0, "", "#999")],
+        ),
+        Chart(
+            "acceleration",
+            "cam angle θ (deg)",
+            f"a ({u}/rad²)",
+            [Series(x, np.asarray(profile.a, float), "a")],
+            hlines=[(0.0, "", "#999")],
+        ),
+        Chart(
+            "jerk",
+            "cam angle θ (deg)",
+            f"j ({u}/rad³)",
+            [Series(x, np.asarray(profile.j, float), "j")],
+            hlines=[(0.0, "", "#999")],
+        ),
+    ]
+    phi = np.degrees(np.asarray(profile.pressure_angle, float))
+    lim = float(max_pressure_angle_deg)
+    top = max(lim * 1.3, float(np.nanmax(np.abs(phi))) * 1.1 if phi.size else lim)
+    pa = Chart(
+        "pressure angle",
+        "cam angle θ (deg)",
+        "pressure angle φ (deg)",
+        [Series(x, phi, "φ")],
+        hlines=[(lim, f"limit ±{lim:g}°", "#d62728"), (-lim, "", "#d62728")],
+        ylim=(-top, top),
+    )
+    pa.bands.append((x, np.full_like(x, lim), np.full_like(x, top), "#ff9896"))
+    pa.bands.append((x, np.full_like(x, -top), np.full_like(x, -lim), "#ff9896"))
+    if phi.size:
+        k = int(np.nanargmax(np.abs(phi)))
+        pa.series.append(Series(x[k : k + 1], phi[k : k + 1], colour="#d62728", marker=True))
+        pa.notes.append((x[k], phi[k] * 0.8, f"|φ| max = {abs(phi[k]):.2f}° at {x[k]:.1f}°"))
+    charts.append(pa)
+    cap = 10.0 * max(float(profile.base_radius), 1e-12)
+    clip = lambda r: np.where(np.abs(r) <= cap, r, np.nan)  # noqa: E731
+    rho = [Series(x, clip(np.asarray(profile.rho_surface, float)), "ρ surface")]
+    if profile.rho_pitch is not None:
+        rho.insert(0, Series(x, clip(np.asarray(profile.rho_pitch, float)), "ρ pitch curve"))
+    rc = Chart(
+        "radius of curvature",
+        "cam angle θ (deg)",
+        f"radius of curvature ρ ({u})",
+        rho,
+        hlines=[(0.0, "", "#999")],
+    )
+    if profile.roller_radius > 0:
+        rc.hlines.append(
+            (float(profile.roller_radius), f"roller radius {profile.roller_radius:g}", "#d62728")
+        )
+    under = np.asarray(profile.undercut, bool)
+    if under.any():
+        y = np.where(under, 0.0, np.nan)
+        rc.series.append(Series(x, y, "undercut", colour="#d62728", width=5.0))
+    charts.append(rc)
+    return charts
+
+
+def plot_cam_design(
+    profile: Any, *, max_pressure_angle_deg: float = 30.0, fig: Figure | None = None
+) -> Figure:
+    """SVAJ with the pressure angle and radius of curvature beside it (see :func:`cam_charts`).
+
+    Examples
+    --------
+    >>> from machdyn import cams
+    >>> prog = cams.CamProgram([cams.Segment("rise", np.pi / 2, 1.0, "cycloidal"),
+    ...                         cams.Segment("fall", np.pi / 2, 1.0, "cycloidal"),
+    ...                         cams.Segment("dwell", np.pi)])
+    >>> cam = cams.TranslatingRoller(prime_radius=3.0, roller_radius=0.5).profile(prog)
+    >>> fig = plot_cam_design(cam)
+    >>> len(fig.axes)
+    6
+    """
+    charts = cam_charts(profile, max_pressure_angle_deg=max_pressure_angle_deg)
+    if fig is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(11, 8), layout="constrained")
+    axes = fig.subplots(4, 2, squeeze=False)
+    order = [axes[0, 0], axes[1, 0], axes[2, 0], axes[3, 0], axes[0, 1], axes[1, 1]]
+    for ax, chart in zip(order, charts, strict=True):
+        chart.to_mpl(ax)
+    for ax in (axes[2, 1], axes[3, 1]):
+        ax.remove()
     return fig

@@ -280,6 +280,14 @@ def _labels(scene: Scene, f: _Frame, uid: str) -> str:
             f'<text data-point="{scene.index(p)}" x="{f.n(z.real + 1.6 * f.unit)}" '
             f'y="{f.n(-z.imag - 1.6 * f.unit)}"{vis}>{_esc(p)}</text>'
         )
+    for c in scene.curves:  # numbered targets (static; drawn with the names)
+        if c.style == "markers":
+            for i, z in enumerate(np.ravel(np.asarray(c.points, complex)), start=1):
+                if _finite(z):
+                    out.append(
+                        f'<text class="target-number" x="{f.n(z.real + 1.5 * f.unit)}" '
+                        f'y="{f.n(-z.imag + 3.2 * f.unit)}" fill="{_esc(c.colour)}">{i}</text>'
+                    )
     size = f.n(3.4 * f.unit)
     return f'<g id="{uid}-labels" class="labels" font-size="{size}">{"".join(out)}</g>'
 
@@ -458,7 +466,8 @@ def widget(scene: Scene, *, fps: float = 30.0, labels: bool = True, uid: str | N
         raise InputError("fps", f"must be in (0, 240] frames per second, got {fps:g}")
     uid = uid or f"md{next(_counter)}"
     data = frame_data(scene)
-    data["fps"] = float(fps)
+    # a handful of frames (precision positions) is stepped through slowly enough to read
+    data["fps"] = float(fps) if len(scene) >= 12 else min(float(fps), 1.0)
     rows = "".join(
         f'<tr><td>{_esc(r.label)}</td><td class="v" data-row="{i}"></td>'
         f"<td>{_esc(r.unit)}</td></tr>"
@@ -550,7 +559,7 @@ SCRIPT = r"""
     function ok(j, i) { return X(j, i) !== null && Y(j, i) !== null; }
     const moving = svg.querySelector("g.moving");
     const els = D.items.map(function (it) { return document.getElementById(uid + "-" + it.id); });
-    const labels = Array.from(svg.querySelectorAll("g.labels text"));
+    const labels = Array.from(svg.querySelectorAll("g.labels text[data-point]"));
     const cells = Array.from(root.querySelectorAll("table.readout td.v"));
     const note = root.querySelector(".note");
     const count = root.querySelector(".count");

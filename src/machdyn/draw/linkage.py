@@ -50,6 +50,9 @@ def drawn_value(lk: Any, driver: str) -> float:
     >>> round(float(np.degrees(drawn_value(lk, "crank"))), 6)
     90.0
     """
+    inputs = getattr(lk, "drawn_inputs", None)  # the linkage's own answer, where it has one
+    if inputs is not None and driver in inputs:
+        return float(inputs[driver])
     if driver in lk.links:
         return _angle_of(lk, driver)
     joint = next((j for j in lk.joints if j.name == driver and j.kind != "pin"), None)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._validate import finite_scalar
 from ..errors import InputError, ModelError
@@ -20,6 +20,9 @@ from .joints import _JointMethods
 from .kinematics import LinkageMotion
 from .topology import _Edge, _Model, edges_of
 from .view import Joint, Link, Spring, TorsionSpring, elements_of, joints_of
+
+if TYPE_CHECKING:
+    from ..centres import InstantCentres
 
 
 class Linkage(_JointMethods, _ElementMethods):
@@ -48,12 +51,18 @@ class Linkage(_JointMethods, _ElementMethods):
     True
     """
 
+    #: The units the linkage computes in and labels its results with (a
+    #: :class:`machdyn.units.UnitSystem`, set by :func:`machdyn.load`); None: unit-free.
+    units: Any = None
+
     def __init__(self, points: Mapping[str, Any] | None = None) -> None:
         self._points: dict[str, complex] = {}
         self._links: dict[str, Link] = {}
         self._ground: tuple[str, ...] = ()
         self._sliders: dict[str, tuple[str, str, str, complex, str | None]] = {}
         self._slots: dict[str, tuple[str, str, str, complex, str | None]] = {}
+        # curved slots and sliders: name -> (kind "slot"/"slider", moving, on, at, centre, R)
+        self._curved: dict[str, tuple[str, str, str, str, str, float]] = {}
         self._actuators: dict[str, tuple[str, str, str, str]] = {}
         self._rolls: dict[str, tuple[str, str, float, str, str, float, bool]] = {}
         self._motors: dict[str, tuple[str, tuple[str, str] | None]] = {}  # name -> (pin, links)
@@ -255,6 +264,7 @@ class Linkage(_JointMethods, _ElementMethods):
         tables = (
             self._sliders,
             self._slots,
+            self._curved,
             self._actuators,
             self._rolls,
             self._motors,
@@ -297,6 +307,12 @@ class Linkage(_JointMethods, _ElementMethods):
         order they were added.
         """
         return joints_of(self)
+
+    def to_spec(self, name: str = "linkage") -> dict[str, Any]:
+        """The linkage as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "linkage", name)
 
     @property
     def drivers(self) -> tuple[str, ...]:
@@ -360,6 +376,21 @@ class Linkage(_JointMethods, _ElementMethods):
 
         return to_html(self, path, **options)
 
+    def instant_centres(self, values: Any, velocity: Any = None) -> InstantCentres:
+        """All instant centres at driver ``values``: :func:`machdyn.centres.instant_centres_of`.
+
+        Examples
+        --------
+        >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (0, 2), "B": (5.0, 5.0)})
+        ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+        ...       .link("rocker", "O4", "B").drive("crank"))
+        >>> lk.instant_centres(1.0).method("ground", "coupler")
+        'kennedy'
+        """
+        from ..centres import instant_centres_of
+
+        return instant_centres_of(self, values, velocity)
+
     # ------------------------------------------------------------------ structure
 
     def _owner(self, point: str, preferred: str = "") -> str:
@@ -408,8 +439,10 @@ class Linkage(_JointMethods, _ElementMethods):
                 joints.append(("R", (e.a, e.b)))
             elif e.kind == "P":
                 joints.append(("P", (e.a, e.b)))
-            elif e.kind == "slot":
+            elif e.kind in ("slot", "arc"):  # arc: a pin in a curved slot
                 joints.append(("pin-in-slot", (e.a, e.b)))
+            elif e.kind == "arcP":  # a block on a curved guide
+                joints.append(("P", (e.a, e.b)))
             elif e.kind == "roll":  # a carried contact only adds the no-slip condition
                 joints.append(("half" if e.carried else "rolling", (e.a, e.b)))
             else:

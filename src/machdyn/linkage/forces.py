@@ -20,6 +20,12 @@ _CHUNK = 1 << 15
 #: A force block whose pivot ratio (after equilibration) is below this is singular.
 _SINGULAR_RCOND = 1e-12
 
+#: Joints that slide: straight slider and slot, and their curved forms (arc: a pin in
+#: a curved slot; arcP: a block on a curved guide, turning with the radius).
+_ARCS = ("arc", "arcP")
+_SLIDING = ("P", "slot", *_ARCS)
+_WITH_COUPLE = ("P", "arcP")
+
 FORCE_REASONS = {
     "singular": "singular force system (toggle or dead point): the joint forces are not "
     "determined by Newton–Euler",
@@ -241,6 +247,10 @@ def _forces(
     slide_u = {
         e.name: e.direction * np.exp(1j * delta[e.a]) for e in edges if e.kind in ("P", "slot")
     }
+    for e in edges:  # a curved slot or slider slides along the tangent, normal to C→P
+        if e.kind in _ARCS:
+            radial = P[e.pb] - P[e.pa]
+            slide_u[e.name] = 1j * radial / np.where(np.abs(radial) > 0, np.abs(radial), 1.0)
     contact: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # roll -> (point, tangent)
     for e in edges:
         if e.kind != "roll":
@@ -301,12 +311,12 @@ def _forces(
             X = P[e.pa]
             for comp, u in (("x", one + 0j), ("y", 1j * one)):
                 force_col([(e.b, X, u, 1.0), (e.a, X, u, -1.0)], ("pin", f"{e.a}|{e.b}|{comp}"))
-        elif e.kind in ("P", "slot"):
+        elif e.kind in _SLIDING:
             X = P[e.pb]
             uhat = slide_u[e.name]
             un = 1j * uhat + kappa.get(e.name, 0.0) * uhat
             force_col([(e.b, X, un, 1.0), (e.a, X, un, -1.0)], ("normal", e.name))
-            if e.kind == "P":
+            if e.kind in _WITH_COUPLE:
                 couple_col([(e.b, 1.0), (e.a, -1.0)], ("couple", e.name))
             if e.name in drivers:
                 force_col([(e.b, X, uhat, 1.0), (e.a, X, uhat, -1.0)], ("driver", e.name))
@@ -535,11 +545,11 @@ def _forces(
             ).reshape(shape)
     normal, couple, sliders, driver = {}, {}, {}, {}
     for e in lk._edges():
-        if e.kind in ("P", "slot"):
+        if e.kind in _SLIDING:
             N = col_of("normal", e.name)
             F = N * (1j + kappa.get(e.name, 0.0)) * slide_u[e.name]
             normal[e.name] = N.reshape(shape)
-            if e.kind == "P":
+            if e.kind in _WITH_COUPLE:
                 couple[e.name] = col_of("couple", e.name).reshape(shape)
             if e.name in drivers:
                 F = F + col_of("driver", e.name) * slide_u[e.name]

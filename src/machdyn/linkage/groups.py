@@ -121,6 +121,8 @@ def _constraints(lk: Linkage, edges: list[_Edge]) -> list[_Con]:
                 cons.append(_Con("act", e.name, e.a, e.b, 1, e))
         elif e.kind == "roll":
             cons.append(_Con("roll", e.name, e.a, e.b, 1 if e.carried else 2, e))
+        elif e.kind in ("arc", "arcP"):  # curved slot (half) / slider (full): loop core
+            cons.append(_Con(e.kind, e.name, e.a, e.b, 1 if e.kind == "arc" else 2, e))
         if e.kind in ("P", "slot") and e.name in drivers:
             cons.append(_Con("disp", e.name, e.a, e.b, 1, e))
     for name in lk._motors:

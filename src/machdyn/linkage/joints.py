@@ -58,6 +58,8 @@ class _JointMethods:
         *,
         through: str | None = None,
         name: str | None = None,
+        centre: str | None = None,
+        radius: float | None = None,
     ) -> Linkage:
         """Add a prismatic joint: link ``block`` slides on link ``on`` (or ``"ground"``).
 
@@ -68,6 +70,13 @@ class _JointMethods:
         (the drawing is checked). The slider displacement ``d`` is measured
         along the line from the foot of ``on``'s first point (or ``through``).
         The block turns with ``on`` (same angular velocity).
+
+        A *curved* slide: give ``centre``, a point of ``on`` at the centre of
+        curvature of a circular guide through ``at`` (and optionally its
+        ``radius``, checked against the drawing). The block then slides along
+        the arc and turns with the radius ``centre → at`` (Norton's effective
+        link: a binary link pinned at the centre of curvature); ``direction``
+        and ``through`` are not used.
 
         Examples
         --------
@@ -86,6 +95,8 @@ class _JointMethods:
         [0.0, -20.0, -0.0]
         """
         name = name or f"{block}/{on}"
+        if centre is not None or radius is not None:
+            return self._curved_joint("slider", block, on, at, centre, radius, name)
         if block not in self._links:
             raise ModelError(f"slider {name!r}: unknown link {block!r}; links: {self._names()}")
         if on != GROUND and on not in self._links:
@@ -107,12 +118,21 @@ class _JointMethods:
         *,
         through: str | None = None,
         name: str | None = None,
+        centre: str | None = None,
+        radius: float | None = None,
     ) -> Linkage:
-        """Add a pin-in-slot half joint: point ``pin`` of ``link`` in a straight slot of ``on``.
+        """Add a pin-in-slot half joint: point ``pin`` of ``link`` in a slot of ``on``.
 
         The slot is fixed in ``on`` along ``direction`` through the drawn pin
         (as in :meth:`slider`); the pin may turn in it (two freedoms: a half
         joint in the Kutzbach count).
+
+        A *curved* slot: give ``centre``, a point of ``on`` at the centre of the
+        circular arc through the drawn pin (and optionally its ``radius``,
+        checked against the drawing); the pin then runs on that arc (Norton's
+        effective link from the centre of curvature to the pin), with the slip
+        acceleration ``v²/ρ`` toward the centre and the Coriolis term when
+        ``on`` turns.
 
         Examples
         --------
@@ -132,6 +152,8 @@ class _JointMethods:
         [2.0, 1.0, 0.0]
         """
         name = name or f"{pin}@{on}"
+        if centre is not None or radius is not None:
+            return self._curved_joint("slot", link, on, pin, centre, radius, name)
         if link not in self._links:
             raise ModelError(f"slot {name!r}: unknown link {link!r}; links: {self._names()}")
         if on != GROUND and on not in self._links:
@@ -142,6 +164,55 @@ class _JointMethods:
         if self._joint_named(name):
             raise ModelError(f"joint name {name!r} is used twice")
         self._slots[name] = (link, on, pin, u, through)
+        return self._changed()
+
+    def _curved_joint(
+        self,
+        kind: str,
+        moving: str,
+        on: str,
+        at: str,
+        centre: str | None,
+        radius: float | None,
+        name: str,
+    ) -> Linkage:
+        """A slider or slot on a circular arc of ``on`` about its point ``centre``."""
+        what = f"{kind} {name!r}"
+        if moving not in self._links:
+            raise ModelError(f"{what}: unknown link {moving!r}; links: {self._names()}")
+        if on != GROUND and on not in self._links:
+            raise ModelError(f"{what}: unknown link {on!r}; links: {self._names()}")
+        if at not in self._links[moving].points:
+            raise ModelError(f"{what}: point {at!r} is not on link {moving!r}")
+        if centre is None:
+            raise InputError(
+                f"{name}.centre",
+                "a curved slot or slider needs its centre of curvature: a point of the "
+                f"link {on!r} it runs on",
+            )
+        self._need_points(what, [centre])
+        on_points = self._ground if on == GROUND else self._links[on].points
+        if centre not in on_points:
+            raise ModelError(f"{what}: the centre {centre!r} is not a point of {on!r}")
+        drawn = abs(self._points[at] - self._points[centre])
+        if radius is not None:
+            r = finite_scalar(f"{name}.radius", radius)
+            if r <= 0.0:
+                raise InputError(
+                    f"{name}.radius", f"must be a positive radius of curvature, got {r:g}"
+                )
+            if abs(r - drawn) > 1e-9 * max(r, drawn):
+                raise AssemblyError(
+                    f"{what}: the point {at!r} is {drawn:.10g} from the centre {centre!r}, "
+                    f"not on the arc of radius {r:.10g}"
+                )
+        if drawn == 0.0:
+            raise InputError(
+                f"{name}.radius", f"must be positive: {at!r} sits on the centre {centre!r}"
+            )
+        if self._joint_named(name):
+            raise ModelError(f"joint name {name!r} is used twice")
+        self._curved[name] = (kind, moving, on, at, centre, float(drawn))
         return self._changed()
 
     def actuator(self, name: str, start: str, end: str, *, links: Sequence[str] = ()) -> Linkage:

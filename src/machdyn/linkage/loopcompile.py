@@ -270,9 +270,31 @@ class _LoopCompiler:
         if e.kind == "R":
             return []
         if i not in self.cross_vec:
-            made = self.roll_crossing(e) if e.kind == "roll" else [(self.new_crossing(e), 1)]
+            if e.kind == "roll":
+                made = self.roll_crossing(e)
+            elif e.kind in ("arc", "arcP"):
+                made = self.arc_crossing(e)
+            else:
+                made = [(self.new_crossing(e), 1)]
             self.cross_vec[i] = made
         return self.cross_vec[i]
+
+    def arc_crossing(self, e: _Edge) -> list[tuple[str, int]]:
+        """Centre of curvature → pin: ``R e^{jψ}``, the effective link of a curved joint.
+
+        In a curved slot ψ is free (the pin turns in the slot); a curved slider's
+        block turns with the radius, so ψ is an angle of the block.
+        """
+        z = self.lk._xy(e.pb) - self.lk._xy(e.pa)
+        name = self.fresh(f"R_{e.name}")
+        if e.kind == "arcP":
+            ang: float | str = self.angle_of(e.b, float(np.angle(z)), f"arc_{e.name}")
+        else:
+            ang = self.fresh(f"psi_{e.name}")
+            self.drawn[ang] = float(np.angle(z))
+        self.system.vector(name, e.radii[0], ang)
+        self.roll_parts[e.name] = ((1.0, e.radii[0], ang),)
+        return [(name, 1)]
 
     def roll_crossing(self, e: _Edge) -> list[tuple[str, int]]:
         z = self.lk._xy(e.pb) - self.lk._xy(e.pa)

@@ -32,7 +32,7 @@ class _Edge:
     slot (φ fixed in ``a``), ``L e^{jφ}`` for an actuator.
     """
 
-    kind: str  # "R", "P", "slot", "act", "roll"
+    kind: str  # "R", "P", "slot", "act", "roll", "arc" (curved slot), "arcP" (curved slider)
     name: str
     a: str
     b: str
@@ -86,6 +86,10 @@ def edges_of(lk: Linkage) -> list[_Edge]:
             key = f"{jn}:line"
             lk._points_extra[key] = foot
             edges.append(_Edge(kind, jn, on, moving, key, at, u))
+    for jn, (kind, moving, on, at, centre, r) in lk._curved.items():
+        edges.append(
+            _Edge("arc" if kind == "slot" else "arcP", jn, on, moving, centre, at, radii=(r, 0.0))
+        )
     for jn, (start, end, la, lb) in lk._actuators.items():
         a, b = lk._owner(start, la), lk._owner(end, lb)
         if a == b:

@@ -90,6 +90,11 @@ class Joint:
         ``(radius_a, radius_b)`` of a rolling contact (``radius_b`` may be inf).
     internal : bool
         A rolling contact inside a ring.
+    radius : float or None
+        Radius of curvature of a curved slider's guide or a curved slot.
+    centre : str or None
+        The point of ``on`` at its centre of curvature (``direction`` and
+        ``through`` are then None).
 
     Examples
     --------
@@ -113,6 +118,8 @@ class Joint:
     through: str | None = None
     radii: tuple[float, float] | None = None
     internal: bool = False
+    radius: float | None = None
+    centre: str | None = None
 
 
 @dataclass(frozen=True)
@@ -172,6 +179,8 @@ def joints_of(lk: Linkage) -> tuple[Joint, ...]:
     for kind, table in (("slider", lk._sliders), ("slot", lk._slots)):
         for name, (moving, on, at, u, through) in table.items():
             out.append(Joint(kind, name, (moving, on), (at,), direction=u, through=through))
+    for name, (kind, moving, on, at, centre, r) in lk._curved.items():
+        out.append(Joint(kind, name, (moving, on), (at,), radius=r, centre=centre))
     for name, (start, end, la, lb) in lk._actuators.items():
         links = _resolved(
             lk, lambda s=start, e=end, a=la, b=lb: (lk._owner(s, a), lk._owner(e, b)), (la, lb)

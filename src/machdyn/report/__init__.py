@@ -33,7 +33,7 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
 
     Parameters
     ----------
-    model : FourBar or Linkage
+    model : FourBar, Linkage, CamProfile or GearPair
     path : str or Path, optional
         Where to write the page (``.html``); ``.pdf`` prints it with Chromium.
     **options
@@ -46,10 +46,20 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
     str
         The page.
     """
+    from ..cams import CamProfile
     from ..fourbar import FourBar
+    from ..gears import GearPair
     from ..linkage import Linkage
 
-    if isinstance(model, FourBar):
+    if isinstance(model, CamProfile):
+        from .elements import cam_report
+
+        page = cam_report(model, **options).html()
+    elif isinstance(model, GearPair):
+        from .elements import gear_report
+
+        page = gear_report(model, **options).html()
+    elif isinstance(model, FourBar):
         from .fourbar import fourbar_report
 
         page = fourbar_report(model, **options).html()
@@ -59,7 +69,9 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
         page = linkage_report(model, **options).html()
     else:
         raise InputError(
-            "model", f"no report for a {type(model).__name__}; give a FourBar or a Linkage"
+            "model",
+            f"no report for a {type(model).__name__}; give a FourBar, Linkage, cam profile "
+            "or gear pair",
         )
     if path is not None:
         path = Path(path)

@@ -117,11 +117,19 @@ class Context:
         self.declared = False
         #: The folder of the file, for files it names (CSV torque curves).
         self.folder: Path | None = None
+        #: Key paths of an upgraded old file → its own paths (for line numbers).
+        self.alias: dict[tuple, tuple] = {}
 
     # -- errors -------------------------------------------------------------------
     def line(self, path: tuple) -> int | None:
         """The file line of ``path`` (None for a dict)."""
-        return None if self.lines is None else self.lines.line(path)
+        if self.lines is None:
+            return None
+        path = tuple(path)
+        for k in range(len(path), 0, -1):
+            if path[:k] in self.alias:
+                return self.lines.line(self.alias[path[:k]] + path[k:])
+        return self.lines.line(path)
 
     def error(self, path: tuple, message: str, table: bool = False) -> SpecError:
         """A :class:`SpecError` at ``path`` (a key, or with ``table`` a whole table)."""
@@ -278,3 +286,10 @@ class Writer:
                     return short + 0.0
         unit = "rad" if kind == "angle" else self.system.internal(kind)
         return f"{value!r} {unit}"
+
+
+def check_units(value: Any) -> Any:
+    """``units`` of a part object: None or a :class:`~machdyn.units.UnitSystem`."""
+    if value is not None and not isinstance(value, u.UnitSystem):
+        raise InputError("units", f"must be a machdyn.units.UnitSystem or None, got {value!r}")
+    return value

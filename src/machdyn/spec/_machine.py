@@ -21,9 +21,19 @@ from typing import Any
 from .. import units as u
 from ..errors import InputError
 from . import _types as t
-from ._context import Context, Writer
+from ._context import Context, SpecError, Writer
 
-__all__ = ["KINDS", "VERSION", "Machine", "Part", "PartKind", "from_spec", "load", "read"]
+__all__ = [
+    "KINDS",
+    "VERSION",
+    "Machine",
+    "Part",
+    "PartKind",
+    "from_spec",
+    "load",
+    "read",
+    "read_doc",
+]
 
 #: The format version this machdyn reads and writes.
 VERSION = 1
@@ -33,6 +43,16 @@ KINDS: dict[str, str] = {
     "fourbar": "_fourbar",
     "slider_crank": "_fourbar",
     "inverted_slider_crank": "_fourbar",
+    "linkage": "_linkage",
+    "cam": "_cam",
+    "gear_pair": "_gears",
+    "gear_train": "_gears",
+    "planetary": "_gears",
+    "flywheel": "_tasks",
+    "rotor": "_tasks",
+    "motion_synthesis": "_synthesis",
+    "function_synthesis": "_synthesis",
+    "path_synthesis": "_synthesis",
 }
 
 UNIT_KEYS = {
@@ -107,6 +127,14 @@ class Machine(Mapping[str, Any]):
     parts: dict[str, Part] = field(default_factory=dict)
     source: str | None = None
     folder: Path | None = None
+    #: The reading context (file, key lines) for errors found while running.
+    context: Context | None = field(default=None, repr=False, compare=False)
+    #: True when read from an old linkage file (upgraded on reading).
+    legacy: bool = False
+
+    def _error(self, path: tuple, message: str) -> SpecError:
+        """A :class:`SpecError` at ``path`` of the machine's file (its line when known)."""
+        return (self.context or Context(self.source)).error(path, message, table=True)
 
     def __getitem__(self, name: str) -> Any:
         return self.parts[name].model
@@ -268,7 +296,20 @@ def _version(ctx: Context, doc: dict) -> None:
         )
 
 
-def read(doc: Any, ctx: Context | None = None) -> Machine:
+def read(doc: Mapping[str, Any]) -> Machine:
+    """A :class:`Machine` from a spec dict, whatever it holds (:func:`from_spec` gives a model).
+
+    Examples
+    --------
+    >>> m = read({"machdyn": 1, "gravity": "9.81 m/s^2",
+    ...           "fourbar": {"a": {"r1": "8 m", "r2": "4 m", "r3": "7 m", "r4": "6 m"}}})
+    >>> m.gravity, list(m)
+    (9.81, ['a'])
+    """
+    return read_doc(_plain(doc))
+
+
+def read_doc(doc: Any, ctx: Context | None = None) -> Machine:
     """Read a parsed document into a :class:`Machine` (see :func:`load`)."""
     ctx = ctx or Context()
     if not isinstance(doc, dict):
@@ -284,6 +325,7 @@ def read(doc: Any, ctx: Context | None = None) -> Machine:
     if "gravity" in doc and not isinstance(doc["gravity"], bool | int | float | str):
         raise ctx.error(("gravity",), "expected true, false or an acceleration like '9.81 m/s^2'")
     machine = Machine(title, ctx.system, gravity, source=ctx.source, folder=ctx.folder)
+    machine.context = ctx
     read_parts(ctx, doc, machine)
     if not machine.parts:
         raise ctx.error((), f"describes no part: add one, e.g. [fourbar.NAME] ({_kinds()})")
@@ -370,7 +412,8 @@ def from_spec(spec: Mapping[str, Any]) -> Any:
     """Build the model a spec dict describes (a :class:`Machine` when it holds several parts).
 
     The dict is checked exactly as a file is (same messages, without line
-    numbers).
+    numbers). Of a one-part document the model is returned; its gravity,
+    motion and loads are in :func:`read`'s :class:`Machine`.
 
     Examples
     --------
@@ -379,7 +422,7 @@ def from_spec(spec: Mapping[str, Any]) -> Any:
     >>> fb.lengths, fb.units.length
     ((8.0, 4.0, 7.0, 6.0), 'mm')
     """
-    return _single(read(_plain(spec)))
+    return _single(read_doc(_plain(spec)))
 
 
 def _plain(spec: Any) -> Any:
@@ -391,7 +434,8 @@ def _plain(spec: Any) -> Any:
 
 
 def _single(machine: Machine) -> Any:
-    if len(machine.parts) == 1 and machine.gravity is None:
+    """The lone part's model (the machine's gravity and settings stay in the Machine)."""
+    if len(machine.parts) == 1:
         return next(iter(machine.parts.values())).model
     return machine
 
@@ -423,9 +467,12 @@ def parse_text(text: str, source: str, folder: Path | None = None) -> Machine:
         ctx.folder = folder
     from ._legacy import is_legacy, upgrade
 
-    if is_legacy(doc):
+    legacy = is_legacy(doc)
+    if legacy:
         doc = upgrade(doc, ctx)
-    return read(doc, ctx)
+    machine = read_doc(doc, ctx)
+    machine.legacy = legacy
+    return machine
 
 
 def load_machine(path: str | Path) -> Machine:
@@ -446,6 +493,9 @@ def load_machine(path: str | Path) -> Machine:
 
 def load(path: str | Path) -> Any:
     """Read a machine file: the model when it holds one part, else a :class:`Machine`.
+
+    :func:`load_machine` gives the :class:`Machine` in every case (with the
+    file's gravity, each part's motion and loads, and ``run()``).
 
     Examples
     --------

@@ -55,21 +55,21 @@ def _inline(key: str, value: Any) -> bool:
 
 
 def _section(out: list[str], path: list[str], table: dict) -> None:
+    tables = [k for k, v in table.items() if isinstance(v, dict)]
+    # Inline tables only when every sub-table of this one fits on a line: a
+    # section written after the body would otherwise come out of order.
+    inline = bool(path) and all(_inline(toml_key(k), table[k]) for k in tables)
     body = []
     for key, value in table.items():
-        k = toml_key(key)
-        if isinstance(value, dict) and (not path or not _inline(k, value)):
+        if (isinstance(value, dict) and not inline) or _is_table_list(value):
             continue
-        if _is_table_list(value):
-            continue
-        body.append(f"{k} = {_scalar(value)}")
-    header = ".".join(toml_key(p) for p in path)
-    if body or not any(isinstance(v, dict) for v in table.values()):
+        body.append(f"{toml_key(key)} = {_scalar(value)}")
+    if body or not tables:
         if path:
-            out.append(f"\n[{header}]")
+            out.append(f"\n[{'.'.join(toml_key(p) for p in path)}]")
         out.extend(body)
     for key, value in table.items():
-        if isinstance(value, dict) and (not path or not _inline(toml_key(key), value)):
+        if isinstance(value, dict) and not inline:
             _section(out, [*path, key], value)
         elif _is_table_list(value):
             for item in value:

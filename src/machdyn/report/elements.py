@@ -1,0 +1,97 @@
+"""Design reports of machine elements: a cam with its checks, a gear pair with its checks."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..draw.elements import cam_scene, gear_scene
+from ..draw.engineering import cam_charts
+from ..draw.html import widget
+from .page import Page, esc, fmt
+
+__all__ = ["cam_report", "gear_report"]
+
+
+def cam_report(
+    profile: Any,
+    *,
+    max_pressure_angle_deg: float = 30.0,
+    n: int = 120,
+    length_unit: str | None = None,
+    title: str | None = None,
+) -> Page:
+    """The report page of a cam (see :func:`machdyn.report.report`)."""
+    checks = profile.checks(max_pressure_angle=np.radians(max_pressure_angle_deg))
+    failed = [c for c in checks if not c.passed]
+    title = title or f"cam with a {profile.follower} follower"
+    state = (
+        "passes every design check"
+        if not failed
+        else ("FAILS " + ", ".join(c.name for c in failed))
+    )
+    page = Page(
+        title,
+        f"{title}: base radius {fmt(profile.base_radius)}, prime radius "
+        f"{fmt(profile.prime_radius)}; {state}.",
+    )
+    page.failed = bool(failed)
+    rows = [
+        ("follower", esc(profile.follower), "follower"),
+        ("base radius", fmt(profile.base_radius, 6), "base_radius"),
+        ("prime radius", fmt(profile.prime_radius, 6), "prime_radius"),
+        ("roller radius", fmt(profile.roller_radius, 6), "roller_radius"),
+        ("lift", fmt(float(np.ptp(profile.s)), 6), "lift"),
+    ]
+    page.section(
+        "model",
+        "The cam and its follower",
+        page.table(rows) + widget(cam_scene(profile, n=n, length_unit=length_unit or "")),
+    )
+    crow = [[esc(c.name), "pass" if c.passed else "<b>FAIL</b>", esc(c.detail)] for c in checks]
+    page.section("checks", "Cam checks", page.grid(("check", "result", "detail"), crow))
+    charts = cam_charts(
+        profile, max_pressure_angle_deg=max_pressure_angle_deg, length_unit=length_unit
+    )
+    page.section(
+        "svaj",
+        "SVAJ, pressure angle and radius of curvature",
+        "".join(c.to_svg(height=220) for c in charts),
+    )
+    return page
+
+
+def gear_report(pair: Any, *, n: int = 120, title: str | None = None) -> Page:
+    """The report page of a gear pair (see :func:`machdyn.report.report`)."""
+    s = pair.summary()
+    title = title or f"gear pair {pair.pinion.teeth}/{pair.gear.teeth}"
+    problems = []
+    if pair.interferes:
+        problems.append("interference")
+    if pair.contact_ratio < 1.2:
+        problems.append(f"contact ratio {pair.contact_ratio:.3f} < 1.2")
+    state = (
+        "no interference, contact ratio " + f"{pair.contact_ratio:.3f}"
+        if not problems
+        else "FAILS: " + ", ".join(problems)
+    )
+    page = Page(title, f"{title}: {state}.")
+    page.failed = bool(problems)
+    page.section("model", "The pair in mesh", widget(gear_scene(pair, n=n)))
+    rows = []
+    for key, value in s.items():
+        if isinstance(value, dict):
+            for k2, v2 in value.items():
+                rows.append(
+                    (
+                        f"{key} {k2}",
+                        esc(fmt(v2, 6)) if not isinstance(v2, str) else esc(v2),
+                        f"{key}_{k2}",
+                    )
+                )
+        else:
+            text = esc(value) if isinstance(value, str | bool) else fmt(value, 6)
+            rows.append((key.replace("_", " "), text, key))
+    page.section("checks", "Gear geometry and checks", page.table(rows))
+    return page
