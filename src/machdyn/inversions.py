@@ -42,7 +42,17 @@ from typing import Any
 import numpy as np
 
 from ._angles import TWO_PI, wrap_pi
+from ._validate import (
+    boolean,
+    finite_array,
+    finite_scalar,
+    instance,
+    integer,
+    items,
+    nonnegative,
+)
 from .classify import Classification
+from .errors import InputError
 
 __all__ = ["PHI_NAMES", "AngleRange", "Inversion", "InversionTable", "inversions"]
 
@@ -85,10 +95,25 @@ class AngleRange:
     '30.00 … 90.00'
     >>> AngleRange((), False).text(), AngleRange.every_direction().text()
     ('none', 'full turn')
+    >>> AngleRange(((0.0, 0.0), (np.pi, np.pi))).text()   # two single values
+    '0.00, 180.00'
     """
 
     arcs: tuple[tuple[float, float], ...]
     full_turn: bool = False
+
+    def __post_init__(self) -> None:
+        arcs = []
+        for n, arc in enumerate(items("arcs", self.arcs, what="(lo, hi) arcs")):
+            lo, hi = (
+                finite_scalar(f"arcs[{n}] {end}", v, "radian")
+                for end, v in zip(("lo", "hi"), items(f"arcs[{n}]", arc, 2, "angles"), strict=True)
+            )
+            if hi < lo:
+                raise InputError(f"arcs[{n}]", f"needs lo <= hi, got ({lo:g}, {hi:g})")
+            arcs.append((lo, hi))
+        object.__setattr__(self, "arcs", tuple(arcs))
+        object.__setattr__(self, "full_turn", boolean("full_turn", self.full_turn))
 
     @classmethod
     def every_direction(cls) -> AngleRange:
@@ -102,7 +127,8 @@ class AngleRange:
 
     def contains(self, angle: Any, tol: float = 1e-9) -> np.ndarray:
         """True where ``angle`` (radians, any shape) lies in the range."""
-        angle = np.asarray(angle, dtype=float)
+        angle = finite_array("angle", angle, "radian")
+        tol = nonnegative("tol", tol, "radian")
         if self.full_turn:
             return np.ones(angle.shape, dtype=bool)
         inside = np.zeros(angle.shape, dtype=bool)
@@ -113,14 +139,16 @@ class AngleRange:
 
     def text(self, digits: int = 2) -> str:
         """The range in degrees for a table: ``"lo … hi"``, ``"full turn"`` or ``"none"``."""
+        digits = integer("digits", digits, minimum=0, maximum=17)
         if self.full_turn:
             return "full turn"
         if not self.arcs:
             return "none"
-        return ", ".join(
-            f"{np.degrees(lo) + 0.0:.{digits}f} … {np.degrees(hi) + 0.0:.{digits}f}"
-            for lo, hi in self.arcs
-        )
+        parts = []
+        for lo, hi in self.arcs:
+            a, b = (round(float(np.degrees(x)), digits) + 0.0 for x in (lo, hi))
+            parts.append(f"{a:.{digits}f}" if a == b else f"{a:.{digits}f} … {b:.{digits}f}")
+        return ", ".join(parts)
 
     def degrees(self) -> str | list[list[float]]:
         """Plain data for JSON: ``"full turn"`` or a list of ``[lo, hi]`` in degrees."""
@@ -138,6 +166,7 @@ class AngleRange:
         >>> a.intersection(b).text()
         '-170.00 … -150.00'
         """
+        instance("other", other, AngleRange)
         if self.full_turn:
             return other
         if other.full_turn:
@@ -326,9 +355,12 @@ def _ranges(extrema: dict[str, Any]) -> dict[str, AngleRange]:
     out = {}
     for name in PHI_NAMES:
         e = extrema[name]
+        # a range as wide as a turn takes every direction (change points: the two
+        # circuits meet and an angle can sweep all around without winding)
+        every = e.full_turn or float(e.max) - float(e.min) >= TWO_PI - 1e-6
         out[name] = (
             AngleRange.every_direction()
-            if e.full_turn
+            if every
             else AngleRange(((float(e.min), float(e.max)),), False)
         )
     return out
