@@ -1069,6 +1069,8 @@ def _add_general(c, fn, meth) -> None:
     lf = lambda: _linkage().forces(lm())  # noqa: E731
     meth("machdyn.linkage:LinkageForces.F", lf, a="crank", p="coupler")
     meth("machdyn.linkage:LinkageForces.to_pandas", lf)
+    meth("machdyn.linkage:Linkage.transmission_angles", lk, motion=lm())
+    meth("machdyn.linkage:Linkage.flipped", lk, group="RRR dyad (coupler, rocker)")
 
     def base():
         return (
