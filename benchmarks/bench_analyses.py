@@ -56,6 +56,7 @@ def main() -> None:
     program = CamProgram.double_dwell(1.0, np.radians(90), np.radians(90))
     rotor = Rotor.from_masses([0.2, 0.15, 0.1], [0.06, 0.05j, -0.04 + 0.03j], [0.1, 0.25, 0.35])
     omega = np.linspace(1, 300, 1_000_000)
+    fit = CriticalPathMotion.from_degrees
     cases = {
         "six-bar solve (100,000 poses, velocities)": lambda: lk.solve(theta, velocity=1.0),
         "six-bar instant centres (100,000 poses, 15 each)": lambda: linkage_centres(lk, motion),
@@ -64,9 +65,7 @@ def main() -> None:
         "four-bar inversions table (4 x 2 forms)": lambda: fb.inversions(n=2001),
         "rotor bearing reactions (1,000,000 speeds)": lambda: rotor.bearing_reactions(omega, 0, 1),
         "cam: cycloidal program sample (3,600)": lambda: program.sample(3600),
-        "cam: critical path fit + sample (72 pts -> 3,600)": lambda: CriticalPathMotion.from_degrees(
-            grid, table
-        ).sample(3600),
+        "cam: critical path fit + sample (72 pts -> 3,600)": lambda: fit(grid, table).sample(3600),
         "cam: critical path sample only (3,600)": lambda: cpm.sample(3600),
     }
     best = interleaved(cases, repeat=5)
@@ -74,9 +73,10 @@ def main() -> None:
     print(f"{'case':55s} {'best (ms)':>10s}")
     for name, t in best.items():
         print(f"{name:55s} {1e3 * t:10.2f}")
-    ratio = best["six-bar instant centres (100,000 poses, 15 each)"] / best[
-        "six-bar solve (100,000 poses, velocities)"
-    ]
+    ratio = (
+        best["six-bar instant centres (100,000 poses, 15 each)"]
+        / best["six-bar solve (100,000 poses, velocities)"]
+    )
     print(f"instant centres / solve: {ratio:.2f}")
 
 
