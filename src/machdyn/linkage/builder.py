@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -309,6 +310,16 @@ class Linkage(_JointMethods, _ElementMethods):
         order they were added.
         """
         return joints_of(self)
+
+    def __repr__(self) -> str:
+        from .._summary import linkage_repr
+
+        return linkage_repr(self)
+
+    def _repr_html_(self) -> str:
+        from .._summary import linkage_html
+
+        return linkage_html(self)
 
     def to_spec(self, name: str = "linkage") -> dict[str, Any]:
         """The linkage as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
@@ -639,6 +650,7 @@ class Linkage(_JointMethods, _ElementMethods):
         >>> bool(m.ok.all()), m.omega["rocker"].shape
         (True, (36,))
         """
+        _warn_degrees(self, values)
         return _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
 
     def forces(
@@ -705,3 +717,18 @@ class Linkage(_JointMethods, _ElementMethods):
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
+
+
+def _warn_degrees(lk: Linkage, values: Any) -> None:
+    """Warn when an angle driver's values look like degrees (``machdyn.units.warn_if_degrees``)."""
+    from ..units import warn_if_degrees
+
+    angles = {d for d in lk.drivers if d in lk._links or d in lk._motors}
+    if isinstance(values, Mapping):
+        items = list(values.items())
+    else:
+        items = [(lk.drivers[0], values)] if len(lk.drivers) == 1 else []
+    for name, value in items:
+        if name in angles:
+            with contextlib.suppress(TypeError, ValueError):  # the solver names a bad value
+                warn_if_degrees(name, value, stacklevel=4)
