@@ -32,7 +32,7 @@ How the HW 6 crank-rocker's output angle θ4 moves with each length at θ2 = 60�
 >>> s.dimensions
 ('r1', 'r2', 'r3', 'r4')
 >>> np.round(s.derivative["theta4"][0], 4).tolist()   # rad per unit length
-[0.2184, 0.0669, 0.2129, -0.1931]
+[0.1733, -0.1443, -0.1856, 0.0818]
 """
 
 from __future__ import annotations
