@@ -331,6 +331,13 @@ def fourbar(
         Path | None, typer.Option("--csv", help="Also write the kinematics table to this CSV file.")
     ] = None,
     json: Annotated[bool, typer.Option("--json", help="Print machine-readable JSON.")] = False,
+    inversions: Annotated[
+        bool,
+        typer.Option(
+            "--inversions",
+            help="Print the Barker table of the four inversions (each link grounded) instead.",
+        ),
+    ] = False,
 ) -> None:
     """Classify a four-bar and print its limits and a kinematics table."""
     given = [r for r in (r1, r2, r3, r4) if r is not None]
@@ -343,6 +350,13 @@ def fourbar(
         raise InputError("R1 R2 R3 R4", f"give the four lengths (or --spec FILE); got {len(given)}")
     elif part is not None:
         raise InputError("--part", "--part picks a part of a --spec file")
+    if inversions:
+        table = inversions_payload(*file.get("lengths", given))
+        if json:
+            print(dumps(table))
+        else:
+            _print_inversions(table)
+        return
     if omega2 is not None and rpm is not None:
         raise InputError("--rpm", "give --omega2 (rad/s) or --rpm, not both")
     form = form if form is not None else (file.get("form") or 1)
