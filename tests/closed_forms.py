@@ -43,3 +43,12 @@ def tangent_angle(A: complex, C: complex, e: float, side: float = 1.0) -> float:
     r = np.hypot(C.real - A.real, C.imag - A.imag)
     t = side * np.sqrt(r * r - e * e)
     return float(np.arctan2(C.imag - A.imag, C.real - A.real) - np.arctan2(e, t))
+
+
+def slide_meet(p: complex, r: float, g: complex, phi: float, side: float = 1.0) -> complex:
+    """Point on the line ``g + t e^{jφ}`` at distance ``r`` from ``p``; ``side`` picks the
+    root with ``t`` above (+1) or below (−1) the foot of the perpendicular from ``p``."""
+    e = np.exp(1j * phi)
+    foot = ((p - g) * np.conj(e)).real  # t of the foot of the perpendicular
+    h2 = r**2 - (((p - g) * np.conj(e)).imag) ** 2
+    return g + (foot + side * np.sqrt(h2)) * e

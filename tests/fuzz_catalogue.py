@@ -85,6 +85,7 @@ NOT_CALLED = {
     "machdyn.centrodes:PitchCurves",
     "machdyn.centrodes:RolledMotion",
     "machdyn.classify:Classification",
+    "machdyn.classify:FourBarLoop",
     "machdyn.dynamics:FourBarForces",
     "machdyn.dynamics:LinkEquations",
     "machdyn.dynamics:LinkProperties",
@@ -106,6 +107,7 @@ NOT_CALLED = {
     "machdyn.synthesis:Atlas",  # opened by open_atlas
     "machdyn.synthesis:AtlasError",
     "machdyn.synthesis:PathCandidates",
+    "machdyn.synthesis:SixBarPath",
     "machdyn.synthesis:CouplerAtlas",
     "machdyn.synthesis:DrivingDyad",
     "machdyn.synthesis:FunctionGenerator",
@@ -345,6 +347,7 @@ def catalogue() -> dict[str, Call]:
     )
     for name in ("barker_class", "classify", "is_grashof", "is_assemblable"):
         fn(f"machdyn.classify:{name}", r1=8.0, r2=4.0, r3=7.0, r4=6.0)
+    fn("machdyn.classify:fourbar_loops", lk=_linkage())
     fn("machdyn.mobility:mobility", links=4, full_joints=4, half_joints=0)
     fn("machdyn.mobility:mobility_of", joints=[("R", (1, 2)), ("R", (2, 3)), ("R", (3, 1))])
     c["machdyn.mobility:mobility_of"].accepts["links"] = {"none"}

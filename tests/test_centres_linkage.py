@@ -200,6 +200,20 @@ def wheel_on_ground():
     return lk.roll("wheel", "C", 1.0, "ground", "T", np.inf, name="tyre").drive("crank")
 
 
+def six_bar_with_a_roller():
+    """Problem 6-13(c)/(d)'s kind: a four-bar whose rocker (O4, B, C) pushes a rod C-W to
+    the centre W of a wheel (radius 1) rolling without slip on the ground line y = 0."""
+    A, O4 = 2j, 7 + 0j
+    B = circle_meet(A, 6.5, O4, 5.0, 1.0)
+    C = O4 + 0.6 * (B - O4) * np.exp(-0.4j)
+    W = complex(C.real + 5.0, 1.0)
+    pts = {"O2": 0j, "O4": O4, "A": A, "B": B, "C": C, "W": W, "W2": W + 0.8, "T": W - 1j}
+    lk = Linkage(pts).ground("O2", "O4", "T")
+    lk.link("crank", "O2", "A").link("coupler", "A", "B").link("rocker", "O4", "B", "C")
+    lk.link("rod", "C", "W").link("wheel", "W", "W2")
+    return lk.roll("wheel", "W", 1.0, "ground", "T", np.inf, name="tyre").drive("crank")
+
+
 def planet():
     lk = Linkage({"O": 0j, "C": 3 + 0j, "W": 3 + 0.5j, "K": 1 + 0j}).ground("O")
     lk.link("arm", "O", "C").link("wheel", "C", "W")
@@ -224,6 +238,7 @@ def loader():
         (wheels, np.radians(np.arange(0, 360, 30.0))),
         (wheel_on_ground, np.radians(np.arange(-40, 41, 10.0))),
         (planet, np.radians(np.arange(0, 360, 30.0))),
+        (six_bar_with_a_roller, np.radians(np.arange(70, 111, 5.0))),
         (loader, None),
     ],
 )
@@ -236,6 +251,9 @@ def test_slots_rolling_contacts_and_actuators(build, values):
     ics = linkage_centres(lk, m)
     check_centres(lk, m, ics)
     assert not any("barrel" in str(pair) for pair in ics)  # the actuator's bodies stay inside
+    if build is six_bar_with_a_roller:  # 15 centres: 7 by inspection, 8 by Kennedy's rule
+        methods = [ics.method(a, b) for a, b in ics]
+        assert (len(methods), methods.count("joint"), methods.count("kennedy")) == (15, 7, 8)
 
 
 def test_rolling_contact_centre_is_the_contact_point():

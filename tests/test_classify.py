@@ -55,3 +55,39 @@ def test_assemblability():
         classify(1, 1, 1, 3.5)
     with pytest.raises(InputError, match="r3"):
         classify(1, 1, -1, 1)
+
+
+def test_fourbar_loops_of_drawn_linkages():
+    import numpy as np
+
+    from closed_forms import circle_meet
+    from machdyn.classify import fourbar_loops
+    from machdyn.errors import InputError
+    from machdyn.linkage import Linkage
+
+    # Watt II: crank-rocker 8-2-7-6 whose ternary rocker (O4, B, C) drives C-D-O6
+    O4, O6 = 8.0 + 0j, 12.0 + 6.0j
+    A = 2.0 * np.exp(1j * np.pi / 6)
+    B = circle_meet(A, 7.0, O4, 6.0)
+    C = O4 + 4.0 * (B - O4) / abs(B - O4) * np.exp(1j * np.radians(-35))
+    D = circle_meet(C, 6.0, O6, 5.0, -1.0)
+    lk = Linkage({"O2": 0j, "O4": O4, "O6": O6, "A": A, "B": B, "C": C, "D": D})
+    lk.ground("O2", "O4", "O6").link("2", "O2", "A").link("3", "A", "B")
+    lk.link("4", "O4", "B", "C").link("5", "C", "D").link("6", "O6", "D").drive("2")
+    loops = {loop.links: loop for loop in fourbar_loops(lk)}
+    assert set(loops) == {("ground", "2", "3", "4"), ("ground", "4", "5", "6")}
+    first = loops["ground", "2", "3", "4"]
+    assert first.lengths == pytest.approx((8.0, 2.0, 7.0, 6.0))
+    assert first.classification.code == classify(8, 2, 7, 6).code == "GCRR"
+    second = loops["ground", "4", "5", "6"]
+    assert second.lengths == pytest.approx((abs(O6 - O4), 4.0, 6.0, 5.0))
+    links, lengths, c = second  # unpacks as the studio reads it
+    assert links == ("ground", "4", "5", "6")
+    assert c.code == classify(*lengths).code
+    # a slider-crank has no four-bar loop
+    sc = Linkage({"O2": (0, 0), "A": (2, 0), "B": (8, 0)}).ground("O2")
+    sc.link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+    sc.slider("block", "ground", "B", 0.0).drive("crank")
+    assert fourbar_loops(sc) == ()
+    with pytest.raises(InputError, match="lk"):
+        fourbar_loops("not a linkage")

@@ -212,3 +212,15 @@ def test_cli_inversions_of_an_unassemblable_chain_is_one_line(capsys):
     assert main(["fourbar", "20", "9", "3", "8", "--inversions"]) != 0
     err = capsys.readouterr().err
     assert "cannot be assembled" in err and "Traceback" not in err
+
+
+def test_change_point_chain_forms_meet_only_where_the_links_fold():
+    # the parallelogram {2, 3, 2, 3}: the two forms meet where every link lies on the
+    # ground line, phi12 = 0 or 180 degrees; the output (phi23 = pi - theta4) turns fully
+    inv = FourBar(2, 3, 2, 3).inversions(n=401)[1]
+    assert inv.code == "CP2X"
+    common = inv.ranges["phi12"]["common"]
+    assert [round(np.degrees(lo) % 360, 6) for lo, hi in common.arcs] == [0.0, 180.0]
+    assert all(hi == lo for lo, hi in common.arcs)
+    assert inv.ranges["phi23"]["form1"].full_turn and inv.ranges["phi23"]["common"].full_turn
+    assert common.text() == "0.00, 180.00"

@@ -20,6 +20,9 @@ from machdyn.linkage import Linkage
 from machdyn.massprops import point_mass, rod
 from machdyn.slidercrank import SliderCrank
 
+# every test on the NumPy path and on the compiled kernels (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("backend")
+
 TURN = np.radians(np.arange(0.0, 360.0, 1.0))
 
 

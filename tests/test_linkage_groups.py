@@ -21,6 +21,9 @@ from machdyn.linkage.kinematics import _per_driver
 from machdyn.linkage.loopsolve import solve_loops
 from test_linkage import _energy_rates, rigid_errors, stephenson_iii, watt_ii
 
+# every test on the NumPy path and on the compiled kernels (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("backend")
+
 SWEEP = np.radians(np.arange(0.0, 360.0, 3.0))
 
 

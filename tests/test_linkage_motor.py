@@ -27,6 +27,9 @@ from machdyn.fourbar import FourBar
 from machdyn.linkage import Linkage
 from machdyn.slidercrank import SliderCrank
 
+# every test on the NumPy path and on the compiled kernels (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("backend")
+
 matplotlib.use("Agg")
 
 G = 9.81

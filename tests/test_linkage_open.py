@@ -15,6 +15,9 @@ from machdyn.errors import InputError, ModelError
 from machdyn.fourbar import FourBar
 from machdyn.linkage import Linkage
 
+# every test on the NumPy path and on the compiled kernels (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("backend")
+
 G = 9.81
 
 

@@ -22,6 +22,9 @@ import pytest
 from machdyn.errors import InputError, ModelError
 from machdyn.linkage import Linkage
 
+# every test on the NumPy path and on the compiled kernels (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("backend")
+
 R = 1.0  # wheel radius
 G = 9.81
 

@@ -27,6 +27,9 @@ from closed_forms import circle_meet
 from machdyn.errors import InputError, ModelError
 from machdyn.linkage import FORCE_REASONS, Linkage
 
+# every test on the NumPy path and on the compiled kernels (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("backend")
+
 G = 9.81
 
 

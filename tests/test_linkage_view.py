@@ -14,6 +14,9 @@ import pytest
 from machdyn.linkage import JOINT_KINDS, Joint, Linkage, Spring, TorsionSpring
 from machdyn.massprops import MassProperties
 
+# every test on the NumPy path and on the compiled kernels (tests/conftest.py)
+pytestmark = pytest.mark.usefixtures("backend")
+
 
 def rebuild(lk: Linkage) -> Linkage:
     out = Linkage(dict(lk.points))

@@ -853,12 +853,22 @@ def _careful(monkeypatch, solve):
         monkeypatch.undo()
 
 
+def _try_fast(s: LoopSystem, name: str, values: np.ndarray, guess: dict):
+    """The fast path's own answer for this sweep (None: it declined)."""
+    from machdyn.loops import solve as core
+
+    c = s._checked((name,))
+    q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
+    first = core.newton_one(c, q0, values[None, :1])
+    want = np.sign(first.gdet[:, 0])
+    options = {"max_step": 0.4, "tol": 1e-12, "max_iter": 50, "sing_tol": core.SINGULAR_RCOND}
+    return core._sweep_fast(c, values[None], q0, want, first, **options)
+
+
 def _fast_taken(s: LoopSystem, theta2: np.ndarray, guess: dict) -> bool:
     from machdyn.loops import solve as core
 
-    c = s._checked(("theta2",))
-    q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
-    res = core._sweep_fast(c, theta2[None], q0, 0.4, 1e-12, 50, core.SINGULAR_RCOND)
+    res = _try_fast(s, "theta2", theta2, guess)
     return res is not None and bool((res.code == core.OK).all())
 
 
@@ -933,12 +943,9 @@ def test_hard_sweeps_fall_back_to_the_careful_path(monkeypatch):
         (crank, "theta2", there_and_back, crank_guess),  # reverses: not one straight sweep
         (crank, "theta2", np.linspace(0, 1, 1000) ** 2, crank_guess),  # uneven steps
     ]
-    from machdyn.loops import solve as core
 
     for s, name, values, guess in cases:
-        c = s._checked((name,))
-        q0 = np.array([[float(guess[c.names[i]])] for i in c.unknown])
-        assert core._sweep_fast(c, values[None], q0, 0.4, 1e-12, 50, 1e-4) is None
+        assert _try_fast(s, name, values, guess) is None
 
         def solve(s=s, name=name, values=values, guess=guess):
             return s.solve({name: values}, guess=guess, velocity={name: 1.0})
@@ -971,7 +978,7 @@ def test_fill_that_cannot_converge_falls_back(monkeypatch):
 
 def test_sparse_lu_equals_dense_lu_and_numpy(rng):
     """lu_structure: skipping structural zeros gives the dense factors (pivots and all)."""
-    from machdyn.loops.solve import _factor, lu_structure
+    from machdyn.loops._linalg import _factor, lu_structure
 
     for n in (3, 4, 5, 6):
         for _ in range(4):
@@ -997,7 +1004,7 @@ def test_sparse_lu_equals_dense_lu_and_numpy(rng):
 
 def test_2x2_closed_form_matches_pivoted_elimination(rng):
     """The 2x2 inverse reports the det and the pivot-ratio rcond of partial pivoting."""
-    from machdyn.loops.solve import _eliminate
+    from machdyn.loops._linalg import _eliminate
 
     a = rng.normal(size=(2, 2, 200))
     a[:, 0, :3] = 0.0  # a zero first column: singular, rcond 0
@@ -1015,7 +1022,7 @@ def test_2x2_closed_form_matches_pivoted_elimination(rng):
 
 
 def test_small_step_trig_rotation_is_exact_to_rounding(rng):
-    from machdyn.loops.solve import _step_terms, _vector_terms
+    from machdyn.loops._equations import _step_terms, _vector_terms
 
     s = fourbar_system(8, 2, 7, 6)
     c = s._checked(("theta2",))
@@ -1042,13 +1049,14 @@ def test_failed_fill_samples_are_re_solved_carefully_on_their_stretch_only(monke
     fast = core._sweep_fast
     spans = []
 
-    def failing(*args):
-        res = fast(*args)
+    def failing(*args, **kw):
+        res = fast(*args, **kw)
         code = res.code.copy()
         code[[1000, 1001, 1500]] = core.NO_ASSEMBLY  # as if they failed a check
         q = res.q.copy()
         q[:, code != core.OK] = np.nan
-        return core.Positions(q, code, res.residual, res.det, res.rcond)
+        kept = (res.residual, res.det, res.rcond, res.gdet, res.grc, res.group, res.want)
+        return core.Positions(q, code, *kept)
 
     solve_positions = core.solve_positions
 

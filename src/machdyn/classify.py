@@ -18,16 +18,20 @@ finite number of digits (``6, 4, 3, 5``) classify as the user intends.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import combinations
+from typing import Any, NamedTuple
 
 from ._validate import positive_length as positive
-from .errors import AssemblyError
+from .errors import AssemblyError, InputError
 
 __all__ = [
     "BARKER_CLASSES",
     "CHANGE_POINT_RTOL",
     "Classification",
+    "FourBarLoop",
     "barker_class",
     "classify",
+    "fourbar_loops",
     "is_assemblable",
     "is_grashof",
 ]
@@ -225,3 +229,73 @@ def barker_class(r1: float, r2: float, r3: float, r4: float) -> str:
     'GCRR'
     """
     return classify(r1, r2, r3, r4).code
+
+
+class FourBarLoop(NamedTuple):
+    """A four-bar loop of a drawn linkage: unpacks as ``(links, lengths, classification)``.
+
+    ``links`` are ``(ground, input, coupler, output)`` and ``lengths`` the
+    drawn ``(R1, R2, R3, R4)``: ground pivot to ground pivot, input, coupler,
+    output.
+    """
+
+    links: tuple[str, str, str, str]
+    lengths: tuple[float, float, float, float]
+    classification: Classification
+
+
+def fourbar_loops(lk: Any) -> tuple[FourBarLoop, ...]:
+    """The four-bar loops of a drawn :class:`~machdyn.linkage.Linkage`, each classified.
+
+    A four-bar loop is a ground-pivoted link, a coupler pinned to it, and a
+    second ground-pivoted link pinned to the coupler: four links joined in a
+    ring by four distinct pins (a Watt six-bar has two). The input is the loop's
+    driven link when it has one (else the first defined); lengths are read off
+    the drawing and classified by Barker's table (:func:`classify`).
+
+    Examples
+    --------
+    >>> from machdyn.linkage import Linkage
+    >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0), "B": (7.625, 35.859375**0.5)})
+    ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+    ...       .link("rocker", "O4", "B").drive("crank"))
+    >>> [(loop.links, loop.classification.code) for loop in fourbar_loops(lk)]
+    [(('ground', 'crank', 'coupler', 'rocker'), 'GCRR')]
+    """
+    from .linkage import Linkage
+
+    if not isinstance(lk, Linkage):
+        raise InputError("lk", f"must be a machdyn.linkage.Linkage, got {lk!r}")
+    pins: dict[str, list[tuple[str, str]]] = {}  # link -> [(other link, pin point)]
+    for joint in lk.joints:
+        if joint.kind != "pin":
+            continue
+        for a, b in combinations(joint.links, 2):
+            pins.setdefault(a, []).append((b, joint.points[0]))
+            pins.setdefault(b, []).append((a, joint.points[0]))
+    ground, drivers = "ground", set(lk.drivers)
+    order = {n: k for k, n in enumerate(lk.links)}
+    found: dict[frozenset, FourBarLoop] = {}
+    for crank, o2 in pins.get(ground, []):
+        for coupler, a in pins.get(crank, []):
+            if coupler in (ground, crank) or a == o2:
+                continue
+            for rocker, b in pins.get(coupler, []):
+                if rocker in (ground, crank, coupler) or b in (a, o2):
+                    continue
+                for other, o4 in pins.get(rocker, []):
+                    if other != ground or o4 in (o2, a, b):
+                        continue
+                    key = frozenset((crank, coupler, rocker, o2, a, b, o4))
+                    if crank not in drivers and (rocker in drivers or order[rocker] < order[crank]):
+                        continue  # the same loop is met from its other ground link
+                    if key in found:
+                        continue
+                    p = lk.points
+                    lengths = tuple(
+                        float(abs(p[u] - p[v])) for u, v in ((o2, o4), (o2, a), (a, b), (o4, b))
+                    )
+                    found[key] = FourBarLoop(
+                        (ground, crank, coupler, rocker), lengths, classify(*lengths)
+                    )
+    return tuple(found.values())

@@ -32,7 +32,7 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -57,6 +57,9 @@ from .centres import fourbar_centres
 from .classify import Classification, classify
 from .errors import AssemblyError, InputError
 from .units import UnitSystem, from_quantity_unit
+
+if TYPE_CHECKING:
+    from .inversions import InversionTable
 
 __all__ = [
     "STATUS_REASONS",
@@ -1058,7 +1061,7 @@ class FourBar:
             )
         return result
 
-    def inversions(self, n: int = 2001):
+    def inversions(self, n: int = 2001) -> InversionTable:
         """Barker table of the four inversions (each link grounded in turn).
 
         See :func:`machdyn.inversions.inversions` (the notes' HW 3 #2).

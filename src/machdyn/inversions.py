@@ -85,6 +85,8 @@ class AngleRange:
     '30.00 … 90.00'
     >>> AngleRange((), False).text(), AngleRange.every_direction().text()
     ('none', 'full turn')
+    >>> AngleRange(((0.0, 0.0), (np.pi, np.pi))).text()   # two single values
+    '0.00, 180.00'
     """
 
     arcs: tuple[tuple[float, float], ...]
@@ -117,10 +119,11 @@ class AngleRange:
             return "full turn"
         if not self.arcs:
             return "none"
-        return ", ".join(
-            f"{np.degrees(lo) + 0.0:.{digits}f} … {np.degrees(hi) + 0.0:.{digits}f}"
-            for lo, hi in self.arcs
-        )
+        parts = []
+        for lo, hi in self.arcs:
+            a, b = (round(float(np.degrees(x)), digits) + 0.0 for x in (lo, hi))
+            parts.append(f"{a:.{digits}f}" if a == b else f"{a:.{digits}f} … {b:.{digits}f}")
+        return ", ".join(parts)
 
     def degrees(self) -> str | list[list[float]]:
         """Plain data for JSON: ``"full turn"`` or a list of ``[lo, hi]`` in degrees."""
@@ -326,9 +329,12 @@ def _ranges(extrema: dict[str, Any]) -> dict[str, AngleRange]:
     out = {}
     for name in PHI_NAMES:
         e = extrema[name]
+        # a range as wide as a turn takes every direction (change points: the two
+        # circuits meet and an angle can sweep all around without winding)
+        every = e.full_turn or float(e.max) - float(e.min) >= TWO_PI - 1e-6
         out[name] = (
             AngleRange.every_direction()
-            if e.full_turn
+            if every
             else AngleRange(((float(e.min), float(e.max)),), False)
         )
     return out

@@ -746,6 +746,12 @@ class TranslatingRoller:
         """Rb = Rp − Rf."""
         return self.prime_radius - self.roller_radius
 
+    def to_spec(self, name: str = "cam") -> dict[str, Any]:
+        """The follower as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "cam", name)
+
     def profile(self, motion: MotionSource, n: int = 3600) -> CamProfile:
         """Cam geometry for a program (sampled at ``n`` points) or a sampled motion."""
         m = _as_motion(motion, n)
@@ -778,6 +784,12 @@ class TranslatingFlatFace:
     def __post_init__(self) -> None:
         object.__setattr__(self, "base_radius", positive("base_radius", self.base_radius))
         object.__setattr__(self, "eccentricity", finite_scalar("eccentricity", self.eccentricity))
+
+    def to_spec(self, name: str = "cam") -> dict[str, Any]:
+        """The follower as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "cam", name)
 
     def profile(self, motion: MotionSource, n: int = 3600) -> CamProfile:
         """Cam geometry for a program (sampled at ``n`` points) or a sampled motion."""
@@ -885,6 +897,12 @@ class OscillatingRoller:
         """Arm angle (radians, from +x) when s = 0 (law of cosines, roller above the x axis)."""
         c, arm, rp = self.pivot_distance, self.arm_length, self.prime_radius
         return float(np.arccos(-self._sigma * (rp * rp - c * c - arm * arm) / (2.0 * c * arm)))
+
+    def to_spec(self, name: str = "cam") -> dict[str, Any]:
+        """The follower as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "cam", name)
 
     def profile(self, motion: MotionSource, n: int = 3600) -> CamProfile:
         """Cam geometry for a program (sampled at ``n`` points) or a sampled motion."""

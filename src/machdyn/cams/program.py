@@ -463,6 +463,12 @@ class CamProgram:
         found.sort(key=lambda d: d.theta)
         return ContinuityReport(tuple(found), tuple(notes))
 
+    def to_spec(self, name: str = "cam") -> dict[str, Any]:
+        """The program as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "cam", name)
+
     def __repr__(self) -> str:
         parts = ", ".join(
             f"{seg.motion}:{getattr(seg.law, 'name', seg.law)}:{seg.h:g}:{np.degrees(seg.beta):g}°"

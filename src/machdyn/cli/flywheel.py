@@ -7,7 +7,6 @@ Only parsing and printing happen here; the physics is :mod:`machdyn.flywheel`.
 
 from __future__ import annotations
 
-import csv
 import math
 from pathlib import Path
 from typing import Annotated
@@ -25,7 +24,13 @@ flywheel_app = typer.Typer(add_completion=False, pretty_exceptions_enable=False)
 
 
 def read_curve(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    r"""Read ``theta_deg, torque`` rows from a CSV file; return θ in radians and T.
+    r"""Read one cycle of ``theta, torque`` from a CSV file; return θ in radians and T.
+
+    The file of :func:`machdyn.spec.read_torque_csv` (one reader for the
+    command line and machine files): the first column the angle (degrees
+    unless its header says ``[rad]``), the torque the column ``T12`` or
+    ``T_<driver>`` — so the CSV that ``machdyn linkage --csv`` and
+    ``machdyn run --csv`` write is read as it is — else the second column.
 
     Examples
     --------
@@ -37,32 +42,12 @@ def read_curve(path: Path) -> tuple[np.ndarray, np.ndarray]:
     >>> theta.round(4).tolist(), torque.tolist()
     ([0.0, 1.5708, 3.1416], [1.0, 2.0, 3.0])
     """
+    from ..spec._tasks import read_torque_csv
+
     try:
-        text = Path(path).read_text()
-    except OSError as exc:
-        raise InputError("CSV", f"cannot read {path}: {exc.strerror or exc}") from None
-    rows: list[list[float]] = []
-    first = True
-    for number, row in enumerate(csv.reader(text.splitlines()), 1):
-        cells = [c.strip() for c in row if c.strip()]
-        if not cells or cells[0].startswith("#"):
-            continue
-        is_header, first = first, False
-        try:
-            values = [float(c) for c in cells]
-        except ValueError:
-            if is_header:
-                continue
-            raise InputError("CSV", f"line {number} is not two numbers: {row!r}") from None
-        if len(values) != 2:
-            raise InputError(
-                "CSV", f"line {number} has {len(values)} values; expected theta_deg, torque"
-            )
-        rows.append(values)
-    if not rows:
-        raise InputError("CSV", f"{path} holds no theta_deg, torque rows")
-    data = np.array(rows)
-    return np.radians(data[:, 0]), data[:, 1]
+        return read_torque_csv(path)
+    except InputError as exc:
+        raise InputError("CSV", f"{exc.field}: {exc.message}") from None
 
 
 @flywheel_app.command()

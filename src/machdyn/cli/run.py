@@ -97,7 +97,7 @@ def _repr(value: Any) -> Any:
 
 def _summary_text(value: Any) -> str:
     if isinstance(value, list | tuple | np.ndarray):
-        return " to ".join(_summary_text(v) for v in value)
+        return ", ".join(_summary_text(v) for v in value)
     if isinstance(value, float | np.floating):
         return f"{float(value):.6g}" if math.isfinite(value) else "-"
     return str(value)

@@ -380,6 +380,9 @@ def path_cmd(
     scheduler: Annotated[
         str | None, typer.Option("--scheduler", help="Query on a Dask scheduler (tcp://HOST:PORT).")
     ] = None,
+    verify: Annotated[
+        bool, typer.Option("--verify/--no-verify", help="Check the atlas's CRCs first (~1 s/GB).")
+    ] = True,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
 ) -> None:
     """Four-bars whose coupler point passes through the target points, from an atlas.
@@ -388,7 +391,7 @@ def path_cmd(
     (machdyn = 1 TOML, with the placement in the plane) into --out.
     Exits with status 1 when no candidate is free of defects.
     """
-    from ..synthesis import path_from_atlas
+    from ..synthesis import open_atlas, path_from_atlas
     from .atlas import default_atlas
 
     if not 1 <= n <= 100:
@@ -399,13 +402,14 @@ def path_cmd(
     options = dict(
         closed=not open_path, timing=theta, n=n, crank=not no_crank, mu_min=np.radians(mu_min)
     )
+    opened = open_atlas(atlas or default_atlas(), verify=verify)
     if scheduler is None:
-        res = path_from_atlas(targets, atlas or default_atlas(), **options)
+        res = path_from_atlas(targets, opened, **options)
     else:
         from ..synthesis.atlas_dask import client_for
 
         with client_for(scheduler) as client:
-            res = path_from_atlas(targets, atlas or default_atlas(), client=client, **options)
+            res = path_from_atlas(targets, opened, client=client, **options)
     shown = res.candidates or res.rejected[:n]
     size = float(np.max(np.abs(res.targets - res.targets.mean())))
     out.mkdir(parents=True, exist_ok=True)

@@ -55,6 +55,7 @@ from .profile import (
 )
 from .trains import (
     MESH_KINDS,
+    GearTrain,
     PlanetaryTable,
     PlanetaryTrain,
     RevertedTrain,
@@ -77,6 +78,7 @@ __all__ = [
     "Gear",
     "GearOutline",
     "GearPair",
+    "GearTrain",
     "PlanetaryTable",
     "PlanetaryTrain",
     "RevertedTrain",

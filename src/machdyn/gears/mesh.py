@@ -810,6 +810,12 @@ class GearPair:
                 flat[key] = value
         return pd.Series(flat, dtype=object)
 
+    def to_spec(self, name: str = "gear_pair") -> dict[str, Any]:
+        """The pair as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "gear_pair", name)
+
     def summary(self) -> dict[str, Any]:
         """Return geometry, contact and interference as a plain dict (angles in degrees).
 

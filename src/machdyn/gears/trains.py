@@ -34,6 +34,7 @@ from .interference import max_gear_teeth
 
 __all__ = [
     "MESH_KINDS",
+    "GearTrain",
     "PlanetaryTable",
     "PlanetaryTrain",
     "RevertedTrain",
@@ -485,6 +486,11 @@ class PlanetaryTrain:
             names.append(name)
             ratios.append(ratio)
             teeth_prev = n
+        #: The chain as given: ``(name, teeth)`` then ``(name, teeth, connection)``.
+        self.chain: tuple[tuple[Any, ...], ...] = tuple(
+            (str(link[0]), int(link[1]), *(() if i == 0 else (str(link[2]),)))
+            for i, link in enumerate(chain)
+        )
         self.members: tuple[str, ...] = (*names, "arm")
         #: ``R_i``: speed of each member relative to the arm per unit of the first's (arm fixed).
         self.ratios: dict[str, float] = dict(zip(names, ratios, strict=True)) | {"arm": 0.0}
@@ -560,5 +566,77 @@ class PlanetaryTrain:
             raise InputError("fixed", "driver, driven and fixed must be three different members")
         return self.speeds(**{fixed: 0.0, driver: 1.0})[choice("driven", driven, self.members)]
 
+    def to_spec(self, name: str = "planetary") -> dict[str, Any]:
+        """The train as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "planetary", name)
+
     def __repr__(self) -> str:
         return f"PlanetaryTrain(members={self.members}, train_value={self.train_value:g})"
+
+
+class GearTrain:
+    """A simple or compound train: stages of rolling pairs from the input shaft to the output.
+
+    Parameters
+    ----------
+    stages : sequence of (driver, driven) or (driver, driven, kind)
+        Each stage: the tooth numbers (or pitch diameters) of the driving and
+        the driven member, and the kind of pair (a key of :data:`MESH_KINDS`:
+        ``"external"`` by default, ``"internal"``, belts, chain). The driven
+        member of a stage shares its shaft with the driver of the next.
+
+    Examples
+    --------
+    Two external stages 18:54 and 20:60 (Norton's compound train): ``m_V = (18/54)(20/60)``.
+
+    >>> train = GearTrain([(18, 54), (20, 60)])
+    >>> round(train.train_value, 12), train.speeds(1800.0)
+    (0.111111111111, (1800.0, -600.0, 200.0))
+    """
+
+    def __init__(self, stages: Sequence[Sequence[Any]]) -> None:
+        if isinstance(stages, str) or not isinstance(stages, Sequence) or not stages:
+            raise InputError("stages", "give at least one stage (driver, driven[, kind])")
+        out = []
+        for i, stage in enumerate(stages):
+            field = f"stages[{i}]"
+            if (
+                isinstance(stage, str)
+                or not isinstance(stage, Sequence)
+                or len(stage) not in (2, 3)
+            ):
+                raise InputError(
+                    field, f"expected (driver, driven) or (driver, driven, kind), got {stage!r}"
+                )
+            kind = choice(f"{field}.kind", stage[2] if len(stage) == 3 else "external", MESH_KINDS)
+            a = positive(f"{field}.driver", stage[0])
+            b = positive(f"{field}.driven", stage[1])
+            out.append((a, b, kind))
+        self.stages: tuple[tuple[float, float, str], ...] = tuple(out)
+
+    @property
+    def train_value(self) -> float:
+        """``m_V = ω_out / ω_in``: the product of the stages' signed ratios."""
+        return float(np.prod([stage_ratio(a, b, kind) for a, b, kind in self.stages]))
+
+    def speeds(self, omega_in: float) -> tuple[float, ...]:
+        """The speed of every shaft, the input first, for an input speed ``omega_in``."""
+        omega = finite_scalar("omega_in", omega_in)
+        out = [omega]
+        for a, b, kind in self.stages:
+            out.append(out[-1] * stage_ratio(a, b, kind))
+        return tuple(float(w) for w in out)
+
+    def to_spec(self, name: str = "gear_train") -> dict[str, Any]:
+        """The train as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
+        from ..spec import model_spec
+
+        return model_spec(self, "gear_train", name)
+
+    def __repr__(self) -> str:
+        stages = ", ".join(
+            f"{a:g}:{b:g}" + ("" if k == "external" else f" {k}") for a, b, k in self.stages
+        )
+        return f"GearTrain({stages}; m_V = {self.train_value:.6g})"

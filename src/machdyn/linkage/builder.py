@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._validate import finite_scalar
 from ..errors import InputError, ModelError
@@ -20,6 +20,9 @@ from .joints import _JointMethods
 from .kinematics import LinkageMotion
 from .topology import _Edge, _Model, edges_of
 from .view import Joint, Link, Spring, TorsionSpring, elements_of, joints_of
+
+if TYPE_CHECKING:
+    from ..centres import InstantCentres
 
 
 class Linkage(_JointMethods, _ElementMethods):
@@ -373,6 +376,21 @@ class Linkage(_JointMethods, _ElementMethods):
 
         return to_html(self, path, **options)
 
+    def instant_centres(self, values: Any, velocity: Any = None) -> InstantCentres:
+        """All instant centres at driver ``values``: :func:`machdyn.centres.instant_centres_of`.
+
+        Examples
+        --------
+        >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (0, 2), "B": (5.0, 5.0)})
+        ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+        ...       .link("rocker", "O4", "B").drive("crank"))
+        >>> lk.instant_centres(1.0).method("ground", "coupler")
+        'kennedy'
+        """
+        from ..centres import instant_centres_of
+
+        return instant_centres_of(self, values, velocity)
+
     # ------------------------------------------------------------------ structure
 
     def _owner(self, point: str, preferred: str = "") -> str:
@@ -632,18 +650,3 @@ class Linkage(_JointMethods, _ElementMethods):
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
-
-    def instant_centres(self, values: Any, velocity: Any = None):
-        """All instant centres at driver ``values``: :func:`machdyn.centres.instant_centres_of`.
-
-        Examples
-        --------
-        >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (0, 2), "B": (5.0, 5.0)})
-        ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
-        ...       .link("rocker", "O4", "B").drive("crank"))
-        >>> lk.instant_centres(1.0).method("ground", "coupler")
-        'kennedy'
-        """
-        from ..centres import instant_centres_of
-
-        return instant_centres_of(self, values, velocity)

@@ -447,6 +447,8 @@ def unwrap(a: np.ndarray) -> np.ndarray:
     ok = np.isfinite(a)
     if ok.all():
         d = np.diff(a)
+        if a.size < 2 or np.abs(d).max() <= np.pi:  # no step wraps: nothing to do
+            return a
         return np.concatenate((a[:1], a[0] + np.cumsum((d + np.pi) % (2 * np.pi) - np.pi)))
     out = np.full_like(a, np.nan)
     idx = np.flatnonzero(ok)
@@ -609,6 +611,15 @@ class Program:
     deps: list[tuple[int, ...]]  # per group: the groups whose links it uses
     links: list[tuple[int, ...]]  # per group: the links it places
     unwrap: frozenset[int] = frozenset()  # links whose angle comes from atan2
+
+    @property
+    def encoded(self) -> Any:
+        """The steps as rows for the kernel (:func:`machdyn.linkage.kernel.encode`), or None."""
+        if not hasattr(self, "_encoded"):
+            from .kernel import encode
+
+            self._encoded = encode(self)
+        return self._encoded
 
     def run(
         self, u: list[list[Any]], n: int, order: int, follow: bool = False

@@ -13,6 +13,7 @@ the angle within π of the drawn one.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -20,8 +21,9 @@ import numpy as np
 
 from ..errors import ModelError
 from ._common import GROUND, _frozen, _ref_angle, _typical_length
+from .kernel import Outputs, Tables, has_general, run
 from .kinematics import LinkageMotion, _cg_drawn
-from .program import NO_ASSEMBLY, OK, SINGULAR, Program, State
+from .program import NO_ASSEMBLY, OK, SINGULAR, Program, unwrap
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -48,6 +50,11 @@ class _Info:
     group_links: tuple[tuple[int, ...], ...]
     texts: tuple[tuple[str, str, str], ...]  # per group: no assembly, singular, its name
     angle_drivers: frozenset[str]
+    tables: Tables  # the rows a run reports (moving links, points + centres, lengths)
+    theta0: np.ndarray  # drawn angle of every moving link, as a column
+    rows: dict[str, Any]  # names of the rows: links, points, centres of mass, lengths
+    point_group: np.ndarray  # per point (and centre) row: the group placing its link (-1: ground)
+    length_groups: tuple[tuple[int, int], ...]  # per length: the groups of its two links
 
 
 def _info(lk: Linkage, model: _Model) -> _Info:
@@ -100,17 +107,52 @@ def _info(lk: Linkage, model: _Model) -> _Info:
                 f"{grp.name}{tail}",
             )
         )
+    cgs = [(n, ref(n, _cg_drawn(lk, ln))) for n, ln in lk._links.items()]
+    refs = [r for _, r in points] + [r for _, r in cgs]
+    lens_i, lens_f = [], []
+    for _, foot, at, u0, guide in slides:
+        lens_i += [0, foot[0], at[0], guide]
+        lens_f += [foot[1].real, foot[1].imag, at[1].real, at[1].imag, u0.real, u0.imag]
+    for _, s0, s1 in actuators:
+        lens_i += [1, s0[0], s1[0], 0]
+        lens_f += [s0[1].real, s0[1].imag, s1[1].real, s1[1].imag, 0.0, 0.0]
+    tables = Tables(
+        np.arange(1, len(lk._links) + 1, dtype=np.int64),
+        np.array([i for i, _ in refs], np.int64),
+        np.array([x for _, r in refs for x in (r.real, r.imag)], float),
+        np.array(lens_i, np.int64),
+        np.array(lens_f, float),
+    )
+    group_of = {GROUND: -1}
+    for g, grp in enumerate(groups):
+        for n in grp.links:
+            group_of[n] = g
+    by_index = {i: name for name, i in index.items()}
+    edges_by = {e.name: e for e in model.edges}
+    length_names = [name for name, *_ in slides] + [name for name, *_ in actuators]
     info = _Info(
         start=np.array(start, float),
         scale=np.array(scale, float),
         links=tuple((n, index[n], _ref_angle(lk, n)) for n in lk._links),
         points=tuple(points),
-        cgs=tuple((n, ref(n, _cg_drawn(lk, ln))) for n, ln in lk._links.items()),
+        cgs=tuple(cgs),
         slides=tuple(slides),
         actuators=tuple(actuators),
         group_links=tuple(tuple(index[n] for n in grp.links) for grp in groups),
         texts=tuple(texts),
         angle_drivers=frozenset(d for d in lk._drivers if d in lk._links or d in lk._motors),
+        tables=tables,
+        theta0=np.array([_ref_angle(lk, n) for n in lk._links]).reshape(-1, 1),
+        rows={
+            "links": tuple(lk._links),
+            "points": tuple(p for p, _ in points),
+            "cgs": tuple(lk._links),
+            "lengths": tuple(length_names),
+        },
+        point_group=np.array([group_of[by_index[i]] for i, _ in refs], int),
+        length_groups=tuple(
+            (group_of[edges_by[n].a], group_of[edges_by[n].b]) for n in length_names
+        ),
     )
     _check_drawing(model.program, info, groups)
     model.cache["sweep"] = info
@@ -151,13 +193,16 @@ def _path(start: np.ndarray, scale: np.ndarray, u: np.ndarray) -> tuple[np.ndarr
     n = u.shape[1]
     span = float(np.max(np.abs(u[:, 0] - start) / scale)) if u.size else 0.0
     k_march = int(np.ceil(span / STEP)) if span > 1e-12 else 0
+    counts = np.zeros(0, int)
     if n > 1:
-        steps = np.max(np.abs(np.diff(u, axis=1)) / scale[:, None], axis=0)
-        counts = np.maximum(1, np.ceil(steps / STEP).astype(int))
-    else:
-        counts = np.zeros(0, int)
+        steps = np.abs(np.diff(u, axis=1))
+        if steps.max() > STEP * scale.min():  # a step larger than STEP somewhere
+            steps = np.max(steps / scale[:, None], axis=0)
+            counts = np.maximum(1, np.ceil(steps / STEP).astype(int))
     if k_march == 0 and not (counts > 1).any():
         return u, -1 - np.arange(n)
+    if counts.size == 0 and n > 1:
+        counts = np.ones(n - 1, int)
     parts, tags = [], []
     if k_march:
         f = np.arange(k_march) / k_march
@@ -190,51 +235,70 @@ def solve_closed(
     shape: tuple[int, ...],
     follow: bool,
 ) -> LinkageMotion:
-    """Solve ``lk`` group by group in closed form at every sample (see the module)."""
+    """Solve ``lk`` group by group at every sample (see the module)."""
     info = _info(lk, model)
+    program = model.program
     drivers = tuple(lk._drivers)
     n = int(np.prod(shape))
     order = 0 if vel is None else 3 if jrk is not None else 2
-    U = np.stack([_flat(vals[d], shape) for d in drivers]) if n else np.zeros((len(drivers), 0))
-    rates = [[_flat(t[d], shape) for d in drivers] for t in (vel, acc, jrk) if t is not None]
+    U = np.zeros((4 * len(drivers), n))
+    for d, name in enumerate(drivers):
+        U[4 * d] = _flat(vals[name], shape)
+        for k, table in enumerate((vel, acc, jrk), start=1):
+            if table is not None and k <= order:
+                U[4 * d + k] = _flat(table[name], shape)
     if follow and n:
-        path, tags = _path(info.start, info.scale, U)
+        out = _follow(program, info, U, order)
     else:
-        path, tags = U, -1 - np.arange(n)
-    m = path.shape[1]
-    on_path = m != n
-    src = np.where(tags < 0, -1 - tags, tags)
-    u = []
-    for i in range(len(drivers)):
-        row = [path[i]]
-        for k in range(3):
-            if k < len(rates):
-                row.append(rates[k][i][src] if on_path else rates[k][i])
-            else:
-                row.append(np.zeros(m))
-        u.append(row)
-    st, codes = model.program.run(u, m, order, follow)
-    if on_path:
-        take = np.flatnonzero(tags < 0)
-        _select(st, take)
-        codes = codes[:, take]
-        st.reasons = {g: r[take] for g, r in st.reasons.items()}
-    ok, reason = _flags(st, codes, model, info, n)
-    for g in np.flatnonzero((codes == NO_ASSEMBLY).any(axis=1)):
+        out = run(program, info.tables, U, order, False)
+    ok, reason = _flags(out, model, info, n)
+    for g in np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
         where = _reach(lk, model, info, int(g))
         if where:
             mine = reason == info.texts[g][0]
             reason[mine] = f"{info.texts[g][0]} ({where})"
-    return _motion(lk, st, info, vals, shape, ok, reason, order)
+    return _motion(lk, out, info, vals, shape, ok, reason, order)
 
 
-def _select(st: State, take: np.ndarray) -> None:
-    """Keep the samples ``take`` of every array of the state."""
-    st.n = take.size
-    for table in (st.O, st.E, st.ang, *st.lin, *st.rot):
-        for i, v in enumerate(table):
-            if np.ndim(v):
-                table[i] = v[take]
+def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs:
+    """Run a 1-D sweep with its angles unwrapped along a path from the drawn pose."""
+    vals = U[0::4]
+    unwrapped = [j for j, i in enumerate(info.tables.links) if int(i) in program.unwrap]
+    n = vals.shape[1]
+    coarse = n > 1 and np.abs(np.diff(vals, axis=1)).max() > STEP * info.scale.min()
+    if has_general(program) or coarse:  # the whole path in one run
+        path, tags = _path(info.start, info.scale, vals)
+        take = np.flatnonzero(tags < 0)
+        src = np.where(tags < 0, -1 - tags, tags)
+        P = U[:, src]
+        P[0::4] = path
+        out = run(program, info.tables, P, order, True)
+        for j in unwrapped:
+            out.ang[j] = unwrap(out.ang[j])
+        return Outputs(
+            out.ang[:, take], out.rot[:, take], out.pts[:, take], out.lens[:, take],
+            out.codes[:, take], {g: r[take] for g, r in out.reasons.items()},
+        )  # fmt: skip
+    out = run(program, info.tables, U, order, True)
+    if unwrapped:
+        span = float(np.max(np.abs(vals[:, 0] - info.start) / info.scale))
+        first = np.zeros(len(unwrapped))
+        if span > 1e-12:  # the drawn pose ... the first sample, positions only
+            k = int(np.ceil(span / STEP))
+            M = np.zeros((U.shape[0], k + 1))
+            M[0::4] = info.start[:, None] + np.linspace(0.0, 1.0, k + 1) * (
+                vals[:, :1] - info.start[:, None]
+            )
+            ref = run(program, info.tables, M, 0, True)
+            first = np.array([unwrap(ref.ang[j])[-1] for j in unwrapped])
+        for j, a0 in zip(unwrapped, first, strict=True):
+            a = unwrap(out.ang[j])
+            if np.isfinite(a0) and np.isfinite(a[0]):
+                turns = np.round((a0 - a[0]) / (2 * np.pi))
+                if turns:
+                    a = a + 2 * np.pi * turns
+            out.ang[j] = a
+    return out
 
 
 def _pos_ok(model: _Model, codes: np.ndarray, g: int) -> np.ndarray:
@@ -300,34 +364,45 @@ def _reach(lk: Linkage, model: _Model, info: _Info, g: int) -> str:
     return text
 
 
-def _flags(st: State, codes: np.ndarray, model: _Model, info: _Info, n: int):
+def _flags(out: Outputs, model: _Model, info: _Info, n: int):
     """Propagate each group's status to the groups depending on it; NaN what is undefined."""
     deps = model.program.deps
+    codes = out.codes
+    if not codes.any():
+        return np.ones(n, bool), np.full(n, "", dtype=object)
     pos_bad = codes == NO_ASSEMBLY
     rate_bad = codes != OK
     for g, dep in enumerate(deps):
         for h in dep:
             pos_bad[g] |= pos_bad[h]
             rate_bad[g] |= rate_bad[h]
+    nm, npt = len(info.tables.links), len(info.tables.pts_i)
+    nln = len(info.tables.lens_i) // 4
+    order = out.rot.shape[0] // nm if nm else 0
     for g, links in enumerate(info.group_links):
         pb, rb = pos_bad[g], rate_bad[g]
         if not rb.any():
             continue
         for i in links:
-            if pb.any():
-                st.O[i] = np.where(pb, np.nan, st.O[i])
-                st.E[i] = np.where(pb, np.nan, st.E[i])
-                st.ang[i] = np.where(pb, np.nan, st.ang[i])
-            for k in range(1, st.order + 1):
-                st.lin[k][i] = np.where(rb, np.nan, st.lin[k][i])
-                st.rot[k][i] = np.where(rb, np.nan, st.rot[k][i])
+            out.ang[i - 1, pb] = np.nan
+            for k in range(order):
+                out.rot[k * nm + i - 1, rb] = np.nan
+        for p in np.flatnonzero(info.point_group == g):
+            out.pts[p, pb] = np.nan
+            for k in range(1, order + 1):
+                out.pts[k * npt + p, rb] = np.nan
+        for q, pair in enumerate(info.length_groups):
+            if g in pair:
+                out.lens[q, pb] = np.nan
+                for k in range(1, order + 1):
+                    out.lens[k * nln + q, rb] = np.nan
     ok = ~rate_bad.any(axis=0) if len(deps) else np.ones(n, bool)
     reason = np.full(n, "", dtype=object)
     for g in range(len(deps) - 1, -1, -1):
-        if g in st.reasons:  # a general group: the loop core's reason, naming the group
+        if g in out.reasons:  # a general group: the loop core's reason, naming the group
             bad = codes[g] != OK
             if bad.any():
-                own = st.reasons[g][bad]
+                own = out.reasons[g][bad]
                 reason[bad] = [f"{r or 'cannot assemble'} ({info.texts[g][2]})" for r in own]
             continue
         for code, text in ((NO_ASSEMBLY, info.texts[g][0]), (SINGULAR, info.texts[g][1])):
@@ -337,7 +412,7 @@ def _flags(st: State, codes: np.ndarray, model: _Model, info: _Info, n: int):
 
 def _motion(
     lk: Linkage,
-    st: State,
+    out: Outputs,
     info: _Info,
     vals: dict[str, np.ndarray],
     shape: tuple[int, ...],
@@ -345,43 +420,35 @@ def _motion(
     reason: np.ndarray,
     order: int,
 ) -> LinkageMotion:
-    n = st.n
+    rows = info.rows
+    nm, npt, nln = len(rows["links"]), len(rows["points"]), len(rows["lengths"])
+    size = len(info.tables.pts_i)
 
-    def full(v: Any) -> np.ndarray:
-        return np.array(np.broadcast_to(v, (n,)), copy=True).reshape(shape)
+    def block(a: np.ndarray, start: int, count: int) -> np.ndarray:
+        part = a[start : start + count]
+        return part.reshape(part.shape[0], *shape)
 
-    def table(items) -> Any:
-        return _frozen({k: full(v) for k, v in items})
-
-    ks = range(1, order + 1)
-    theta = table((name, th0 + st.ang[i]) for name, i, th0 in info.links)
-    rot = [table((name, st.rot[k][i]) for name, i, _ in info.links) for k in ks]
-    pts = [st.rates(r) for _, r in info.points]
-    cgs = [st.rates(r) for _, r in info.cgs]
-    points = [
-        table((p, v[k]) for (p, _), v in zip(info.points, pts, strict=True))
-        for k in range(order + 1)
-    ]
-    cg = [
-        table((c, v[k]) for (c, _), v in zip(info.cgs, cgs, strict=True)) for k in range(order + 1)
-    ]
-    lengths = _lengths(st, info, order)
-    lens = [table((name, v[k]) for name, v in lengths) for k in range(order + 1)]
+    theta = _Rows(rows["links"], block(out.ang + info.theta0, 0, nm))
+    rot = [_Rows(rows["links"], block(out.rot, k * nm, nm)) for k in range(order)]
+    pts = [_Rows(rows["points"], block(out.pts, k * size, npt)) for k in range(order + 1)]
+    cgs = [_Rows(rows["cgs"], block(out.pts, k * size + npt, nm)) for k in range(order + 1)]
+    lens = [_Rows(rows["lengths"], block(out.lens, k * nln, nln)) for k in range(order + 1)]
 
     def at(seq: list, k: int) -> Any:
         return seq[k] if k < len(seq) else None
 
+    inputs = {k: np.array(np.broadcast_to(v, shape)) for k, v in vals.items()}
     return LinkageMotion(
-        inputs=_frozen({k: full(np.ravel(np.broadcast_to(v, shape))) for k, v in vals.items()}),
+        inputs=_frozen(inputs),
         theta=theta,
         omega=at(rot, 0),
         alpha=at(rot, 1),
-        points=points[0],
-        point_velocity=at(points, 1),
-        point_acceleration=at(points, 2),
-        cg=cg[0],
-        cg_velocity=at(cg, 1),
-        cg_acceleration=at(cg, 2),
+        points=pts[0],
+        point_velocity=at(pts, 1),
+        point_acceleration=at(pts, 2),
+        cg=cgs[0],
+        cg_velocity=at(cgs, 1),
+        cg_acceleration=at(cgs, 2),
         lengths=lens[0],
         length_rate=at(lens, 1),
         length_acceleration=at(lens, 2),
@@ -389,11 +456,36 @@ def _motion(
         reason=reason.reshape(shape),
         angle_drivers=info.angle_drivers,
         jerk=at(rot, 2),
-        point_jerk=at(points, 3),
-        cg_jerk=at(cg, 3),
+        point_jerk=at(pts, 3),
+        cg_jerk=at(cgs, 3),
         length_jerk=at(lens, 3),
         _loop=lambda: _loop_motion(lk, vals, shape, order),
     )
+
+
+class _Rows(Mapping):
+    """A read-only mapping of names to the rows of one stacked array (no copies)."""
+
+    __slots__ = ("_data", "_index", "_names")
+
+    def __init__(self, names: tuple[str, ...], data: np.ndarray) -> None:
+        data.flags.writeable = False
+        self._names, self._data = names, data
+        self._index: dict[str, int] | None = None
+
+    def __getitem__(self, key: str) -> np.ndarray:
+        if self._index is None:
+            self._index = {n: i for i, n in enumerate(self._names)}
+        return self._data[self._index[key]]
+
+    def __iter__(self):
+        return iter(self._names)
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def __repr__(self) -> str:
+        return f"<{len(self._names)} arrays: {', '.join(self._names)}>"
 
 
 def _loop_motion(lk: Linkage, vals, shape, order):
@@ -403,39 +495,3 @@ def _loop_motion(lk: Linkage, vals, shape, order):
     vel = {d: 0.0 for d in vals} if order else None
     acc = {d: 0.0 for d in vals}
     return solve_loops(lk, vals, vel, acc, len(shape) <= 1 and n > 1).loop_motion
-
-
-def _lengths(st: State, info: _Info, order: int) -> list[tuple[str, list[Any]]]:
-    """Slider and slot displacements, actuator lengths, and their rates."""
-    out = []
-    for name, foot, at, u0, guide in info.slides:
-        F, P = st.rates(foot), st.rates(at)
-        uh = u0 * st.E[guide]
-        w = [st.rot[k][guide] for k in range(1, order + 1)]
-        r = [P[k] - F[k] for k in range(order + 1)]
-        d = [(r[0] * np.conj(uh)).real]
-        if order >= 1:
-            d.append((r[1] * np.conj(uh)).real)
-        if order >= 2:
-            d.append((r[2] * np.conj(uh)).real + d[0] * w[0] * w[0])
-        if order >= 3:
-            d.append(
-                (r[3] * np.conj(uh)).real + 3.0 * d[1] * w[0] * w[0] + 3.0 * d[0] * w[0] * w[1]
-            )
-        out.append((name, d))
-    for name, start, end in info.actuators:
-        S, T = st.rates(start), st.rates(end)
-        r = [T[k] - S[k] for k in range(order + 1)]
-        L = np.abs(r[0])
-        e = r[0] / L
-        out_l = [L]
-        if order >= 1:
-            p1 = (r[1] * np.conj(e)).imag / L
-            out_l.append((r[1] * np.conj(e)).real)
-        if order >= 2:
-            p2 = ((r[2] * np.conj(e)).imag - 2.0 * out_l[1] * p1) / L
-            out_l.append((r[2] * np.conj(e)).real + L * p1 * p1)
-        if order >= 3:
-            out_l.append((r[3] * np.conj(e)).real + 3.0 * out_l[1] * p1 * p1 + 3.0 * L * p1 * p2)
-        out.append((name, out_l))
-    return out

@@ -23,6 +23,7 @@ import numpy as np
 from .._validate import finite_array, finite_scalar, integer
 from ..errors import InputError, ModelError
 from . import solve as _solve
+from ._equations import derivatives, point_motion, residual_and_jacobian
 from ._parse import parse_linear, parse_signed_sum
 from .result import Motion, SystemReport
 
@@ -334,7 +335,8 @@ class LoopSystem:
                 + (" (over-determined: remove an equation or add a variable)" if dof < 0 else "")
             )
         self._check_rank(variables, labels, inputs)
-        return SystemReport(tuple(labels), tuple(variables), inputs, dof)
+        groups = tuple(g.names for g in self._compile(inputs).groups) if inputs else ()
+        return SystemReport(tuple(labels), tuple(variables), inputs, dof, groups)
 
     def _check_rank(self, variables: list[str], labels: list[str], inputs: tuple[str, ...]) -> None:
         """Structural rank test at random poses (a singular pose is not structural)."""
@@ -347,7 +349,7 @@ class LoopSystem:
         is_len = c.var_scale != 1.0
         x[is_len] = rng.uniform(0.5, 1.5, (int(is_len.sum()), n_try)) * c.scale
         cols = np.arange(len(variables))
-        _, jac = _solve.residual_and_jacobian(c, x, cols)
+        _, jac = residual_and_jacobian(c, x, cols)
         jac = jac * c.row_weight[:, None, None] * c.var_scale[None, :, None]
         best_full, best_q = None, None
         for t in range(n_try):
@@ -581,7 +583,7 @@ class LoopSystem:
         c = self._checked(inputs)
         names = list(c.names)
         x0, shape = self._input_arrays(values, tuple(names))
-        f, _ = _solve.residual_and_jacobian(c, x0, jacobian=False)
+        f, _ = residual_and_jacobian(c, x0, jacobian=False)
         resid = np.abs(f * c.row_weight[:, None]).max(axis=0) if f.size else np.zeros(x0.shape[1])
         code = np.zeros(x0.shape[1], dtype=np.int8)
         return self._finish(c, x0, code, resid, shape, velocity, acceleration, jerk, order)
@@ -603,29 +605,21 @@ class LoopSystem:
                 self._rates("jerk", jerk, inputs, shape, required=False),
             ][:order]
             reuse = pos.reuse if pos is not None else None
-            rates, fac = _solve.derivatives(c, x0, u_rates, reuse=reuse)
-            det, rcond = fac.det, fac.rcond
+            rates, fac = derivatives(c, x0, u_rates, reuse=reuse)
             states += rates
+            det, rcond, gdet, grc = fac.det, fac.rcond, fac.block_det, fac.block_rcond
         else:
             if acceleration is not None or jerk is not None:
                 raise ModelError("acceleration/jerk need the input velocity too (velocity=...)")
-            if pos is not None:
-                det, rcond = pos.det.copy(), pos.rcond.copy()
-                todo = np.flatnonzero(np.isnan(rcond))  # accepted without a factorization
-            else:
-                det, rcond = np.zeros(x0.shape[1]), np.zeros(x0.shape[1])
-                todo = np.arange(x0.shape[1])
-            if todo.size:
-                x = np.nan_to_num(x0[:, todo])
-                _, jac = _solve.residual_and_jacobian(c, x, c.unknown)
-                fac = _solve._factor(jac, *c.jq_scales, c.jq_structure)
-                det[todo], rcond[todo] = fac.det, fac.rcond
-        assembled = code == _solve.OK
-        singular = assembled & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
+            det, rcond, gdet, grc = _determinants(c, x0, pos)
+        group = pos.group.copy() if pos is not None else np.full(x0.shape[1], -1, np.int16)
+        singular = (code == _solve.OK) & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
         code = np.where(singular, _solve.SINGULAR, code)
+        if len(c.groups) > 1 and singular.any():
+            group[singular] = np.argmin(np.nan_to_num(grc[:, singular], nan=np.inf), axis=0)
         ok = code == _solve.OK
         terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
-        pts = _solve.point_motion(c, states, terms)
+        pts = point_motion(c, states, terms)
         bad_pos = (code != _solve.OK) & (code != _solve.SINGULAR)
         mask = [bad_pos] + [~ok] * (len(states) - 1)
 
@@ -643,10 +637,10 @@ class LoopSystem:
         ]
         for name in inputs:  # inputs are known even where the pose is not
             per_var[0][name] = x0[c.inputs[inputs.index(name)]].reshape(shape).copy()
-        reasons = np.array(_solve.REASONS, dtype=object)
         frozen = [_freeze(d) for d in per_var]
         frozen_pts = [_freeze(d) for d in per_pt]
         extra = [None] * (4 - len(frozen))
+        group_branch = np.where(bad_pos, 0, np.sign(np.nan_to_num(gdet))).astype(np.int8)
         return Motion(
             positions=frozen[0],
             velocity=(frozen + extra)[1],
@@ -657,12 +651,47 @@ class LoopSystem:
             point_acceleration=(frozen_pts + extra)[2],
             point_jerk=(frozen_pts + extra)[3],
             ok=ok.reshape(shape),
-            reason=reasons[code].reshape(shape),
+            reason=_reasons(c, code, group).reshape(shape),
             residual=np.where(bad_pos, np.nan, resid).reshape(shape),
             branch=np.where(bad_pos, 0, np.sign(det)).astype(np.int8).reshape(shape),
             inputs=inputs,
             angles=tuple(c.names[i] for i in np.unique(c.angle_var[c.angle_var >= 0])),
+            groups=tuple(g.names for g in c.groups),
+            group_branch=group_branch.reshape((len(c.groups), *shape)),
         )
+
+
+def _determinants(c, x0: np.ndarray, pos) -> tuple[np.ndarray, ...]:
+    """det, rcond and the groups' det and rcond of ``J_q`` at ``x0`` (from ``pos`` if known)."""
+    n = x0.shape[1]
+    if pos is not None:
+        det, rcond, gdet, grc = (a.copy() for a in (pos.det, pos.rcond, pos.gdet, pos.grc))
+        todo = np.flatnonzero(np.isnan(rcond))  # accepted without a factorization
+    else:
+        det, rcond = np.zeros(n), np.zeros(n)
+        gdet, grc = np.zeros((len(c.groups), n)), np.zeros((len(c.groups), n))
+        todo = np.arange(n)
+    if todo.size:
+        x = np.nan_to_num(x0[:, todo])
+        _, jac = residual_and_jacobian(c, x, c.unknown)
+        fac = c.factor(jac)
+        det[todo], rcond[todo] = fac.det, fac.rcond
+        gdet[:, todo], grc[:, todo] = fac.block_det, fac.block_rcond
+    return det, rcond, gdet, grc
+
+
+def _reasons(c, code: np.ndarray, group: np.ndarray) -> np.ndarray:
+    """Per-sample reason texts; a flag about one group names it (when there are several)."""
+    reasons = np.array(_solve.REASONS, dtype=object)[code]
+    named = (group >= 0) & ((code == _solve.LOST) | (len(c.groups) > 1)) & (code != _solve.OK)
+    for gi, g in enumerate(c.groups):
+        sel = named & (group == gi)
+        if sel.any():
+            reasons[sel] = [f"{r} (group {g.label})" for r in reasons[sel]]
+        sel &= code == _solve.NO_ASSEMBLY
+        if sel.any():
+            reasons[sel] = f"cannot assemble: group {g.label} cannot close at this input"
+    return reasons
 
 
 def _freeze(d: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:

@@ -25,6 +25,10 @@ class SystemReport:
         The named inputs (empty when none were named yet).
     dof : int
         Degrees of freedom ``len(variables) - len(equations)``.
+    groups : tuple of tuple of str
+        The unknowns in groups, in solving order (the diagonal blocks of the
+        Jacobian's block-triangular form; each keeps its own branch along a
+        sweep); empty when no inputs were named.
 
     Examples
     --------
@@ -38,6 +42,7 @@ class SystemReport:
     variables: tuple[str, ...]
     inputs: tuple[str, ...]
     dof: int
+    groups: tuple[tuple[str, ...], ...] = ()
 
     @property
     def unknowns(self) -> tuple[str, ...]:
@@ -52,6 +57,8 @@ class SystemReport:
             "equations:",
             *(f"  {e}" for e in self.equations),
         ]
+        if self.groups:
+            lines.append("groups (solving order): " + " | ".join(", ".join(g) for g in self.groups))
         return "\n".join(lines)
 
 
@@ -83,12 +90,19 @@ class Motion:
         Largest loop-closure residual per sample, relative to the model's
         characteristic length.
     branch : ndarray of int
-        Sign of ``det J_q`` per sample (+1/−1; 0 where not assembled): constant
-        along one circuit/branch away from toggles.
+        Sign of ``det J_q`` per sample (+1/−1; 0 where not assembled): the
+        product of the groups' signs, so constant along a continuation sweep.
     inputs : tuple of str
         Names of the input variables.
     angles : tuple of str
         Names of the variables that are angles (plotted in degrees).
+    groups : tuple of tuple of str
+        The unknowns of each group (diagonal block of the Jacobian's
+        block-triangular form, e.g. each dyad of a six-bar), in solving order.
+    group_branch : ndarray of int, shape (len(groups), *shape)
+        Sign of each group's determinant per sample (0 where not assembled): a
+        group's branch (assembly mode). Along a continuation sweep every ok
+        sample has the signs of the sweep's start.
 
     Examples
     --------
@@ -118,6 +132,8 @@ class Motion:
     branch: np.ndarray
     inputs: tuple[str, ...]
     angles: tuple[str, ...] = ()
+    groups: tuple[tuple[str, ...], ...] = ()
+    group_branch: np.ndarray | None = None
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Position of variable ``name``, or of point ``name`` (complex)."""

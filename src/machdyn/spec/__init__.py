@@ -33,16 +33,41 @@ from ._toml import dumps
 
 __all__ = [
     "VERSION",
+    "Cam",
+    "FlywheelSizing",
+    "FunctionTask",
     "Machine",
+    "MotionTask",
     "Part",
+    "PathTask",
+    "RotorBalance",
     "SpecError",
     "dumps",
     "from_spec",
     "load",
     "load_machine",
     "read",
+    "read_torque_csv",
     "schema",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    # the part objects of the task kinds, loaded with their modules
+    places = {
+        "Cam": "_cam",
+        "FlywheelSizing": "_tasks",
+        "RotorBalance": "_tasks",
+        "read_torque_csv": "_tasks",
+        "MotionTask": "_synthesis",
+        "FunctionTask": "_synthesis",
+        "PathTask": "_synthesis",
+    }
+    if name in places:
+        import importlib
+
+        return getattr(importlib.import_module(f".{places[name]}", __name__), name)
+    raise AttributeError(f"module 'machdyn.spec' has no attribute {name!r}")
 
 
 def model_spec(model: Any, kind: str, name: str) -> dict[str, Any]:

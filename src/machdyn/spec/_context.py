@@ -286,3 +286,10 @@ class Writer:
                     return short + 0.0
         unit = "rad" if kind == "angle" else self.system.internal(kind)
         return f"{value!r} {unit}"
+
+
+def check_units(value: Any) -> Any:
+    """``units`` of a part object: None or a :class:`~machdyn.units.UnitSystem`."""
+    if value is not None and not isinstance(value, u.UnitSystem):
+        raise InputError("units", f"must be a machdyn.units.UnitSystem or None, got {value!r}")
+    return value

@@ -113,6 +113,8 @@ FOURBAR = Table(
         coupler=optional(POINT_ON_LINK, "coupler point P: p from A, delta from AB"),
         form=optional(Choice(1, 2)),
         branch=optional(Choice(1, -1), "GRCR/GRRC only: the sign of phi12"),
+        O2=optional(Position(), "placed in the plane: where O2 is (with theta1)"),
+        theta1=optional(Quantity("angle"), "placed: the angle of O2 -> O4 from +x"),
         motion=optional(MOTION),
         link2=optional(MASS),
         link3=optional(MASS),
@@ -314,6 +316,10 @@ def _run_fourbar(part: Part, machine: Machine, results: dict) -> PartResult:
                 f"toggle: links {tg.links[0]}-{tg.links[1]} {tg.kind}{side}", tg.theta2, "angle"
             )
         )
+    if "O2" in v or "theta1" in v:
+        o2 = complex(v.get("O2", 0j))
+        out.summary.append(Summary("placed: O2", [o2.real, o2.imag], "length"))
+        out.summary.append(Summary("placed: theta1", v.get("theta1", 0.0), "angle"))
     good = m.ok & np.isfinite(m.mu)
     if good.any():
         out.summary.append(

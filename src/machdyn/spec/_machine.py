@@ -44,6 +44,15 @@ KINDS: dict[str, str] = {
     "slider_crank": "_fourbar",
     "inverted_slider_crank": "_fourbar",
     "linkage": "_linkage",
+    "cam": "_cam",
+    "gear_pair": "_gears",
+    "gear_train": "_gears",
+    "planetary": "_gears",
+    "flywheel": "_tasks",
+    "rotor": "_tasks",
+    "motion_synthesis": "_synthesis",
+    "function_synthesis": "_synthesis",
+    "path_synthesis": "_synthesis",
 }
 
 UNIT_KEYS = {

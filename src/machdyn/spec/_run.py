@@ -43,7 +43,7 @@ class ResultTable:
         out = {}
         for name, values in self.columns.items():
             k = self.kinds[name]
-            if k is None:
+            if k is None or (k == "dimensionless" and np.asarray(values).dtype.kind in "iu"):
                 out[name] = values
             else:
                 out[system.label(name, k)] = system.show(k, np.asarray(values, dtype=float))

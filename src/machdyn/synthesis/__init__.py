@@ -32,6 +32,7 @@ from .motion import (
 from .path import PathSynthesis, path_objective, synthesize_path
 from .placed import PlacedFourBar
 from .quick_return import QuickReturn, quick_return, time_ratio_angle
+from .sixbar_path import SixBarPath
 
 __all__ = [
     "Atlas",
@@ -45,6 +46,7 @@ __all__ = [
     "PlacedFourBar",
     "QuickReturn",
     "RotopoleLink",
+    "SixBarPath",
     "StructuralError",
     "atlas",
     "build_atlas",
