@@ -349,11 +349,22 @@ def catalogue() -> dict[str, Call]:
         fn(f"machdyn.classify:{name}", r1=8.0, r2=4.0, r3=7.0, r4=6.0)
     fn("machdyn.classify:fourbar_loops", lk=_linkage())
     fn("machdyn.mobility:mobility", links=4, full_joints=4, half_joints=0)
+
+    def gruebler(result, kw) -> None:  # exact integer arithmetic: any size is answered
+        L, J1, J2 = (int(kw[k]) for k in ("links", "full_joints", "half_joints"))
+        assert result == 3 * (L - 1) - 2 * J1 - J2
+
+    c["machdyn.mobility:mobility"].check = gruebler
+    for name in ("links", "full_joints", "half_joints"):
+        c["machdyn.mobility:mobility"].accepts[name] = {"bigint"}
     fn("machdyn.mobility:mobility_of", joints=[("R", (1, 2)), ("R", (2, 3)), ("R", (3, 1))])
-    c["machdyn.mobility:mobility_of"].accepts["links"] = {"none"}
+    c["machdyn.mobility:mobility_of"].accepts["links"] = {"none", "bigint"}
+    c["machdyn.mobility:mobility_of"].check = _mobility_of_check
     fn("machdyn.mobility:Joint", kind="R", links=(1, 2))
     fn("machdyn.loops:Vector", name="R1", length=8.0, angle=0.0)
-    fn("machdyn.dynamics:PointLoad", link=3, point=1 + 1j, force=10j)
+    c["machdyn.dynamics:PointLoad"] = Call(  # a record: checked where it is used
+        lambda: _used_point_load, dict(link=3, point=1 + 1j, force=10j)
+    )
     fn("machdyn.massprops:MassProperties", mass=2.0, cg=1 + 1j, inertia=0.5)
     fn("machdyn.mobility:count_joints", joints=[("R", (1, 2)), ("P", (2, 3))])
     from machdyn.centres import finite
@@ -424,7 +435,58 @@ def catalogue() -> dict[str, Call]:
     _add_design(c, fn, meth)
     _add_general(c, fn, meth)
     __import__("fuzz_catalogue_spec").add_spec(c, fn, meth)  # machdyn.spec, machdyn.units
+    for (key, name), values in ACCEPTS.items():
+        c[key].accepts.setdefault(name, set()).update(values)
+    for key, why in NONFINITE.items():
+        c[key].nonfinite = why
     return c
+
+
+def _used_point_load(**kwargs: Any) -> Any:
+    """A PointLoad as four-bar dynamics use it (the record is checked there)."""
+    from machdyn.dynamics import PointLoad
+
+    return _fb().dynamics(THETA, 10.0, **MASS, external_forces=[PointLoad(**kwargs)])
+
+
+def _mobility_of_check(result, kw) -> None:
+    links = kw.get("links")
+    if links is not None and not isinstance(links, bool):
+        assert result == 3 * (int(links) - 1) - 2 * len(kw["joints"]), "Gruebler"
+
+
+#: (entry, parameter) -> bad values that are valid there (complex points, NaN passed
+#: through as "not assembled", ...), applied once the catalogue is built.
+ACCEPTS = {
+    **{
+        (f"machdyn.fourbar:{f}", t): {"nan"}
+        for f in ("velocities", "accelerations", "jerks", "named_angle")
+        for t in ("theta3", "theta4")
+    },
+    ("machdyn.fourbar:positions", "theta2"): {"nan"},  # the sample comes out not ok
+    ("machdyn.centres:finite", "z"): {"nan", "complex"},
+    ("machdyn.centres:at_infinity", "direction"): {"nan", "complex"},
+    ("machdyn.balancing:static_balance", "unbalance"): {"complex"},
+    ("machdyn.balancing:two_plane", "unbalance"): {"complex"},
+    ("machdyn.balancing:shaking_force", "unbalance"): {"complex"},
+    ("machdyn.balancing:shaking_moment", "unbalance"): {"complex"},
+    ("machdyn.balancing:bearing_balance", "bearing_forces"): {"complex"},
+    ("machdyn.virtual_work:power", "effort"): {"complex"},
+    ("machdyn.virtual_work:power", "rate"): {"complex"},
+    ("machdyn.virtual_work:virtual_work", "input_rate"): {"complex"},
+    ("machdyn.virtual_work:virtual_work", "direction"): {"complex"},
+    ("machdyn.massprops:cg_motion", "origin"): {"complex"},
+    ("machdyn.massprops:cg_motion", "origin_velocity"): {"complex"},
+    ("machdyn.massprops:cg_motion", "origin_acceleration"): {"complex"},
+    ("machdyn.massprops:parallel_axis", "d"): {"complex"},
+    ("machdyn.rotor:Rotor.from_masses", "R"): {"complex"},
+    ("machdyn.rotor:Rotor.with_masses", "R"): {"complex"},
+}
+
+#: Entries whose results may hold ±inf unflagged, with the documented reason.
+NONFINITE = {
+    "machdyn.virtual_work:mechanical_advantage": "±inf where the output stops (a toggle)",
+}
 
 
 def _fb_angles():
@@ -997,6 +1059,8 @@ def _add_general(c, fn, meth) -> None:
     lf = lambda: _linkage().forces(lm())  # noqa: E731
     meth("machdyn.linkage:LinkageForces.F", lf, a="crank", p="coupler")
     meth("machdyn.linkage:LinkageForces.to_pandas", lf)
+    meth("machdyn.linkage:Linkage.transmission_angles", lk, motion=lm())
+    meth("machdyn.linkage:Linkage.flipped", lk, group="RRR dyad (coupler, rocker)")
 
     def base():
         return (

@@ -112,6 +112,7 @@ def format_bytes(n: float) -> str:
     >>> format_bytes(1.5 * 2**30)
     '1.5 GB'
     """
+    n = min(float(n), 1e300) if n < 1e300 else 1e300  # a Python int may exceed the float range
     for unit, size in (("TB", 2**40), ("GB", 2**30), ("MB", 2**20), ("kB", 2**10)):
         if n >= size:
             return f"{n / size:.3g} {unit}"

@@ -14,6 +14,7 @@ import numpy as np
 
 from ._parallel import require_memory
 from .errors import InputError
+from .units import warn_if_degrees
 
 __all__ = [
     "as_array",
@@ -27,7 +28,10 @@ __all__ = [
     "finite_scalar",
     "in_range",
     "input_motion",
+    "instance",
     "integer",
+    "is_scalar",
+    "items",
     "magnitude",
     "nonnegative",
     "point",
@@ -384,11 +388,14 @@ def _require_finite(field: str, out: np.ndarray, nan_ok: bool = False) -> None:
     )
 
 
-def complex_array(field: str, value: Any, unit: str | None = None) -> np.ndarray:
+def complex_array(
+    field: str, value: Any, unit: str | None = None, *, nan_ok: bool = False
+) -> np.ndarray:
     """Return ``value`` as a finite complex128 array (points ``x + jy``) or raise.
 
     Real numbers are points on the x axis. Refused: None, text, bools, ragged
-    lists, non-finite values.
+    lists, non-finite values (NaN passes with ``nan_ok``, as in
+    :func:`finite_array`).
 
     Examples
     --------
@@ -397,7 +404,7 @@ def complex_array(field: str, value: Any, unit: str | None = None) -> np.ndarray
     """
     out = _array(field, value, unit, "fc", "a complex number x + jy or an array of them")
     out = out.astype(complex, copy=False)
-    _require_finite(field, out)
+    _require_finite(field, out, nan_ok)
     return out
 
 
@@ -431,6 +438,65 @@ def point(field: str, value: Any, unit: str | None = None) -> complex:
         x, y = value
         return complex(finite_scalar(f"{field} x", x, unit), finite_scalar(f"{field} y", y, unit))
     return complex_scalar(field, value, unit)
+
+
+def items(field: str, value: Any, count: int | None = None, what: str = "values") -> tuple:
+    """``value`` (a list, tuple or array) as a tuple, with ``count`` items if given.
+
+    Examples
+    --------
+    >>> items("mass", [1, 2, 3], 3)
+    (1, 2, 3)
+    >>> items("mass", 2.0, 3, "masses (links 2, 3, 4)")
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: mass: must be a sequence of 3 masses (links 2, 3, 4), got 2.0
+    """
+    size = "" if count is None else f"{count} "
+    scalar_quantity = _is_quantity(value) and not np.ndim(value.magnitude)
+    if value is None or isinstance(value, str | bytes) or scalar_quantity:
+        raise InputError(field, f"must be a sequence of {size}{what}, got {_describe(value)}")
+    try:
+        out = tuple(value)
+    except TypeError:
+        raise InputError(
+            field, f"must be a sequence of {size}{what}, got {_describe(value)}"
+        ) from None
+    if count is not None and len(out) != count:
+        raise InputError(field, f"must have exactly {count} {what}, got {len(out)}")
+    return out
+
+
+def instance(field: str, value: Any, kind: type | tuple[type, ...], what: str = "") -> Any:
+    """``value`` if it is an instance of ``kind``, else :class:`InputError` saying what is wanted.
+
+    Examples
+    --------
+    >>> instance("fourbar", 3, dict, "a FourBar")
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: fourbar: must be a FourBar, got 3
+    """
+    if isinstance(value, kind):
+        return value
+    if not what:
+        kinds = kind if isinstance(kind, tuple) else (kind,)
+        what = " or ".join(f"a {k.__name__}" for k in kinds)
+    raise InputError(field, f"must be {what}, got {_describe(value)}")
+
+
+def is_scalar(value: Any) -> bool:
+    """Whether ``value`` is one number (``np.ndim`` 0); False for ragged lists too.
+
+    Examples
+    --------
+    >>> is_scalar(1.0), is_scalar([1.0]), is_scalar([[1.0], [2.0, 3.0]])
+    (True, False, False)
+    """
+    try:
+        return np.ndim(value) == 0
+    except ValueError:
+        return False
 
 
 def choice(field: str, value: Any, options: Iterable[Any]) -> Any:
@@ -495,29 +561,28 @@ def positive_length(field: str, value: Any, unit: str | None = None) -> float:
     --------
     >>> positive_length("r2", 4)
     4.0
+    >>> positive_length("r4", 1e-320)
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: r4: 1e-320 is subnormal (below 2.2e-308); use smaller units
     """
     out = length(field, value, unit)
     if out <= 0.0:
         raise InputError(field, f"must be a positive length, got {out:g}")
+    if out < _SMALLEST_NORMAL:
+        raise InputError(field, f"{out:g} is subnormal (below 2.2e-308); use smaller units")
     return out
 
 
 def length(field: str, value: Any, unit: str | None = None) -> float:
-    """A length of a scale-free closed form: finite, within ±1e250, not subnormal.
+    """A length (or offset) of a scale-free closed form: finite and within ±1e250.
 
     Examples
     --------
-    >>> length("r1", 8e-200)
-    8e-200
-    >>> length("r1", 1e-320)
-    Traceback (most recent call last):
-    ...
-    machdyn.errors.InputError: r1: 1e-320 is subnormal (below 2.2e-308); use smaller units
+    >>> length("offset", -8e-200)
+    -8e-200
     """
-    out = finite_scalar(field, value, unit, limit=LENGTH_LIMIT)
-    if out and abs(out) < _SMALLEST_NORMAL:
-        raise InputError(field, f"{out:g} is subnormal (below 2.2e-308); use smaller units")
-    return out
+    return finite_scalar(field, value, unit, limit=LENGTH_LIMIT)
 
 
 _SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
@@ -581,6 +646,7 @@ def input_motion(
     ((2,), [2.0, 2.0])
     """
     theta2 = finite_array("theta2", theta2, "radian")
+    warn_if_degrees("theta2", theta2, stacklevel=4)  # the caller of solve() is warned
     omega2 = finite_array("omega2", omega2, "radian / second")
     alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
     jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")

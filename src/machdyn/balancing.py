@@ -46,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import finite_array, finite_scalar, positive
+from ._validate import complex_array, finite_array, finite_scalar, positive
 from .errors import InputError
 
 __all__ = [
@@ -329,17 +329,11 @@ def bearing_balance(
 
 
 def _complex_array(field: str, value: Any) -> np.ndarray:
-    try:
-        out = np.asarray(value, dtype=complex)
-    except (TypeError, ValueError):
-        raise InputError(field, f"must be complex numbers m·R = x + jy, got {value!r}") from None
+    out = complex_array(field, value)
     if out.ndim == 0:
         out = out.reshape(1)
     if out.shape[-1] == 0:
         raise InputError(field, "needs at least one mass")
-    if not np.all(np.isfinite(out)):
-        index = int(np.flatnonzero(~np.isfinite(out).ravel())[0])
-        raise InputError(field, f"must be finite; entry {index} is {out.ravel()[index]}")
     return out
 
 

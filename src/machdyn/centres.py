@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import finite_array, finite_scalar
+from ._validate import broadcast, complex_array, finite_array, finite_scalar
 from .errors import InputError, ModelError
 
 __all__ = [
@@ -52,26 +52,73 @@ _INFINITY_RTOL = 1e-12
 _SAME_LINE = 1e-9
 
 
-def finite(z: np.ndarray | complex) -> np.ndarray:
-    """Homogeneous coordinates ``(x, y, 1)`` of finite points given as complex numbers."""
+def _finite(z: np.ndarray | complex) -> np.ndarray:
+    """:func:`finite` for arguments already checked."""
     z = np.asarray(z, dtype=complex)
     return np.stack([z.real, z.imag, np.ones(z.shape)], axis=-1)
 
 
-def at_infinity(direction: np.ndarray | complex) -> np.ndarray:
-    """Homogeneous coordinates ``(x, y, 0)`` of the point at infinity along ``direction``."""
+def _at_infinity(direction: np.ndarray | complex) -> np.ndarray:
+    """:func:`at_infinity` for arguments already checked."""
     d = np.asarray(direction, dtype=complex)
     return np.stack([d.real, d.imag, np.zeros(d.shape)], axis=-1)
 
 
+def finite(z: np.ndarray | complex) -> np.ndarray:
+    """Homogeneous coordinates ``(x, y, 1)`` of finite points given as complex numbers.
+
+    ``z`` may hold NaN (an unassembled sample): its coordinates stay NaN.
+
+    Examples
+    --------
+    >>> finite(3 + 4j).tolist()
+    [3.0, 4.0, 1.0]
+    """
+    return _finite(complex_array("z", z, nan_ok=True))
+
+
+def at_infinity(direction: np.ndarray | complex) -> np.ndarray:
+    """Homogeneous coordinates ``(x, y, 0)`` of the point at infinity along ``direction``.
+
+    Examples
+    --------
+    >>> at_infinity(1j).tolist()
+    [0.0, 1.0, 0.0]
+    """
+    d = complex_array("direction", direction, nan_ok=True)
+    if np.any(d == 0):
+        raise InputError("direction", "must be non-zero (a direction), got 0")
+    return _at_infinity(d)
+
+
 def line_through(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """The line through two homogeneous points (their cross product)."""
-    return _cross3(p, q)
+    """The line through two homogeneous points (their cross product).
+
+    Examples
+    --------
+    >>> line_through(finite(0j), finite(1 + 0j)).tolist()  # the x axis: 0 x + 1 y + 0 = 0
+    [0.0, 1.0, 0.0]
+    """
+    return _cross3(*_homogeneous(p=p, q=q))
 
 
 def intersect(l1: np.ndarray, l2: np.ndarray) -> np.ndarray:
     """The intersection of two homogeneous lines (their cross product)."""
-    return _cross3(l1, l2)
+    return _cross3(*_homogeneous(l1=l1, l2=l2))
+
+
+def _homogeneous(**arrays: Any) -> list[np.ndarray]:
+    """Homogeneous coordinates (last axis of length 3, NaN allowed) that broadcast together."""
+    out = []
+    for field, value in arrays.items():
+        h = finite_array(field, value, nan_ok=True)
+        if h.ndim == 0 or h.shape[-1] != 3:
+            raise InputError(
+                field, f"must be homogeneous coordinates (x, y, w), shape (..., 3); got {h.shape}"
+            )
+        out.append(h)
+    broadcast(**dict(zip(arrays, out, strict=True)))
+    return out
 
 
 def _cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -98,11 +145,14 @@ def collinearity(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
     The determinant of the three normalised coordinate vectors; it is the sine
     of a "solid angle" and is ~1e-16 for collinear points whatever their size.
     """
+    p, q, r = _homogeneous(p=p, q=q, r=r)
 
     def unit(v: np.ndarray) -> np.ndarray:
-        return v / np.linalg.norm(v, axis=-1, keepdims=True)
+        with np.errstate(divide="ignore", invalid="ignore"):  # (0, 0, 0): NaN, not a point
+            return v / _norm3(v)[..., None]
 
-    return np.linalg.det(np.stack([unit(p), unit(q), unit(r)], axis=-2))
+    p, q, r = np.broadcast_arrays(unit(p), unit(q), unit(r))
+    return np.linalg.det(np.stack([p, q, r], axis=-2))
 
 
 @dataclass(frozen=True)
@@ -396,7 +446,7 @@ def kennedy(
         progress = False
         for a, b in list(unknown):
             candidates = [
-                _unit_line(line_through(centres[key(a, k)], centres[key(k, b)]))
+                _unit_line(_cross3(centres[key(a, k)], centres[key(k, b)]))
                 for k in bodies
                 if k not in (a, b) and key(a, k) in centres and key(k, b) in centres
             ]
@@ -433,7 +483,7 @@ def _best_intersection(lines: list[np.ndarray]) -> np.ndarray:
     best = None
     quality = None
     for p, q in combinations(lines, 2):
-        h = intersect(p, q)
+        h = _cross3(p, q)
         size = _norm3(h)
         size = np.where(np.isfinite(size), size, -1.0)
         if best is None:
@@ -454,12 +504,12 @@ def _best_intersection(lines: list[np.ndarray]) -> np.ndarray:
 def fourbar_centres(r1: float, A: np.ndarray, B: np.ndarray, valid: np.ndarray) -> InstantCentres:
     """The six centres of a pin-jointed four-bar with ``O2`` at 0 and ``O4`` at ``r1``."""
     A = np.asarray(A, dtype=complex)
-    I12 = finite(np.zeros(A.shape, dtype=complex))
-    I14 = finite(np.full(A.shape, r1, dtype=complex))
-    I23 = finite(A)
-    I34 = finite(B)
-    I13 = intersect(line_through(I12, I23), line_through(I14, I34))
-    I24 = intersect(line_through(I12, I14), line_through(I23, I34))
+    I12 = _finite(np.zeros(A.shape, dtype=complex))
+    I14 = _finite(np.full(A.shape, r1, dtype=complex))
+    I23 = _finite(A)
+    I34 = _finite(B)
+    I13 = _cross3(_cross3(I12, I23), _cross3(I14, I34))
+    I24 = _cross3(_cross3(I12, I14), _cross3(I23, I34))
     return InstantCentres(
         {(1, 2): I12, (1, 4): I14, (2, 3): I23, (3, 4): I34, (1, 3): I13, (2, 4): I24},
         valid,
@@ -545,33 +595,33 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
     for joint in lk.joints:
         kind = joint.kind
         if kind == "pin":
-            at = finite(motion.points[joint.points[0]])
+            at = _finite(motion.points[joint.points[0]])
             for a, b in combinations(joint.links, 2):
                 known.setdefault((a, b), at)
         elif kind == "slider" and getattr(joint, "centre", None) is not None:
             # a curved slide: the block turns about the centre of curvature
-            known.setdefault(tuple(joint.links), finite(motion.points[joint.centre]))
+            known.setdefault(tuple(joint.links), _finite(motion.points[joint.centre]))
         elif kind == "slider":
             block, on = joint.links
             normal = 1j * _turned(lk, motion, on, joint.direction)
-            known.setdefault((block, on), at_infinity(normal))
+            known.setdefault((block, on), _at_infinity(normal))
         elif kind == "slot":
             link, on = joint.links
-            pin = finite(motion.points[joint.points[0]])
+            pin = _finite(motion.points[joint.points[0]])
             if getattr(joint, "centre", None) is not None:  # the normal: through the centre
-                normal = finite(motion.points[joint.centre])
+                normal = _finite(motion.points[joint.centre])
             else:
-                normal = at_infinity(1j * _turned(lk, motion, on, joint.direction))
-            lines.setdefault((link, on), []).append(line_through(pin, normal))
+                normal = _at_infinity(1j * _turned(lk, motion, on, joint.direction))
+            lines.setdefault((link, on), []).append(_cross3(pin, normal))
         elif kind == "roll":
-            known.setdefault(tuple(joint.links), finite(_contact_point(lk, motion, joint)))
+            known.setdefault(tuple(joint.links), _finite(_contact_point(lk, motion, joint)))
         elif kind == "actuator":
             barrel, rod = f"{joint.name}:barrel", f"{joint.name}:rod"
             virtual += [barrel, rod]
             start, end = (motion.points[p] for p in joint.points)
-            known[(joint.links[0], barrel)] = finite(start)
-            known[(joint.links[1], rod)] = finite(end)
-            known[(barrel, rod)] = at_infinity(1j * (end - start))
+            known[(joint.links[0], barrel)] = _finite(start)
+            known[(joint.links[1], rod)] = _finite(end)
+            known[(barrel, rod)] = _at_infinity(1j * (end - start))
             fields[barrel], fields[rod] = _actuator_motion(motion, joint)
     scale = _scale(lk)
     known = {k: _scaled(v, scale) for k, v in known.items()}

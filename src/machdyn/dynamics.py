@@ -55,7 +55,17 @@ import numpy as np
 
 from ._flags import Flagged
 from ._validate import broadcast as _broadcast
-from ._validate import choice, finite_array, finite_scalar, magnitude, nonnegative
+from ._validate import (
+    choice,
+    complex_scalar,
+    finite_array,
+    finite_scalar,
+    instance,
+    items,
+    magnitude,
+    nonnegative,
+    text,
+)
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
 from .slidercrank import SliderCrank, SliderCrankMotion
@@ -117,14 +127,7 @@ class LinkProperties:
 
 
 def _triple(field: str, value: Any) -> tuple[Any, Any, Any]:
-    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
-        raise InputError(
-            field, f"must be a sequence of three values (links 2, 3, 4), got {value!r}"
-        )
-    items = tuple(value)
-    if len(items) != 3:
-        raise InputError(field, f"must have exactly three values (links 2, 3, 4), got {len(items)}")
-    return items  # type: ignore[return-value]
+    return items(field, value, 3, "values (links 2, 3, 4)")  # type: ignore[return-value]
 
 
 def unit_system(length_unit: str | None) -> dict[str, str]:
@@ -140,7 +143,7 @@ def unit_system(length_unit: str | None) -> dict[str, str]:
     >>> unit_system("mm")["force"]
     'kg * mm / s ** 2'
     """
-    length = length_unit or "m"
+    length = "m" if length_unit is None else text("length_unit", length_unit)
     return {
         "mass": "kg",
         "inertia": f"kg * {length} ** 2",
@@ -153,16 +156,7 @@ def unit_system(length_unit: str | None) -> dict[str, str]:
 
 
 def _complex_scalar(field: str, value: Any, unit: str | None = None) -> complex:
-    value = magnitude(value, unit, field)
-    try:
-        out = complex(value)
-    except (TypeError, ValueError):
-        raise InputError(
-            field, f"must be a number (complex x + jy allowed), got {value!r}"
-        ) from None
-    if not (np.isfinite(out.real) and np.isfinite(out.imag)):
-        raise InputError(field, f"must be finite, got {out}")
-    return out
+    return complex_scalar(field, value, unit)
 
 
 def link_properties(
@@ -182,7 +176,7 @@ def link_properties(
     >>> link_properties((1, 2), (0.1, 0.2, 0.3), (0, 0, 0))
     Traceback (most recent call last):
     ...
-    machdyn.errors.InputError: mass: must have exactly three values (links 2, 3, 4), got 2
+    machdyn.errors.InputError: mass: must have exactly 3 values (links 2, 3, 4), got 2
     """
     masses = _triple("mass", mass)
     inertias = _triple("inertia", inertia)
@@ -260,7 +254,7 @@ def _point_loads(external_forces: Any, units: dict[str, str]) -> tuple[PointLoad
     if isinstance(external_forces, PointLoad):
         external_forces = (external_forces,)
     out = []
-    for n, item in enumerate(external_forces):
+    for n, item in enumerate(items("external_forces", external_forces, what="loads")):
         field = f"external_forces[{n}]"
         if isinstance(item, PointLoad):
             link, point, force = item.link, item.point, item.force
@@ -283,9 +277,13 @@ def _point_loads(external_forces: Any, units: dict[str, str]) -> tuple[PointLoad
 
 
 def _torques(external_torques: Any, units: dict[str, str]) -> tuple[tuple[int, np.ndarray], ...]:
-    items = external_torques.items() if isinstance(external_torques, Mapping) else external_torques
+    pairs = (
+        external_torques.items()
+        if isinstance(external_torques, Mapping)
+        else items("external_torques", external_torques, what="(link, torque) pairs")
+    )
     out = []
-    for n, item in enumerate(items):
+    for n, item in enumerate(pairs):
         field = f"external_torques[{n}]"
         try:
             link, torque = item
@@ -328,7 +326,7 @@ def _check_sample_shapes(
 
 def _check_input_shapes(theta2: Any, omega2: Any, alpha2: Any) -> None:
     """The input's angle, speed and acceleration must broadcast (InputError, not numpy's)."""
-    _broadcast(theta2=magnitude(theta2), omega2=magnitude(omega2), alpha2=magnitude(alpha2))
+    _broadcast(theta2=theta2, omega2=omega2, alpha2=alpha2)  # shapes only (quantities too)
 
 
 def _plot_forces(result: Any, ax: Any, degrees: bool) -> Any:
@@ -549,6 +547,8 @@ def fourbar_forces(
     >>> f.T12.shape, bool(f.ok.all())
     ((2,), True)
     """
+    instance("fourbar", fourbar, FourBar)
+    instance("motion", motion, FourBarMotion, "a FourBarMotion (from FourBar.solve)")
     _check_model(fourbar, motion)
     units = unit_system(fourbar.length_unit)
     props = link_properties(mass, inertia, cg, fourbar.length_unit)
@@ -687,6 +687,7 @@ def fourbar_dynamics(
     >>> bool(np.isclose(f.T12 * 1.0, 5.0 * f.motion.omega4))
     True
     """
+    instance("fourbar", fourbar, FourBar)
     _check_input_shapes(theta2, omega2, alpha2)
     motion = fourbar.solve(theta2, omega2, alpha2, form, branch=branch)
     return fourbar_forces(
@@ -720,7 +721,14 @@ class LinkEquations:
 
     def residual(self, values: Sequence[float]) -> np.ndarray:
         """``matrix @ values − rhs`` for trial values of the unknowns."""
-        return self.matrix @ np.asarray(values, dtype=float) - self.rhs
+        x = finite_array("values", values)
+        if x.shape != (len(self.unknowns),):
+            raise InputError(
+                "values",
+                f"must hold one value per unknown ({', '.join(self.unknowns)}), got shape "
+                f"{x.shape}",
+            )
+        return self.matrix @ x - self.rhs
 
     def __str__(self) -> str:
         lines = []
@@ -788,6 +796,8 @@ def link_equations(
     g = nonnegative("gravity", gravity)
     names: list[str] = []
     columns: list[list[float]] = []
+    if not isinstance(joints, Mapping):
+        raise InputError("joints", f"must map joint names to (R, sign), got {joints!r}"[:200])
     for name, spec in joints.items():
         try:
             r, sign = spec
@@ -801,7 +811,7 @@ def link_equations(
         columns.append([0.0, sign, sign * r.real])
     fx = fy = 0.0
     moment = torque
-    for n, item in enumerate(forces):
+    for n, item in enumerate(items("forces", forces, what="(R, F) pairs")):
         try:
             r, f = item
         except (TypeError, ValueError):
@@ -951,6 +961,8 @@ def slidercrank_forces(
     >>> bool(f.ok.all())
     True
     """
+    instance("slidercrank", slidercrank, SliderCrank)
+    instance("motion", motion, SliderCrankMotion, "a SliderCrankMotion (from SliderCrank.solve)")
     friction = choice("friction", friction, _FRICTION_MODELS)
     masses = _triple("mass", mass)
     inertias = tuple(_sequence("inertia", inertia, 2, "(IG2, IG3)"))
@@ -1055,12 +1067,7 @@ def slidercrank_forces(
 
 
 def _sequence(field: str, value: Any, n: int, names: str) -> tuple[Any, ...]:
-    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
-        raise InputError(field, f"must be a sequence {names}, got {value!r}")
-    items = tuple(value)
-    if len(items) != n:
-        raise InputError(field, f"must have exactly {n} values {names}, got {len(items)}")
-    return items
+    return items(field, value, n, f"values {names}")
 
 
 def slidercrank_dynamics(
@@ -1135,6 +1142,7 @@ def slidercrank_dynamics(
     >>> bool(np.isclose(f.T12, 100.0 * f.motion.d_dot))
     True
     """
+    instance("slidercrank", slidercrank, SliderCrank)
     _check_input_shapes(theta2, omega2, alpha2)
     motion = slidercrank.solve(theta2, omega2, alpha2, form)
     return slidercrank_forces(

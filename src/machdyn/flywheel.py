@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from ._summary import Summarized
 from ._validate import finite_array, finite_scalar, positive
 from .errors import InputError
 
@@ -125,7 +126,7 @@ class LobeTable:
 
 
 @dataclass(frozen=True)
-class FlywheelResult:
+class FlywheelResult(Summarized):
     """Result of :func:`size_flywheel`.
 
     Attributes

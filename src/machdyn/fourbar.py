@@ -41,7 +41,7 @@ from ._angles import TWO_PI, wrap_2pi, wrap_pi
 from ._flags import Flagged
 from ._parallel import for_slices, require_memory
 from ._validate import (
-    as_array,
+    TINY,
     boolean,
     broadcast,
     choice,
@@ -50,6 +50,7 @@ from ._validate import (
     finite_array,
     finite_scalar,
     input_motion,
+    is_scalar,
     length,
     positive_length,
 )
@@ -195,7 +196,8 @@ def positions(
     r1, r2, r3, r4 : float
         Ground, input, coupler and output lengths.
     theta2 : array_like
-        Input angles, radians.
+        Input angles, radians (finite; NaN marks a sample to skip: it comes out
+        not ok).
     branch : {1, -1}
         Sign of φ12 = θ4 − θ3 (the side of the diagonal O4A on which B lies).
         For most classes this is the notes' form 1 (+1) or form 2 (−1); see
@@ -218,7 +220,7 @@ def positions(
     """
     r1, r2, r3, r4 = (positive_length(f"r{k}", r) for k, r in enumerate((r1, r2, r3, r4), start=1))
     sign = float(choice("branch", branch, (1, -1)))
-    theta2 = as_array("theta2", theta2, "radian")
+    theta2 = finite_array("theta2", theta2, "radian", nan_ok=True)
     require_memory("theta2", 25 * theta2.size, f"{theta2.size:,} poses")
     return _positions(r1, r2, r3, r4, theta2, sign)
 
@@ -792,7 +794,9 @@ class FourBar:
 
     # -- kinematics ---------------------------------------------------------------
     def _branch_and_side(self, form: int, branch: int | None) -> tuple[int, int]:
-        choice("form", form, (1, 2))
+        form = choice("form", form, (1, 2))
+        if branch is not None:
+            branch = choice("branch", branch, (1, -1))
         if self.form_rule == "phi12":
             if branch is not None and branch != (1 if form == 1 else -1):
                 raise InputError(
@@ -851,7 +855,7 @@ class FourBar:
         >>> round(float(np.degrees(m.theta3)), 2), round(float(np.degrees(m.theta4)), 2)
         (128.25, 109.85)
         """
-        single = np.ndim(theta2) == 0
+        single = is_scalar(theta2)
         shape, arrays = input_motion(
             theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=self._extent
         )
@@ -1211,8 +1215,10 @@ class FourBar:
         method = choice("method", method, ("power", "instant_centres"))
         r_in = finite_scalar("r_in", r_in, self.length_unit)
         r_out = finite_scalar("r_out", r_out, self.length_unit)
-        if r_out == 0.0:
-            raise InputError("r_out", "must be non-zero (the output force's lever arm)")
+        if abs(r_out) < TINY:
+            raise InputError(
+                "r_out", f"must be non-zero (the output force's lever arm), got {r_out:g}"
+            )
         m = self.solve(theta2, omega2=1.0, form=form, branch=branch, order=1)
         if method == "power":
             ratio = m.omega4  # ω4 / ω2 with ω2 = 1

@@ -42,7 +42,17 @@ from typing import Any
 import numpy as np
 
 from ._angles import TWO_PI, wrap_pi
+from ._validate import (
+    boolean,
+    finite_array,
+    finite_scalar,
+    instance,
+    integer,
+    items,
+    nonnegative,
+)
 from .classify import Classification
+from .errors import InputError
 
 __all__ = ["PHI_NAMES", "AngleRange", "Inversion", "InversionTable", "inversions"]
 
@@ -92,6 +102,19 @@ class AngleRange:
     arcs: tuple[tuple[float, float], ...]
     full_turn: bool = False
 
+    def __post_init__(self) -> None:
+        arcs = []
+        for n, arc in enumerate(items("arcs", self.arcs, what="(lo, hi) arcs")):
+            lo, hi = (
+                finite_scalar(f"arcs[{n}] {end}", v, "radian")
+                for end, v in zip(("lo", "hi"), items(f"arcs[{n}]", arc, 2, "angles"), strict=True)
+            )
+            if hi < lo:
+                raise InputError(f"arcs[{n}]", f"needs lo <= hi, got ({lo:g}, {hi:g})")
+            arcs.append((lo, hi))
+        object.__setattr__(self, "arcs", tuple(arcs))
+        object.__setattr__(self, "full_turn", boolean("full_turn", self.full_turn))
+
     @classmethod
     def every_direction(cls) -> AngleRange:
         """The range of an angle that turns fully."""
@@ -104,7 +127,8 @@ class AngleRange:
 
     def contains(self, angle: Any, tol: float = 1e-9) -> np.ndarray:
         """True where ``angle`` (radians, any shape) lies in the range."""
-        angle = np.asarray(angle, dtype=float)
+        angle = finite_array("angle", angle, "radian")
+        tol = nonnegative("tol", tol, "radian")
         if self.full_turn:
             return np.ones(angle.shape, dtype=bool)
         inside = np.zeros(angle.shape, dtype=bool)
@@ -115,6 +139,7 @@ class AngleRange:
 
     def text(self, digits: int = 2) -> str:
         """The range in degrees for a table: ``"lo … hi"``, ``"full turn"`` or ``"none"``."""
+        digits = integer("digits", digits, minimum=0, maximum=17)
         if self.full_turn:
             return "full turn"
         if not self.arcs:
@@ -141,6 +166,7 @@ class AngleRange:
         >>> a.intersection(b).text()
         '-170.00 … -150.00'
         """
+        instance("other", other, AngleRange)
         if self.full_turn:
             return other
         if other.full_turn:

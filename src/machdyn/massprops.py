@@ -30,8 +30,16 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import (
+    TINY,
+    complex_array,
+    complex_scalar,
+    finite_array,
+    finite_scalar,
+    magnitude,
+    positive,
+)
 from ._validate import broadcast as _broadcast
-from ._validate import finite_array, finite_scalar, magnitude, positive
 from .errors import InputError
 
 __all__ = [
@@ -108,8 +116,10 @@ def radius_of_gyration(inertia: Any, mass: Any) -> Any:
     inertia = finite_array("inertia", magnitude(inertia))
     mass = finite_array("mass", magnitude(mass))
     _broadcast(inertia=inertia, mass=mass)
-    if np.any(mass <= 0):
-        raise InputError("mass", "must be positive to define a radius of gyration")
+    if np.any(mass < TINY):
+        raise InputError(
+            "mass", f"must be positive (at least {TINY:g}) to define a radius of gyration"
+        )
     if np.any(inertia < 0):
         raise InputError("inertia", "must be zero or positive to define a radius of gyration")
     return _out(np.sqrt(inertia / mass))
@@ -443,17 +453,7 @@ def _nonnegative_array(field: str, value: Any, unit: str | None = None) -> np.nd
 
 
 def _complex_array(field: str, value: Any) -> np.ndarray:
-    value = magnitude(value)
-    try:
-        out = np.asarray(value, dtype=complex)
-    except (TypeError, ValueError):
-        raise InputError(
-            field, f"must be a number x + jy or an array of them, got {value!r}"
-        ) from None
-    if not np.isfinite(out).all():
-        index = int(np.flatnonzero(~np.isfinite(out).ravel())[0])
-        raise InputError(field, f"must be finite; entry {index} is {out.ravel()[index]}")
-    return out
+    return complex_array(field, value)
 
 
 def _out_complex(value: np.ndarray) -> Any:
@@ -467,15 +467,7 @@ def _out(value: np.ndarray) -> Any:
 
 
 def _complex(field: str, value: Any) -> complex:
-    try:
-        out = complex(value)
-    except (TypeError, ValueError):
-        raise InputError(
-            field, f"must be a position x + jy (a complex number), got {value!r}"
-        ) from None
-    if not (math.isfinite(out.real) and math.isfinite(out.imag)):
-        raise InputError(field, f"must be finite, got {out}")
-    return out
+    return complex_scalar(field, value)
 
 
 def _clean(z: complex) -> complex:

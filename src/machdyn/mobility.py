@@ -75,9 +75,11 @@ class Joint:
     links: tuple
 
     def __post_init__(self) -> None:
-        if self.kind not in FULL_JOINTS + HALF_JOINTS:
+        if not isinstance(self.kind, str) or self.kind not in FULL_JOINTS + HALF_JOINTS:
             valid = ", ".join(FULL_JOINTS + HALF_JOINTS)
             raise InputError("kind", f"unknown joint type {self.kind!r}; valid types: {valid}")
+        if isinstance(self.links, str | bytes):
+            raise InputError("links", f"expected a sequence of link names, got {self.links!r}")
         try:
             links = tuple(self.links)
             distinct = set(links)  # link names must be hashable (numbers or strings)

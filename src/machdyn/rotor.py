@@ -49,7 +49,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import finite_array, finite_scalar
+from ._validate import choice, complex_array, finite_array, finite_scalar, nonnegative
 from .balancing import StaticBalance, TwoPlaneBalance, two_plane
 from .errors import InputError
 
@@ -168,8 +168,7 @@ class Rotor:
         tensor = finite_array("inertia", inertia)
         if tensor.shape != (3, 3):
             raise InputError("inertia", f"must be a 3×3 inertia tensor, got shape {tensor.shape}")
-        if about not in ("origin", "cg"):
-            raise InputError("about", f"must be 'origin' or 'cg', got {about!r}")
+        about = choice("about", about, ("origin", "cg"))
         scale = max(float(np.max(np.abs(tensor))), float(np.max(np.abs(point))), 1e-300)
         if np.max(np.abs(tensor - tensor.T)) > _TENSOR_RTOL * scale:
             raise InputError("inertia", "must be symmetric (the products appear twice, as −I_xz)")
@@ -200,13 +199,8 @@ class Rotor:
             raise InputError("masses", "a rotor needs at least one mass")
         if np.any(m < 0.0):
             raise InputError("masses", f"must be zero or positive, got {m.tolist()}")
-        try:
-            r = np.asarray(R, dtype=complex).reshape(-1)
-        except (TypeError, ValueError):
-            raise InputError("R", f"must be complex radius vectors x + jy, got {R!r}") from None
+        r = complex_array("R", R).reshape(-1)
         zz = finite_array("z", z).reshape(-1)
-        if not np.all(np.isfinite(r)):
-            raise InputError("R", "must be finite")
         for field, values in (("R", r), ("z", zz)):
             if values.size != m.size:
                 raise InputError(field, f"needs one value per mass ({m.size}), got {values.size}")
@@ -266,6 +260,7 @@ class Rotor:
         ``U`` is compared with ``m k`` and ``P`` with ``m k²``, ``k`` the radius of
         gyration ``√(trace I_O / m)``.
         """
+        rtol = nonnegative("rtol", rtol)
         k = float(np.sqrt(np.trace(self.inertia) / self.mass))
         return bool(
             abs(self.unbalance) <= rtol * self.mass * k

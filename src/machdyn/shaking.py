@@ -25,7 +25,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ._validate import nonnegative, positive
+from ._validate import instance, nonnegative, positive
 from .dynamics import _complex_scalar, _triple, link_properties
 from .errors import InputError
 from .fourbar import FourBar
@@ -120,6 +120,7 @@ def fourbar_counterweights(fourbar: FourBar, mass: Any, cg: Any) -> Counterweigh
     >>> cw.mR2, cw.mR4      # m2 c2 + mR2 = −2·4·(1 − 1/2) = −4;  m4 c4 + mR4 = −2·3.5·6/7 = −6
     ((-6+0j), (-9+0j))
     """
+    instance("fourbar", fourbar, FourBar)
     m2, m3, m4 = (
         nonnegative(f"mass m{k}", v) for k, v in zip((2, 3, 4), _triple("mass", mass), strict=True)
     )

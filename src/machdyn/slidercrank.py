@@ -24,8 +24,20 @@ import numpy as np
 
 from ._angles import wrap_2pi
 from ._flags import Flagged
-from ._validate import choice, common_length_unit, finite_array, finite_scalar, input_motion, length
-from .centres import InstantCentres, at_infinity, finite, intersect, line_through
+from ._validate import (
+    choice,
+    common_length_unit,
+    finite_array,
+    finite_scalar,
+    input_motion,
+    is_scalar,
+    length,
+)
+from .centres import InstantCentres
+from .centres import _at_infinity as at_infinity
+from .centres import _cross3 as intersect
+from .centres import _cross3 as line_through
+from .centres import _finite as finite
 from .errors import AssemblyError, InputError
 from .units import UnitSystem, from_quantity_unit
 
@@ -265,7 +277,7 @@ class SliderCrank:
             If ``theta2`` is a single angle the rod cannot reach (arrays are flagged).
         """
         choice("form", form, (1, 2))
-        scalar = np.ndim(theta2) == 0
+        scalar = is_scalar(theta2)
         extent = max(self.a, self.b, abs(self.c), 0.0 if self.point is None else self.point[0])
         _, (t2, w2, a2, j2) = input_motion(
             theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent
@@ -546,7 +558,7 @@ class InvertedSliderCrank:
     ) -> InvertedSliderCrankMotion:
         """Kinematics for crank angles ``theta2``; form 1: ``b > 0``, form 2: ``b < 0``."""
         choice("form", form, (1, 2))
-        scalar = np.ndim(theta2) == 0
+        scalar = is_scalar(theta2)
         extent = max(self.a, self.d, abs(self.c))
         _, (t2, w2, a2, j2) = input_motion(
             theta2, omega2, alpha2, jerk2, bytes_per_sample=_BYTES_PER_POSE, length=extent

@@ -26,8 +26,8 @@ from typing import Any
 import numpy as np
 
 from ._flags import Flagged
+from ._validate import TINY, choice, complex_array, finite_array, instance, items, nonnegative
 from ._validate import broadcast as _broadcast
-from ._validate import choice, finite_array, nonnegative
 from .dynamics import (
     FORCE_REASONS,
     _check_input_shapes,
@@ -51,16 +51,19 @@ __all__ = [
 ]
 
 
-def _as_complex(field: str, value: Any) -> np.ndarray:
+#: What a pint quantity may measure, by the kind of argument.
+_RATES = ("1 / [time]", "[length] / [time]")  # angular or linear velocity
+_EFFORTS = ("[force]", "[force] * [length]")  # force or torque
+
+
+def _as_complex(field: str, value: Any, dims: tuple[str, ...] = ()) -> np.ndarray:
     if hasattr(value, "magnitude") and hasattr(value, "to_base_units"):
+        if dims and not any(value.check(d) for d in dims):
+            raise InputError(
+                field, f"must be a {' or '.join(dims)} quantity, got one in {value.units}"
+            )
         value = value.to_base_units().magnitude  # pint: SI base units, so powers add up
-    try:
-        out = np.asarray(value, dtype=complex)
-    except (TypeError, ValueError):
-        raise InputError(field, f"must be a number or an array of numbers, got {value!r}") from None
-    if not np.isfinite(out).all():
-        raise InputError(field, "must be finite")
-    return out
+    return complex_array(field, value)
 
 
 def power(effort: Any, rate: Any) -> np.ndarray:
@@ -73,7 +76,7 @@ def power(effort: Any, rate: Any) -> np.ndarray:
     >>> float(power(-100.0, 2.0))          # a resisting torque
     -200.0
     """
-    return _power(_as_complex("effort", effort), _as_complex("rate", rate))
+    return _power(_as_complex("effort", effort, _EFFORTS), _as_complex("rate", rate, _RATES))
 
 
 def _power(f: Any, v: Any) -> np.ndarray:
@@ -83,7 +86,7 @@ def _power(f: Any, v: Any) -> np.ndarray:
 
 
 def _effective_rate(input_rate: Any, direction: Any) -> np.ndarray:
-    rate = _as_complex("input_rate", input_rate)
+    rate = _as_complex("input_rate", input_rate, _RATES)
     if direction is None:
         if np.any(rate.imag != 0.0):
             raise InputError(
@@ -92,9 +95,9 @@ def _effective_rate(input_rate: Any, direction: Any) -> np.ndarray:
                 "the unknown input force as a complex number, e.g. direction=1j for +y",
             )
         return rate.real
-    d = _as_complex("direction", direction)
+    d = _as_complex("direction", direction, ("[]", "[length]"))
     size = np.abs(d)
-    if np.any(size == 0.0):
+    if np.any(size < TINY):
         raise InputError("direction", "must be a non-zero complex number (the force's line)")
     return power(d / size, rate)
 
@@ -144,18 +147,18 @@ def virtual_work(
     rate = _effective_rate(input_rate, direction)
     named: dict[str, Any] = {"input_rate": rate}
     total: Any = 0.0
-    for n, item in enumerate(loads):
+    for n, item in enumerate(items("loads", loads, what="(effort, rate) pairs")):
         try:
             effort, load_rate = item
         except (TypeError, ValueError):
             raise InputError(f"loads[{n}]", f"expected (effort, rate), got {item!r}") from None
-        effort = _as_complex(f"loads[{n}] effort", effort)
-        load_rate = _as_complex(f"loads[{n}] rate", load_rate)
+        effort = _as_complex(f"loads[{n}] effort", effort, _EFFORTS)
+        load_rate = _as_complex(f"loads[{n}] rate", load_rate, _RATES)
         named |= {f"loads[{n}] effort": effort, f"loads[{n}] rate": load_rate}
         _broadcast(**named)
         total = total + _power(effort, load_rate)
     total = np.broadcast_to(total, _broadcast(**named))
-    dead = np.broadcast_to(rate == 0.0, total.shape)
+    dead = np.broadcast_to(np.abs(rate) < TINY, total.shape)  # below 1e-50: at rest
     if dead.any():
         index = int(np.flatnonzero(dead.ravel())[0])
         raise SingularityError(
@@ -180,8 +183,8 @@ def mechanical_advantage(input_rate: Any, output_rate: Any) -> np.ndarray:
     >>> float(mechanical_advantage(75.0, 125.0))
     0.6
     """
-    v_in = _as_complex("input_rate", input_rate)
-    v_out = _as_complex("output_rate", output_rate)
+    v_in = _as_complex("input_rate", input_rate, _RATES)
+    v_out = _as_complex("output_rate", output_rate, _RATES)
     _broadcast(input_rate=v_in, output_rate=v_out)
     if np.any(v_in.imag) or np.any(v_out.imag):
         raise InputError(
@@ -192,7 +195,7 @@ def mechanical_advantage(input_rate: Any, output_rate: Any) -> np.ndarray:
     v_in, v_out = v_in.real, v_out.real
     if np.any((v_in == 0.0) & (v_out == 0.0)):
         raise SingularityError("input_rate: input and output both at rest; the ratio is undefined")
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):  # a stopped output: ±inf (documented)
         return np.divide(v_in, v_out)
 
 
@@ -269,6 +272,7 @@ def fourbar_mechanical_advantage(
     >>> print(f"{float(ma):.4f}")
     -0.2572
     """
+    instance("fourbar", fourbar, FourBar)
     motion = fourbar.solve(theta2, 1.0, 0.0, form, branch=branch)
     coef = _Coefficients(fourbar, motion)
     v_in = coef.rate(input, "input")
@@ -353,6 +357,7 @@ def fourbar_input_torque(
     >>> bool(np.isclose(vw.T12, 10.0 * m.omega4))
     True
     """
+    instance("fourbar", fourbar, FourBar)
     units = unit_system(fourbar.length_unit)
     props = link_properties(mass, inertia, cg, fourbar.length_unit)
     g = nonnegative("gravity", gravity, units["acceleration"])

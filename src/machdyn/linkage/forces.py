@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from .._summary import Summarized
 from .._validate import finite_array, nonnegative
 from ..errors import InputError, ModelError
 from ..loops import lu_factor, lu_solve
@@ -35,7 +36,7 @@ FORCE_REASONS = {
 
 
 @dataclass(frozen=True)
-class LinkageForces:
+class LinkageForces(Summarized):
     """Newton–Euler forces of a :class:`Linkage` for every sample of a motion.
 
     Forces are complex ``Fx + j Fy``, torques CCW positive; ``F_ap`` is the force

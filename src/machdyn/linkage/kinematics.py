@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._summary import Summarized
 from .._validate import finite_array
 from ..errors import InputError, ModelError
 from ..loops.result import Motion
@@ -73,7 +74,7 @@ def _per_driver(field: str, value: Any, drivers: tuple[str, ...], required: bool
 
 
 @dataclass(frozen=True)
-class LinkageMotion:
+class LinkageMotion(Summarized):
     """Kinematics of a :class:`Linkage` over a batch of driver values.
 
     Arrays have the broadcast shape of the driver values. Angles in radians,
