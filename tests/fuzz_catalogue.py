@@ -134,6 +134,15 @@ NOT_CALLED = {
     "machdyn.spec:Machine",  # built by machdyn.spec.load; its methods are catalogued
     "machdyn.spec:Part",
     "machdyn.units:Kind",
+    # machdyn.simulate: results, loads built by torque()/force()/step(), the motors' base
+    "machdyn.simulate:Energy",
+    "machdyn.simulate:Event",
+    "machdyn.simulate:Load",
+    "machdyn.simulate:Motor",
+    "machdyn.simulate:PeriodicMotion",
+    "machdyn.simulate:Simulation",
+    "machdyn.simulate:SteadyState",
+    "machdyn.simulate:Step",
 }
 
 #: Public callables not fuzzed here, with the reason.
@@ -435,6 +444,7 @@ def catalogue() -> dict[str, Call]:
     _add_design(c, fn, meth)
     _add_general(c, fn, meth)
     __import__("fuzz_catalogue_spec").add_spec(c, fn, meth)  # machdyn.spec, machdyn.units
+    __import__("fuzz_catalogue_simulate").add_simulate(c, fn, meth)  # machdyn.simulate
     for (key, name), values in ACCEPTS.items():
         c[key].accepts.setdefault(name, set()).update(values)
     for key, why in NONFINITE.items():
