@@ -287,3 +287,32 @@ def test_the_command_starts_the_server_and_refuses_bad_arguments(tmp_path):
     finally:
         proc.terminate()
         proc.wait(10)
+
+
+def test_transmission_angle_and_class_equal_the_closed_form():
+    doc = template("four-bar")
+    out = analyse(doc, samples=36, quantities=["mu_coupler_rocker [deg]"])
+    fb = FourBar(80, 40, 70, 60)
+    m = fb.solve(np.radians(out["x"]), 1.0, form=1)  # O2O4 along +x: local = global angles
+    assert np.allclose(out["columns"]["mu_coupler_rocker [deg]"], np.degrees(m.mu), atol=1e-4)
+    (loop,) = out["summary"]["classes"]
+    assert loop["code"] == fb.barker_class == "GCRR"
+    assert loop["lengths"] == [80.0, 40.0, 70.0, 60.0]
+
+
+def test_flip_redraws_the_dyad_on_its_other_assembly():
+    """B is mirrored in the line A-O4; the coupler and rocker move rigidly with it."""
+    doc = template("four-bar")
+    pts = {k: complex(*v) for k, v in doc["linkage"]["fourbar"]["points"].items()}
+    out = edit(doc, {"kind": "flip", "group": "RRR dyad (coupler, rocker)"})
+    new = {k: complex(*v) for k, v in out["linkage"]["fourbar"]["points"].items()}
+    A, O4, B, P = pts["A"], pts["O4"], pts["B"], pts["P"]
+    u = (O4 - A) / abs(O4 - A)
+    mirrored = A + u * ((B - A) / u).conjugate()
+    assert abs(new["B"] - mirrored) < 1e-9
+    assert abs(new["A"] - A) < 1e-9 and abs(new["O4"] - O4) < 1e-9
+    assert abs((new["P"] - A) / (new["B"] - A) - (P - A) / (B - A)) < 1e-12  # rigid coupler
+    again = edit(out, {"kind": "flip", "group": "RRR dyad (coupler, rocker)"})
+    assert abs(complex(*again["linkage"]["fourbar"]["points"]["B"]) - B) < 1e-9
+    with pytest.raises(machdyn.errors.MachdynError):
+        edit(doc, {"kind": "flip", "group": "driver crank (crank)"})

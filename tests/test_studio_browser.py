@@ -346,3 +346,60 @@ def test_a_bad_value_shows_the_key_and_the_reason_in_the_page(page):
     p.shot("studio-09-bad-value")
     no_errors(p)
     assert screenshots().is_dir()
+
+
+def test_switch_the_circuit_and_show_the_instant_centres(page):
+    p = page
+    template(p, "four-bar")
+    B = complex(*part(p)["points"]["B"])
+    p.page.click("button[data-tab=analysis]")
+    assert "GCRR" in p.page.locator("td[data-key=class]").inner_text()
+    before = analysed(p)
+    p.page.click("#tab-analysis button:has-text('switch')")
+    settle(p, before)
+    pts = {k: complex(*v) for k, v in part(p)["points"].items()}
+    u = (pts["O4"] - pts["A"]) / abs(pts["O4"] - pts["A"])
+    assert abs(pts["B"] - (pts["A"] + u * ((B - pts["A"]) / u).conjugate())) < 1e-6
+    before = analysed(p)
+    p.page.check("#centres")
+    settle(p, before)
+    p.shot("studio-10-switched-with-centres")
+    centres = js(p, "() => window.studio.view.centres.centres")
+    assert len(centres) == 6  # n (n - 1) / 2 centres of four bodies
+    labels = p.page.locator("#canvas .centres text").all_text_contents()
+    assert {"ground·crank", "crank·coupler", "coupler·rocker", "ground·rocker"} <= set(labels)
+    # I13 (ground, coupler) is where O2A and O4B meet, by hand
+    k = js(p, "() => window.studio.frame")
+    assert k == js(p, "() => window.studio.result.drawn")  # the pose drawn is the document's
+    O2, A, O4, B2 = pts["O2"], pts["A"], pts["O4"], pts["B"]
+    v, w = A - O2, B2 - O4
+    t = ((O4 - O2) * w.conjugate()).imag / (v * w.conjugate()).imag
+    ic = js(
+        p, "() => window.studio.view.centres.centres.find(c => c.pair.join() === 'ground,coupler')"
+    )
+    assert abs(complex(ic["x"][k], ic["y"][k]) - (O2 + t * v)) < 1e-3
+    no_errors(p)
+
+
+def test_path_synthesis_from_clicked_points(page):
+    p = page
+    template(p, "four-bar")
+    p.page.click("button[data-tab=synthesis]")
+    p.page.uncheck("#snap")
+    curve = js(p, "() => { const s = window.studio.view.scene, j = s.names.indexOf('P');"
+               " return s.x[j].map((x, i) => [x, s.y[j][i]]); }")  # fmt: skip
+    p.page.click("#pick-path")
+    for x, y in curve[::45]:  # eight points on the template's own coupler curve
+        click(p, x, y)
+    p.page.click("#pick-path")
+    p.page.click("#run-path")
+    p.page.wait_for_selector("table.candidates", timeout=120_000)
+    p.shot("studio-11-path-synthesis")
+    found = js(p, "() => window.studio.synth.path.result.candidates")
+    assert found and found[0]["max_distance"] < 0.05 * 100  # within 5 % of the path's size
+    targets = np.array([complex(x, y) for x, y in curve[::45]])
+    cand = found[0]
+    line = np.array([complex(*q) for q in cand["curve"] if q is not None])
+    gap = np.abs(targets[:, None] - line[None, :]).min(axis=1).max()
+    assert gap <= cand["max_distance"] + 0.02 * 100  # its curve passes near every target
+    no_errors(p)

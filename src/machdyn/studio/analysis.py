@@ -27,14 +27,18 @@ __all__ = ["analyse", "linkage_part"]
 SAMPLES = 360
 
 
-def _numbers(values: Any, digits: int = 7) -> list[float | None]:
-    """A list for JSON: ``None`` where not finite, else rounded to ``digits`` significant."""
+def _numbers(values: Any, digits: int = 7, places: int | None = None) -> list[float | None]:
+    """A list for JSON: ``None`` where not finite, else rounded.
+
+    To ``digits`` significant digits of the largest value, or to ``places`` decimals.
+    """
     a = np.asarray(values, dtype=float).ravel()
     good = np.isfinite(a)
     if not good.any():
         return [None] * a.size
     top = float(np.max(np.abs(a[good])))
-    places = digits - 1 - (math.floor(math.log10(top)) if top > 0 else 0)
+    if places is None:
+        places = digits - 1 - (math.floor(math.log10(top)) if top > 0 else 0)
     rounded = np.round(np.where(good, a, 0.0), max(min(places, 15), -15)).tolist()
     if good.all():
         return rounded
@@ -168,6 +172,40 @@ def _problems(x_shown: np.ndarray, ok: np.ndarray, reason: np.ndarray) -> list[d
     return out
 
 
+def _transmission(lk: Any, m: Any, units: Any, wanted: Any) -> tuple[list[str], dict]:
+    """The transmission angle of each dyad with two assemblies (``transmission_angles``)."""
+    names, out = [], {}
+    groups = {g.name: g for g in lk.groups}
+    for name, mu in lk.transmission_angles(m).items():
+        links = groups[name].links if name in groups else (name,)
+        label = units.label("mu_" + "_".join(links), "angle")
+        names.append(label)
+        if wanted is None or label in wanted:
+            out[label] = _numbers(units.show("angle", np.asarray(mu, float)))
+    return names, out
+
+
+def _classes(lk: Any, units: Any) -> list[dict[str, Any]]:
+    """Grashof condition and Barker class of every four-bar loop (``classify.fourbar_loops``)."""
+    from ..classify import fourbar_loops
+
+    out = []
+    for loop in fourbar_loops(lk):
+        c = loop.classification
+        shown = [_numbers([units.show("length", r)])[0] for r in loop.lengths]
+        out.append(
+            {
+                "links": list(loop.links),
+                "lengths": shown,
+                "code": c.code,
+                "condition": c.condition,
+                "text": f"{c.code} ({c.name}); {c.condition}: s + l = {c.s + c.l:.4g} vs "
+                f"p + q = {sum(loop.lengths) - c.s - c.l:.4g}",
+            }
+        )
+    return out
+
+
 def _limits(lk: Any, m: Any, x_shown: np.ndarray, ok: np.ndarray, reason: np.ndarray) -> list:
     """Frames to mark: input range ends, toggles, and the reversals of grounded links.
 
@@ -241,7 +279,7 @@ def _scene_json(scene: Any) -> dict[str, Any]:
     return data
 
 
-def _centres(lk: Any, x: np.ndarray, velocity: Any) -> dict[str, Any]:
+def _centres(lk: Any, x: np.ndarray, velocity: Any, places: int) -> dict[str, Any]:
     ics = lk.instant_centres({lk.drivers[0]: x, **_rest(lk, x.size)}, velocity=velocity)
     out = []
     for i, j in ics:
@@ -251,8 +289,8 @@ def _centres(lk: Any, x: np.ndarray, velocity: Any) -> dict[str, Any]:
             {
                 "pair": [str(i), str(j)],
                 "method": ics.method(i, j),
-                "x": _numbers(p.real),
-                "y": _numbers(p.imag),
+                "x": _numbers(p.real, places=places),
+                "y": _numbers(p.imag, places=places),
                 "dx": _numbers(d.real),
                 "dy": _numbers(d.imag),
             }
@@ -290,6 +328,8 @@ def _summary(lk: Any, part: Any, machine: Any) -> dict[str, Any]:
         "angle_drivers": [d for d in lk.drivers if _is_angle(lk, d)],
         "groups": groups,
         "lengths": lengths,
+        "classes": _classes(lk, units),
+        "can_flip": True,
         "units": {
             k: units.display(k)
             for k in ("length", "angle", "mass", "inertia", "force", "torque", "angular_velocity")
@@ -372,7 +412,11 @@ def analyse(
     reason = np.ravel(f.reason if f is not None else m.reason)
     kind = "angle" if _is_angle(lk, first) else "length"
     x_shown = np.asarray(units.show(kind, x), float)
-    names, columns = _columns(result, units, None if quantities is None else set(quantities))
+    wanted = None if quantities is None else set(quantities)
+    names, columns = _columns(result, units, wanted)
+    mu_names, mu_columns = _transmission(lk, m, units, wanted)
+    names[1:1] = mu_names  # after the driver's column
+    columns.update(mu_columns)
     scene = linkage_scene(lk, m, title=p.name, closed=closed and bool(ok.all()))
     out: dict[str, Any] = {
         "summary": _summary(lk, p, machine2),
@@ -392,5 +436,5 @@ def analyse(
     }
     if centres:
         velocity = {d: 1.0 for d in lk.drivers}
-        out["centres"] = _centres(lk, x, velocity)
+        out["centres"] = _centres(lk, x, velocity, out["scene"]["decimals"] + 2)
     return out

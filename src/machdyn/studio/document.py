@@ -188,12 +188,25 @@ def _set_length(part: dict, op: Mapping[str, Any]) -> None:
     pts[b] = [float(xa) + dx * value / d, float(ya) + dy * value / d]
 
 
+def _flip(doc: dict, part: dict, op: Mapping[str, Any]) -> None:
+    """Redraw the part on the other assembly of a dyad group (``Linkage.flipped``)."""
+    from ..spec import read
+
+    group = op.get("group")
+    if not isinstance(group, str):
+        raise InputError("op.group", f"a group's name is text, got {group!r}")
+    name = next(k for k, v in doc["linkage"].items() if v is part)
+    lk = read(doc).parts[name].model.flipped(group)
+    part["points"] = {p: [float(z.real), float(z.imag)] for p, z in lk.points.items()}
+
+
 def edit(doc: Mapping[str, Any], op: Mapping[str, Any]) -> dict[str, Any]:
     """Apply one edit to a copy of ``doc``.
 
     ``op`` is ``{"kind": "rename_point" | "rename_link", "old": ..., "new": ...}`` or
-    ``{"kind": "length", "from": P, "to": Q, "value": L}`` (``Q`` moves along ``PQ``),
-    with an optional ``"part"``.
+    ``{"kind": "length", "from": P, "to": Q, "value": L}`` (``Q`` moves along ``PQ``), or
+    ``{"kind": "flip", "group": "RRR dyad (coupler, rocker)"}`` (the other assembly of
+    that dyad, :meth:`Linkage.flipped`), with an optional ``"part"``.
 
     Examples
     --------
@@ -215,6 +228,10 @@ def edit(doc: Mapping[str, Any], op: Mapping[str, Any]) -> dict[str, Any]:
         (_rename_point if kind == "rename_point" else _rename_link)(part, old, new)
     elif kind == "length":
         _set_length(part, op)
+    elif kind == "flip":
+        _flip(out, part, op)
     else:
-        raise InputError("op.kind", f"must be rename_point, rename_link or length, got {kind!r}")
+        raise InputError(
+            "op.kind", f"must be rename_point, rename_link, length or flip, got {kind!r}"
+        )
     return out

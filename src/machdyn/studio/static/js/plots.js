@@ -34,8 +34,9 @@ export class Plots {
     const out = names.find((n) => /^theta_/.test(n) && !n.startsWith(r.x_label.split(" ")[0]));
     const lastTheta = names.filter((n) => /^theta_/.test(n)).pop();
     if (lastTheta && lastTheta !== names[0]) pick.push(lastTheta); else if (out) pick.push(out);
-    const omega = names.filter((n) => /^omega_/.test(n)).pop();
-    if (omega) pick.push(omega);
+    const mu = names.find((n) => /^mu_/.test(n));
+    if (mu) pick.push(mu);
+    else { const omega = names.filter((n) => /^omega_/.test(n)).pop(); if (omega) pick.push(omega); }
     const torque = names.find((n) => /^[TF]_/.test(n) && (r.summary.drivers || []).some((d) => n.startsWith(`T_${d} `) || n.startsWith(`F_${d} `)));
     if (torque) pick.push(torque);
     return pick;

@@ -70,6 +70,7 @@ export class Synthesis {
       curves.push({ pts: [pts.O2, pts.A, pts.B, pts.O4], colour: "#e66101", dashed: true, cls: "synth" });
     }
     v.marks = marks; v.curves = curves;
+    v.svg.classList.toggle("dimmed", !!(this.picking || m.pts.length || p.pts.length));
     this.app.draw();
   }
 
@@ -147,7 +148,7 @@ export class Synthesis {
     const path = h("section", { class: "card" }, h("h3", {}, "Path generation"),
       h("p", { class: "muted" }, `${p.pts.length} target points.`),
       h("div", { class: "buttons" },
-        h("button", { class: picking("path") ? "on" : "", onclick: () => (picking("path") ? this.stop() : this.start("path")) }, picking("path") ? "Done" : "Click points"),
+        h("button", { id: "pick-path", class: picking("path") ? "on" : "", onclick: () => (picking("path") ? this.stop() : this.start("path")) }, picking("path") ? "Done" : "Click points"),
         h("button", { onclick: () => csv.click() }, "Load CSV"), csv,
         h("label", { class: "check" }, closed, " closed"),
         h("button", { disabled: p.pts.length < 5 || this.busy, onclick: () => this.runPath(), id: "run-path" }, this.busy ? "Searching…" : "Synthesise")),
