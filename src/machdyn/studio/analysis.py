@@ -241,11 +241,54 @@ def _limits(lk: Any, m: Any, x_shown: np.ndarray, ok: np.ndarray, reason: np.nda
     return out
 
 
+def _coordinates(scene: Any) -> dict[str, Any]:
+    """Per-point coordinates of every frame, rounded as :func:`machdyn.draw.html.decimals` says.
+
+    A point that never moves is written once (a number instead of a list); a frame where a
+    point has no position is ``null``.
+    """
+    from ..draw.html import decimals
+
+    xmin, xmax, ymin, ymax = scene.extent()
+    places = decimals(max(xmax - xmin, ymax - ymin))
+    xy = np.round(scene.xy, places)
+    good = np.isfinite(xy)
+    static = good.all(axis=0) & (np.ptp(xy.real, axis=0) == 0) & (np.ptp(xy.imag, axis=0) == 0)
+    xs: list[Any] = []
+    ys: list[Any] = []
+    for j in range(xy.shape[1]):
+        col = xy[:, j]
+        if static[j]:
+            xs.append(float(col[0].real) + 0.0)
+            ys.append(float(col[0].imag) + 0.0)
+        elif good[:, j].all():
+            xs.append(col.real.tolist())
+            ys.append(col.imag.tolist())
+        else:
+            ok = good[:, j].tolist()
+            xs.append([v if g else None for v, g in zip(col.real.tolist(), ok, strict=True)])
+            ys.append([v if g else None for v, g in zip(col.imag.tolist(), ok, strict=True)])
+    return {"decimals": places, "x": xs, "y": ys}
+
+
 def _scene_json(scene: Any) -> dict[str, Any]:
     """A scene's items, names and per-frame coordinates for the page to draw."""
-    from ..draw.html import frame_data
-
-    data = frame_data(scene)
+    data: dict[str, Any] = {
+        "frames": len(scene),
+        **_coordinates(scene),
+        "angles": {k: _numbers(np.degrees(v), places=4) for k, v in scene.angles.items()},
+        "shown": [bool(v) for v in scene.shown],
+        "readout": [
+            {
+                "label": r.label,
+                "unit": r.unit,
+                "digits": r.digits,
+                "v": _numbers(r.values, places=r.digits),
+            }
+            for r in scene.readout
+        ],
+        "closed": bool(scene.closed),
+    }
     data["names"] = list(scene.names)
     data["items"] = [
         {

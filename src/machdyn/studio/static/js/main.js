@@ -70,6 +70,7 @@ class App {
   }
 
   onResult(r, tag) {
+    if (this.error || document.getElementById("status").className === "bad") this.status("");
     this.result = r; this.error = null;
     const v = this.view;
     v.scene = { ...r.scene, closed_turn: r.closed && r.ok.every(Boolean) };

@@ -63,10 +63,15 @@ export class Plots {
     if (!r) { this.box.replaceChildren(h("p", { class: "empty" }, "Nothing to plot yet.")); return; }
     const missing = this.selected.filter((n) => !(n in r.columns));
     if (missing.length) { this.app.reanalyse(); }
-    const filter = h("input", { type: "search", placeholder: "filter quantities (e.g. omega, F_, |V)", value: this.filter, "aria-label": "filter" });
-    filter.addEventListener("input", () => { this.filter = filter.value; this.renderList(list, r); });
-    const list = h("div", { class: "quantities" });
-    this.renderList(list, r);
+    const key = r.names.join("\n") + "\n" + this.selected.join("\n");
+    if (!this.listBox || this.listKey !== key) {
+      const filter = h("input", { type: "search", placeholder: "filter quantities (e.g. omega, mu, F_, |V)", value: this.filter, "aria-label": "filter" });
+      const list = h("div", { class: "quantities" });
+      filter.addEventListener("input", () => { this.filter = filter.value; this.renderList(list, this.app.result); });
+      this.renderList(list, r);
+      this.listBox = h("div", {}, h("h3", {}, "Quantities"), filter, list);
+      this.listKey = key;
+    }
     const charts = h("div", { class: "charts" });
     this.charts = [];
     const byUnit = new Map();
@@ -78,7 +83,10 @@ export class Plots {
     }
     for (const [u, names] of byUnit) charts.appendChild(this.chart(r, names, u));
     if (!byUnit.size) charts.appendChild(h("p", { class: "empty" }, "Tick quantities below to plot them against the input."));
-    this.box.replaceChildren(charts, h("h3", {}, "Quantities"), filter, list);
+    if (this.box.firstChild && this.box.firstChild.classList.contains("charts")) {
+      this.box.replaceChild(charts, this.box.firstChild);
+      if (this.box.lastChild !== this.listBox) this.box.replaceChildren(charts, this.listBox);
+    } else this.box.replaceChildren(charts, this.listBox);
     this.cursor();
   }
 
