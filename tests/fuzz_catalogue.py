@@ -141,6 +141,7 @@ NOT_CALLED = {
     "machdyn.simulate:Load",
     "machdyn.simulate:Motor",
     "machdyn.simulate:PeriodicMotion",
+    "machdyn.simulate:MultiSimulation",
     "machdyn.simulate:Simulation",
     "machdyn.simulate:SteadyState",
     "machdyn.simulate:Step",

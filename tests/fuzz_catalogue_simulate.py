@@ -120,6 +120,7 @@ def add_simulate(c: dict[str, Any], fn, meth) -> None:
     meth("machdyn.flywheel:FlywheelResult.simulate", _flywheel, model=_sc(), **FAST, **SC_MASS)
     add_sensitivity(c, fn, meth)
     add_tolerance(c, fn)
+    add_drivers(c, fn)
 
 
 @cache
@@ -164,3 +165,23 @@ def add_tolerance(c: dict[str, Any], fn) -> None:
         theta2={"none"}, branch={"none"}, outputs={"none"}, scheduler={"none"}, workers={"none"},
         seed={"zero"}, alpha2={"zero"}, gravity={"zero"}, load={"zero"}, omega2={"zero"},
     )  # fmt: skip
+
+
+def _pendulums():
+    from machdyn.linkage import Linkage
+
+    lk = Linkage({"O1": 0j, "P1": 0.3 + 0j, "O2": 1 + 0j, "P2": 1.0 + 0.25j}).ground("O1", "O2")
+    lk.link("a", "O1", "P1", mass=2.0, inertia=0.02, cg=(0.1, 0.0))
+    lk.link("b", "O2", "P2", mass=1.0, inertia=0.01, cg=(0.1, 0.0))
+    return lk.drive("a", "b")
+
+
+def add_drivers(c: dict[str, Any], fn) -> None:
+    """Entries for machdyn.simulate.simulate_drivers (a short run: a few steps)."""
+    k = "machdyn.simulate:simulate_drivers"
+    # at rest, no motor torque, no gravity: the integrator's steps grow at once (a 2 s run
+    # of the fuzzer's pint "2 second" stays quick)
+    fn(k, lk=_pendulums(), motors={"a": 0.0, "b": 0.0}, t_end=1e-3, q0={"a": 0.1},
+       qdot0={"b": 0.0}, samples=3, rtol=1e-6, atol=1e-8, gravity=0.0)  # fmt: skip
+    c[k].accepts.update(q0={"none", "empty"}, qdot0={"none", "empty"}, gravity={"zero"},
+                        motors={"empty"}, t_end={"seconds"})  # fmt: skip

@@ -52,29 +52,16 @@ def _part(machine: Any, name: str | None, key: str) -> Any:
 
 
 def _dynamics(part: Any, machine: Any) -> dict[str, Any]:
-    """The model's own mass properties and constant loads, as the force analysis takes them."""
-    from ..spec._fourbar import _external, _masses
+    """The part's masses and constant loads (the file must give the links' masses)."""
+    from ..spec._simulate import dynamics_options
 
-    v = part.values
-    out: dict[str, Any] = {"gravity": machine.gravity or 0.0, "form": v.get("form", 1)}
-    loads = v.get("loads", {})
-    masses = _masses(v, (2, 3, 4))
-    if masses is None:
+    options = dynamics_options(part, machine)
+    if options is None:
         raise InputError(
             f"{part.kind}.{part.name}",
             "simulating needs the links' masses: add [link2], [link3], [link4] tables",
         )
-    if part.kind == "fourbar":
-        out |= {"load_torque4": loads.get("torque4", 0.0), "branch": v.get("branch")}
-    else:
-        masses["inertia"], masses["cg"] = masses["inertia"][:2], masses["cg"][:2]
-        out |= {
-            "load_force4": loads.get("force4", 0.0),
-            "friction": loads.get("friction", "smooth"),
-            "mu": loads.get("mu", 0.0),
-            "beta": loads.get("beta", 0.0),
-        }
-    return out | masses | _external(loads, (2, 3, 4))
+    return options
 
 
 def _motor(spec: dict | None) -> Any:

@@ -57,6 +57,7 @@ __all__ = [
     "InductionMotor",
     "Load",
     "Motor",
+    "MultiSimulation",
     "PeriodicMotion",
     "Simulation",
     "SteadyState",
@@ -64,6 +65,7 @@ __all__ = [
     "TorqueFunction",
     "force",
     "simulate",
+    "simulate_drivers",
     "steady_state",
     "step",
     "torque",
@@ -88,6 +90,8 @@ _HOMES = {
     "SteadyState": "result",
     "PeriodicMotion": "periodic",
     "steady_state": "periodic",
+    "MultiSimulation": "multi",
+    "simulate_drivers": "multi",
 }
 
 
@@ -137,7 +141,10 @@ def simulate(
     motor : Motor, float or callable, optional
         :class:`DCMotor`, :class:`InductionMotor`, :class:`ConstantTorque`,
         :class:`TorqueFunction`, a constant torque, or ``f(t, theta, omega)``.
-        None: no motor (a coast-down, a free swing).
+        None: no motor (a coast-down, a free swing). A Linkage with several
+        drivers (two degrees of freedom or more) takes a mapping
+        ``{driver: motor}``, ``t_end``, and ``theta0``/``omega0`` as mappings;
+        it is integrated by :func:`simulate_drivers` (a :class:`MultiSimulation`).
     t_end : float, optional
         Simulated time. At least one of ``t_end``, ``turns``, ``until``.
     turns : float, optional
@@ -212,6 +219,12 @@ def simulate(
     >>> bool(abs(run.energy.residual).max() < 1e-8 * run.energy.kinetic[0])
     True
     """
+    from ..linkage import Linkage
+
+    if isinstance(model, Linkage) and len(model.drivers) > 1:
+        return _several(model, motor, t_end, turns, until, theta0, omega0, flywheel, loads,
+                        samples=samples, rtol=rtol, atol=atol, method=method,
+                        **dynamics)  # fmt: skip
     from ._integrate import Runner
     from ._setup import prepare, solver_options, stops, time_limit
     from ._table import Exact, Table
@@ -298,3 +311,19 @@ def _result(cls, runner, plant, coef, status, message, samples, q0, w0, added) -
         table=coef.describe(),
         _runner=runner,
     )
+
+
+def _several(lk, motor, t_end, turns, until, theta0, omega0, flywheel, loads, **options):
+    """A several-driver Linkage: :func:`~machdyn.simulate.multi.simulate_drivers`."""
+    from .multi import simulate_drivers
+
+    given = {"turns": turns, "until": until, "flywheel": flywheel or None, "loads": loads or None}
+    for name, value in given.items():
+        if value is not None:
+            raise InputError(
+                name, "is an option of one-driver models; a several-driver linkage takes t_end"
+            )
+    if t_end is None:
+        raise InputError("t_end", "a several-driver linkage runs for a given time: give t_end")
+    qdot0 = None if isinstance(omega0, int | float) and omega0 == 0.0 else omega0
+    return simulate_drivers(lk, motor, t_end=t_end, q0=theta0, qdot0=qdot0, **options)

@@ -15,6 +15,54 @@ from ._types import Choice, Integer, Quantity, Table, fields, optional, required
 __all__: list[str] = []
 
 
+def dynamics_options(part: Any, machine: Any) -> dict[str, Any] | None:
+    """A fourbar or slider_crank part's masses, loads and gravity, as the force analysis takes them.
+
+    The keyword arguments of ``dynamics`` and :func:`machdyn.simulate`; None without masses.
+    """
+    from ._fourbar import _external, _masses
+
+    v = part.values
+    masses = _masses(v, (2, 3, 4))
+    if masses is None:
+        return None
+    out: dict[str, Any] = {"gravity": machine.gravity or 0.0, "form": v.get("form", 1)}
+    loads = v.get("loads", {})
+    if part.kind == "fourbar":
+        out |= {"load_torque4": loads.get("torque4", 0.0), "branch": v.get("branch")}
+    else:
+        masses["inertia"], masses["cg"] = masses["inertia"][:2], masses["cg"][:2]
+        out |= {
+            "load_force4": loads.get("force4", 0.0),
+            "friction": loads.get("friction", "smooth"),
+            "mu": loads.get("mu", 0.0),
+            "beta": loads.get("beta", 0.0),
+        }
+    return out | masses | _external(loads, (2, 3, 4))
+
+
+def simulated_k(machine: Any, source: str, result: Any) -> float | str:
+    """The flywheel's fluctuation with the linkage's own varying inertia, or why not.
+
+    ``result`` is the sizing (:class:`~machdyn.flywheel.FlywheelResult`) of the
+    torque of part ``source``; its :meth:`~machdyn.flywheel.FlywheelResult.simulate`
+    solves that part's equation of motion with the flywheel, at the same
+    average speed under a constant torque.
+    """
+    from ..errors import MachdynError
+
+    part = machine.parts[source]
+    if part.kind not in ("fourbar", "slider_crank"):
+        return f"not simulated: {source!r} is a {part.kind}"
+    options = dynamics_options(part, machine)
+    if options is None:
+        return f"not simulated: {source!r} has no masses"
+    try:
+        return float(result.simulate(part.model, **options).k)
+    except MachdynError as exc:
+        return f"not simulated: {exc}"
+
+
 def _motor_check(ctx: Any, path: tuple, v: dict) -> None:
     needs = {
         "dc": ("stall_torque", "no_load_speed"),

@@ -372,6 +372,12 @@ def _run_flywheel(part: Part, machine: Machine, results: dict) -> PartResult:
         Summary("I (flywheel inertia)", result.inertia, "inertia"),
         Summary("omega min, max", [result.omega_min, result.omega_max], "angular_velocity"),
     ]
+    out.summary.append(Summary("the estimate neglects", "; ".join(result.neglects)))
+    if task.source is not None:  # the honest number: the source's own varying inertia
+        from ._simulate import simulated_k
+
+        k = simulated_k(machine, task.source, result)
+        out.summary.append(Summary("k with the linkage's own inertia (simulated)", k))
     disc = task.disc(result.inertia)
     if disc is not None:
         out.objects["disc"] = disc
