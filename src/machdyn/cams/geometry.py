@@ -36,7 +36,15 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import broadcast, choice, finite_array, finite_scalar, nonnegative, positive
+from .._validate import (
+    broadcast,
+    choice,
+    count,
+    finite_array,
+    finite_scalar,
+    nonnegative,
+    positive,
+)
 from ..errors import InputError, ModelError
 from ._interference import loop_pieces, polyline_crossings
 from .critical_path import CriticalPathMotion
@@ -929,8 +937,13 @@ class OscillatingRoller:
 Follower = TranslatingRoller | TranslatingFlatFace | OscillatingRoller
 
 
+#: Memory per sample of a profile with its checks (outline, curvature, crossings grid).
+_BYTES_PER_SAMPLE = 800
+
+
 def _as_motion(motion: MotionSource, n: int) -> Motion:
     if isinstance(motion, CamProgram | CriticalPathMotion):
+        n = count("n", n, minimum=4, bytes_each=_BYTES_PER_SAMPLE, what="cam samples")
         return motion.sample(n)
     if isinstance(motion, Motion):
         return motion

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import choice, finite_array, integer, nonnegative, positive
+from .._validate import choice, count, finite_array, nonnegative, positive
 from ..errors import InputError
 from .laws import LawValues, MotionLaw, PolynomialLaw, get_law
 
@@ -405,7 +405,7 @@ class CamProgram:
 
     def sample(self, n: int = 3600) -> Motion:
         """Return the motion at ``n`` equally spaced angles θ = 2πk/n."""
-        n = integer("n", n, minimum=4)
+        n = count("n", n, minimum=4, bytes_each=48, what="samples")
         return self.svaj(np.arange(n) * (2.0 * np.pi / n))
 
     def continuity(self, rtol: float = 1e-9) -> ContinuityReport:
