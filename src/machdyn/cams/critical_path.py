@@ -157,6 +157,7 @@ class CriticalPathMotion:
         >>> report.ok, report.notes[0][:34]
         (True, 'degree 3: the jerk jumps at knots ')
         """
+        rtol = nonnegative("rtol", rtol)
         from scipy.interpolate import PPoly
 
         pieces = PPoly.from_spline(self.spline)

@@ -39,6 +39,7 @@ import numpy as np
 from .._validate import (
     broadcast,
     choice,
+    complex_array,
     count,
     finite_array,
     finite_scalar,
@@ -371,7 +372,7 @@ def surface_self_intersection(theta: Any, surface: Any) -> SurfaceSelfIntersecti
     [[10.4, 45.8], [164.2, 199.6]]
     """
     theta = finite_array("theta", theta)
-    z = np.asarray(surface, dtype=complex)
+    z = complex_array("surface", surface)
     if theta.ndim != 1 or z.shape != theta.shape:
         raise InputError(
             "surface", f"needs one point per cam angle: theta {theta.shape}, surface {z.shape}"
@@ -578,6 +579,9 @@ class CamProfile:
         face_width : float, optional
             Flat face: the width you have, checked against the least width.
         """
+        rho_ratio = positive("rho_ratio", rho_ratio)
+        if face_width is not None:
+            face_width = positive("face_width", face_width)
         limit = positive("max_pressure_angle", max_pressure_angle, "radian")
         if limit >= np.pi / 2.0:
             raise InputError(
