@@ -35,6 +35,7 @@ FRONT_ENDS = (
 #: Modules of a package that serve its public functions and are not called by users
 #: (their names would better start with "_"); the package's __all__ is fuzzed instead.
 INTERNAL_MODULES = {
+    "machdyn.linkage.newton_euler": "Newton-Euler blocks of Linkage.forces and dynamics",
     "machdyn.synthesis.atlas_dask": "Dask plumbing of build_atlas",
     "machdyn.synthesis.atlas_store": "the atlas folder's chunks and manifest (build_atlas)",
     "machdyn.synthesis.circuits": "circuit sampling inside the atlas builder",
@@ -134,6 +135,15 @@ NOT_CALLED = {
     "machdyn.spec:Machine",  # built by machdyn.spec.load; its methods are catalogued
     "machdyn.spec:Part",
     "machdyn.units:Kind",
+    # machdyn.simulate: results, loads built by torque()/force()/step(), the motors' base
+    "machdyn.simulate:Energy",
+    "machdyn.simulate:Event",
+    "machdyn.simulate:Load",
+    "machdyn.simulate:Motor",
+    "machdyn.simulate:PeriodicMotion",
+    "machdyn.simulate:Simulation",
+    "machdyn.simulate:SteadyState",
+    "machdyn.simulate:Step",
 }
 
 #: Public callables not fuzzed here, with the reason.
@@ -435,6 +445,7 @@ def catalogue() -> dict[str, Call]:
     _add_design(c, fn, meth)
     _add_general(c, fn, meth)
     __import__("fuzz_catalogue_spec").add_spec(c, fn, meth)  # machdyn.spec, machdyn.units
+    __import__("fuzz_catalogue_simulate").add_simulate(c, fn, meth)  # machdyn.simulate
     for (key, name), values in ACCEPTS.items():
         c[key].accepts.setdefault(name, set()).update(values)
     for key, why in NONFINITE.items():
@@ -1093,6 +1104,8 @@ def _add_general(c, fn, meth) -> None:
     lf = lambda: _linkage().forces(lm())  # noqa: E731
     meth("machdyn.linkage:LinkageForces.F", lf, a="crank", p="coupler")
     meth("machdyn.linkage:LinkageForces.to_pandas", lf)
+    meth("machdyn.linkage:Linkage.transmission_angles", lk, motion=lm())
+    meth("machdyn.linkage:Linkage.flipped", lk, group="RRR dyad (coupler, rocker)")
 
     def base():
         return (

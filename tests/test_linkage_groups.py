@@ -419,3 +419,43 @@ def test_a_triad_goes_to_the_loop_core_and_the_dyad_after_it_to_the_closed_form(
     m = lk.solve(theta, velocity=1.0, acceleration=0.0, jerk=0.0)
     assert m.ok.all() and rigid_errors(lk, m) < 1e-11
     assert np.isfinite(m.jerk["M"]).all()  # jerks through the loop core's group too
+
+
+# ---------------------------------------------------------------------------- analyses on groups
+def test_transmission_angles_of_an_rrr_and_an_rrp():
+    from machdyn.fourbar import FourBar
+
+    theta = np.radians(np.arange(0.0, 360.0, 15.0))
+    mu = fourbar(1.0).transmission_angles(fourbar(1.0).solve(theta))
+    np.testing.assert_allclose(
+        mu["RRR dyad (coupler, rocker)"], FourBar(8, 4, 7, 6).solve(theta).mu
+    )
+    lk = offset_slider(1.0, False)
+    m = lk.solve(theta)
+    rod = m.points["B"] - m.points["A"]  # the slide is along x: μ = the rod's angle to the normal
+    expected = np.arccos(np.abs(rod.imag) / np.abs(rod))
+    np.testing.assert_allclose(lk.transmission_angles(m)["RRP dyad (rod, block)"], expected)
+
+
+@pytest.mark.parametrize("build", [watt_ii, jansen_leg])
+def test_a_flipped_group_is_the_other_assembly_and_flips_back(build):
+    lk = build()
+    for grp in lk.groups:
+        if grp.sign == 0:
+            continue
+        other = lk.flipped(grp.name)
+        again = other.flipped(grp.name)
+        assert next(g for g in other.groups if g.name == grp.name).sign == -grp.sign
+        for p, z in lk.points.items():
+            assert abs(again.points[p] - z) < 1e-9, p
+        # the flipped drawing assembles: its rigid distances are the original's
+        m = other.solve(other.drawn_inputs[other.drivers[0]])
+        assert rigid_errors(lk, m) < 1e-9
+
+
+def test_flipping_a_group_with_one_assembly_is_refused():
+    lk = watt_ii()
+    with pytest.raises(ModelError, match="one assembly"):
+        lk.flipped(lk.groups[0].name)
+    with pytest.raises(ModelError, match="no group named"):
+        lk.flipped("RRR dyad (x, y)")

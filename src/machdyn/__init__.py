@@ -20,6 +20,7 @@ from .classify import barker_class, classify, is_grashof
 from .errors import AssemblyError, InputError, MachdynError, ModelError, SingularityError
 from .fourbar import FourBar
 from .mobility import Joint, mobility, mobility_of
+from .simulate import simulate
 from .slidercrank import InvertedSliderCrank, SliderCrank
 
 __version__ = "0.1.0"
@@ -40,6 +41,7 @@ __all__ = [
     "is_grashof",
     "mobility",
     "mobility_of",
+    "simulate",
 ]
 
 # Subpackages and modules loaded lazily on attribute access.

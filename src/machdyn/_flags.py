@@ -10,10 +10,12 @@ from typing import ClassVar
 
 import numpy as np
 
+from ._summary import Summarized
+
 __all__ = ["Flagged"]
 
 
-class Flagged:
+class Flagged(Summarized):
     """Mixin for result dataclasses with a ``status`` array (0 = solved)."""
 
     #: Reason text for each status code (code 0 is the empty string).

@@ -14,6 +14,7 @@ import numpy as np
 
 from ._parallel import require_memory
 from .errors import InputError
+from .units import warn_if_degrees
 
 __all__ = [
     "as_array",
@@ -660,6 +661,7 @@ def input_motion(
     ((2,), [2.0, 2.0])
     """
     theta2 = finite_array("theta2", theta2, "radian")
+    warn_if_degrees("theta2", theta2, stacklevel=4)  # the caller of solve() is warned
     omega2 = finite_array("omega2", omega2, "radian / second")
     alpha2 = finite_array("alpha2", alpha2, "radian / second ** 2")
     jerk2 = finite_array("jerk2", jerk2, "radian / second ** 3")

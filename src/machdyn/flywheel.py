@@ -27,6 +27,27 @@ The torque curve is taken as piecewise linear between the samples, so the lobe
 areas, the zero crossings and ``E(θ)`` are exact for that curve: sampling may be
 non-uniform, and a lobe that straddles the start of the cycle is one lobe.
 
+What the estimate neglects
+--------------------------
+The sizing is the notes' (and Norton's) estimate, and it says so
+(:attr:`FlywheelResult.neglects`):
+
+* the linkage's own, *varying* inertia ``I(θ)``: its inertia torque is part of
+  ``T12``, computed at the constant speed ``ω_avg``, and the flywheel alone is
+  the energy store. A linkage that stores energy itself (a heavy coupler)
+  changes the fluctuation, usually lowering it;
+* the change of that inertia torque with the speed fluctuation it causes;
+* the motor's speed–torque curve: the motor is taken to give exactly
+  ``T_avg`` at every instant;
+* ``ω_avg ≈ (ω_max + ω_min)/2`` in ``I = ΔE/(k ω_avg²)`` (an error of order
+  ``k²``, which the ω(θ) above already removes).
+
+:meth:`FlywheelResult.simulate` offers the honest number: the periodic steady
+state of the *model itself* with the chosen flywheel (its ``I(θ)``, gravity,
+springs and loads, by :func:`machdyn.simulate.steady_state`), driven by a
+constant torque at the same average speed or by a motor's law, and its
+simulated coefficient of fluctuation.
+
 Examples
 --------
 The closed form ``T = T0 + A sin θ`` has two lobes of area ``±2A``:
@@ -46,6 +67,7 @@ from typing import Any
 
 import numpy as np
 
+from ._summary import Summarized
 from ._validate import finite_array, finite_scalar, positive
 from .errors import InputError
 
@@ -125,7 +147,7 @@ class LobeTable:
 
 
 @dataclass(frozen=True)
-class FlywheelResult:
+class FlywheelResult(Summarized):
     """Result of :func:`size_flywheel`.
 
     Attributes
@@ -152,6 +174,9 @@ class FlywheelResult:
         Extremes of that ω(θ).
     k_achieved : float
         ``(ω_max − ω_min) / ω_avg`` of that solution.
+    neglects : tuple of str
+        What the estimate leaves out (see the module's notes); use
+        :meth:`simulate` for the fluctuation with the linkage's own inertia.
     """
 
     theta: np.ndarray
@@ -168,6 +193,62 @@ class FlywheelResult:
     omega_max: float
     omega_min: float
     k_achieved: float
+    neglects: tuple[str, ...] = (
+        "the linkage's own varying inertia I(θ): its inertia torque is taken at constant "
+        "ω_avg as part of T12, and the flywheel alone stores the energy",
+        "the change of the linkage's inertia torque with the speed fluctuation",
+        "the motor's speed-torque curve: it gives exactly T_avg at every instant",
+    )
+
+    def simulate(self, model: Any, motor: Any = None, **options: Any) -> Any:
+        """The periodic motion of ``model`` with this flywheel: the simulated fluctuation.
+
+        The estimate neglects the linkage's own varying inertia (see
+        :attr:`neglects`); this solves the model's equation of motion with it,
+        the flywheel :attr:`inertia` on the input shaft, and either a constant
+        torque at the same average speed ``omega_avg`` (``motor=None``: the
+        sizing's own assumption) or a motor's law. Its ``.k`` is the honest
+        coefficient of fluctuation to compare with :attr:`k`.
+
+        Parameters
+        ----------
+        model : FourBar, SliderCrank or Linkage
+            The machine whose ``T12`` was sized (its input must turn fully).
+        motor : Motor, optional
+            A motor law (:mod:`machdyn.simulate.motors`); then the speed is the
+            motor's, not ``omega_avg``.
+        **options
+            The model's mass properties and loads (``mass=``, ``inertia=``,
+            ``cg=``, ``gravity=`` …) as for :func:`machdyn.simulate`; ``flywheel=``
+            adds drive-line inertia to this flywheel's.
+
+        Returns
+        -------
+        machdyn.simulate.PeriodicMotion
+
+        Examples
+        --------
+        Size a flywheel for the HW 6 crank-rocker at 30 rad/s and k = 0.05 from
+        its inverse-dynamics torque, then simulate it:
+
+        >>> import numpy as np
+        >>> from machdyn import FourBar
+        >>> fb = FourBar(0.08, 0.04, 0.07, 0.06)
+        >>> m = dict(mass=(0.2, 0.3, 0.25), inertia=(3e-5, 1.2e-4, 7.5e-5),
+        ...          cg=(0.02, 0.035, 0.03), gravity=9.81)
+        >>> theta = np.radians(np.arange(0.0, 360.0, 0.5))
+        >>> fw = size_flywheel(theta, fb.dynamics(theta, 30.0, **m).T12, omega_avg=30.0, k=0.05)
+        >>> honest = fw.simulate(fb, **m)
+        >>> round(fw.k_achieved, 4), round(honest.k, 4)     # the linkage's inertia helps
+        (0.0501, 0.0473)
+        """
+        from .simulate.periodic import steady_state
+
+        extra = options.pop("flywheel", 0.0)
+        average = self.omega_avg if motor is None else None
+        return steady_state(
+            model, motor, omega_avg=average, flywheel=self.inertia + extra, **options
+        )
 
     def to_pandas(self) -> Any:
         """Per-sample table: θ (deg), T12, T12 − T_avg and ω."""
@@ -241,7 +322,10 @@ def size_flywheel(
     Notes
     -----
     ``I`` is the total inertia on the input shaft; subtract what the motor
-    and the crank already provide. The notes' printed Table 11-1 closes at
+    and the crank already provide. The estimate neglects the linkage's own
+    varying inertia and the motor's speed–torque curve (:attr:`FlywheelResult.neglects`);
+    :meth:`FlywheelResult.simulate` solves the model's own equation of motion
+    with the flywheel for the fluctuation it really gets. The notes' printed Table 11-1 closes at
     +1.54 instead of 0 from rounding of its areas; here ``T_avg`` is the exact
     mean of the given curve, so the lobes always close to round-off.
 

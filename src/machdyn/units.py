@@ -576,3 +576,108 @@ def from_quantity_unit(length: str | None) -> UnitSystem | None:
     except ValueError:  # pragma: no cover - pint gave the name, pint knows it
         short = length
     return UnitSystem(length=short)
+
+
+#: Angles given in radians beyond this many turns were most likely meant as degrees.
+DEGREE_TURNS = 10
+
+
+def warn_if_degrees(field: str, values: Any, stacklevel: int = 3) -> None:
+    """Warn when an angle in radians reaches beyond ten turns: degrees, most likely.
+
+    ``solve(np.arange(0, 360))`` sweeps 57 turns: the hint says so and how to
+    write it (the gear module refuses a pressure angle in degrees the same way).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warn_if_degrees("theta2", [0.0, 90.0, 359.0])
+    >>> print(caught[0].message)
+    theta2 reaches 359 rad (57 turns): did you pass degrees? use np.radians(...) or a pint quantity
+    """
+    import warnings
+
+    import numpy as np
+
+    a = np.abs(np.asarray(values, dtype=float))
+    if a.size == 0:
+        return
+    top = float(np.nanmax(a)) if np.isfinite(a).any() else 0.0
+    if top > DEGREE_TURNS * 2.0 * math.pi:
+        warnings.warn(
+            f"{field} reaches {top:g} rad ({top / (2 * math.pi):.0f} turns): did you pass "
+            "degrees? use np.radians(...) or a pint quantity",
+            UserWarning,
+            stacklevel=stacklevel,
+        )
+
+
+#: AutoCAD's ``$INSUNITS`` code of each length unit (pint's name); 0 is "unitless".
+DXF_INSUNITS = {
+    "inch": 1,
+    "foot": 2,
+    "mile": 3,
+    "millimeter": 4,
+    "centimeter": 5,
+    "meter": 6,
+    "kilometer": 7,
+    "microinch": 8,
+    "thou": 9,
+    "yard": 10,
+    "angstrom": 11,
+    "nanometer": 12,
+    "micrometer": 13,
+    "decimeter": 14,
+}
+_IMPERIAL = {1, 2, 3, 8, 9, 10}
+
+
+def dxf_units(unit: str | None) -> tuple[int, int]:
+    """``($INSUNITS, $MEASUREMENT)`` of a DXF file whose numbers are in ``unit``.
+
+    ``None`` (numbers in no declared unit) gives 0, "unitless"; a length unit
+    without an AutoCAD code is refused (convert the drawing to mm or in).
+
+    Examples
+    --------
+    >>> dxf_units("mm"), dxf_units("in"), dxf_units(None)
+    ((4, 1), (1, 0), (0, 1))
+    """
+    if unit is None:
+        return 0, 1
+    if not isinstance(unit, str):
+        raise InputError("unit", f"expected a length unit like 'mm', got {unit!r}")
+    try:
+        check_unit(unit, "length")
+        name = str(_unit(unit))
+    except ValueError as exc:
+        raise InputError("unit", str(exc)) from None
+    if name not in DXF_INSUNITS:
+        listed = ", ".join(DXF_INSUNITS)
+        raise InputError("unit", f"DXF has no code for {unit!r}; use one of {listed}")
+    code = DXF_INSUNITS[name]
+    return code, 0 if code in _IMPERIAL else 1
+
+
+def set_dxf_units(doc: Any, unit: str | None) -> None:
+    """Write the true unit into an ezdxf document (``$INSUNITS``, ``$MEASUREMENT``)."""
+    code, measurement = dxf_units(unit)
+    doc.header["$INSUNITS"] = code
+    doc.header["$MEASUREMENT"] = measurement
+
+
+def svg_size(width: float, height: float, unit: str | None) -> str:
+    """``width="..mm" height="..mm"`` for an SVG drawn in ``unit`` (empty without a unit).
+
+    Examples
+    --------
+    >>> svg_size(2.0, 1.0, "in")
+    'width="50.8mm" height="25.4mm" '
+    """
+    if unit is None:
+        return ""
+    dxf_units(unit)  # a length unit, or the error naming it
+    mm = _factor(unit, "mm")
+    return f'width="{width * mm:.6g}mm" height="{height * mm:.6g}mm" '

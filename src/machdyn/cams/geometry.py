@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from .._summary import Summarized
 from .._validate import (
     broadcast,
     choice,
@@ -425,7 +426,7 @@ class DesignCheck:
 
 
 @dataclass(frozen=True)
-class CamProfile:
+class CamProfile(Summarized):
     """Geometry of a radial cam for one follower, sampled over a turn.
 
     Attributes
@@ -680,11 +681,11 @@ class CamProfile:
 
         write_csv(self, path)
 
-    def to_dxf(self, path: Any, allow_undercut: bool = False) -> None:
-        """Write the cam outline as DXF (see :func:`machdyn.cams.write_dxf`)."""
+    def to_dxf(self, path: Any, allow_undercut: bool = False, unit: str | None = None) -> None:
+        """Write the cam outline as DXF in ``unit`` (see :func:`machdyn.cams.write_dxf`)."""
         from .io import write_dxf
 
-        write_dxf(self, path, allow_undercut=allow_undercut)
+        write_dxf(self, path, allow_undercut=allow_undercut, unit=unit)
 
     def plot(self, **kwargs: Any) -> Any:
         """Draw the cam (see :func:`machdyn.cams.plot_profile`)."""

@@ -105,12 +105,16 @@ def write_csv(profile: CamProfile, path: Any) -> Path:
     return path
 
 
-def write_dxf(profile: CamProfile, path: Any, allow_undercut: bool = False) -> Path:
+def write_dxf(
+    profile: CamProfile, path: Any, allow_undercut: bool = False, unit: str | None = None
+) -> Path:
     """Write the cam outline (closed polyline) with its base/prime circles and pitch curve.
 
     Layers: ``CAM`` (surface), ``PITCH`` (pitch curve, roller followers),
     ``BASE_CIRCLE``, ``PRIME_CIRCLE``. An undercut cam's outline intersects
     itself and cannot be made: it is refused unless ``allow_undercut`` is true.
+    ``unit`` is the length unit of the cam's numbers (``"mm"``, ``"in"``): the
+    file's ``$INSUNITS`` says so (without it, 0: unitless).
     """
     if cannot_be_cut(profile) and not allow_undercut:
         raise ModelError(undercut_refusal(profile))
@@ -118,8 +122,11 @@ def write_dxf(profile: CamProfile, path: Any, allow_undercut: bool = False) -> P
         import ezdxf
     except ImportError:  # pragma: no cover - depends on the environment
         raise ModelError("DXF output needs ezdxf: pip install 'machdyn[dxf]'") from None
+    from ..units import set_dxf_units
+
     path = Path(path)
     doc = ezdxf.new("R2010")
+    set_dxf_units(doc, unit)
     msp = doc.modelspace()
     for name, color in (("CAM", 7), ("PITCH", 3), ("BASE_CIRCLE", 5), ("PRIME_CIRCLE", 4)):
         doc.layers.add(name, color=color)

@@ -18,8 +18,10 @@ from typing import Any
 
 import numpy as np
 
+from .._summary import Summarized
 from .._validate import choice, count, finite_array, items, nonnegative, positive
 from ..errors import InputError
+from ..units import warn_if_degrees
 from .laws import LawValues, MotionLaw, PolynomialLaw, get_law
 
 __all__ = [
@@ -120,7 +122,7 @@ class Segment:
 
 
 @dataclass(frozen=True)
-class Motion:
+class Motion(Summarized):
     """Follower motion over cam angle: s and derivatives per radian.
 
     Attributes
@@ -185,7 +187,7 @@ class Motion:
 
 
 @dataclass(frozen=True)
-class TimeMotion:
+class TimeMotion(Summarized):
     """Follower motion in time units: ``V = ωv``, ``A = ω²a``, ``J = ω³j``."""
 
     t: np.ndarray
@@ -391,6 +393,7 @@ class CamProgram:
         At a boundary the value of the segment that starts there is returned.
         """
         theta = finite_array("theta", theta)
+        warn_if_degrees("theta", theta)
         wrapped = np.mod(theta, 2.0 * np.pi)
         index = np.searchsorted(self._starts, wrapped, side="right") - 1
         s = np.empty_like(wrapped)

@@ -27,7 +27,10 @@ import typer
 
 from ..errors import MachdynError
 
-__all__ = ["app", "main"]
+__all__ = ["OPTIONAL", "app", "main"]
+
+#: Optional packages and the extra of machdyn that installs each (``pip install 'machdyn[plot]'``).
+OPTIONAL = {"matplotlib": "plot", "pandas": "pandas", "ezdxf": "dxf", "PIL": "plot"}
 
 
 def __getattr__(name: str) -> Any:
@@ -87,6 +90,14 @@ def _run(args: list[str]) -> int:
         return 1
     except MachdynError as exc:
         return _fail(str(exc), 1)
+    except ImportError as exc:  # an optional package that is not installed
+        package = (getattr(exc, "name", None) or "").split(".")[0]
+        if package not in OPTIONAL:
+            raise
+        extra = OPTIONAL[package]
+        return _fail(
+            f"this needs {package}, which is not installed: pip install 'machdyn[{extra}]'", 1
+        )
     except OSError as exc:  # a file that cannot be read or written
         where = f"{exc.filename}: " if exc.filename else ""
         return _fail(f"{where}{exc.strerror or exc}", 1)

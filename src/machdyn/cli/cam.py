@@ -333,6 +333,10 @@ def cam(
     ] = None,
     csv: Annotated[Path | None, typer.Option("--csv", help="write the profile table")] = None,
     dxf: Annotated[Path | None, typer.Option("--dxf", help="write the cam outline")] = None,
+    unit: Annotated[
+        str | None,
+        typer.Option("--unit", help="length unit of the numbers (mm, in, ...): the DXF says so"),
+    ] = None,
     allow_undercut: Annotated[
         bool, typer.Option(help="write the DXF even if the cam is undercut")
     ] = False,
@@ -441,8 +445,8 @@ def cam(
     if dxf is not None:
         if cannot_be_cut(profile) and not allow_undercut:
             raise ModelError(undercut_refusal(profile, "pass --allow-undercut", see="--size"))
-        with _renamed({"path": "--dxf"}):
-            profile.to_dxf(dxf, allow_undercut=allow_undercut)
+        with _renamed({"path": "--dxf", "unit": "--unit"}):
+            profile.to_dxf(dxf, allow_undercut=allow_undercut, unit=unit)
     if svaj_plot is not None or profile_plot is not None:
         _save_plots(motion, profile, svaj_plot, profile_plot)
     if strict and (not continuity.ok or not all(c.passed for c in checks)):

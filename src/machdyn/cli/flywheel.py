@@ -112,7 +112,7 @@ def flywheel(
             "E": lobes.energy,
             "omega_at_end": lobes.omega_at_end.tolist(),
         }
-        print(dumps({**summary, "lobes": lobe_rows}))
+        print(dumps({**summary, "lobes": lobe_rows, "neglects": list(result.neglects)}))
         return
     print_table(
         "Lobes of T12 - T_avg (Table 11-1)",
@@ -132,3 +132,5 @@ def flywheel(
         ],
     )
     print_table("Flywheel", ["quantity", "value"], [[name, v] for name, v in summary.items()])
+    print("The estimate neglects " + "; ".join(result.neglects) + ".")
+    print("For the fluctuation with the linkage's own inertia: FlywheelResult.simulate(model).")

@@ -317,10 +317,11 @@ def profile_cmd(
     with _options(points="--points", teeth="--teeth", cutter_teeth="--cutter-teeth"):
         out = gear_outline(gear, points, cutter_teeth=cutter_teeth)
     suffix = output.suffix.lower()
+    unit = "mm" if module is not None else "in"  # --module is in mm, --pd per inch
     if suffix == ".svg":
-        out.to_svg(output)
+        out.to_svg(output, unit=unit)
     elif suffix == ".dxf":
-        out.to_dxf(output)
+        out.to_dxf(output, unit=unit)
     elif suffix == ".csv":
         out.to_csv(output)
     elif suffix == ".png":

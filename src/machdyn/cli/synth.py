@@ -454,17 +454,16 @@ def _candidate_json(c, size: float, file: str) -> dict:
 def candidate_spec(c, title: str) -> str:
     """A path-synthesis result as a machine file (``machdyn = 1``; docs/spec.md's fourbar).
 
-    The placement in the plane (``O2``, ``theta1``) and the targets' distances
-    are in ``notes`` until the format has keys for them.
+    The placement in the plane is the part's ``O2`` and ``theta1`` (global =
+    O2 + e^{j theta1}·local); the worst target distance is in ``notes``.
     """
     pl = c.linkage
     r1, r2, r3, r4 = pl.lengths
     p, delta = pl.fourbar.coupler
     form = 1 if pl.branch > 0 else 2
     note = (
-        f"placed with O2 = ({pl.O2.real:.12g}, {pl.O2.imag:.12g}), theta1 = "
-        f"{np.degrees(pl.theta1):.12g} deg (global = O2 + e^(j theta1) local); "
-        f"assembly sign of phi12 = {pl.branch:+d}; worst target distance {np.max(c.distance):.6g}"
+        f"path synthesis from an atlas; assembly sign of phi12 = {pl.branch:+d}; "
+        f"worst target distance {np.max(c.distance):.6g}"
     )
     lines = [
         "machdyn = 1",
@@ -476,6 +475,8 @@ def candidate_spec(c, title: str) -> str:
         f"r3 = {float(r3)!r}",
         f"r4 = {float(r4)!r}",
         f'coupler = {{ p = {float(p)!r}, delta = "{float(np.degrees(delta))!r} deg" }}',
+        f"O2 = [{float(pl.O2.real)!r}, {float(pl.O2.imag)!r}]",
+        f'theta1 = "{float(np.degrees(pl.theta1))!r} deg"',
     ]
     if c.barker_class in ("GRCR", "GRRC"):
         lines.append(f"branch = {pl.branch}")

@@ -250,11 +250,18 @@ class GearOutline:
             writer.writerows(zip(self.x.tolist(), self.y.tolist(), self.segment, strict=True))
         return path
 
-    def to_svg(self, path: str | Path | None = None, stroke_width: float | None = None) -> str:
+    def to_svg(
+        self,
+        path: str | Path | None = None,
+        stroke_width: float | None = None,
+        unit: str | None = None,
+    ) -> str:
         """Return (and optionally write) an SVG document of the closed outline.
 
         The y axis is flipped so that the drawing appears as in the x–y plane.
-        One drawing unit is one length unit of the gear.
+        One drawing unit is one length unit of the gear; with ``unit`` (the
+        length unit of the gear's numbers, ``"mm"``, ``"in"``) the document's
+        width and height say its true size in millimetres.
 
         Examples
         --------
@@ -268,8 +275,10 @@ class GearOutline:
         w, h = float(np.ptp(x)) + 2 * pad, float(np.ptp(y)) + 2 * pad
         sw = stroke_width if stroke_width is not None else w / 500
         pts = " ".join(f"{a:.6g},{b:.6g}" for a, b in zip(x.tolist(), y.tolist(), strict=True))
+        from ..units import svg_size
+
         svg = (
-            '<svg xmlns="http://www.w3.org/2000/svg" '
+            f'<svg xmlns="http://www.w3.org/2000/svg" {svg_size(w, h, unit)}'
             f'viewBox="{x0:.6g} {y0:.6g} {w:.6g} {h:.6g}">\n'
             f'  <polygon points="{pts}" fill="none" stroke="black" stroke-width="{sw:.3g}"/>\n'
             "</svg>\n"
@@ -278,8 +287,11 @@ class GearOutline:
             Path(path).write_text(svg)
         return svg
 
-    def to_dxf(self, path: str | Path) -> Path:
+    def to_dxf(self, path: str | Path, unit: str | None = None) -> Path:
         """Write the outline as one closed LWPOLYLINE to a DXF file (needs ezdxf).
+
+        ``unit`` is the length unit of the gear's numbers: the file's
+        ``$INSUNITS`` says so (without it, 0: unitless).
 
         Examples
         --------
@@ -293,7 +305,10 @@ class GearOutline:
             import ezdxf
         except ImportError:  # pragma: no cover - ezdxf is in the test extras
             raise MachdynError("DXF export needs ezdxf: pip install 'machdyn[dxf]'") from None
+        from ..units import set_dxf_units
+
         doc = ezdxf.new()
+        set_dxf_units(doc, unit)
         doc.modelspace().add_lwpolyline(
             np.column_stack([self.x, self.y]).tolist(), format="xy", close=True
         )

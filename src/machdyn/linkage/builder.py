@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 from .._validate import finite_scalar
 from ..errors import InputError, ModelError
@@ -308,6 +312,16 @@ class Linkage(_JointMethods, _ElementMethods):
         """
         return joints_of(self)
 
+    def __repr__(self) -> str:
+        from .._summary import linkage_repr
+
+        return linkage_repr(self)
+
+    def _repr_html_(self) -> str:
+        from .._summary import linkage_html
+
+        return linkage_html(self)
+
     def to_spec(self, name: str = "linkage") -> dict[str, Any]:
         """The linkage as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
         from ..spec import model_spec
@@ -390,6 +404,59 @@ class Linkage(_JointMethods, _ElementMethods):
         from ..centres import instant_centres_of
 
         return instant_centres_of(self, values, velocity)
+
+    def report(self, path: Any = None, **options: Any) -> Any:
+        """A design report of the linkage (:func:`machdyn.report.report`)."""
+        from ..report import report
+
+        return report(self, path, **options)
+
+    def transmission_angles(self, motion: LinkageMotion) -> Mapping[str, np.ndarray]:
+        """Transmission angle μ (radians) of every dyad with two assemblies, per sample.
+
+        RRR: the acute angle between its two links at the middle pin (as
+        ``FourBar.mu``: 90° best, 0 at a toggle); RRP/PRR: the acute angle
+        between the rod and the normal to the slide. Keyed by group name; NaN
+        where ``motion`` is not ok.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0),
+        ...                "B": (7.625, np.sqrt(49 - 3.625**2))})
+        ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+        ...       .link("rocker", "O4", "B").drive("crank"))
+        >>> mu = lk.transmission_angles(lk.solve([0.0, 1.0]))["RRR dyad (coupler, rocker)"]
+        >>> from machdyn.fourbar import FourBar  # the closed form's μ, the same linkage
+        >>> bool(np.allclose(mu, FourBar(8, 4, 7, 6).solve([0.0, 1.0]).mu))
+        True
+        """
+        from .groups import transmission_angles
+
+        return MappingProxyType(transmission_angles(self, motion))
+
+    def flipped(self, group: str) -> Linkage:
+        """The linkage drawn on the other assembly of dyad ``group`` (a group's name).
+
+        The group's links, and those of every group depending on it, are
+        re-placed at the drawn driver values; the drawing is the new linkage's.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> lk = (Linkage({"O2": (0, 0), "O4": (8, 0), "A": (4, 0),
+        ...                "B": (7.625, np.sqrt(49 - 3.625**2))})
+        ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+        ...       .link("rocker", "O4", "B").drive("crank"))
+        >>> other = lk.flipped("RRR dyad (coupler, rocker)")
+        >>> complex(other.points["B"]).conjugate() == complex(lk.points["B"])  # mirrored in AO4
+        True
+        >>> other.groups[1].sign
+        -1
+        """
+        from .groups import flipped
+
+        return flipped(self, group)
 
     # ------------------------------------------------------------------ structure
 
@@ -584,7 +651,9 @@ class Linkage(_JointMethods, _ElementMethods):
         >>> bool(m.ok.all()), m.omega["rocker"].shape
         (True, (36,))
         """
-        return _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
+        _warn_degrees(self, values)
+        motion = _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
+        return motion if self.units is None else dataclasses.replace(motion, units=self.units)
 
     def forces(
         self,
@@ -650,3 +719,18 @@ class Linkage(_JointMethods, _ElementMethods):
         return _forces(
             self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
         )
+
+
+def _warn_degrees(lk: Linkage, values: Any) -> None:
+    """Warn when an angle driver's values look like degrees (``machdyn.units.warn_if_degrees``)."""
+    from ..units import warn_if_degrees
+
+    angles = {d for d in lk.drivers if d in lk._links or d in lk._motors}
+    if isinstance(values, Mapping):
+        items = list(values.items())
+    else:
+        items = [(lk.drivers[0], values)] if len(lk.drivers) == 1 else []
+    for name, value in items:
+        if name in angles:
+            with contextlib.suppress(TypeError, ValueError):  # the solver names a bad value
+                warn_if_degrees(name, value, stacklevel=4)

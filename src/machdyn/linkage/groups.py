@@ -26,7 +26,9 @@ from dataclasses import dataclass
 from itertools import combinations
 from typing import TYPE_CHECKING, Any
 
-from ..errors import ModelError
+import numpy as np
+
+from ..errors import InputError, ModelError
 from ._common import GROUND, _ref_angle
 from .program import RPP, RPR, Crank, Dyad, General, Motor, PArm, Program, RArm, Slide
 from .topology import _Edge
@@ -537,3 +539,93 @@ def decompose(lk: Linkage, edges: list[_Edge]) -> tuple[tuple[Group, ...], Progr
     d = _Decomposer(lk, edges)
     d.run()
     return tuple(d.groups), d.program()
+
+
+# ---------------------------------------------------------------------- analyses on groups
+def transmission_angles(lk: Linkage, motion: Any) -> dict[str, np.ndarray]:
+    """The transmission angle μ of every dyad with two assemblies, per sample (radians).
+
+    RRR: the acute angle between its two links at the middle pin (``FourBar.mu``'s
+    convention: 90° best, 0 at a toggle); RRP/PRR: the acute angle between the
+    rod and the normal to the slide (90° when the rod pushes along the slide).
+    NaN where the motion is not ok.
+    """
+    from .kinematics import LinkageMotion
+
+    if not isinstance(motion, LinkageMotion):
+        raise InputError("motion", f"must be a LinkageMotion from Linkage.solve, got {motion!r}")
+    program = lk._compile().program
+    names = {i + 1: n for i, n in enumerate(lk._links)}
+    theta0 = {n: _ref_angle(lk, n) for n in lk._links}
+
+    def rotation(i: int) -> Any:
+        if i == 0:
+            return 1.0
+        name = names[i]
+        return np.exp(1j * (np.asarray(motion.theta[name]) - theta0[name]))
+
+    def at(i: int, r: complex) -> Any:
+        if i == 0:
+            return r
+        first = lk._links[names[i]].points[0]
+        return np.asarray(motion.points[first]) + r * rotation(i)
+
+    out: dict[str, np.ndarray] = {}
+    bad = ~np.asarray(motion.ok)
+    for grp, step in zip(lk._compile().groups, program.steps, strict=True):
+        if not isinstance(step, Dyad) or step.sign == 0:
+            continue
+        arms = (step.arm1, step.arm2)
+        real = next(a for a in arms if a.link >= 0)
+        B = at(real.link, real.r)
+        vec = []
+        for a in arms:
+            if isinstance(a, RArm):
+                vec.append(at(*a.centre) - B)
+            else:
+                vec.append(1j * a.u0 * rotation(a.known))  # the slide's normal
+        c = np.abs((vec[0] * np.conj(vec[1])).real) / (np.abs(vec[0]) * np.abs(vec[1]))
+        mu = np.arccos(np.clip(c, 0.0, 1.0))
+        out[grp.name] = np.where(bad, np.nan, mu)
+    return out
+
+
+def flipped(lk: Linkage, group: str) -> Linkage:
+    """``lk`` drawn on the other assembly of dyad ``group`` (its name), at the drawn inputs."""
+    from dataclasses import replace
+
+    from .program import OK, RPR
+    from .view import rebuilt
+
+    model = lk._compile()
+    program = model.program
+    names = [g.name for g in model.groups]
+    if not isinstance(group, str):
+        raise InputError("group", f"name a group by its name (text), got {group!r}")
+    if group not in names:
+        raise ModelError(f"no group named {group!r}; groups: {', '.join(names)}")
+    g = names.index(group)
+    step = program.steps[g]
+    if not isinstance(step, Dyad | RPR) or step.sign == 0:
+        raise ModelError(f"{group} has one assembly only: there is nothing to flip")
+    steps = list(program.steps)
+    steps[g] = replace(step, sign=-step.sign)
+    other = Program(program.n_links, steps, program.group_of_step, program.deps, program.links,
+                    program.unwrap)  # fmt: skip
+    start = list(lk.drawn_inputs.values())
+    st, codes = other.run([[np.array([v]), 0.0, 0.0, 0.0] for v in start], 1, 0, False)
+    for h, code in enumerate(codes[:, 0]):
+        if code != OK:
+            raise ModelError(
+                f"{group} cannot be drawn on its other assembly at the drawn driver values: "
+                f"{names[h]} does not close there"
+            )
+    index = {GROUND: 0, **{n: i + 1 for i, n in enumerate(lk._links)}}
+    origin = {GROUND: 0j, **{n: lk._points[ln.points[0]] for n, ln in lk._links.items()}}
+    points = dict(lk._points)
+    for owner, pts in [(GROUND, lk._ground)] + [(n, ln.points) for n, ln in lk._links.items()]:
+        for p in pts:
+            if owner != GROUND:
+                points[p] = complex(st.pos((index[owner], lk._points[p] - origin[owner]))[0])
+    turn = {n: complex(st.E[index[n]][0]) for n in lk._links} | {GROUND: 1 + 0j}
+    return rebuilt(lk, points, turn)

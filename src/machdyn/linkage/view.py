@@ -208,3 +208,49 @@ def elements_of(lk: Linkage) -> tuple[Spring | TorsionSpring, ...]:
             TorsionSpring(name, (t.at,), links, t.stiffness, t.free_angle, t.damping, t.preload)
         )
     return tuple(out)
+
+
+def rebuilt(lk: Linkage, points: dict[str, complex], turn: dict[str, complex]) -> Linkage:
+    """The same linkage drawn at ``points``; the links turned by ``turn`` (unit complex each).
+
+    Slide directions are fixed in their guides, so they turn with them.
+    """
+    from ..massprops import MassProperties
+    from .builder import Linkage
+
+    out = Linkage(points)
+    if lk._ground:
+        out.ground(*lk._ground)
+    for ln in lk._links.values():
+        if ln.mass == 0:
+            out.link(ln.name, *ln.points)
+        elif isinstance(ln.cg, str):
+            out.link(ln.name, *ln.points, mass=ln.mass, inertia=ln.inertia, cg=ln.cg)
+        else:
+            cg = 0j if ln.cg is None else ln.cg
+            out.link(ln.name, *ln.points, body=MassProperties(ln.mass, cg, ln.inertia))
+    for j in joints_of(lk):
+        if j.kind in ("slider", "slot"):
+            u = j.direction * turn[j.links[1]]
+            if j.kind == "slider":
+                out.slider(j.links[0], j.links[1], j.points[0], u, through=j.through, name=j.name)
+            else:
+                out.slot(j.points[0], j.links[0], j.links[1], u, through=j.through, name=j.name)
+        elif j.kind == "actuator":
+            out.actuator(j.name, *j.points, links=j.links)
+        elif j.kind == "roll":
+            a, b = j.links
+            ra, rb = j.radii
+            out.roll(a, j.points[0], ra, b, j.points[1], rb, internal=j.internal, name=j.name)
+        elif j.kind == "motor":
+            out.motor(j.name, j.points[0], links=j.links)
+    out.drive(*lk._drivers)
+    for e in elements_of(lk):
+        if e.kind == "spring":
+            out.spring(e.name, *e.points, stiffness=e.stiffness, free_length=e.free_length,
+                       damping=e.damping, preload=e.preload, links=e.links)  # fmt: skip
+        else:
+            out.torsion_spring(e.name, e.points[0], stiffness=e.stiffness,
+                               free_angle=e.free_angle, damping=e.damping, preload=e.preload,
+                               links=e.links)  # fmt: skip
+    return out

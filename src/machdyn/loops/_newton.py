@@ -23,6 +23,9 @@ __all__ = ["NewtonResult", "newton", "newton_one"]
 #: A sample whose weighted residual is at most this (and at most ``tol``) gets one
 #: last Newton step and stops: from here that step leaves ~1e-16, the rounding floor.
 POLISH_FROM = 1e-8
+#: A Newton step this small (relative to the unknowns, scaled) is rounding: the pose
+#: is as closed as double precision allows, whatever ``tol`` asked for.
+TINY_STEP = 8.0 * np.finfo(float).eps
 #: A prediction whose weighted residual is already this small is at the rounding
 #: floor (``lazy_first``): accepted as it is.
 FLOOR = 2e-15
@@ -130,7 +133,14 @@ def newton(
         sol = solve(fac, rhs)
         step = sol[:, 0]
         finite = np.isfinite(step).all(axis=0)
-        done = (r <= target) | ((r <= tol) & (it == max_iter))
+        # At the rounding floor (a step of a few ulps) the pose is as closed as doubles
+        # allow, even if that is above a very tight tol.
+        with np.errstate(invalid="ignore"):
+            size = np.abs(step * inv_scale).max(axis=0)
+            tiny = size <= TINY_STEP * np.maximum(
+                1.0, np.abs(xa[c.unknown] * inv_scale).max(axis=0)
+            )
+        done = (r <= target) | ((r <= tol) & (it == max_iter)) | (tiny & (r <= POLISH_FROM))
         if done.any():
             idx = active[done]
             converged[idx] = True
@@ -143,10 +153,12 @@ def newton(
             gdet[:, idx], grc[:, idx] = fac.block_det[:, done], fac.block_rcond[:, done]
             keep = ~done
             active, xa, step = active[keep], xa[:, keep], step[:, keep]
+        else:
+            keep = slice(None)
         if active.size == 0 or it == max_iter:
             break
+        size = size[keep]
         with np.errstate(invalid="ignore"):
-            size = np.abs(step * inv_scale).max(axis=0)
             shrink = np.where(size > max_step, max_step / size, 1.0)
         step = np.where(np.isfinite(step), step * shrink, 0.0)
         xa[c.unknown] += step
@@ -261,14 +273,23 @@ class Scalar:
             fac = self.blocks.factor(jac)
             step = self.blocks.solve(fac[0], jac, [-v for v in f])
             finite = all(math.isfinite(v) for v in step)
-            if resid <= target or (resid <= tol and it == max_iter):
+            size = max((abs(v) / sc for v, sc in zip(step, self.scale, strict=True)), default=0.0)
+            big = max(
+                (abs(x[i]) / sc for i, sc in zip(self.unknown, self.scale, strict=True)),
+                default=0.0,
+            )
+            tiny = size <= TINY_STEP * max(1.0, big)
+            if (
+                resid <= target
+                or (resid <= tol and it == max_iter)
+                or (tiny and resid <= POLISH_FROM)
+            ):
                 if finite:  # the polish
                     for i, v in zip(self.unknown, step, strict=True):
                         x[i] += v
                 return [x[i] for i in self.unknown], True, resid, fac, jac
             if it == max_iter or not finite:
                 break
-            size = max((abs(v) / sc for v, sc in zip(step, self.scale, strict=True)), default=0.0)
             shrink = max_step / size if size > max_step else 1.0
             for i, v in zip(self.unknown, step, strict=True):
                 x[i] += v * shrink

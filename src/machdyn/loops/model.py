@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar, integer
+from .._validate import boolean, finite_array, finite_scalar, integer
 from ..errors import InputError, ModelError
 from . import solve as _solve
 from ._equations import derivatives, point_motion, residual_and_jacobian
@@ -484,7 +484,10 @@ class LoopSystem:
             Largest continuation step between sequentially solved samples, in
             radians (lengths: in units of the mean constant length).
         tol : float
-            Newton tolerance on the loop residual relative to the mean length.
+            Largest loop residual (relative to the mean constant length) at
+            which a pose counts as closed, between 1e-15 and 1e-6; tighten it to
+            refuse poses Newton cannot close that well (near toggles). Every
+            pose accepted is polished to the rounding floor whatever ``tol``.
 
         Returns
         -------
@@ -538,10 +541,12 @@ class LoopSystem:
                 ) from None
         if continuation is None:
             continuation = len(shape) <= 1 and n > 1
+        continuation = boolean("continuation", continuation)
         step = finite_scalar("max_step", max_step)
         if step <= 0:
             raise InputError("max_step", f"must be positive, got {step}")
-        pos = _solve.solve_positions(c, u, q0, bool(continuation), max_step=step, tol=tol)
+        tol = _tolerance(tol)
+        pos = _solve.solve_positions(c, u, q0, continuation, max_step=step, tol=tol)
         x0 = np.empty((len(c.names), n))
         x0[c.inputs] = u
         x0[c.unknown] = pos.q
@@ -659,6 +664,32 @@ class LoopSystem:
             groups=tuple(g.names for g in c.groups),
             group_branch=group_branch.reshape((len(c.groups), *shape)),
         )
+
+
+#: The range of ``tol``: below 1e-15 a loop residual cannot be told from rounding;
+#: above 1e-6 a pose that does not close would pass as solved.
+TOL_RANGE = (1e-15, 1e-6)
+
+
+def _tolerance(tol: Any) -> float:
+    """``tol`` checked: a finite number in :data:`TOL_RANGE`.
+
+    Examples
+    --------
+    >>> _tolerance(float("inf"))
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: tol: must be finite, got inf
+    """
+    value = finite_scalar("tol", tol)
+    lo, hi = TOL_RANGE
+    if not lo <= value <= hi:
+        raise InputError(
+            "tol",
+            f"must lie between {lo:g} (rounding) and {hi:g} (poses that do not close), "
+            f"got {value:g}",
+        )
+    return value
 
 
 def _determinants(c, x0: np.ndarray, pos) -> tuple[np.ndarray, ...]:

@@ -18,7 +18,7 @@ from ._branches import assemble, fix_branches, wrong_groups
 from ._compiled import Compiled
 from ._equations import _step_terms, _vector_terms, residual_and_jacobian
 from ._linalg import lu_factor, lu_solve, solve
-from ._newton import POLISH_FROM, NewtonResult, Scalar, newton, newton_one
+from ._newton import FLOOR, POLISH_FROM, NewtonResult, Scalar, newton, newton_one
 
 __all__ = ["lu_factor", "lu_solve"]  # the rest is the engine behind LoopSystem
 
@@ -261,7 +261,8 @@ def solve_positions(
         q = np.where(res.converged, res.q, np.nan)
         group = np.full(n_samples, -1, np.int16)
         code = _singular_code(res, sing_tol)
-        return Positions(q, code, res.residual, res.det, res.rcond, res.gdet, res.grc, group)
+        pos = Positions(q, code, res.residual, res.det, res.rcond, res.gdet, res.grc, group)
+        return _closure(c, u, pos)
     options = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "sing_tol": sing_tol}
     first = None
     if want is None:
@@ -282,7 +283,22 @@ def solve_positions(
             if patched is not None:
                 return patched
     pos = _sweep_careful(c, u, guess, want, **options)
-    return _verify(c, u, pos, sing_tol)
+    return _closure(c, u, _verify(c, u, pos, sing_tol))
+
+
+def _closure(c: Compiled, u: np.ndarray, pos: Positions) -> Positions:
+    """``pos`` with the loop residual of the poses returned.
+
+    (Newton's last residual was evaluated before its polishing step.)
+    """
+    done = np.flatnonzero((pos.code == OK) | (pos.code == SINGULAR))
+    if done.size:
+        x = np.empty((len(c.names), done.size))
+        x[c.inputs] = u[:, done]
+        x[c.unknown] = pos.q[:, done]
+        f, _ = residual_and_jacobian(c, x, jacobian=False)
+        pos.residual[done] = np.abs(f * c.row_weight[:, None]).max(axis=0) if f.size else 0.0
+    return pos
 
 
 def _verify(c: Compiled, u: np.ndarray, pos: Positions, sing_tol: float) -> Positions:
@@ -459,28 +475,33 @@ def _sweep_fast(
         f, jac = residual_and_jacobian(c, x, cols, terms=terms)
         fac = c.factor(jac[:, :nq])
         fresh = True
+        r = np.abs(f * weight).max(axis=0)
+        last = np.inf
         for _ in range(FAST_ITER):
-            r = np.abs(f * weight).max(axis=0)
-            if r.max() <= min(tol, POLISH_FROM):
+            # Chord steps down to the rounding floor, or until they stop gaining once
+            # converged (a sample whose floor lies a little higher).
+            worst = r.max()
+            if worst <= FLOOR or (worst <= min(tol, POLISH_FROM) and worst > 0.25 * last):
                 break
+            last = worst
             step = solve(fac, f)
             step *= -1.0
             x[c.unknown] += step
             terms = _step_terms(c, x, terms, step)
             f, _ = residual_and_jacobian(c, x, cols, jacobian=False, terms=terms)
-            fresh = False
-        else:
             r = np.abs(f * weight).max(axis=0)
+            fresh = False
         if not fresh:  # det, rcond and the derivative stage need J at the solution
             f, jac = residual_and_jacobian(c, x, cols, terms=terms)
             fac = c.factor(jac[:, :nq])
-        # The polish: one Newton step with the factor at (within rounding of) the
-        # solution takes every sample to the rounding floor.
-        step = solve(fac, f)
-        step *= -1.0
-        step[:, ~np.isfinite(step).all(axis=0)] = 0.0
-        x[c.unknown] += step
-        terms = _step_terms(c, x, terms, step)
+        if r.max() > FLOOR:
+            # The polish: one Newton step with the factor at (within rounding of) the
+            # solution takes every sample to the rounding floor.
+            step = solve(fac, f)
+            step *= -1.0
+            step[:, ~np.isfinite(step).all(axis=0)] = 0.0
+            x[c.unknown] += step
+            terms = _step_terms(c, x, terms, step)
         q = x[c.unknown]
         du = span * np.maximum(t, 1.0 - t)
         far = np.abs((q - pred) / c.var_scale[c.unknown][:, None]).max(axis=0)

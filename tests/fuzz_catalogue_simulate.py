@@ -1,0 +1,121 @@
+"""Valid calls of machdyn.simulate's public API, for the bad-input fuzzer (tests/fuzz_catalogue.py).
+
+Kept short: a slider-crank run of a few milliseconds of simulated time, so every bad value of
+every argument can be tried within the suite's budget.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+from typing import Any
+
+import numpy as np
+
+SC_MASS = dict(mass=(0.5, 1.0, 1.5), inertia=(2e-4, 4e-3), cg=(0.0, 0.06))
+FAST = dict(rtol=1e-7, table_tol=1e-6)  # coarse: a fuzzed call is about its arguments
+
+
+def _sc():
+    from machdyn import SliderCrank
+
+    return SliderCrank(0.05, 0.2)
+
+
+def _motor():
+    from machdyn.simulate import DCMotor
+
+    return DCMotor(2.0, 100.0)
+
+
+def _load():
+    from machdyn.simulate import torque
+
+    return torque(2, 1.0)
+
+
+@cache  # results are immutable: one run serves every case of their methods
+def _run():
+    import machdyn
+
+    return machdyn.simulate(
+        _sc(), _motor(), t_end=0.05, flywheel=0.01, samples=5, table_tol=1e-6, **SC_MASS
+    )
+
+
+@cache
+def _periodic():
+    from machdyn.simulate import steady_state
+
+    return steady_state(_sc(), omega_avg=20.0, flywheel=0.05, samples=5, **FAST, **SC_MASS)
+
+
+def _flywheel():
+    from machdyn.flywheel import size_flywheel
+
+    theta = np.radians(np.arange(0.0, 360.0, 5.0))
+    needed = _sc().dynamics(theta, 20.0, **SC_MASS).T12
+    return size_flywheel(theta, needed, 20.0, 0.05)
+
+
+def add_simulate(c: dict[str, Any], fn, meth) -> None:
+    """Entries for machdyn.simulate (motors, loads, runs) and FlywheelResult.simulate."""
+    s = "machdyn.simulate"
+    fn("machdyn.simulate:simulate", model=_sc(), motor=_motor(), t_end=0.05, flywheel=0.01,
+       samples=5, table_tol=1e-6, **SC_MASS)  # fmt: skip
+    run = c["machdyn.simulate:simulate"]
+    run.accepts.update(
+        motor={"none", "zero", "minus_one", "tiny"},  # no motor; constant torques
+        t_end={"seconds"},
+        max_step={"seconds"},
+        turns={"none"},
+        until={"none"},
+        theta0={"none"},
+        branch={"none"},
+        driver={"none"},
+        stop_on={"empty"},
+        loads={"empty"},
+    )
+    fn(f"{s}:steady_state", model=_sc(), omega_avg=20.0, flywheel=0.05, samples=5, **FAST,
+       **SC_MASS)  # fmt: skip
+    c[f"{s}:steady_state"].accepts.update(
+        motor={"none"}, omega_avg={"none"}, theta0={"none"}, branch={"none"}, driver={"none"},
+        loads={"empty"},
+    )  # fmt: skip
+    fn(f"{s}:ConstantTorque", torque=2.0, inertia=1e-3, ratio=2.0, off_at=1.0)
+    fn(f"{s}:DCMotor", stall_torque=2.0, no_load_speed=100.0, inertia=1e-3, ratio=2.0)
+    fn(f"{s}:DCMotor.from_electrical", voltage=24.0, resistance=2.0, kt=0.05, ke=0.05)
+    fn(
+        f"{s}:InductionMotor",
+        synchronous_speed=157.08,
+        breakdown_torque=60.0,
+        breakdown_slip=0.2,
+    )
+    fn(
+        f"{s}:InductionMotor.from_rating",
+        rated_torque=20.0,
+        rated_speed=150.0,
+        synchronous_speed=157.08,
+        breakdown_factor=2.5,
+    )
+    fn(f"{s}:TorqueFunction", func=lambda t, theta, omega: 1.0 + 0.0 * t, breakpoints=[0.5])
+    for cls in ("ConstantTorque", "DCMotor", "InductionMotor"):
+        c[f"{s}:{cls}"].accepts["off_at"] = {"none"}
+    c[f"{s}:DCMotor.from_electrical"].accepts["ke"] = {"none"}
+    c[f"{s}:TorqueFunction"].accepts["breakpoints"] = {"empty"}
+    for key in ("Motor", "ConstantTorque", "DCMotor", "InductionMotor", "TorqueFunction"):
+        call = meth(f"{s}:{key}.shaft_torque", _motor, t=0.1, theta=0.3,
+                    omega_motor=np.array([0.0, 50.0]))  # fmt: skip
+        call.accepts["t"] = {"seconds"}
+    fn(f"{s}:torque", link=2, value=-1.0)
+    fn(f"{s}:force", link=4, point=0.0, value=-10.0 + 0j)
+    fn(f"{s}:step", at=0.5, before=0.0, after=-10.0)
+    for key, name in (("torque", "value"), ("force", "point"), ("force", "value")):
+        c[f"{s}:{key}"].accepts.setdefault(name, set()).add("complex")
+    c[f"{s}:step"].accepts.update(at={"seconds"}, before={"complex"}, after={"complex"})
+    meth(f"{s}:Load.describe", _load)
+    meth(f"{s}:Simulation.at", _run, t=np.array([0.0, 0.02]))
+    meth(f"{s}:Simulation.forces", _run)
+    meth(f"{s}:Simulation.to_pandas", _run)
+    meth(f"{s}:PeriodicMotion.at", _periodic, theta=np.array([0.0, 1.0]))
+    meth("machdyn.flywheel:FlywheelResult.simulate", _flywheel, model=_sc(), **FAST, **SC_MASS)
+    c["machdyn.flywheel:FlywheelResult.simulate"].accepts["motor"] = {"none"}
