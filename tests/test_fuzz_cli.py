@@ -89,6 +89,8 @@ TEMPLATES: dict[str, list[str]] = {
     "animate": ["8", "4", "7", "6", "--out", "OUT.svg", "--theta2", "30"],
     "report": [str(EXAMPLES / "hw6.toml"), "--out", "OUT.html", "--samples", "36"],
     "run": [str(EXAMPLES / "hw6.toml"), "--json"],
+    "simulate": [str(EXAMPLES / "motor.toml"), "--json"],
+    "tolerance": [str(EXAMPLES / "motor.toml"), "--samples", "200", "--json"],
     "balance static": ["--mass", "2,3,30", "--mass", "1.5,4,160", "--radius", "2", "--json"],
     "balance rotor": [
         "--mass",
