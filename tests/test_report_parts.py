@@ -184,3 +184,25 @@ def test_a_machine_with_parts_without_a_report_shows_their_summary(cli, tmp_path
     assert "press:peak_F32" in page and "reducer:contact_ratio" in page
     assert re.search(r'data-key="crank:[a-z_]*inertia[a-z_]*"', page)  # the flywheel's summary
     assert set(checks_of(page).values()) == {"pass"}
+
+
+def test_parts_without_a_report_show_their_curve_or_drawing(cli, tmp_path):
+    from machdyn.draw.units import Units
+    from machdyn.spec import load_machine
+
+    out = tmp_path / "press.html"
+    assert cli(EXAMPLES / "press.toml", "-o", out, "--samples", 90)[0] == 0
+    page = out.read_text(encoding="utf-8")
+    machine = load_machine(EXAMPLES / "press.toml")
+    fly = machine.run()["crank"].objects["flywheel"]
+    # the flywheel part: its torque curve with the energy lobes, ΔE in the file's units
+    title = re.search(r"input torque and flywheel lobes: ΔE = ([-\d.e+]+) ([^,]+),", page)
+    assert float(title.group(1)) == pytest.approx(
+        Units.of(machine.units).show("energy", fly.delta_e), rel=1e-3
+    )
+    out = tmp_path / "synthesis.html"
+    assert cli(EXAMPLES / "synthesis.toml", "-o", out)[0] == 0
+    page = out.read_text(encoding="utf-8")
+    # both synthesised four-bars drawn (the motion task in its three precision positions)
+    assert len(re.findall(r'<svg id="[^"]+" class="machdyn-drawing"', page)) == 2
+    assert "in its 3 precision positions" in page

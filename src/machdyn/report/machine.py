@@ -5,7 +5,9 @@ torques flow between parts as in ``machdyn run``); each part that has a report
 (four-bar, slider-crank, inverted slider-crank, linkage, cam, gear pair) gets
 its sections, numbered under the part and with data keys prefixed by the part's
 name (``press:peak_F32``); any other part (flywheel, gear train, rotor,
-synthesis task, ...) is reported by the summary its run gives. A machine of one
+synthesis task, ...) is reported by the summary its run gives — with the
+flywheel's torque curve and energy lobes, and a synthesised linkage drawn in its
+precision positions over its targets. A machine of one
 reportable part gets that part's page as it is.
 """
 
@@ -17,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MachdynError
 from .page import Page, esc, fmt
 
 __all__ = ["machine_report", "part_options"]
@@ -128,6 +131,29 @@ def _summary(page: Page, result: Any, machine: Any) -> str:
     return page.table(rows) if rows else '<p class="remark">No summary.</p>'
 
 
+def _extras(part: Any, result: Any, machine: Any) -> str:
+    """What a part without a report of its own can still show: its drawing or its curve."""
+    from ..draw import scene
+    from ..draw.html import widget
+    from ..draw.units import Units
+
+    objects = result.objects
+    try:
+        if part.kind == "flywheel" and "flywheel" in objects:
+            from ..draw.engineering import torque_chart
+
+            fly = objects["flywheel"]
+            u = Units.of(machine.units)
+            return torque_chart(fly.theta, fly.torque, flywheel=fly, units=u).to_svg()
+        if part.kind in ("motion_synthesis", "path_synthesis") and "synthesis" in objects:
+            return widget(scene(objects["synthesis"]))
+        if part.kind == "function_synthesis" and "synthesis" in objects:
+            return widget(scene(objects["synthesis"].fourbar))
+    except MachdynError as err:  # a result that cannot be drawn says why
+        return f'<p class="remark">Not drawn: {esc(str(err))}</p>'
+    return ""
+
+
 def _num(x: Any) -> bool:
     return isinstance(x, int | float | np.number) and math.isfinite(float(x))
 
@@ -165,7 +191,8 @@ def machine_report(
         name = f"{p.name} ({p.kind.replace('_', ' ')})"
         first = sub.headline if sub is not None else "see its summary"
         firsts.append(first if first.startswith(name) else f"{name}: {first}")
-    page = Page(title, f"{title}: {len(parts)} parts. " + " · ".join(firsts))
+    count = f"{len(parts)} part" + ("s" if len(parts) != 1 else "")
+    page = Page(title, f"{title}: {count}. " + " · ".join(firsts))
     for i, p in enumerate(parts, 1):
         sub = pages[p.name]
         head = f"{i}. {p.name} ({p.kind.replace('_', ' ')})"
@@ -176,7 +203,8 @@ def machine_report(
                     head,
                     _summary(page, results[p.name], machine).replace(
                         'data-key="', f'data-key="{esc(p.name)}:'
-                    ),
+                    )
+                    + _extras(p, results[p.name], machine),
                     2,
                 )
             )
