@@ -71,6 +71,9 @@ REFINE = 10
 BLAS_ROWS = 2048
 #: How many of the refined candidates are refined on to convergence.
 POLISH = 3
+#: Six-bars: starts screened per refined candidate, and steps of each polished one.
+SIXBAR_SCREEN = 4
+SIXBAR_POLISH = 600
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: A best result farther than this (over the target's size) means no entry came near.
@@ -399,8 +402,8 @@ def path_from_atlas(
     size = float(np.max(np.abs(pts - pts.mean())))
     t0 = time.perf_counter()
     if atlas.manifest.kind == "sixbar":
-        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count,
-                            client, start)  # fmt: skip
+        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve,
+                            refine_count, client, start)  # fmt: skip
     if timing is None:
         entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
         starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
@@ -441,22 +444,30 @@ def path_from_atlas(
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
 
 
-def _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count, client, start):
+def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, refine_count, client,
+                 start):  # fmt: skip
     """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
+    from .. import jit
     from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
 
     size = float(np.max(np.abs(pts - pts.mean())))
+    compiled = jit.mode() != "off" and jit.load()  # one choice for the whole synthesis
     t0 = time.perf_counter()
-    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client)
+    # six-bars: many atlas entries draw nearly the same curve, so many are screened
+    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, SIXBAR_SCREEN * refine_count,
+                           client)  # fmt: skip
     t1 = time.perf_counter()
-    fits = [(*refine_sixbar(x0, th0, fx, pts, timing=timing, max_nfev=40), fx)
+    options = dict(timing=timing, compiled=compiled)
+    fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
             for x0, th0, fx in starts]  # fmt: skip
     fits.sort(key=lambda f: f[2])
+    fits = fits[:refine_count]
     for i in range(min(POLISH, len(fits))):
         x, th, rms, fx = fits[i]
-        more = refine_sixbar(x, th, fx, pts, timing=timing, max_nfev=400)
+        more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
         fits[i] = (*more, fx) if more[2] <= rms else fits[i]
-    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance) for x, th, _, fx in fits]
+    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance, mu_min)
+               for x, th, _, fx in fits]  # fmt: skip
     results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
     t2 = time.perf_counter()
     chosen, rejected = [], []
