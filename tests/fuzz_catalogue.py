@@ -35,6 +35,7 @@ FRONT_ENDS = (
 #: Modules of a package that serve its public functions and are not called by users
 #: (their names would better start with "_"); the package's __all__ is fuzzed instead.
 INTERNAL_MODULES = {
+    "machdyn.linkage.newton_euler": "Newton-Euler blocks of Linkage.forces and dynamics",
     "machdyn.synthesis.atlas_dask": "Dask plumbing of build_atlas",
     "machdyn.synthesis.atlas_store": "the atlas folder's chunks and manifest (build_atlas)",
     "machdyn.synthesis.circuits": "circuit sampling inside the atlas builder",

@@ -134,10 +134,16 @@ class Centrodes:
         origin = np.full(n, complex(np.nan, np.nan))
         slip = np.full(n, np.nan)
         ok = np.zeros(n, dtype=bool)
+        steps = np.diff(self.parameter)
+        if not (np.all(steps > 0) or np.all(steps < 0)):
+            raise InputError(
+                "parameter", "rolling needs a sweep whose driver values run one way (monotonic)"
+            )
+        direction = 1.0 if steps[0] > 0 else -1.0
         for run in _runs(self.ok):
             if run.stop - run.start < 6:
                 continue
-            u = self.parameter[run]
+            u = direction * self.parameter[run]
             curves = []
             for curve in (self.fixed[run], self.moving[run]):
                 fit = make_interp_spline(u, np.stack([curve.real, curve.imag], -1), k=5)

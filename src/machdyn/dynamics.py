@@ -68,6 +68,7 @@ from ._validate import (
 )
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
+from .linkage import newton_euler
 from .slidercrank import SliderCrank, SliderCrankMotion
 
 __all__ = [
@@ -498,16 +499,15 @@ def _fourbar_newton_euler(
         if torque.ndim or torque:
             Me[link] = Me[link] + torque
 
-    # Moments of links 3 (about A) and 4 (about O4) give F43.
-    M3 = I3 * al3 + m3 * _cross(g3, aG3) - Me[3]
-    M4 = I4 * al4 + m4 * _cross(g4, aG4) - Me[4]
-    det = _cross(u, w)  # r3 r4 sin(θ4 − θ3)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        F43 = (M4 * u + M3 * w) / det
-    F32 = F43 + Fe[3] - m3 * aG3
-    F14 = m4 * aG4 + F43 - Fe[4]
-    F12 = m2 * aG2 - F32 - Fe[2]
-    T12 = I2 * al2 + m2 * _cross(g2, aG2) - _cross(A, F32) - Me[2]
+    # Known loads of links 2, 3, 4 (external, gravity, reversed inertia) with their moments
+    # about O2, A and O4; the Assur groups solved in closed form (machdyn.linkage.newton_euler):
+    # the RRR dyad (3, 4) first, then the crank with the coupler's reaction.
+    M2 = Me[2] - (I2 * al2 + m2 * _cross(g2, aG2))
+    M3 = Me[3] - (I3 * al3 + m3 * _cross(g3, aG3))
+    M4 = Me[4] - (I4 * al4 + m4 * _cross(g4, aG4))
+    F23, F43, F14, det = newton_euler.rrr(u, w, Fe[3] - m3 * aG3, M3, Fe[4] - m4 * aG4, M4)
+    F32 = -F23
+    F12, T12 = newton_euler.crank(Fe[2] - m2 * aG2 + F32, M2 + _cross(A, F32))
     return {
         "T12": T12,
         "F12": F12,
@@ -1016,36 +1016,29 @@ def slidercrank_forces(
         if link != 4:
             Me[link] = Me[link] + torque
 
-    # F14 = (f0 + κ N) + j N; the slider's force equations give F43 = P0 + N (κ + j).
+    # Known loads: the rod's (about A) and the block's (its own friction f0 of the viscous
+    # model, load, weight, reversed inertia); the RRP dyad (rod, block) then the crank, in
+    # closed form (machdyn.linkage.newton_euler), the guide along +x.
     f0 = -beta * d_dot if friction == "viscous" else 0.0 * d_dot
     P0 = (f0 - m4 * d_ddot) + Fe[4]
-    M3 = I3 * al3 + m3 * _cross(g3, aG3) - Me[3]  # rod: u × F43 = M3 (moments about A)
-
-    def normal(kappa: Any) -> np.ndarray:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return (M3 - _cross(u, P0)) / (u.real - kappa * u.imag)
-
+    M3 = Me[3] - (I3 * al3 + m3 * _cross(g3, aG3))
+    F3 = Fe[3] - m3 * aG3
     if friction == "coulomb" and mu:
         slip = np.sign(d_dot)
         slip = np.where(slip == 0.0, np.sign(d_ddot), slip)  # impending slip at rest
-        n_plus = normal(-mu * slip)  # assuming N ≥ 0
-        n_minus = normal(mu * slip)  # assuming N ≤ 0
-        fits_plus = n_plus >= 0.0
-        fits_minus = n_minus <= 0.0
-        N = np.where(fits_plus, n_plus, n_minus)
-        kappa = np.where(fits_plus, -mu * slip, mu * slip)
-        ambiguous = (fits_plus == fits_minus) & ~((n_plus == 0.0) & (n_minus == 0.0))
-        status[(status == OK) & ambiguous] = _SC_JAM
+        F23, F43, N, _, _, kappa, jammed = newton_euler.rrp_coulomb(
+            u, 0.0, 1.0 + 0j, slip, mu, F3, M3, P0, 0.0
+        )
+        status[(status == OK) & jammed] = _SC_JAM
         status[(status == OK) & (slip == 0.0)] = _SC_STICK
     else:
         kappa = 0.0
-        N = normal(0.0)
+        F23, F43, N, _, _ = newton_euler.rrp(u, 0.0, 1j + 0.0, F3, M3, P0, 0.0)
     F14 = (f0 + kappa * N) + 1j * N
-    F43 = P0 + N * (kappa + 1j)
-    F32 = F43 + Fe[3] - m3 * aG3
-    F12 = m2 * aG2 - F32 - Fe[2]
-    T12 = I2 * al2 + m2 * _cross(g2, aG2) - _cross(A, F32) - Me[2]
-
+    F32 = -F23
+    F12, T12 = newton_euler.crank(
+        Fe[2] - m2 * aG2 + F32, Me[2] - (I2 * al2 + m2 * _cross(g2, aG2)) + _cross(A, F32)
+    )
     shape = np.shape(status)
     results = [np.broadcast_to(x, shape) for x in (T12, F12, F32, F43, F14)]
     bad = status != OK

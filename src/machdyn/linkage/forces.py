@@ -12,6 +12,7 @@ from .._summary import Summarized
 from .._validate import finite_array, nonnegative
 from ..errors import InputError, ModelError
 from ..loops import lu_factor, lu_solve
+from . import newton_euler
 from ._common import GROUND, _complex_point, _frozen, _ref_angle, _typical_length
 from .kinematics import LinkageMotion
 from .topology import _Edge
@@ -31,6 +32,8 @@ FORCE_REASONS = {
     "singular": "singular force system (toggle or dead point): the joint forces are not "
     "determined by Newton–Euler",
     "coulomb": "Coulomb friction: no consistent sign of the normal force (self-locking)",
+    "wedging": "Coulomb friction: two normal forces satisfy the equations (wedging): the "
+    "joint forces are not determined",
     "spring": "a spring's two ends meet (zero length): the direction of its force is undefined",
 }
 
@@ -293,8 +296,12 @@ def _forces(
         columns.append(col)
         labels.append(label)
 
+    current_kappa: dict[str, Any] = {}
+
     def build(kappa: Mapping[str, Any]) -> None:
         """Columns of the unknowns; ``kappa[slider]`` adds Coulomb friction κ·N·û."""
+        current_kappa.clear()
+        current_kappa.update(kappa)
         columns.clear()
         ground_parts.clear()
         labels.clear()
@@ -478,19 +485,27 @@ def _forces(
             cj = {k: j for j, k in enumerate(cols)}
             inner = [(ri[r], cj[k], c) for r, k, c in entries if r in ri and k in cj]
             coupling = [(ri[r], k, c) for r, k, c in entries if r in ri and k not in cj]
-            blocks.append((rows, cols, inner, coupling))
+            spec = _closed_form(rows, cols, labels, moving, edges, lk)
+            blocks.append((rows, cols, inner, coupling, spec))
         for lo in range(0, n_s, _CHUNK):
             sl = slice(lo, min(lo + _CHUNK, n_s))
             size = sl.stop - sl.start
             skip = bad[sl]
-            for rows, cols, inner, coupling in blocks:
+            for rows, cols, inner, coupling, spec in blocks:
                 nb = len(rows)
-                A = np.zeros((nb, nb, size))  # layout of machdyn.loops.lu_factor
-                for i, j, coef in inner:
-                    A[i, j] += coef[sl] if np.ndim(coef) else coef
                 rhs = b[sl, rows].T
                 for i, k, coef in coupling:
                     rhs[i] -= (coef[sl] if np.ndim(coef) else coef) * x[sl, k]
+                if spec is not None:  # a driver, an RRR or an RRP dyad: in closed form
+                    geo = {"G": G, "P": P, "u": slide_u, "kappa": current_kappa, "sl": sl}
+                    sol, sing = _solve_closed(spec, rhs, geo)
+                    singular[sl] |= sing & ~skip
+                    for k, val in zip(cols, sol, strict=True):
+                        x[sl, k] = val
+                    continue
+                A = np.zeros((nb, nb, size))  # layout of machdyn.loops.lu_factor
+                for i, j, coef in inner:
+                    A[i, j] += coef[sl] if np.ndim(coef) else coef
                 if skip.any():
                     A[:, :, skip] = np.eye(nb)[:, :, None]
                     rhs[:, skip] = 0.0
@@ -532,7 +547,23 @@ def _forces(
                 sign_n[n] = new
             if not friction_bad.any():
                 break
+        # wedging: the other sign of one slider's normal force satisfies the equations too
+        wedged = np.zeros(n_s, bool)
+        for n, (mu, sv) in slipping.items():
+            if not mu:
+                continue
+            flipped = {m: -mu_m * sign_n[m] * sv_m for m, (mu_m, sv_m) in slipping.items()}
+            flipped[n] = mu * sign_n[n] * sv
+            build(flipped)
+            x_other, _ = solve_system()
+            N = x_other[:, labels.index(("normal", n))]
+            wedged |= (np.where(N < 0, -1.0, 1.0) != sign_n[n]) & np.isfinite(N) & (N != 0)
+        if slipping:
+            build(kappa)
+        friction_bad |= wedged & ~friction_bad
         x[friction_bad] = np.nan
+    else:
+        wedged = np.zeros(n_s, bool)
     bad_all = bad | singular | friction_bad
 
     def col_of(kind: str, name: str) -> np.ndarray:
@@ -584,6 +615,7 @@ def _forces(
     reasons[zero_length & np.ravel(motion.ok)] = FORCE_REASONS["spring"]
     reasons[singular & ~bad] = FORCE_REASONS["singular"]
     reasons[friction_bad & ~bad & ~singular] = FORCE_REASONS["coulomb"]
+    reasons[wedged & ~bad & ~singular] = FORCE_REASONS["wedging"]
     return LinkageForces(
         pins=_frozen(pins),
         sliders=_frozen(sliders),
@@ -603,3 +635,110 @@ def _forces(
         element_length=per_sample(extent),
         element_rate=per_sample(rate),
     )
+
+
+# ---------------------------------------------------------------------- Assur blocks in closed form
+def _closed_form(rows, cols, labels, moving, edges, lk) -> tuple | None:
+    """The closed form of a block of the force system, or None (then an LU solves it).
+
+    A block with one link, one pin and a driving torque is a driver; two links
+    with three pins an RRR dyad; two links with two pins and a slider with its
+    couple an RRP dyad (:mod:`machdyn.linkage.newton_euler`).
+    """
+    links = list(dict.fromkeys(moving[r // 3] for r in rows))
+    if len(rows) != 3 * len(links):
+        return None
+    pin_of = {f"{e.a}|{e.b}|{c}": (e, c) for e in edges if e.kind == "R" for c in "xy"}
+    pins: dict[_Edge, dict[str, int]] = {}
+    other = []
+    for j, k in enumerate(cols):
+        kind, name = labels[k]
+        if kind == "pin" and name in pin_of:
+            e, comp = pin_of[name]
+            pins.setdefault(e, {})[comp] = j
+        else:
+            other.append((j, kind, name))
+    if any(len(v) != 2 for v in pins.values()):
+        return None
+    inner = [e for e in pins if e.a in links and e.b in links]
+    if len(links) == 1 and len(pins) == 1 and len(other) == 1 and other[0][1] == "driver":
+        (L,), (e,) = links, pins
+        d = other[0][2]
+        if d in lk._links:
+            sign = 1.0
+        elif d in lk._motors:
+            sign = 1.0 if lk._motor_links(d)[1] == L else -1.0
+        else:
+            return None
+        return ("crank", L, e, pins[e], other[0][0], sign)
+    if len(links) != 2 or len(inner) != 1:
+        return None
+    mid = inner[0]
+    outer = {L: [e for e in pins if e is not mid and L in (e.a, e.b)] for L in links}
+    if len(pins) == 3 and not other and all(len(v) == 1 for v in outer.values()):
+        L1, L2 = links
+        e1, e3 = outer[L1][0], outer[L2][0]
+        return ("rrr", L1, L2, e1, mid, e3, pins[e1], pins[mid], pins[e3])
+    kinds = {kind: (j, name) for j, kind, name in other}
+    if len(pins) == 2 and len(other) == 2 and set(kinds) == {"normal", "couple"}:
+        name = kinds["normal"][1]
+        if kinds["couple"][1] != name:
+            return None
+        slide = next((e for e in edges if e.name == name and e.kind == "P"), None)
+        if slide is None or slide.b not in links or slide.a in links:
+            return None
+        block = slide.b
+        rod = next(L for L in links if block != L)
+        if len(outer[rod]) != 1 or outer[block]:
+            return None
+        e1 = outer[rod][0]
+        return ("rrp", rod, block, e1, mid, slide, pins[e1], pins[mid],
+                kinds["normal"][0], kinds["couple"][0], links.index(rod))  # fmt: skip
+    return None
+
+
+def _solve_closed(spec: tuple, rhs: np.ndarray, geo: dict) -> tuple[list, np.ndarray]:
+    """Solve a block in closed form: its unknowns (in the block's column order), singular."""
+    sl, G, P = geo["sl"], geo["G"], geo["P"]
+    n_cols = len(rhs)
+    sol: list[Any] = [None] * n_cols
+
+    def load(i: int, L: str, Q: Any) -> tuple[Any, Any]:
+        """Link L's known load (the block's row triple i): resultant, moment about Q."""
+        F = -(rhs[3 * i] + 1j * rhs[3 * i + 1])
+        return F, -rhs[3 * i + 2] + _cross(G[L][sl] - Q, F)
+
+    def put(cols: dict[str, int], e: _Edge, on: str, F: Any) -> None:
+        """A pin's columns: the force on the edge's ``b`` from its ``a``; F is on ``on``."""
+        F = F if e.b == on else -F
+        sol[cols["x"]], sol[cols["y"]] = F.real, F.imag
+
+    if spec[0] == "crank":
+        _, L, e, cols, jT, sign = spec
+        X = P[e.pa][sl]
+        F_pin = rhs[0] + 1j * rhs[1]  # the unknown forces on the link sum to the rows
+        sol[jT] = sign * (rhs[2] - _cross(X - G[L][sl], F_pin))
+        put(cols, e, L, F_pin)
+        return sol, np.zeros(len(X), bool)
+    if spec[0] == "rrr":
+        _, L1, L2, e1, mid, e3, c1, cm, c3 = spec
+        A, B, C = P[e1.pa][sl], P[mid.pa][sl], P[e3.pa][sl]
+        F1, M1 = load(0, L1, A)
+        F2, M2 = load(1, L2, C)
+        F_A, F_B, F_C, det = newton_euler.rrr(B - A, B - C, F1, M1, F2, M2)
+        put(c1, e1, L1, F_A)
+        put(cm, mid, L1, F_B)
+        put(c3, e3, L2, F_C)
+        return sol, ~(np.abs(det) > 1e-12 * np.abs(B - A) * np.abs(B - C))
+    _, rod, block, e1, mid, slide, c1, cm, jN, jC, i_rod = spec
+    A, B, X = P[e1.pa][sl], P[mid.pa][sl], P[slide.pb][sl]
+    u = geo["u"][slide.name][sl]
+    kappa = geo["kappa"].get(slide.name, 0.0)
+    v = 1j * u + (kappa[sl] if np.ndim(kappa) else kappa) * u
+    F1, M1 = load(i_rod, rod, A)
+    F2, M2 = load(1 - i_rod, block, B)
+    F_A, F_B, N, Cp, den = newton_euler.rrp(B - A, X - B, v, F1, M1, F2, M2)
+    put(c1, e1, rod, F_A)
+    put(cm, mid, rod, F_B)
+    sol[jN], sol[jC] = N, Cp
+    return sol, ~(np.abs(den) > 1e-12 * np.abs(B - A) * np.abs(v))

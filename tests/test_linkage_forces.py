@@ -1,0 +1,104 @@
+"""Newton–Euler forces group by group: closed forms against the LU, wedging at a slider.
+
+The force system of a linkage splits into its Assur groups (block triangular);
+drivers, RRR and RRP dyads are solved in closed form by
+machdyn.linkage.newton_euler — the same functions FourBar.dynamics and
+SliderCrank.dynamics call — and every other block by a batched LU. Here the
+closed forms are checked against the LU on the same systems (the LU forced by
+switching the closed forms off), and Coulomb friction's wedging (two normal
+forces satisfying the equations) is flagged as SliderCrank.dynamics flags it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from machdyn.dynamics import slidercrank_dynamics
+from machdyn.linkage import FORCE_REASONS, Linkage
+from machdyn.linkage import forces as forces_module
+from machdyn.massprops import point_mass, rod
+from machdyn.slidercrank import SliderCrank
+from test_linkage import _energy_rates, watt_ii
+from test_linkage_groups import jansen_leg, press
+
+THETA = np.radians(np.arange(0.0, 360.0, 5.0)) + 0.1
+
+
+def with_masses(lk: Linkage) -> Linkage:
+    """The same drawing with a mass, inertia and an off-line centre on every link."""
+    out = Linkage(dict(lk.points)).ground(*lk.ground_points)
+    for k, ln in enumerate(lk.links.values()):
+        mass = {"mass": 1.0 + 0.3 * k, "inertia": 0.2 + 0.05 * k, "cg": 0.4 + 0.1j * (k % 3)}
+        out.link(ln.name, *ln.points, **mass)
+    for j in lk.joints:
+        if j.kind == "slider":
+            out.slider(*j.links, j.points[0], j.direction, through=j.through, name=j.name)
+    return out.drive(*lk.drivers)
+
+
+def lu_only(lk: Linkage, m, **kw):
+    """The forces with every block solved by the LU (the closed forms switched off)."""
+    original = forces_module._closed_form
+    forces_module._closed_form = lambda *args: None
+    try:
+        return lk.forces(m, **kw)
+    finally:
+        forces_module._closed_form = original
+
+
+@pytest.mark.parametrize("build", [watt_ii, jansen_leg, press])
+def test_closed_form_groups_equal_the_lu(build):
+    lk = with_masses(build())
+    m = lk.solve(THETA, velocity=4.0, acceleration=-1.5)
+    kw = {"gravity": 9.81, "external_torques": {lk.drivers[0]: 2.0}}
+    if "ram" in lk._sliders:
+        kw["coulomb"] = {"ram": 0.2}
+    ours, ref = lk.forces(m, **kw), lu_only(lk, m, **kw)
+    assert (ours.ok == ref.ok).all() and ours.ok.sum() > 0.9 * m.ok.sum()
+    for table in ("pins", "driver", "normal", "couple"):
+        for k, v in getattr(ref, table).items():
+            w = getattr(ours, table)[k]
+            scale = max(np.nanmax(np.abs(v)), 1.0)
+            assert np.nanmax(np.abs(w - v)) <= 1e-9 * scale, (table, k)
+    # and the power balance holds, written here: T ω = d(KE + PE)/dt (+ friction's loss)
+    if "coulomb" not in kw:
+        dke, dpe = _energy_rates(lk, m, 9.81)
+        power = ours.driver[lk.drivers[0]] * 4.0 + 2.0 * 4.0
+        good = ours.ok
+        assert np.abs(power - dke - dpe)[good].max() <= 1e-9 * np.abs(dke[good]).max()
+
+
+def issue_slider_crank() -> tuple[Linkage, float]:
+    """Crank 0.08, rod 0.11 (issue #10): drawn at θ2 = 77.5°, where with μ = 1 it wedges."""
+    theta2 = np.radians(77.5)
+    A = 0.08 * np.exp(1j * theta2)
+    B = A.real + np.sqrt(0.11**2 - A.imag**2)
+    lk = Linkage({"O2": 0j, "A": A, "B": B}).ground("O2")
+    lk.link("crank", "O2", "A", body=rod(0.5, 0.08)).link("rod", "A", "B", body=rod(0.4, 0.11))
+    lk.link("block", "B", body=point_mass(0.3))
+    return lk.slider("block", "ground", "B", 0.0, name="guide").drive("crank"), theta2
+
+
+def test_coulomb_wedging_is_flagged_as_slidercrank_dynamics_flags_it():
+    lk, theta2 = issue_slider_crank()
+    theta = theta2 + np.radians([-60.0, -30.0, 0.0, 30.0])
+    m = lk.solve(theta, velocity=150.0)
+    f = lk.forces(m, coulomb={"guide": 1.0}, external_forces=[("block", "B", -600.0)])
+    ref = slidercrank_dynamics(
+        SliderCrank(0.08, 0.11),
+        theta,
+        150.0,
+        mass=(0.5, 0.4, 0.3),
+        inertia=(0.5 * 0.08**2 / 12, 0.4 * 0.11**2 / 12),
+        cg=(0.04, 0.055),
+        load_force4=-600.0,
+        friction="coulomb",
+        mu=1.0,
+    )
+    assert not f.ok[2] and f.reason[2] == FORCE_REASONS["wedging"]
+    assert not ref.ok[2]  # SliderCrank.dynamics: jammed there too
+    assert (f.ok == ref.ok).all()
+    good = f.ok
+    np.testing.assert_allclose(f.driver["crank"][good], ref.T12[good], rtol=1e-9)
+    assert np.isnan(f.driver["crank"][~good]).all()
