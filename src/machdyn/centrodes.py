@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from ._summary import Summarized
 from ._validate import finite_array, integer
 from .errors import InputError
 
@@ -43,7 +44,7 @@ _STILL_POLE = 1e-7
 
 
 @dataclass(frozen=True)
-class RolledMotion:
+class RolledMotion(Summarized):
     """The motion of the moving link rebuilt by rolling its centrode on the fixed one.
 
     Attributes
@@ -67,7 +68,7 @@ class RolledMotion:
 
 
 @dataclass(frozen=True)
-class Centrodes:
+class Centrodes(Summarized):
     """The fixed and moving centrodes of ``moving`` relative to ``fixed`` over a sweep.
 
     Attributes
@@ -186,7 +187,7 @@ class Centrodes:
 
 
 @dataclass(frozen=True)
-class PitchCurves:
+class PitchCurves(Summarized):
     """Pitch curves of the non-circular gears that reproduce two links' motion.
 
     Attributes
