@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from .. import jit
-from .._validate import finite_array, integer
+from .._validate import TINY, finite_array, integer
 from ..errors import InputError
 from ..fourbar import _CLOSE_TOL, OK, _unit_vectors
 
@@ -79,6 +79,8 @@ def coupler_points(
     True
     """
     theta2 = np.ravel(finite_array("theta2", theta2))
+    if theta2.size == 0:
+        raise InputError("theta2", "needs at least one input angle")
     arrays = [
         np.ravel(finite_array(n, v))
         for n, v in zip(_NAMES, (r1, r2, r3, r4, p, delta, branch), strict=True)
@@ -93,6 +95,8 @@ def coupler_points(
     for name, a in zip(_NAMES[:4], (r1, r2, r3, r4), strict=True):
         if np.any(a <= 0.0):
             raise InputError(name, "every length must be positive")
+        if np.any(a < TINY):
+            raise InputError(name, f"every length must be at least {TINY:g} (use smaller units)")
     return _kernel(r1, r2, r3, r4, p, delta, theta2, branch)
 
 

@@ -317,6 +317,9 @@ class SixBarPath:
 _FIXED = ("s4", "s6", "topology", "on")
 #: Six-bar entries spread over the atlas that timed targets are scanned against.
 SIXBAR_TIMED_POOL = 1_000
+#: Timed targets: starting angles every entry is scanned at, and entries scanned again finely.
+SIXBAR_COARSE = 20
+SIXBAR_FINE = 96
 
 
 def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
@@ -359,29 +362,48 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
         q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
         idx = np.union1d(idx, atlas.nearest(q, retrieve, client=client)[0])
     rows = atlas.entries(idx)
-    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-    a0 = pts - pts.mean()
+    # coarse to fine: every entry at SIXBAR_COARSE starting angles, the best
+    # SIXBAR_FINE of each direction again at every one of the TIMED_GRID angles
     found = []
     for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
-        for lo in range(0, rows.size, 1024):
-            block = rows[lo : lo + 1024]
-            th = mirror * (grid[:, None] + timing[None, :]).ravel()
-            Q = sixbar_points(block, th)[0].reshape(block.size, grid.size, -1)
-            Q = Q.conj() if mirror < 0 else Q
-            qm = np.nanmean(Q, axis=2, keepdims=True)
-            c = np.sum(np.conj(Q - qm) * a0, axis=2)
-            v = np.sum(np.abs(Q - qm) ** 2, axis=2)
-            score = np.nan_to_num(np.abs(c) ** 2 / np.where(v > 0, v, np.inf), nan=-1.0)
-            g = np.argmax(score, axis=1)
-            r = np.arange(block.size)
-            hh = c[r, g] / v[r, g]
-            off = pts.mean() - hh * qm[r, g, 0]
-            found += [(score[i, g[i]], block[i], hh[i], off[i], grid[g[i]], mirror) for i in r]
+        coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
+        score = _timed_scan(rows, coarse, timing, pts, mirror)[0]
+        best = rows[np.argsort(-score)[:SIXBAR_FINE]]
+        grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+        score, hh, off, g = _timed_scan(best, grid, timing, pts, mirror)
+        found += [(score[i], best[i], hh[i], off[i], grid[g[i]], mirror) for i in range(best.size)]
     found.sort(key=lambda f: -f[0])
     for _, row, h, t, g0, mirror in found[:refine_count]:
         x0, fixed = _design_of(row, h, t, mirror)
         starts.append((x0, g0 + timing, fixed))
     return starts
+
+
+def _timed_scan(rows, grid, timing, pts, mirror):
+    """Each row's best starting angle on ``grid`` for timed targets: fit score, placement.
+
+    The coupler points at ``θ0 + Δ_k`` placed on the targets by a rotation, scale and
+    offset ``t + h·Q`` (closed form); the score is the share of the targets' spread the
+    fit explains. Returns per row the score, ``h``, ``t`` and the index of θ0 in ``grid``.
+    """
+    from .sixbar import sixbar_points
+
+    a0 = pts - pts.mean()
+    out = []
+    for lo in range(0, rows.size, 1024):
+        block = rows[lo : lo + 1024]
+        th = mirror * (grid[:, None] + timing[None, :]).ravel()
+        Q = sixbar_points(block, th)[0].reshape(block.size, grid.size, -1)
+        Q = Q.conj() if mirror < 0 else Q
+        qm = np.nanmean(Q, axis=2, keepdims=True)
+        c = np.sum(np.conj(Q - qm) * a0, axis=2)
+        v = np.sum(np.abs(Q - qm) ** 2, axis=2)
+        score = np.nan_to_num(np.abs(c) ** 2 / np.where(v > 0, v, np.inf), nan=-1.0)
+        g = np.argmax(score, axis=1)
+        r = np.arange(block.size)
+        hh = c[r, g] / v[r, g]
+        out.append((score[r, g], hh, pts.mean() - hh * qm[r, g, 0], g))
+    return tuple(np.concatenate(x) for x in zip(*out, strict=True))
 
 
 def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -> SixBarPath | None:
