@@ -210,3 +210,18 @@ def test_transmission_angle_of_a_sixbar_is_checked(atlas6):
     worst = strict.rejected[0] if strict.rejected else strict.best
     assert not strict.candidates or all(c.mu_min >= np.radians(88.5) for c in strict.candidates)
     assert any("transmission angle falls to" in d for d in worst.defects)
+
+
+def test_a_candidate_drawn_at_a_toggle_is_dropped_not_raised(rows):
+    # a six-bar whose dyad 5-6 is stretched straight (a + b = |CD|) at the first target:
+    # the Linkage solver cannot tell its branches apart there, so it is no result
+    from machdyn.synthesis.sixbar_path import _design_of, _joints, sixbar_result
+
+    row = rows[0]
+    x, fixed = _design_of(row, 1.0 + 0j, 0j)
+    theta = np.linspace(0, 2 * np.pi, 8, endpoint=False) + 0.3
+    j = _joints(x, theta[0], fixed)
+    a = 0.4 * abs(j["D"] - j["C"])
+    x[11], x[12] = a, abs(j["D"] - j["C"]) - a
+    pts = np.exp(1j * theta)  # any targets: the check stops before comparing with them
+    assert sixbar_result(x, theta, fixed, pts, None, True, None) is None

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ModelError
 from .sixbar import TOPOLOGIES
 
 # Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
@@ -421,9 +422,12 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
         lk = sixbar_linkage(x, fixed, float(theta[0]))
     except Exception:  # a drawing the Linkage refuses (coincident joints …)
         return None
-    m = lk.solve(x[2] + theta, continuation=False)
+    try:
+        m = lk.solve(x[2] + theta, continuation=False)
+        turn = lk.solve(x[2] + theta[0] + np.linspace(0, 2 * np.pi, 361))
+    except ModelError:  # drawn at a toggle: its branches meet there, neither can be followed
+        return None
     distance = np.where(m.ok, np.abs(m.points["P"] - pts), np.inf)
-    turn = lk.solve(x[2] + theta[0] + np.linspace(0, 2 * np.pi, 361))
     defects = []
     mu = float("nan")
     if not np.all(turn.ok):
