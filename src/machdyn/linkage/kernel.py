@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import ModuleType
 
 import numpy as np
@@ -66,11 +66,13 @@ class Tables:
     start: np.ndarray  # drawn value of every driver
     scale: np.ndarray  # per driver: 1 (an angle) or the typical length
     lists: tuple[list, ...] = ()  # the same as Python lists, for the plain-Python twin
+    wrapped: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # rows from atan2
 
     def __post_init__(self) -> None:
         self.lists = tuple(
             a.tolist() for a in (self.links, self.pts_i, self.pts_f, self.lens_i, self.lens_f)
         )
+        self.wrapped = np.flatnonzero(self.exact == 0)
 
 
 @dataclass

@@ -245,10 +245,10 @@ def solve_closed(
     order = 0 if vel is None else 3 if jrk is not None else 2
     U = np.zeros((4 * len(drivers), n))
     for d, name in enumerate(drivers):
-        U[4 * d] = _flat(vals[name], shape)
-        for k, table in enumerate((vel, acc, jrk), start=1):
+        for k, table in enumerate((vals, vel, acc, jrk)):
             if table is not None and k <= order:
-                U[4 * d + k] = _flat(table[name], shape)
+                a = table[name]
+                U[4 * d + k] = a if a.ndim == 0 else _flat(a, shape)
     if follow and n:
         out = _follow(program, info, U, order)
     else:
@@ -271,7 +271,7 @@ def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs
     :data:`STEP`), each angle unwrapped along it, and the samples taken.
     """
     tables = info.tables
-    unwrapped = np.flatnonzero(tables.exact == 0)
+    unwrapped = tables.wrapped
     if not unwrapped.size and not has_general(program):
         return run(program, tables, U, order, True)
     if program.encoded is not None and kernel.compiled_kernel(U.shape[1]) is not None:
