@@ -2,12 +2,14 @@
 
 Run:  python benchmarks/bench_simulate.py [repeats]
 
-Targets: a four-bar start-up to steady state over 20 turns ≤ 0.5 s.
+Targets: a four-bar start-up to steady state over 20 turns ≤ 0.5 s; the
+sensitivities of all outputs to all dimensions of a six-bar over 360 poses ≤ 20 ms.
 
 The peer of the tabulated simulation is the same integration solving the
 linkage at every right-hand side (``table=False``, what a direct
 ``solve_ivp`` over the force analysis costs); it is timed over one turn and
-reported per turn, with the ratio.
+reported per turn, with the ratio. The peer of the sensitivities is central
+differences: the six-bar re-solved with each drawn coordinate moved up and down.
 """
 
 from __future__ import annotations
@@ -34,6 +36,28 @@ def start_up(turns: float, table: bool = True):
     )
 
 
+WATT = {"O2": 0j, "O4": 6 + 0j, "O6": 10 + 3j, "A": 1.5 + 0j, "B": 4.75 + 3.7997j,
+        "C": 9.3316 + 1.3641j, "D": 7.5444 + 5.494j, "P": 3.125 + 2.8998j}  # fmt: skip
+POSES = np.radians(np.arange(0.0, 360.0, 1.0))
+
+
+def watt(points):
+    from machdyn.linkage import Linkage
+
+    return (
+        Linkage(points).ground("O2", "O4", "O6").link("crank", "O2", "A")
+        .link("coupler", "A", "B", "P").link("rocker", "O4", "B", "C")
+        .link("coupler2", "C", "D").link("output", "O6", "D").drive("crank")
+    )  # fmt: skip
+
+
+def central_differences(h: float = 1e-6) -> None:
+    for name, z in WATT.items():
+        for step in (h, 1j * h):
+            for sign in (1.0, -1.0):
+                watt({**WATT, name: z + sign * step}).solve(POSES, velocity=1.0, acceleration=0.0)
+
+
 def timed(fn) -> float:
     t0 = time.perf_counter()
     fn()
@@ -51,6 +75,16 @@ def main(repeat: int = 5) -> None:
     for _ in range(repeat):  # interleaved: the machine's load hits both alike
         rows["table"].append(timed(lambda: start_up(20.0)))
         rows["exact"].append(timed(lambda: start_up(1.0, table=False)))
+    six = watt(WATT)
+    sens, fd = [], []
+    for _ in range(3 * repeat):
+        sens.append(timed(lambda: machdyn.sensitivity(six, POSES, omega2=1.0)))
+        fd.append(timed(central_differences))
+    s = machdyn.sensitivity(six, POSES, omega2=1.0)
+    print(f"six-bar sensitivities, {len(s.derivative)} outputs x {len(s.dimensions)} dimensions x "
+          f"360 poses: {min(sens) * 1e3:.1f} ms (target 20 ms)")  # fmt: skip
+    print(f"  central differences (re-solving 2 x {len(s.dimensions)} drawings): "
+          f"{min(fd) * 1e3:.1f} ms, ratio {min(fd) / min(sens):.1f}x")  # fmt: skip
     run = start_up(20.0)
     table, exact = min(rows["table"]), min(rows["exact"])
     print(f"four-bar start-up, 20 turns, tabulated: {table:.3f} s  (target 0.5 s)")

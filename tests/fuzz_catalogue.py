@@ -144,6 +144,7 @@ NOT_CALLED = {
     "machdyn.simulate:Simulation",
     "machdyn.simulate:SteadyState",
     "machdyn.simulate:Step",
+    "machdyn.sensitivity:Sensitivity",
 }
 
 #: Public callables not fuzzed here, with the reason.

@@ -118,4 +118,35 @@ def add_simulate(c: dict[str, Any], fn, meth) -> None:
     meth(f"{s}:Simulation.to_pandas", _run)
     meth(f"{s}:PeriodicMotion.at", _periodic, theta=np.array([0.0, 1.0]))
     meth("machdyn.flywheel:FlywheelResult.simulate", _flywheel, model=_sc(), **FAST, **SC_MASS)
+    add_sensitivity(c, fn, meth)
+
+
+@cache
+def _sensitivity():
+    import machdyn
+
+    return machdyn.sensitivity(_fb(), np.radians([10.0, 50.0, 90.0]))
+
+
+def _fb():
+    from machdyn import FourBar
+
+    return FourBar(8.0, 4.0, 7.0, 6.0, coupler=(3.0, 0.5))
+
+
+def add_sensitivity(c: dict[str, Any], fn, meth) -> None:
+    """Entries for machdyn.sensitivity."""
+    k = "machdyn.sensitivity"
+    fn(f"{k}:sensitivity", model=_fb(), theta2=np.radians([10.0, 50.0]), omega2=10.0,
+       alpha2=1.0, mass=(1.0, 2.0, 1.5), inertia=(0.1, 0.5, 0.3), cg=(2.0, 3.0, 3.0),
+       gravity=9.81, load=-1.0)  # fmt: skip
+    c[f"{k}:sensitivity"].accepts.update(
+        branch={"none"}, dimensions={"none"}, mass={"none"}, inertia={"none"}, cg={"none"}
+    )
+    meth(f"{k}:Sensitivity.of", _sensitivity, output="theta4", dimension="r2")
+    meth(f"{k}:Sensitivity.stack_up", _sensitivity, tolerances={"r1": 0.01}, output="coupler")
+    meth(f"{k}:Sensitivity.rss", _sensitivity, tolerances={"r1": 0.01}, output="theta4")
+    meth(f"{k}:Sensitivity.to_pandas", _sensitivity)
+    for name in ("of", "stack_up", "rss"):
+        c[f"{k}:Sensitivity.{name}"].accepts.update(output={"text"}, dimension={"text"})
     c["machdyn.flywheel:FlywheelResult.simulate"].accepts["motor"] = {"none"}

@@ -178,3 +178,11 @@ def test_drawing_shows_the_moving_centrode_touching_the_fixed_one(tmp_path):
     ax.figure.savefig(tmp_path / "centrodes.png")
     assert (tmp_path / "centrodes.png").stat().st_size > 1000
     plt.close("all")
+
+
+def test_rolling_a_sweep_run_backwards():
+    theta = np.linspace(2.0, -1.0, 301)  # the wheel driven the other way
+    c = centrodes(wheel_on_ground(), theta, moving="wheel")
+    assert_rolls(c)
+    with pytest.raises(InputError, match="monotonic"):
+        centrodes(wheel_on_ground(), np.array([0.0, 1.0, 0.5, 2.0]), moving="wheel").roll()

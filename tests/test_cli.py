@@ -50,7 +50,7 @@ def test_rocker_outside_range_is_reported_per_row(capsys):
         (["fourbar", "8", "4", "7", "6", "--theta2", "abc"], "--theta2"),
         (["fourbar", "8", "4", "7", "6", "--form", "3"], "--form"),
         (["fourbar", "8", "0", "7", "6"], "r2: must be a positive length"),
-        (["fourbar", "8", "4", "7"], "Missing argument"),
+        (["fourbar", "8", "4", "7"], "give the four lengths"),
         (["nosuchcommand"], "No such command"),
     ],
 )

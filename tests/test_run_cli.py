@@ -120,3 +120,30 @@ def test_run_starts_without_loading_the_other_commands():
     )
     assert done.returncode == 0, done.stderr
     assert done.stderr.strip() == "[]"
+
+
+def test_fourbar_takes_rpm_csv_and_a_machine_file(capsys, tmp_path):
+    out = tmp_path / "fb.csv"
+    args = ["fourbar", "8", "4", "7", "6", "--rpm", "60", "--theta2", "0:90:30", "--csv", str(out)]
+    assert main(args) == 0
+    rows = list(csv.reader(out.open()))
+    assert rows[0][:4] == ["theta2 [deg]", "theta3 [deg]", "theta4 [deg]", "omega3 [rad/s]"]
+    m = FourBar(8, 4, 7, 6).solve(np.radians([0.0, 30.0, 60.0, 90.0]), omega2=2 * math.pi)
+    np.testing.assert_allclose([float(r[3]) for r in rows[1:]], m.omega3, rtol=1e-12)
+    capsys.readouterr()
+    assert main(["fourbar", "--spec", HW6, "--theta2", "0", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["lengths"] == {"r1": 8.0, "r2": 4.0, "r3": 7.0, "r4": 6.0} and data["omega2"] == 10
+    assert data["kinematics"][0]["theta3_deg"] == pytest.approx(58.8114, abs=5e-5)  # HW 6
+    for bad, needle in (
+        (["fourbar", "8", "4", "7"], "give the four lengths"),
+        (["fourbar", "8", "4", "7", "6", "--rpm", "1", "--omega2", "2"], "--rpm"),
+        (["fourbar", "8", "4", "7", "6", "--spec", HW6], "not both"),
+    ):
+        assert main(bad) == 1 and needle in capsys.readouterr().err
+
+
+def test_linkage_tables_never_cut_a_number(capsys):
+    assert main(["linkage", str(EXAMPLES / "fourbar.toml"), "--forces"]) == 0
+    out = capsys.readouterr().out
+    assert "…" not in out and "F_coupler_rocker_y [lbf]" in out

@@ -119,3 +119,22 @@ def test_a_missing_optional_package_gets_the_install_hint(monkeypatch, capsys, t
         assert main(args) == 1
         err = capsys.readouterr().err
         assert err.endswith("pip install 'machdyn[plot]'\n") and "internal error" not in err
+
+
+def test_to_pandas_columns_carry_the_units_of_a_loaded_model():
+    pytest.importorskip("pandas")
+    from pathlib import Path
+
+    from machdyn.spec import load_machine
+
+    examples = Path(__file__).resolve().parents[1] / "docs" / "examples"
+    lk = load_machine(examples / "lid.toml")["lid"]
+    m = lk.solve(np.radians([0.0, 30.0]), velocity=1.0)
+    cols = set(m.to_pandas().columns)
+    assert {"theta_lid [rad]", "omega_lid [rad/s]", "A_x [m]", "A_vy [m/s]"} <= cols
+    forces = set(lk.forces(m, gravity=9.81).to_pandas().columns)
+    assert {"F_ground_lid_x [N]", "driver_lid [N*m]", "shaking_moment [N*m]"} <= forces
+    plain = Linkage({"O": 0, "A": 1}).ground("O").link("arm", "O", "A").drive("arm")
+    assert "theta_arm" in plain.solve([0.0, 0.1], velocity=1.0).to_pandas().columns
+    sc = load_machine(examples / "slider_crank.toml")["engine"]
+    assert "d_ddot [mm/s^2]" in sc.solve(np.radians([0.0, 1.0]), 1.0).to_pandas().columns

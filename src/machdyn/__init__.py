@@ -20,6 +20,7 @@ from .classify import barker_class, classify, is_grashof
 from .errors import AssemblyError, InputError, MachdynError, ModelError, SingularityError
 from .fourbar import FourBar
 from .mobility import Joint, mobility, mobility_of
+from .sensitivity import sensitivity
 from .simulate import simulate
 from .slidercrank import InvertedSliderCrank, SliderCrank
 
@@ -41,6 +42,7 @@ __all__ = [
     "is_grashof",
     "mobility",
     "mobility_of",
+    "sensitivity",
     "simulate",
 ]
 

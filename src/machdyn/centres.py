@@ -263,7 +263,11 @@ class InstantCentres(Mapping):
         return body
 
     def __getitem__(self, key: tuple[Any, Any]) -> InstantCentre:
-        return self._centres[self._key(key)]
+        try:
+            pair = self._key(key)
+        except (InputError, TypeError, ValueError) as exc:  # the Mapping protocol's KeyError
+            raise KeyError(str(exc)) from None
+        return self._centres[pair]
 
     def __iter__(self) -> Iterator[tuple[Any, Any]]:
         return iter(sorted(self._centres, key=lambda k: (self._index[k[0]], self._index[k[1]])))

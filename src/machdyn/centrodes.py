@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from ._summary import Summarized
 from ._validate import finite_array, integer
 from .errors import InputError
 
@@ -43,7 +44,7 @@ _STILL_POLE = 1e-7
 
 
 @dataclass(frozen=True)
-class RolledMotion:
+class RolledMotion(Summarized):
     """The motion of the moving link rebuilt by rolling its centrode on the fixed one.
 
     Attributes
@@ -67,7 +68,7 @@ class RolledMotion:
 
 
 @dataclass(frozen=True)
-class Centrodes:
+class Centrodes(Summarized):
     """The fixed and moving centrodes of ``moving`` relative to ``fixed`` over a sweep.
 
     Attributes
@@ -134,10 +135,16 @@ class Centrodes:
         origin = np.full(n, complex(np.nan, np.nan))
         slip = np.full(n, np.nan)
         ok = np.zeros(n, dtype=bool)
+        steps = np.diff(self.parameter)
+        if not (np.all(steps > 0) or np.all(steps < 0)):
+            raise InputError(
+                "parameter", "rolling needs a sweep whose driver values run one way (monotonic)"
+            )
+        direction = 1.0 if steps[0] > 0 else -1.0
         for run in _runs(self.ok):
             if run.stop - run.start < 6:
                 continue
-            u = self.parameter[run]
+            u = direction * self.parameter[run]
             curves = []
             for curve in (self.fixed[run], self.moving[run]):
                 fit = make_interp_spline(u, np.stack([curve.real, curve.imag], -1), k=5)
@@ -180,7 +187,7 @@ class Centrodes:
 
 
 @dataclass(frozen=True)
-class PitchCurves:
+class PitchCurves(Summarized):
     """Pitch curves of the non-circular gears that reproduce two links' motion.
 
     Attributes

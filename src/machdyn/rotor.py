@@ -49,6 +49,7 @@ from typing import Any
 
 import numpy as np
 
+from ._summary import Summarized
 from ._validate import choice, complex_array, finite_array, finite_scalar, nonnegative
 from .balancing import StaticBalance, TwoPlaneBalance, two_plane
 from .errors import InputError
@@ -60,7 +61,7 @@ _TENSOR_RTOL = 1e-9
 
 
 @dataclass(frozen=True)
-class BearingReactions:
+class BearingReactions(Summarized):
     """Forces of two bearings on a rotor, over the samples given.
 
     Attributes

@@ -248,6 +248,14 @@ class UnitSystem:
 
     def display(self, kind: str) -> str:
         """The unit a quantity of ``kind`` is shown in (labels, tables, files)."""
+        if not isinstance(kind, str):
+            _kind(kind)  # refused, naming the field
+        shown = self._factors.get(("display", kind))  # the system is frozen: compose once
+        if shown is None:
+            shown = self._factors[("display", kind)] = self._display(kind)
+        return shown
+
+    def _display(self, kind: str) -> str:
         k = _kind(kind)
         b = self._base()
         force = self.force or FREE["force"]

@@ -30,6 +30,7 @@ def _register() -> None:
     from .plot import animate
     from .report import report
     from .run import run, spec_app
+    from .studio import studio
     from .synth import synth_app
 
     app.command("flywheel")(flywheel_command)
@@ -43,6 +44,7 @@ def _register() -> None:
     app.add_typer(atlas_app, name="atlas")
     app.command("run")(run)
     app.add_typer(spec_app, name="spec")
+    app.command("studio")(studio)
 
 
 _register()

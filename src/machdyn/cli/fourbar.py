@@ -5,6 +5,7 @@ Angles are printed in degrees (labelled); lengths in the user's unit.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated, Any
 
 import numpy as np
@@ -239,20 +240,95 @@ def _print_inversions(payload: dict[str, Any]) -> None:
         )
 
 
+def _from_spec(spec: Path, part: str | None) -> dict[str, Any]:
+    """Lengths, coupler point, form and motion of a machine file's four-bar part."""
+    from ..spec import load_machine
+
+    machine = load_machine(spec)
+    names = [p.name for p in machine.parts.values() if p.kind == "fourbar"]
+    if part is None and len(names) != 1:
+        listed = ", ".join(names) or "none"
+        raise InputError("--spec", f"the file has {len(names)} four-bar parts ({listed}): --part")
+    name = part if part is not None else names[0]
+    if name not in names:
+        raise InputError(
+            "--part", f"{name!r} is not a four-bar part; four-bars: {', '.join(names)}"
+        )
+    chosen = machine.parts[name]
+    fb, motion = chosen.model, chosen.values.get("motion", {})
+    out: dict[str, Any] = {
+        "lengths": fb.lengths,
+        "coupler": fb.coupler,
+        "form": chosen.values.get("form"),
+        "unit": None if machine.units.is_unit_free else machine.units.length,
+    }
+    if "theta2" in motion:
+        out["theta2"] = np.degrees(motion["theta2"].values)
+    for key in ("omega2", "alpha2"):  # rad per the file's time unit
+        if key in motion:
+            out[key] = motion[key]
+    return out
+
+
+def _write_csv(payload: dict[str, Any], path: Path, unit: str | None) -> None:
+    """The kinematics table, every column with its unit in the header (csv module)."""
+    import csv
+
+    names = ["theta2_deg", "theta3_deg", "theta4_deg", "omega3", "omega4", "alpha3", "alpha4"]
+    header = ["theta2 [deg]", "theta3 [deg]", "theta4 [deg]", "omega3 [rad/s]", "omega4 [rad/s]"]
+    header += ["alpha3 [rad/s^2]", "alpha4 [rad/s^2]", "mu [deg]"]
+    names.append("mu_deg")
+    rows = payload["kinematics"]
+    has_p = bool(rows) and "P" in rows[0]
+    if has_p:
+        length, accel = (f" [{unit}]", f" [{unit}/s^2]") if unit else ("", "")
+        header += [f"P_x{length}", f"P_y{length}", f"AP_x{accel}", f"AP_y{accel}"]
+    header += ["ok", "reason"]
+
+    def cell(value: Any) -> str:
+        value = float(value)
+        return repr(value) if np.isfinite(value) else ""
+
+    with open(path, "w", newline="", encoding="utf-8") as out:
+        writer = csv.writer(out)
+        writer.writerow(header)
+        for r in rows:
+            line = [cell(r[k]) for k in names]
+            if has_p:
+                line += [cell(r["P"].real), cell(r["P"].imag)]
+                line += [cell(r["AP"].real), cell(r["AP"].imag)]
+            writer.writerow([*line, str(bool(r["ok"])).lower(), r["reason"]])
+
+
 @app.command()
 def fourbar(
-    r1: Annotated[float, typer.Argument(help="Ground link length O2O4.")],
-    r2: Annotated[float, typer.Argument(help="Input link length O2A.")],
-    r3: Annotated[float, typer.Argument(help="Coupler length AB.")],
-    r4: Annotated[float, typer.Argument(help="Output link length O4B.")],
+    r1: Annotated[float | None, typer.Argument(help="Ground link length O2O4.")] = None,
+    r2: Annotated[float | None, typer.Argument(help="Input link length O2A.")] = None,
+    r3: Annotated[float | None, typer.Argument(help="Coupler length AB.")] = None,
+    r4: Annotated[float | None, typer.Argument(help="Output link length O4B.")] = None,
     theta2: Annotated[
-        str, typer.Option(help="Input angles in degrees: START:STOP:STEP or one angle.")
-    ] = "0:360:30",
-    form: Annotated[int, typer.Option(help="Form 1 or 2, as in the notes.")] = 1,
-    omega2: Annotated[float, typer.Option(help="Input angular velocity, rad/s.")] = 1.0,
-    alpha2: Annotated[float, typer.Option(help="Input angular acceleration, rad/s^2.")] = 0.0,
+        str | None, typer.Option(help="Input angles in degrees: START:STOP:STEP or one angle.")
+    ] = None,
+    form: Annotated[int | None, typer.Option(help="Form 1 or 2, as in the notes.")] = None,
+    omega2: Annotated[float | None, typer.Option(help="Input angular velocity, rad/s.")] = None,
+    rpm: Annotated[
+        float | None, typer.Option("--rpm", help="Input speed in rev/min (instead of --omega2).")
+    ] = None,
+    alpha2: Annotated[
+        float | None, typer.Option(help="Input angular acceleration, rad/s^2.")
+    ] = None,
     coupler: Annotated[
         str | None, typer.Option(help="Coupler point P:DELTA_DEG (distance from A, angle from AB).")
+    ] = None,
+    spec: Annotated[
+        Path | None,
+        typer.Option("--spec", help="A machine file: its four-bar part (options override it)."),
+    ] = None,
+    part: Annotated[
+        str | None, typer.Option("--part", help="The four-bar part, if the file has several.")
+    ] = None,
+    csv_out: Annotated[
+        Path | None, typer.Option("--csv", help="Also write the kinematics table to this CSV file.")
     ] = None,
     json: Annotated[bool, typer.Option("--json", help="Print machine-readable JSON.")] = False,
     inversions: Annotated[
@@ -264,21 +340,49 @@ def fourbar(
     ] = False,
 ) -> None:
     """Classify a four-bar and print its limits and a kinematics table."""
+    given = [r for r in (r1, r2, r3, r4) if r is not None]
+    file: dict[str, Any] = {}
+    if spec is not None:
+        if given:
+            raise InputError("--spec", "give the four lengths or --spec FILE, not both")
+        file = _from_spec(spec, part)
+    elif len(given) != 4:
+        raise InputError("R1 R2 R3 R4", f"give the four lengths (or --spec FILE); got {len(given)}")
+    elif part is not None:
+        raise InputError("--part", "--part picks a part of a --spec file")
     if inversions:
-        table = inversions_payload(r1, r2, r3, r4)
+        table = inversions_payload(*file.get("lengths", given))
         if json:
             print(dumps(table))
         else:
             _print_inversions(table)
         return
+    if omega2 is not None and rpm is not None:
+        raise InputError("--rpm", "give --omega2 (rad/s) or --rpm, not both")
+    form = form if form is not None else (file.get("form") or 1)
     if form not in (1, 2):
         raise InputError("--form", f"must be 1 or 2, got {form}")
-    grid = parse_range_deg(theta2)
-    payload = analyse(r1, r2, r3, r4, grid, form, omega2, alpha2, _parse_coupler(coupler))
+    if rpm is not None:
+        if not np.isfinite(rpm):
+            raise InputError("--rpm", f"must be finite, got {rpm}")
+        omega2 = rpm * 2.0 * np.pi / 60.0
+    omega = omega2 if omega2 is not None else file.get("omega2", 1.0)
+    alpha = alpha2 if alpha2 is not None else file.get("alpha2", 0.0)
+    if theta2 is not None:
+        grid = parse_range_deg(theta2)
+    else:
+        grid = file.get("theta2", parse_range_deg("0:360:30"))
+    lengths = file.get("lengths", given)
+    point = _parse_coupler(coupler) if coupler is not None else file.get("coupler")
+    payload = analyse(*lengths, grid, form, omega, alpha, point)
+    if csv_out is not None:
+        _write_csv(payload, csv_out, file.get("unit"))
     if json:
         print(dumps(payload))
     else:
         _print(payload)
+        if csv_out is not None:
+            print(f"\nwrote {csv_out}")
 
 
 @app.command()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -651,7 +652,8 @@ class Linkage(_JointMethods, _ElementMethods):
         (True, (36,))
         """
         _warn_degrees(self, values)
-        return _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
+        motion = _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
+        return motion if self.units is None else dataclasses.replace(motion, units=self.units)
 
     def forces(
         self,

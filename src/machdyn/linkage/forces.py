@@ -154,27 +154,37 @@ class LinkageForces(Summarized):
         """
         import pandas as pd
 
-        cols: dict[str, np.ndarray] = {}
+        from ..units import columns
+
+        spec: list[tuple[str, str | None, Any]] = []
+
+        def xy(name: str, v: Any, kind: str | None = "force") -> None:
+            spec.extend(
+                ((f"{name}_x", kind, np.ravel(v).real), (f"{name}_y", kind, np.ravel(v).imag))
+            )
+
         for (a, p), v in self.pins.items():
-            cols[f"F_{a}_{p}_x"], cols[f"F_{a}_{p}_y"] = np.ravel(v).real, np.ravel(v).imag
+            xy(f"F_{a}_{p}", v)
         for k, v in self.sliders.items():
-            cols[f"F_{k}_x"], cols[f"F_{k}_y"] = np.ravel(v).real, np.ravel(v).imag
-        for k, v in self.normal.items():
-            cols[f"N_{k}"] = np.ravel(v)
-        for k, v in self.couple.items():
-            cols[f"M_{k}"] = np.ravel(v)
+            xy(f"F_{k}", v)
+        spec += [(f"N_{k}", "force", v) for k, v in self.normal.items()]
+        spec += [(f"M_{k}", "torque", v) for k, v in self.couple.items()]
         for k, v in self.rolling.items():
-            cols[f"F_{k}_x"], cols[f"F_{k}_y"] = np.ravel(v).real, np.ravel(v).imag
-        for k, v in self.driver.items():
-            cols[f"driver_{k}"] = np.ravel(v)
-        for k, v in self.elements.items():
-            cols[f"T_{k}"] = np.ravel(v)
-            cols[f"L_{k}"] = np.ravel(self.element_length[k])
-            cols[f"Ldot_{k}"] = np.ravel(self.element_rate[k])
-        cols["shaking_force_x"] = np.ravel(self.shaking_force).real
-        cols["shaking_force_y"] = np.ravel(self.shaking_force).imag
-        cols["shaking_moment"] = np.ravel(self.shaking_moment)
-        cols["ok"], cols["reason"] = np.ravel(self.ok), np.ravel(self.reason)
+            xy(f"F_{k}", v)
+        angles = self.motion.angle_drivers
+        spec += [
+            (f"driver_{k}", "torque" if k in angles else "force", v) for k, v in self.driver.items()
+        ]
+        for k, v in self.elements.items():  # a spring's or a torsion spring's: not labelled
+            spec += [
+                (f"T_{k}", None, np.ravel(v)),
+                (f"L_{k}", None, np.ravel(self.element_length[k])),
+            ]
+            spec.append((f"Ldot_{k}", None, np.ravel(self.element_rate[k])))
+        xy("shaking_force", self.shaking_force)
+        spec += [("shaking_moment", "torque", self.shaking_moment)]
+        spec += [("ok", None, self.ok), ("reason", None, self.reason)]
+        cols = columns(self.motion.units, spec)
         return pd.DataFrame(cols)
 
 

@@ -142,6 +142,8 @@ class LinkageMotion(Summarized):
     reason: np.ndarray
     angle_drivers: frozenset[str] = frozenset()
     jerk: Mapping[str, np.ndarray] | None = None
+    #: The linkage's unit system (labels of :meth:`to_pandas`); None: unit-free.
+    units: Any = field(default=None, repr=False, compare=False)
     point_jerk: Mapping[str, np.ndarray] | None = None
     cg_jerk: Mapping[str, np.ndarray] | None = None
     length_jerk: Mapping[str, np.ndarray] | None = None
@@ -196,22 +198,27 @@ class LinkageMotion(Summarized):
         """
         import pandas as pd
 
-        cols: dict[str, np.ndarray] = {k: np.ravel(v) for k, v in self.inputs.items()}
+        from ..units import columns
+
+        spec: list[tuple[str, str | None, Any]] = [
+            (k, "angle" if k in self.angle_drivers else "length", v) for k, v in self.inputs.items()
+        ]
+        kinds = {"theta": "angle", "omega": "angular_velocity", "alpha": "angular_acceleration"}
         for tag, table in (("theta", self.theta), ("omega", self.omega), ("alpha", self.alpha)):
-            for k, v in (table or {}).items():
-                cols[f"{tag}_{k}"] = np.ravel(v)
-        for k, v in self.lengths.items():
-            cols[f"d_{k}"] = np.ravel(v)
+            spec += [(f"{tag}_{k}", kinds[tag], v) for k, v in (table or {}).items()]
+        spec += [(f"d_{k}", "length", v) for k, v in self.lengths.items()]
         for prefix, groups in (
             ("", (self.points, self.point_velocity, self.point_acceleration)),
             ("G_", (self.cg, self.cg_velocity, self.cg_acceleration)),
         ):
-            for tag, table in zip(("", "v", "a"), groups, strict=True):
+            for tag, kind, table in zip(
+                ("", "v", "a"), ("length", "velocity", "acceleration"), groups, strict=True
+            ):
                 for k, v in (table or {}).items():
-                    cols[f"{prefix}{k}_{tag}x"] = np.ravel(v).real
-                    cols[f"{prefix}{k}_{tag}y"] = np.ravel(v).imag
-        cols["ok"] = np.ravel(self.ok)
-        cols["reason"] = np.ravel(self.reason)
+                    spec.append((f"{prefix}{k}_{tag}x", kind, np.ravel(v).real))
+                    spec.append((f"{prefix}{k}_{tag}y", kind, np.ravel(v).imag))
+        spec += [("ok", None, self.ok), ("reason", None, self.reason)]
+        cols = columns(self.units, spec)
         return pd.DataFrame(cols)
 
 

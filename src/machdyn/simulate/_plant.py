@@ -155,7 +155,7 @@ class _FourBarPlant:
 
         return fourbar_dynamics(
             self.model,
-            q,
+            _turn(q),
             qd,
             qdd,
             form=self.form,
@@ -180,7 +180,7 @@ class _FourBarPlant:
             raise InputError("loads", "a FourBar load's point is x + yj in the link's frame")
 
     def geometry(self, load: Load, q: np.ndarray):
-        m = self.model.solve(q, 1.0, 0.0, self.form, branch=self.branch, order=1)
+        m = self.model.solve(_turn(q), 1.0, 0.0, self.form, branch=self.branch, order=1)
         ok = np.asarray(m.ok)
         rate = {2: np.ones_like(q), 3: m.omega3, 4: m.omega4}[load.link]
         if load.is_torque:
@@ -234,7 +234,7 @@ class _SliderCrankPlant:
         from ..dynamics import slidercrank_dynamics
 
         return slidercrank_dynamics(
-            self.model, q, qd, qdd, form=self.form, **_with_loads(self.options, extra)
+            self.model, _turn(q), qd, qdd, form=self.form, **_with_loads(self.options, extra)
         )
 
     def efforts_at(self, q: np.ndarray, pairs) -> tuple[np.ndarray, np.ndarray]:
@@ -260,7 +260,7 @@ class _SliderCrankPlant:
             raise InputError("loads", "a SliderCrank load's point is x + yj in the link's frame")
 
     def geometry(self, load: Load, q: np.ndarray):
-        m = self.model.solve(q, 1.0, 0.0, self.form)
+        m = self.model.solve(_turn(q), 1.0, 0.0, self.form)
         ok = np.asarray(m.ok)
         if load.is_torque:
             if load.link == 2:
@@ -372,6 +372,11 @@ class _LinkagePlant:
         return end, f"{why} (at {self.driver} = {where:.6g} {unit})".replace(" )", ")")
 
 
+def _turn(q: Any) -> Any:
+    """An input angle of a closed-form model brought within one turn of zero (same pose)."""
+    return np.asarray(q) - TWO_PI * np.round(np.asarray(q) / TWO_PI)
+
+
 def _closes(m: Any) -> bool:
     """Whether the last pose of a full-turn sweep repeats the first (a crank)."""
     size = max(float(np.max(np.abs(p))) for p in m.points.values()) + 1e-300
@@ -379,40 +384,5 @@ def _closes(m: Any) -> bool:
 
 
 def _drawn_value(lk: Any, driver: str) -> float:
-    """The driver's value in the drawn pose, from the public topology view (and checked).
-
-    A link's angle is that of the line from its first point to its second; a
-    motor's the difference of its two links' angles; an actuator's its length;
-    a slider's or slot's travel is measured along its line from the foot of the
-    guiding link's first point (or of ``through``).
-    """
-    points, joints = lk.points, {j.name: j for j in lk.joints}
-
-    def angle(link: str) -> float:
-        if link == "ground" or len(lk.links[link].points) < 2:
-            return 0.0
-        first, second = lk.links[link].points[:2]
-        return float(np.angle(points[second] - points[first]))
-
-    if driver in lk.links:
-        value = angle(driver)
-    elif joints[driver].kind == "motor":
-        a, b = joints[driver].links
-        value = angle(b) - angle(a)
-    elif joints[driver].kind == "actuator":
-        start, end = joints[driver].points
-        value = float(abs(points[end] - points[start]))
-    else:  # slider or slot: (moving link, on)
-        joint = joints[driver]
-        on = joint.links[1]
-        ref = joint.through or (lk.ground_points[0] if on == "ground" else lk.links[on].points[0])
-        u = joint.direction
-        value = float((np.conj(u) * (points[joint.points[0]] - points[ref])).real)
-    m = lk.solve(np.array([value]))
-    size = max(abs(z) for z in points.values()) + 1e-300
-    if not m.ok[0] or any(abs(m.points[k][0] - z) > 1e-6 * size for k, z in points.items()):
-        raise ModelError(
-            f"could not read driver {driver!r}'s value in the drawn pose; give theta0= (its "
-            "value to start from)"
-        )
-    return value
+    """The driver's value in the drawn pose."""
+    return float(lk.drawn_inputs[driver])

@@ -287,26 +287,32 @@ class Table:
         """The coefficient vector at ``q`` (pure Python: called once per right-hand side)."""
         if self.period is None:
             x = (q - self.mid) / self.half
-            q = (
+            s = (
                 math.atanh(x)
                 if -self._tanh_edge < x < self._tanh_edge
                 else math.copysign(self.edge, x)
             )
-        u = (q - self.start) * self._inv_h
-        i = math.floor(u)
-        if self.period is not None:
-            turns, i = divmod(i, self.cells)
-        elif i >= self.cells:
-            i = self.cells - 1
-        elif i < 0:
-            i = 0
-        d = q - self.start - (i + turns * self.cells if self.period is not None else i) * self.h
+            i = math.floor((s - self.start) * self._inv_h)
+            i = 0 if i < 0 else self.cells - 1 if i >= self.cells else i
+            d = s - self.start - i * self.h
+        else:
+            i = math.floor((q - self.start) * self._inv_h)
+            d = q - self.start - i * self.h
+            i %= self.cells
         r = self.rows[i]
-        out = [((r[k] * d + r[k + 1]) * d + r[k + 2]) * d + r[k + 3] for k in self._k]
+        if self.functions == 4:  # no loads: the four coefficients, unrolled
+            out = [
+                ((r[0] * d + r[1]) * d + r[2]) * d + r[3],
+                ((r[4] * d + r[5]) * d + r[6]) * d + r[7],
+                ((r[8] * d + r[9]) * d + r[10]) * d + r[11],
+                ((r[12] * d + r[13]) * d + r[14]) * d + r[15],
+            ]
+        else:
+            out = [((r[k] * d + r[k + 1]) * d + r[k + 2]) * d + r[k + 3] for k in self._k]
         if self._trend:
             shift = q - self.start
-            for k, s in self._trend:
-                out[k] += s * shift
+            for k, slope in self._trend:
+                out[k] += slope * shift
         return out
 
     def many(self, q: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from .._summary import Summarized
 from ..errors import InputError, ModelError
 from ._integrate import parabola_peak
 
@@ -24,7 +25,7 @@ __all__ = ["PeriodicMotion", "steady_state"]
 
 
 @dataclass(frozen=True, eq=False)
-class PeriodicMotion:
+class PeriodicMotion(Summarized):
     """One turn of a crank's periodic steady state.
 
     Attributes

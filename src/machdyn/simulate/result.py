@@ -7,6 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from .._summary import Summarized
+
 __all__ = ["Energy", "Event", "Simulation", "SteadyState"]
 
 
@@ -74,7 +76,7 @@ class SteadyState:
 
 
 @dataclass(frozen=True)
-class Energy:
+class Energy(Summarized):
     """Energies and works along the simulation, from ``t = 0`` (arrays at the samples).
 
     The balance ``kinetic − kinetic[0] = motor + loads + model + damping``
@@ -99,7 +101,7 @@ class Energy:
 
 
 @dataclass(frozen=True, eq=False)
-class Simulation:
+class Simulation(Summarized):
     """The motion a motor and loads give a one-degree-of-freedom model, in time.
 
     Attributes

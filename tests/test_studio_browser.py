@@ -1,0 +1,471 @@
+"""The studio in a real browser (Chromium via Playwright), used as a person uses it:
+templates, dragging joints, building a six-bar with a slider by clicking, undo/redo,
+saving and reloading, a shared link, three-position synthesis, an unassemblable drag.
+
+What the page shows is checked against the library computed another way (FourBar's closed
+form for the coupler curve, ``three_position`` for the synthesis, the spec reader for the
+saved file). One server and one browser for the module; screenshots in tests/screenshots/.
+"""
+
+from __future__ import annotations
+
+import cmath
+import time
+
+import numpy as np
+import pytest
+
+import machdyn
+from browser import Page, chromium, screenshots
+from machdyn.fourbar import FourBar
+from machdyn.studio.templates import template as studio_template
+from machdyn.synthesis import three_position
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def studio(tmp_path_factory):
+    from machdyn.studio.server import Studio
+
+    s = Studio(tmp_path_factory.mktemp("studio") / "design.toml", port=0)
+    s.start()
+    yield s
+    s.stop()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with chromium() as b:
+        yield b
+
+
+@pytest.fixture
+def page(browser, studio):
+    p = Page(browser, width=1400, height=860)
+    p.page.goto(studio.url)
+    wait(p, 1)
+    yield p
+    p.close()
+
+
+def js(p, expr):
+    return p.page.evaluate(expr)
+
+
+def analysed(p) -> int:
+    return int(js(p, "() => Number(document.body.dataset.analysed || 0)"))
+
+
+def wait(p, count, timeout=30.0):
+    """Until the page has drawn ``count`` answers of the server (or more)."""
+    end = time.monotonic() + timeout
+    while analysed(p) < count:
+        if time.monotonic() > end:
+            raise AssertionError(f"the page drew {analysed(p)} answers, expected {count}")
+        p.page.wait_for_timeout(40)
+    p.page.wait_for_timeout(60)
+
+
+def settle(p, before, timeout=30.0):
+    """Until an answer newer than ``before`` is drawn and no request is in flight."""
+    wait(p, before + 1, timeout)
+    end = time.monotonic() + timeout
+    while js(p, "() => window.studio.analyst.busy || !!window.studio.analyst.waiting"):
+        if time.monotonic() > end:
+            raise AssertionError("the analysis never settled")
+        p.page.wait_for_timeout(40)
+    p.page.wait_for_timeout(80)
+
+
+def screen(p, x, y):
+    """Page coordinates of the drawing point (x, y)."""
+    box = p.page.locator("#canvas").bounding_box()
+    sx, sy = js(p, f"() => [window.studio.view.sx({x}), window.studio.view.sy({y})]")
+    return box["x"] + sx, box["y"] + sy
+
+
+def place(p, scale, tx, ty):
+    """Set the view: ``scale`` pixels per unit, the origin at (tx, ty) on the canvas."""
+    js(p, f"() => {{ const v = window.studio.view; v.scale = {scale}; v.tx = {tx}; v.ty = {ty}; }}")
+    js(p, "() => window.studio.draw()")
+
+
+def doc(p):
+    return js(p, "() => window.studio.store.doc")
+
+
+def part(p):
+    d = doc(p)
+    return next(iter(d["linkage"].values()))
+
+
+def click(p, x, y):
+    p.page.mouse.click(*screen(p, x, y))
+    p.page.wait_for_timeout(60)
+
+
+def template(p, name):
+    before = analysed(p)
+    p.page.select_option("#template", name)
+    settle(p, before)
+
+
+def no_errors(p, allowed=()):
+    errs = [e for e in p.errors if not any(a in e for a in allowed)]
+    assert not errs, errs
+
+
+def traced(p, name):
+    """The drawn trace of point ``name``: the page's data and the path on the screen."""
+    return js(
+        p,
+        f"""() => {{
+        const v = window.studio.view, s = v.scene, j = s.names.indexOf({name!r});
+        const d = document.querySelector('#canvas path.trace').getAttribute('d');
+        return {{x: s.x[j], y: s.y[j], d, tx: v.tx, ty: v.ty, scale: v.scale,
+                 theta: window.studio.result.x}};
+    }}""",
+    )
+
+
+def fourbar_curve(points, theta_deg):
+    """Coupler point P of a placed four-bar, by FourBar's closed form (not the page's solver)."""
+    O2, O4, A, B, P = (complex(*points[k]) for k in ("O2", "O4", "A", "B", "P"))
+    theta1 = cmath.phase(O4 - O2)
+    fb = FourBar(
+        abs(O4 - O2),
+        abs(A - O2),
+        abs(B - A),
+        abs(B - O4),
+        coupler=(abs(P - A), cmath.phase((P - A) / (B - A))),
+    )
+    form = 1 if cmath.phase((B - O4) / (B - A)) > 0 else 2
+    m = fb.solve(np.radians(theta_deg) - theta1, 1.0, form=form)
+    return O2 + np.asarray(m.coupler) * cmath.exp(1j * theta1)
+
+
+def test_four_bar_template_drag_a_pivot_and_the_coupler_curve_follows(page):
+    p = page
+    template(p, "four-bar")
+    p.shot("studio-01-four-bar")
+    before = analysed(p)
+    x0, y0 = screen(p, 80, 0)  # O4
+    x1, y1 = screen(p, 90, -5)
+    p.page.mouse.move(x0, y0)
+    p.page.mouse.down()
+    for k in range(1, 9):
+        p.page.mouse.move(x0 + (x1 - x0) * k / 8, y0 + (y1 - y0) * k / 8)
+        p.page.wait_for_timeout(30)
+    p.page.mouse.up()
+    settle(p, before)
+    p.shot("studio-02-dragged-pivot")
+    pts = part(p)["points"]
+    assert pts["O4"] == pytest.approx([90.0, -5.0])  # snapped to the grid
+    t = traced(p, "P")
+    ok = np.array([v is not None for v in t["x"]])
+    got = np.array([v if v is not None else np.nan for v in t["x"]]) + 1j * np.array(
+        [v if v is not None else np.nan for v in t["y"]]
+    )
+    want = fourbar_curve(pts, np.array(t["theta"], float))
+    assert ok.all()
+    assert np.nanmax(np.abs(got - want)) < 1e-5 * 100
+    # ... and the path on the screen is that curve, to a tenth of a pixel
+    d = t["d"].replace("M", " ").replace("L", " ").split()
+    screen_pts = np.array(d, float).reshape(-1, 2)
+    s = t["scale"]
+    world = (screen_pts[:, 0] - t["tx"]) / s + 1j * (t["ty"] - screen_pts[:, 1]) / s
+    assert np.max(np.min(np.abs(world[:, None] - want[None, :]), axis=1)) < 0.1 / t["scale"] + 1e-9
+    no_errors(p)
+
+
+def test_an_unassemblable_drag_is_reported(page):
+    p = page
+    template(p, "four-bar")
+    before = analysed(p)
+    x0, y0 = screen(p, 80, 0)
+    x1, y1 = screen(p, 130, 0)
+    p.page.mouse.move(x0, y0)
+    p.page.mouse.down()
+    p.page.mouse.move(x1, y1, steps=6)
+    p.page.mouse.up()
+    settle(p, before)
+    p.shot("studio-03-unassemblable")
+    banner = p.page.locator("#banner")
+    assert banner.is_visible()
+    text = banner.inner_text()
+    assert "cannot be solved" in text and "cannot assemble" in text
+    lk = machdyn.from_spec(doc(p))
+    theta = np.radians(js(p, "() => window.studio.result.x"))
+    m = lk.solve(theta)
+    shown = js(p, "() => window.studio.result.motion_ok")
+    assert shown == [bool(v) for v in m.ok] and not all(shown)
+    p.page.click("button[data-tab=analysis]")
+    problems = p.page.locator("ul.problems").inner_text()
+    assert "cannot assemble" in problems
+    p.shot("studio-04-problems-listed")
+    no_errors(p)
+
+
+def test_build_a_six_bar_with_a_slider_by_clicking_then_undo_and_redo(page):
+    p = page
+    p.page.select_option("#template", "blank")
+    p.page.wait_for_timeout(200)
+    p.page.click("button[data-tool=ground]")
+    place(p, 3, 150, 520)
+    click(p, 0, 0)
+    click(p, 80, 0)
+    p.page.click("button[data-tool=link]")
+    for xy in [(0, 0), (0, 30)]:
+        click(p, *xy)
+    p.page.keyboard.press("Enter")
+    for xy in [(0, 30), (50, 60)]:
+        click(p, *xy)
+    p.page.keyboard.press("Enter")
+    for xy in [(50, 60), (80, 0)]:
+        click(p, *xy)
+    p.page.keyboard.press("Enter")
+    for xy in [(50, 60), (140, 40)]:
+        click(p, *xy)
+    p.page.keyboard.press("Enter")
+    before = analysed(p)
+    p.page.click("button[data-tool=slider]")
+    click(p, 140, 40)
+    click(p, 170, 40)
+    settle(p, before)
+    p.shot("studio-05-six-bar-by-clicking")
+    pt = part(p)
+    assert len(pt["links"]) == 5 and next(iter(pt["sliders"].values()))["on"] == "ground"
+    assert pt["drive"] == ["link1"]
+    summary = js(p, "() => window.studio.result.summary")
+    assert summary["mobility"] == 1
+    assert [g["kind"] for g in summary["groups"]] == ["driver", "RRR", "RRP"]
+    lk = machdyn.from_spec(doc(p))
+    theta = np.radians(js(p, "() => window.studio.result.x"))
+    m = lk.solve(theta)
+    assert js(p, "() => window.studio.result.motion_ok") == [bool(v) for v in m.ok]
+    # undo back to the four-bar (the slider: its block link and joint at once), then redo
+    built = doc(p)
+    before = analysed(p)
+    p.page.keyboard.press("Control+z")
+    settle(p, before)
+    assert "sliders" not in part(p)
+    before = analysed(p)
+    p.page.keyboard.press("Control+y")
+    settle(p, before)
+    assert doc(p) == built
+    for _ in range(60):  # more than 50 steps back
+        p.page.keyboard.press("Control+z")
+    p.page.wait_for_timeout(300)
+    assert js(p, "() => window.studio.store.past.length") == 0
+    for _ in range(60):
+        p.page.keyboard.press("Control+y")
+    p.page.wait_for_timeout(500)
+    assert doc(p) == built
+    no_errors(p)
+
+
+def test_save_reload_and_a_shared_link_reproduce_the_design(page, studio, browser):
+    p = page
+    template(p, "watt")
+    before = analysed(p)
+    p.page.click("button[data-tab=design]")
+    p.page.mouse.click(*screen(p, 120, 60))  # select O6
+    p.page.fill("input[aria-label=x]", "125")
+    p.page.keyboard.press("Enter")
+    settle(p, before)
+    designed = doc(p)
+    p.page.click("#save")
+    p.page.wait_for_timeout(400)
+    assert "saved design.toml" in p.page.locator("#status").inner_text()
+    assert machdyn.spec.load_machine(studio.file).to_spec() == designed
+    # reload without the link: the saved file is opened
+    q = Page(browser, width=1400, height=860)
+    q.page.goto(studio.url)
+    wait(q, 1)
+    assert doc(q) == designed
+    q.close()
+    # the shared link alone reproduces it
+    p.page.click("#share")
+    p.page.wait_for_timeout(500)
+    link = js(p, "() => location.href")
+    assert "#d=" in link
+    r = Page(browser, width=1400, height=860)
+    r.page.goto(link)
+    wait(r, 1)
+    assert doc(r) == designed
+    r.shot("studio-06-shared-link")
+    no_errors(r)
+    r.close()
+
+
+def test_three_position_synthesis_on_the_canvas(page):
+    p = page
+    c = [0 + 5.086j, 2.019 + 3.181j, 3.933 + 4.051j]  # the notes' three-position table
+    d = [0.741 + 2.703j, 4.428 + 2.529j, 6.304 + 4.83j]
+    scale = 10.0  # drawn in mm, ten times the notes' numbers
+    p.page.click("button[data-tab=synthesis]")
+    p.page.uncheck("#snap")
+    place(p, 6, 300, 600)
+    p.page.click("text=Pick positions")
+    for k in range(3):
+        click(p, scale * c[k].real, scale * c[k].imag)
+        click(p, scale * d[k].real, scale * d[k].imag)
+    p.page.click("#run-motion")
+    p.page.wait_for_selector("td[data-key=lengths]")
+    p.shot("studio-07-three-position")
+    picked = js(p, "() => window.studio.synth.motion.pts")
+    cc = [complex(*picked[k]) for k in (0, 2, 4)]
+    dd = [complex(*picked[k]) for k in (1, 3, 5)]
+    ref = three_position(cc, dd)
+    shown = [float(v) for v in p.page.locator("td[data-key=lengths]").inner_text().split(",")]
+    assert shown == pytest.approx([ref.r1, ref.r2, ref.r3, ref.r4], rel=1e-3)
+    assert ref.r2 == pytest.approx(scale * 2.197, rel=2e-3)  # the notes' link 2
+    defects = p.page.locator("#tab-synthesis .result").inner_text()
+    assert ("No circuit" in defects) == (not ref.defects)
+    before = analysed(p)
+    p.page.click("#open-motion")
+    settle(p, before)
+    p.shot("studio-08-synthesised-linkage")
+    assert js(p, "() => window.studio.result.summary.mobility") == 1
+    no_errors(p)
+
+
+def test_a_bad_value_shows_the_key_and_the_reason_in_the_page(page):
+    p = page
+    template(p, "four-bar")
+    p.page.click("button[data-tab=design]")
+    p.page.mouse.click(*screen(p, 10, 17.32))  # the crank, half-way along
+    p.page.fill("input[aria-label=cg]", "O9")
+    p.page.keyboard.press("Enter")
+    p.page.wait_for_timeout(800)
+    status = p.page.locator("#status").inner_text()
+    assert "cg" in status and "O9" in status
+    p.page.click("button[data-tab=analysis]")
+    card = p.page.locator("#tab-analysis .card.error").inner_text()
+    assert "links.crank" in card and "cg" in card and "O9" in card
+    p.shot("studio-09-bad-value")
+    no_errors(p)
+    assert screenshots().is_dir()
+
+
+def test_switch_the_circuit_and_show_the_instant_centres(page):
+    p = page
+    template(p, "four-bar")
+    B = complex(*part(p)["points"]["B"])
+    p.page.click("button[data-tab=analysis]")
+    assert "GCRR" in p.page.locator("td[data-key=class]").inner_text()
+    before = analysed(p)
+    p.page.click("#tab-analysis button:has-text('switch')")
+    settle(p, before)
+    pts = {k: complex(*v) for k, v in part(p)["points"].items()}
+    u = (pts["O4"] - pts["A"]) / abs(pts["O4"] - pts["A"])
+    assert abs(pts["B"] - (pts["A"] + u * ((B - pts["A"]) / u).conjugate())) < 1e-6
+    before = analysed(p)
+    p.page.check("#centres")
+    settle(p, before)
+    p.shot("studio-10-switched-with-centres")
+    centres = js(p, "() => window.studio.view.centres.centres")
+    assert len(centres) == 6  # n (n - 1) / 2 centres of four bodies
+    labels = p.page.locator("#canvas .centres text").all_text_contents()
+    assert {"ground·crank", "crank·coupler", "coupler·rocker", "ground·rocker"} <= set(labels)
+    # I13 (ground, coupler) is where O2A and O4B meet, by hand
+    k = js(p, "() => window.studio.frame")
+    assert k == js(p, "() => window.studio.result.drawn")  # the pose drawn is the document's
+    O2, A, O4, B2 = pts["O2"], pts["A"], pts["O4"], pts["B"]
+    v, w = A - O2, B2 - O4
+    t = ((O4 - O2) * w.conjugate()).imag / (v * w.conjugate()).imag
+    ic = js(
+        p, "() => window.studio.view.centres.centres.find(c => c.pair.join() === 'ground,coupler')"
+    )
+    assert abs(complex(ic["x"][k], ic["y"][k]) - (O2 + t * v)) < 1e-3
+    no_errors(p)
+
+
+def test_path_synthesis_from_clicked_points(page):
+    p = page
+    template(p, "four-bar")
+    p.page.click("button[data-tab=synthesis]")
+    p.page.uncheck("#snap")
+    curve = js(p, "() => { const s = window.studio.view.scene, j = s.names.indexOf('P');"
+               " return s.x[j].map((x, i) => [x, s.y[j][i]]); }")  # fmt: skip
+    p.page.click("#pick-path")
+    for x, y in curve[::45]:  # eight points on the template's own coupler curve
+        click(p, x, y)
+    p.page.click("#pick-path")
+    p.page.click("#run-path")
+    p.page.wait_for_selector("table.candidates", timeout=120_000)
+    p.shot("studio-11-path-synthesis")
+    found = js(p, "() => window.studio.synth.path.result.candidates")
+    assert found and found[0]["max_distance"] < 0.05 * 100  # within 5 % of the path's size
+    targets = np.array([complex(x, y) for x, y in curve[::45]])
+    cand = found[0]
+    line = np.array([complex(*q) for q in cand["curve"] if q is not None])
+    gap = np.abs(targets[:, None] - line[None, :]).min(axis=1).max()
+    assert gap <= cand["max_distance"] + 0.02 * 100  # its curve passes near every target
+    no_errors(p)
+
+
+def test_a_coupler_point_added_to_a_link_traces_the_closed_form_curve(page):
+    p = page
+    template(p, "four-bar")
+    p.page.click("button[data-tab=design]")
+    corners = [part(p)["points"][k] for k in ("A", "B", "P")]
+    p.page.mouse.click(*screen(p, *np.mean(corners, axis=0)))  # the coupler plate's centroid
+    assert p.page.locator("h3 input.name").input_value() == "coupler"
+    p.page.click("#add-point")
+    before = analysed(p)
+    click(p, 60, 30)
+    settle(p, before)
+    pt = part(p)
+    new = next(n for n in pt["links"]["coupler"]["points"] if n not in ("A", "B", "P"))
+    assert new in pt["report"]
+    t = traced(p, new)
+    pts = {k: v for k, v in pt["points"].items() if k in ("O2", "O4", "A", "B")}
+    pts["P"] = pt["points"][new]
+    got = np.array(t["x"], float) + 1j * np.array(t["y"], float)
+    assert np.max(np.abs(got - fourbar_curve(pts, np.array(t["theta"], float)))) < 1e-3
+    p.shot("studio-12-coupler-point-added")
+    no_errors(p)
+
+
+def test_names_are_text_files_open_and_exports_download(page, tmp_path):
+    p = page
+    template(p, "slider-crank")
+    p.page.click("button[data-tab=design]")
+    p.page.mouse.click(*screen(p, *js(p, "() => window.studio.view.pointAt('A')")))
+    evil = '<img src=x onerror="alert(1)">'
+    before = analysed(p)
+    p.page.fill("h3 input.name", evil)
+    p.page.keyboard.press("Enter")
+    settle(p, before)
+    assert evil in part(p)["points"]
+    labels = p.page.locator("#canvas text.label").all_text_contents()
+    assert evil in labels  # shown as text ...
+    assert p.page.locator("#canvas img, #side img").count() == 0  # ... never as markup
+    assert not p.dialogs
+    # open a machine file through the file picker (the same path as a drop)
+    f = tmp_path / "watt.toml"
+    f.write_text(machdyn.spec.dumps(studio_template("watt")))
+    before = analysed(p)
+    p.page.set_input_files("#open-file", str(f))
+    settle(p, before)
+    assert next(iter(doc(p)["linkage"])) == "watt"
+    # ... and by dropping it on the page
+    text = f.read_text()
+    before = analysed(p)
+    p.page.evaluate(
+        "(t) => { const dt = new DataTransfer(); dt.items.add(new File([t], 'dropped.toml'));"
+        " window.dispatchEvent(new DragEvent('drop', {dataTransfer: dt, cancelable: true})); }",
+        text.replace("Watt II six-bar", "dropped"),
+    )
+    settle(p, before)
+    assert doc(p)["title"] == "dropped"
+    with p.page.expect_download() as info:
+        p.page.select_option("#export", "csv")
+    path = info.value.path()
+    with open(path, encoding="utf-8") as f:
+        header = f.readline().strip().split(",")
+    assert header[0] == "theta_crank [deg]" and "T_crank [N*m]" in header
+    p.shot("studio-13-opened-and-exported")
+    no_errors(p)
