@@ -142,6 +142,13 @@ def scalar_kernel() -> ModuleType:
     return _scalar
 
 
+def _kernel_failure(exc: Exception) -> bool:
+    """Whether ``exc`` is the compiled kernel failing (not, say, a signal's timeout)."""
+    own = (ArithmeticError, LookupError, RuntimeError, TypeError, ValueError, MemoryError,
+           AssertionError, ImportError, OSError)  # fmt: skip
+    return isinstance(exc, own) or type(exc).__module__.startswith("numba")
+
+
 def compiled_kernel(n: int) -> ModuleType | None:
     """The compiled kernels if the jit rule serves a call of ``n`` poses with them."""
     global _compiled, _failed
@@ -153,6 +160,8 @@ def compiled_kernel(n: int) -> ModuleType | None:
 
             module.warm_up()
         except Exception as exc:  # an optional accelerator: NumPy serves
+            if not _kernel_failure(exc):
+                raise
             _failed = f"{type(exc).__name__}: {exc}"
             return None
         _compiled = module
@@ -218,6 +227,8 @@ def run_compiled(kern, program, tables, U, order, follow) -> Outputs | None:
                         t.theta0, t.start, t.scale, STEP, out.ang, len(program.deps))  # fmt: skip
             out.unwrapped = True
     except Exception as exc:  # NumPy is the reference: it serves from now on
+        if not _kernel_failure(exc):
+            raise
         _failed = f"{type(exc).__name__}: {exc}"
         warnings.warn(
             f"the compiled linkage kernel failed ({_failed}); NumPy serves",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -38,14 +39,15 @@ def solve(
     jrk = None if jerk is None else _per_driver("jerk", jerk, drivers, False)
     if vel is None and jrk is not None:
         raise ModelError("jerk needs the driver velocity too (velocity=...)")
+    shapes = {v.shape for v in vals.values()}
     try:
-        shape = np.broadcast_shapes(*(np.shape(v) for v in vals.values()))
+        shape = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
     except ValueError:
         raise InputError(
             "values",
             f"driver arrays of shapes {[np.shape(v) for v in vals.values()]} do not broadcast",
         ) from None
-    n = int(np.prod(shape))
+    n = math.prod(shape)
     cont = continuation if continuation is not None else (len(shape) <= 1 and n > 1)
     from .sweep import solve_closed
 

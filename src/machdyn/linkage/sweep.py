@@ -13,6 +13,7 @@ the angle within π of the drawn one.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -241,7 +242,7 @@ def solve_closed(
     info = _info(lk, model)
     program = model.program
     drivers = tuple(lk._drivers)
-    n = int(np.prod(shape))
+    n = math.prod(shape)
     order = 0 if vel is None else 3 if jrk is not None else 2
     U = np.zeros((4 * len(drivers), n))
     for d, name in enumerate(drivers):
@@ -253,8 +254,12 @@ def solve_closed(
         out = _follow(program, info, U, order)
     else:
         out = run(program, info.tables, U, order, False)
-    ok, reason = _flags(out, model, info, n)
-    for g in np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
+    clean = not out.codes.any()  # the usual case: every group assembled, away from toggles
+    if clean:
+        ok, reason = np.ones(n, bool), np.full(n, "", dtype=object)
+    else:
+        ok, reason = _flags(out, model, info, n)
+    for g in () if clean else np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
         where = _reach(lk, model, info, int(g))
         if where:
             mine = reason == info.texts[g][0]
@@ -274,9 +279,10 @@ def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs
     unwrapped = tables.wrapped
     if not unwrapped.size and not has_general(program):
         return run(program, tables, U, order, True)
-    if program.encoded is not None and kernel.compiled_kernel(U.shape[1]) is not None:
-        out = run(program, tables, U, order, True)
-        if out.unwrapped:
+    kern = kernel.compiled_kernel(U.shape[1]) if program.encoded is not None else None
+    if kern is not None:
+        out = kernel.run_compiled(kern, program, tables, U, order, True)
+        if out is not None and out.unwrapped:
             return out
     path, tags = _path(info.start, info.scale, U[0::4])
     take = np.flatnonzero(tags < 0)
@@ -419,21 +425,24 @@ def _motion(
     rows = info.rows
     nm, npt, nln = len(rows["links"]), len(rows["points"]), len(rows["lengths"])
     size = len(info.tables.pts_i)
-
-    def block(a: np.ndarray, start: int, count: int) -> np.ndarray:
-        part = a[start : start + count]
-        return part.reshape(part.shape[0], *shape)
-
-    theta = _Rows(rows["links"], block(out.ang, 0, nm))
-    rot = [_Rows(rows["links"], block(out.rot, k * nm, nm)) for k in range(order)]
-    pts = [_Rows(rows["points"], block(out.pts, k * size, npt)) for k in range(order + 1)]
-    cgs = [_Rows(rows["cgs"], block(out.pts, k * size + npt, nm)) for k in range(order + 1)]
-    lens = [_Rows(rows["lengths"], block(out.lens, k * nln, nln)) for k in range(order + 1)]
+    for a in (out.ang, out.rot, out.pts, out.lens):
+        a.flags.writeable = False  # every view below inherits it
+    ang = out.ang.reshape(nm, *shape)
+    R = out.rot.reshape(order, nm, *shape)
+    P = out.pts.reshape(order + 1, size, *shape)
+    L = out.lens.reshape(order + 1, nln, *shape)
+    theta = _Rows(rows["links"], ang)
+    rot = [_Rows(rows["links"], R[k]) for k in range(order)]
+    pts = [_Rows(rows["points"], P[k, :npt]) for k in range(order + 1)]
+    cgs = [_Rows(rows["cgs"], P[k, npt:]) for k in range(order + 1)]
+    lens = [_Rows(rows["lengths"], L[k]) for k in range(order + 1)]
 
     def at(seq: list, k: int) -> Any:
         return seq[k] if k < len(seq) else None
 
-    inputs = {k: np.array(np.broadcast_to(v, shape)) for k, v in vals.items()}
+    inputs = {
+        k: np.array(v if v.shape == shape else np.broadcast_to(v, shape)) for k, v in vals.items()
+    }
     return LinkageMotion(
         inputs=_frozen(inputs),
         theta=theta,
@@ -465,7 +474,8 @@ class _Rows(Mapping):
     __slots__ = ("_data", "_index", "_names")
 
     def __init__(self, names: tuple[str, ...], data: np.ndarray) -> None:
-        data.flags.writeable = False
+        if data.flags.writeable:
+            data.flags.writeable = False
         self._names, self._data = names, data
         self._index: dict[str, int] | None = None
 
