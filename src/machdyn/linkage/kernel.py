@@ -213,6 +213,9 @@ def run_compiled(kern, program, tables, U, order, follow) -> Outputs | None:
     n = U.shape[1]
     enc = program.encoded
     out = _empty(program, tables, n, order)
+    if n == 0:  # nothing to do (and empty arrays would make numba compile another signature)
+        out.unwrapped = True
+        return out
     t = tables
     args = (enc.pi, enc.pf, enc.ns, U, order, program.n_links, t.links, t.exact, t.theta0,
             t.pts_i, t.pts_f, t.lens_i, t.lens_f, out.ang, out.rot, out.pts.real,
