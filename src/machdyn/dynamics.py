@@ -463,6 +463,7 @@ def _fourbar_newton_euler(
 ) -> dict[str, np.ndarray]:
     """Norton eq. 11.10 eliminated in closed form, for flat arrays of samples."""
     from .linkage import newton_euler  # on first use: machdyn.linkage is heavy to import
+
     m2, m3, m4 = props.mass
     I2, I3, I4 = props.inertia
     c2, c3, c4 = props.cg
@@ -962,6 +963,7 @@ def slidercrank_forces(
     True
     """
     from .linkage import newton_euler  # on first use: machdyn.linkage is heavy to import
+
     instance("slidercrank", slidercrank, SliderCrank)
     instance("motion", motion, SliderCrankMotion, "a SliderCrankMotion (from SliderCrank.solve)")
     friction = choice("friction", friction, _FRICTION_MODELS)
