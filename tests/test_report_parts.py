@@ -206,3 +206,29 @@ def test_parts_without_a_report_show_their_curve_or_drawing(cli, tmp_path):
     # both synthesised four-bars drawn (the motion task in its three precision positions)
     assert len(re.findall(r'<svg id="[^"]+" class="machdyn-drawing"', page)) == 2
     assert "in its 3 precision positions" in page
+
+
+def test_transmission_angles_with_their_limit_in_closed_form(sc):
+    # slider-crank: μ = 90° − |rod angle|, sin(rod angle) = (a sin θ2 − c)/b, smallest at 270°
+    page = report(sc, n=360)
+    expected = 90.0 - np.degrees(np.arcsin((2.0 + 0.5) / 6.0))
+    assert number(cell(page, "mu_min_deg")) == pytest.approx(expected, abs=5e-3)
+    assert f"μ min = {expected:.2f}° at θ2 = 270.0°" in page  # the chart marks it
+    assert "limit 40°" in page
+
+
+def test_linkage_report_draws_the_transmission_angle_of_every_dyad():
+    from test_report import watt
+
+    lk = watt()
+    page = report(lk, velocity=10.0, n=360)
+    x = np.radians(np.linspace(0.0, 360.0, 360))
+    m = lk.solve({"2": x})
+    P = {k: np.ravel(v) for k, v in m.points.items()}
+    # μ written here from the pins: the acute angle between the two links at B and at D
+    for key, (mid, a, b) in {"mu_min_0": ("B", "A", "O4"), "mu_min_1": ("D", "C", "O6")}.items():
+        ang = np.abs(np.angle((P[a] - P[mid]) / (P[b] - P[mid])))
+        mu = np.degrees(np.minimum(ang, np.pi - ang))
+        assert number(cell(page, key)) == pytest.approx(np.nanmin(mu), abs=0.3)  # 1° sweep
+    for group in ("RRR dyad (3, 4)", "RRR dyad (5, 6)"):  # a chart each, with the limit
+        assert f"transmission angle of the {group}" in page
