@@ -399,7 +399,9 @@ def _force_sections(
     xunit = xlabel.rsplit("(", 1)[-1].rstrip(")")
 
     def at(j: int) -> str:
-        return f"{esc(where)} = {xs[j]:.4g}{'°' if xunit == 'deg' else ' ' + esc(xunit)}"
+        if xunit == "deg":  # an angle is named within the turn
+            return f"{esc(where)} = {xs[j] % 360.0:.4g}°"
+        return f"{esc(where)} = {xs[j]:.4g} {esc(xunit)}"
 
     for (a, b), F in f.pins.items():
         mag = np.where(ok, np.abs(np.ravel(F)), np.nan)
