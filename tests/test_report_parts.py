@@ -232,3 +232,21 @@ def test_linkage_report_draws_the_transmission_angle_of_every_dyad():
         assert number(cell(page, key)) == pytest.approx(np.nanmin(mu), abs=0.3)  # 1° sweep
     for group in ("RRR dyad (3, 4)", "RRR dyad (5, 6)"):  # a chart each, with the limit
         assert f"transmission angle of the {group}" in page
+
+
+def test_the_flywheel_check_fails_on_a_wrong_energy():
+    from machdyn.flywheel import size_flywheel
+    from machdyn.report.checks import flywheel_energy
+
+    th = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+    T = 10.0 + 4.0 * np.sin(2 * th) + np.cos(3 * th)
+    right = size_flywheel(th, T, 12.0, 0.05)
+    assert flywheel_energy(th, T, right).passed
+    # ΔE of this curve in closed form: T − T_avg = 4 sin 2θ + cos 3θ; its integral's spread
+    E = -2.0 * np.cos(2 * np.linspace(0, 2 * np.pi, 100_001)) + np.sin(
+        3 * np.linspace(0, 2 * np.pi, 100_001)
+    ) / 3.0
+    assert right.delta_e == pytest.approx(np.ptp(E), rel=1e-3)
+    # the sizing checked against a torque 1 % larger fails, and so does an inertia 1 % off
+    assert not flywheel_energy(th, T * 1.01, right).passed
+    assert not flywheel_energy(th, T, replace(right, inertia=right.inertia * 1.01)).passed
