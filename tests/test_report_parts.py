@@ -243,9 +243,10 @@ def test_the_flywheel_check_fails_on_a_wrong_energy():
     right = size_flywheel(th, T, 12.0, 0.05)
     assert flywheel_energy(th, T, right).passed
     # ΔE of this curve in closed form: T − T_avg = 4 sin 2θ + cos 3θ; its integral's spread
-    E = -2.0 * np.cos(2 * np.linspace(0, 2 * np.pi, 100_001)) + np.sin(
-        3 * np.linspace(0, 2 * np.pi, 100_001)
-    ) / 3.0
+    E = (
+        -2.0 * np.cos(2 * np.linspace(0, 2 * np.pi, 100_001))
+        + np.sin(3 * np.linspace(0, 2 * np.pi, 100_001)) / 3.0
+    )
     assert right.delta_e == pytest.approx(np.ptp(E), rel=1e-3)
     # the sizing checked against a torque 1 % larger fails, and so does an inertia 1 % off
     assert not flywheel_energy(th, T * 1.01, right).passed
