@@ -1095,6 +1095,7 @@ def _add_general(c, fn, meth) -> None:
     fn("machdyn.linkage:Linkage", points={"O2": (0, 0), "A": (1, 0)})
     c["machdyn.linkage:Linkage"].accepts["points"] = {"none"}
     meth("machdyn.linkage:Linkage.point", lk, name="P", xy=(1.0, 2.0))
+    c["machdyn.linkage:Linkage.point"].accepts["xy"] = {"complex"}  # x + yj is a point
     meth("machdyn.linkage:Linkage.position", lk, name="A")
     meth("machdyn.linkage:Linkage.mobility", lk)
     meth("machdyn.linkage:Linkage.loop_system", lk)
