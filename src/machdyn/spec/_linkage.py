@@ -375,6 +375,9 @@ def _build(ctx: Context, path: tuple, v: dict) -> Any:
     for i, p in enumerate(v.get("report", []), start=1):
         with ctx.at((*path, "report", i)):
             lk.position(p)
+            if p not in lk.ground_points and not any(p in ln.points for ln in lk.links.values()):
+                msg = f"point {p!r} is on no link: list it in a link's points to report it"
+                raise ctx.error((*path, "report", i), msg)
     _check_loads(ctx, path, v, lk)
     v["motion"] = _motions(ctx, path, v.get("motion", {}), lk)
     lk.units = None if ctx.system.is_unit_free else ctx.system
