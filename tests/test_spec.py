@@ -397,9 +397,8 @@ def test_loads_reads_text_as_load_machine_reads_the_file(tmp_path):
     with pytest.raises(SpecError, match=r"^dropped\.toml:8: \[fourbar\.a\] r2: expected a length"):
         loads(bad, "dropped.toml")
     # JSON by the name's ending; an old linkage file is upgraded
-    assert loads('{"machdyn": 1, "fourbar": {"a": {"r1": 8, "r2": 4, "r3": 7, "r4": 6}}}', "a.json")[
-        "a"
-    ].lengths == (8.0, 4.0, 7.0, 6.0)
+    json_text = '{"machdyn": 1, "fourbar": {"a": {"r1": 8, "r2": 4, "r3": 7, "r4": 6}}}'
+    assert loads(json_text, "a.json")["a"].lengths == (8.0, 4.0, 7.0, 6.0)
     old = 'ground = ["O2"]\ndrive = ["c"]\n[points]\nO2 = [0, 0]\nA = [1, 0]\n'
     old += '[[link]]\nname = "c"\npoints = ["O2", "A"]\n'
     assert loads(old, "old.toml").legacy
