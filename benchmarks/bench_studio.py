@@ -130,16 +130,24 @@ def drag(page, doc: dict, point: str, steps: int) -> tuple[list[float], list[flo
     px, py = box["x"] + sx, box["y"] + sy
     page.mouse.move(px, py)
     page.mouse.down()
-    latencies, peers = [], []
+    latencies, peers, parts = [], [], []
     for k in range(steps):
         n = analysed(page)
         angle = 2 * np.pi * k / steps
         page.mouse.move(px + 6 * np.cos(angle), py + 6 * np.sin(angle))
         wait(page, n + 1)
-        latencies.append(float(page.evaluate("() => window.studio.lastLatency")))
+        t = page.evaluate("() => window.studio.timing")
+        latencies.append(float(t["total"]))
+        parts.append((t["server"] or 0.0, t["trip"], t["draw"]))
         if k % 4 == 0:
             peers.append(1000 * peer(page.evaluate("() => window.studio.store.doc")))
     page.mouse.up()
+    server, trip, draw = (statistics.median(p[k] for p in parts) for k in range(3))
+    print(
+        f"  {point} of {doc['title']}: median server {server:.1f} ms, rest of the round trip "
+        f"{trip:.1f} ms, drawing {draw:.1f} ms",
+        flush=True,
+    )
     return latencies, peers
 
 

@@ -232,7 +232,7 @@ def test_the_report_renders_and_plays(tab, tmp_path):
         "selfcheck",
     ):
         assert page.locator(f"section#{section}").count() == 1, section
-    assert page.locator("table.checks td.state").all_inner_texts() == ["pass"] * 7
+    assert page.locator("table.checks td.state").all_inner_texts() == ["pass"] * 11
     charts = page.locator("svg.chart")
     assert charts.count() >= 10
     for k in range(charts.count()):  # every chart is laid out with a real size

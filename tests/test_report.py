@@ -87,7 +87,8 @@ def test_report_numbers_equal_the_api(hw6, hw6_page):
 
 def test_every_self_check_passes_on_the_solved_motion(hw6_page):
     states = checks_of(hw6_page)
-    assert len(states) == 7 and set(states.values()) == {"pass"}, states
+    # 6 motion checks, link angles, 3 force checks (power, equilibrium, momentum), flywheel
+    assert len(states) == 11 and set(states.values()) == {"pass"}, states
 
 
 def wrong_motions(fb):
@@ -121,13 +122,15 @@ def test_self_checks_fail_on_a_wrong_motion(hw6):
         "loop closure: accelerations",
         "finite differences: acceleration",
         "power balance",
+        "equilibrium of each link",
+        "momentum: shaking force and moment",
     }
     # a wrong angular velocity: the velocity field, Kennedy's rule and the power balance
     assert {"loop closure: velocities", "Kennedy's rule", "power balance"} <= failed["ω3 × 1.01"]
     # the output's rate against the differences of its positions
     assert "finite differences: velocity" in failed["ω4 × 1.01"]
     # a wrong position: the loop itself (and the fields built on it)
-    assert "loop closure: positions" in failed["B moved by 1e-5"]
+    assert {"loop closure: positions", "link angles"} <= failed["B moved by 1e-5"]
     # every check is failed by one of the wrong motions
     names = {c.name for c in fourbar_checks(hw6, right, 10.0, f, MASS, INERTIA, CG)}
     assert set().union(*failed.values()) == names

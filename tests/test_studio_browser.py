@@ -18,6 +18,7 @@ import pytest
 import machdyn
 from browser import Page, chromium, screenshots
 from machdyn.fourbar import FourBar
+from machdyn.studio.templates import template as studio_template
 from machdyn.synthesis import three_position
 
 pytestmark = pytest.mark.slow
@@ -402,4 +403,69 @@ def test_path_synthesis_from_clicked_points(page):
     line = np.array([complex(*q) for q in cand["curve"] if q is not None])
     gap = np.abs(targets[:, None] - line[None, :]).min(axis=1).max()
     assert gap <= cand["max_distance"] + 0.02 * 100  # its curve passes near every target
+    no_errors(p)
+
+
+def test_a_coupler_point_added_to_a_link_traces_the_closed_form_curve(page):
+    p = page
+    template(p, "four-bar")
+    p.page.click("button[data-tab=design]")
+    corners = [part(p)["points"][k] for k in ("A", "B", "P")]
+    p.page.mouse.click(*screen(p, *np.mean(corners, axis=0)))  # the coupler plate's centroid
+    assert p.page.locator("h3 input.name").input_value() == "coupler"
+    p.page.click("#add-point")
+    before = analysed(p)
+    click(p, 60, 30)
+    settle(p, before)
+    pt = part(p)
+    new = next(n for n in pt["links"]["coupler"]["points"] if n not in ("A", "B", "P"))
+    assert new in pt["report"]
+    t = traced(p, new)
+    pts = {k: v for k, v in pt["points"].items() if k in ("O2", "O4", "A", "B")}
+    pts["P"] = pt["points"][new]
+    got = np.array(t["x"], float) + 1j * np.array(t["y"], float)
+    assert np.max(np.abs(got - fourbar_curve(pts, np.array(t["theta"], float)))) < 1e-3
+    p.shot("studio-12-coupler-point-added")
+    no_errors(p)
+
+
+def test_names_are_text_files_open_and_exports_download(page, tmp_path):
+    p = page
+    template(p, "slider-crank")
+    p.page.click("button[data-tab=design]")
+    p.page.mouse.click(*screen(p, *js(p, "() => window.studio.view.pointAt('A')")))
+    evil = '<img src=x onerror="alert(1)">'
+    before = analysed(p)
+    p.page.fill("h3 input.name", evil)
+    p.page.keyboard.press("Enter")
+    settle(p, before)
+    assert evil in part(p)["points"]
+    labels = p.page.locator("#canvas text.label").all_text_contents()
+    assert evil in labels  # shown as text ...
+    assert p.page.locator("#canvas img, #side img").count() == 0  # ... never as markup
+    assert not p.dialogs
+    # open a machine file through the file picker (the same path as a drop)
+    f = tmp_path / "watt.toml"
+    f.write_text(machdyn.spec.dumps(studio_template("watt")))
+    before = analysed(p)
+    p.page.set_input_files("#open-file", str(f))
+    settle(p, before)
+    assert next(iter(doc(p)["linkage"])) == "watt"
+    # ... and by dropping it on the page
+    text = f.read_text()
+    before = analysed(p)
+    p.page.evaluate(
+        "(t) => { const dt = new DataTransfer(); dt.items.add(new File([t], 'dropped.toml'));"
+        " window.dispatchEvent(new DragEvent('drop', {dataTransfer: dt, cancelable: true})); }",
+        text.replace("Watt II six-bar", "dropped"),
+    )
+    settle(p, before)
+    assert doc(p)["title"] == "dropped"
+    with p.page.expect_download() as info:
+        p.page.select_option("#export", "csv")
+    path = info.value.path()
+    with open(path, encoding="utf-8") as f:
+        header = f.readline().strip().split(",")
+    assert header[0] == "theta_crank [deg]" and "T_crank [N*m]" in header
+    p.shot("studio-13-opened-and-exported")
     no_errors(p)

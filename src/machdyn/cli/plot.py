@@ -14,7 +14,6 @@ import typer
 
 from ..errors import InputError
 from ..fourbar import FourBar
-from .fourbar import _parse_coupler
 
 __all__ = ["OUTPUT_KINDS", "animate"]
 
@@ -59,6 +58,8 @@ def animate(
         raise InputError("--form", f"must be 1 or 2, got {form}")
     if frames is not None and frames < 2:
         raise InputError("--frames", f"must be at least 2, got {frames}")
+    from .fourbar import _parse_coupler  # here: cli.fourbar imports the app, which imports us
+
     fb = FourBar(r1, r2, r3, r4, coupler=_parse_coupler(coupler))
     if kind == ".html":
         from ..viewer import to_html

@@ -16,14 +16,18 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Chart", "Series", "nice_ticks"]
+__all__ = ["Chart", "Series", "figure", "nice_ticks"]
 
 COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2")
 
 
 @dataclass(frozen=True)
 class Series:
-    """One curve (``x``, ``y``; NaN is a gap), or marked points with ``marker``."""
+    """One curve (``x``, ``y``; NaN is a gap), or marked points with ``marker``.
+
+    ``gid`` names the drawn line (matplotlib gid, ``data-series`` in SVG) so
+    that it can be found again.
+    """
 
     x: np.ndarray
     y: np.ndarray
@@ -32,6 +36,7 @@ class Series:
     dashed: bool = False
     marker: bool = False
     width: float = 1.5
+    gid: str = ""
 
 
 @dataclass(frozen=True)
@@ -90,11 +95,13 @@ class Chart:
     def to_mpl(self, ax: Any) -> Any:
         """Draw the chart on matplotlib Axes (returns them)."""
         for k, s in enumerate(self.series):
-            colour = s.colour or f"C{k}"
+            colour = s.colour or COLOURS[k % len(COLOURS)]
             if s.marker:
-                ax.plot(s.x, s.y, "o", color=colour, ms=5, label=s.label or None, zorder=5)
+                (line,) = ax.plot(
+                    s.x, s.y, "o", color=colour, ms=5, label=s.label or None, zorder=5
+                )
             else:
-                ax.plot(
+                (line,) = ax.plot(
                     s.x,
                     np.ma.masked_invalid(s.y),
                     color=colour,
@@ -102,10 +109,19 @@ class Chart:
                     ls="--" if s.dashed else "-",
                     label=s.label or None,
                 )
+            if s.gid:
+                line.set_gid(s.gid)
         for x, lo, hi, colour in self.bands:
             ax.fill_between(x, lo, hi, color=colour, alpha=0.25, lw=0)
         for y, label, colour in self.hlines:
-            ax.axhline(y, color=colour, ls="--", lw=1.0, label=label or None)
+            ax.axhline(
+                y,
+                color=colour,
+                ls="--" if label else "-",
+                lw=1.0 if label else 0.6,
+                label=label or None,
+                zorder=0 if not label else 2,
+            )
         for x, y, text in self.notes:
             t = ax.annotate(
                 text,
@@ -124,7 +140,7 @@ class Chart:
         ax.set_ylabel(self.ylabel)
         ax.set_title(self.title, fontsize=9)
         ax.grid(True, lw=0.3)
-        if any(s.label for s in self.series) or self.hlines:
+        if any(s.label for s in self.series) or any(label for _, label, _ in self.hlines):
             ax.legend(fontsize=7.5, loc="best")
         return ax
 
@@ -217,6 +233,7 @@ class Chart:
                         out.append(f'<circle cx="{a:.1f}" cy="{b:.1f}" r="3.5" fill="{colour}"/>')
                 continue
             dash = ' stroke-dasharray="5 3"' if s.dashed else ""
+            dash += f' data-series="{e(s.gid)}"' if s.gid else ""
             for run in _runs(np.isfinite(x) & np.isfinite(y)):
                 if run.stop - run.start > 1:
                     pts = zip(X(x[run]), Y(y[run]), strict=True)
@@ -224,6 +241,9 @@ class Chart:
                         f'<polyline points="{_pts(pts)}" fill="none" stroke="{colour}" '
                         f'stroke-width="{s.width}"{dash}/>'
                     )
+                elif run.stop - run.start == 1:  # an isolated sample: a dot, not nothing
+                    a, b = float(X(x[run.start])), float(Y(y[run.start]))
+                    out.append(f'<circle cx="{a:.1f}" cy="{b:.1f}" r="1.5" fill="{colour}"/>')
         out.append("</g>")
         for x, y, text in self.notes:
             px = float(X(x))
@@ -280,3 +300,49 @@ def nice_ticks(lo: float, hi: float, target: int = 6) -> list[float]:
     step = next(m * mag for m in (1, 2, 2.5, 5, 10) if m * mag >= raw)
     first = math.ceil(lo / step) * step
     return [float(round(first + i * step, 12)) for i in range(int((hi - first) / step + 1e-9) + 1)]
+
+
+def figure(
+    charts: list[Chart],
+    *,
+    fig: Any = None,
+    columns: int = 1,
+    sharex: bool = False,
+    panel: tuple[float, float] = (7.0, 1.9),
+) -> Any:
+    """Draw ``charts`` on one matplotlib Figure, a panel each (returns the Figure).
+
+    The charts are the plots' descriptions; this is their one matplotlib
+    renderer (the report writes the same charts as inline SVG). With
+    ``sharex`` the panels of a column share the x axis and only the bottom one
+    is labelled.
+
+    Examples
+    --------
+    >>> c = Chart("a", "x (s)", "y (m)", [Series(np.arange(3.0), np.ones(3), gid="y")])
+    >>> fig = figure([c, c], sharex=True)
+    >>> [ax.get_ylabel() for ax in fig.axes], fig.axes[1].lines[0].get_gid()
+    (['y (m)', 'y (m)'], 'y')
+    >>> import matplotlib.pyplot as plt; plt.close("all")
+    """
+    if not charts:
+        from ..errors import InputError
+
+        raise InputError("charts", "give at least one chart")
+    cols = max(1, min(int(columns), len(charts)))
+    rows = -(-len(charts) // cols)
+    if fig is None:  # pyplot's, so that plt.show() and notebooks show it
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(figsize=(panel[0] * cols, panel[1] * rows + 0.6), layout="constrained")
+    axes = fig.subplots(rows, cols, sharex=sharex, squeeze=False)
+    flat = axes.T.ravel() if sharex else axes.ravel()  # a shared column is read top to bottom
+    for ax, chart in zip(flat, charts, strict=False):
+        chart.to_mpl(ax)
+    for ax in flat[len(charts) :]:
+        ax.set_visible(False)
+    if sharex:
+        for ax in flat[: len(charts)]:
+            if not ax.get_subplotspec().is_last_row():
+                ax.set_xlabel("")
+    return fig

@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from .chart import Chart, Series
+from .chart import Chart, Series, figure
+from .units import Units
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -56,6 +57,14 @@ def force_units(length_unit: str | None) -> tuple[str, str]:
     return f"kg·{length_unit}/s²", f"kg·{length_unit}²/s²"
 
 
+def _shown(units: Any, kind: str, unit: str) -> tuple[Any, str]:
+    """``(convert, label)``: the model's units when given, else the label ``unit`` as it is."""
+    if units is None:
+        return (lambda v: v), unit
+    u = Units.of(units)
+    return (lambda v: u.show(kind, v)), u.unit(kind)
+
+
 def _gaps(values: Any, ok: Any = None) -> np.ndarray:
     v = np.array(np.ravel(np.asarray(values)), dtype=complex if np.iscomplexobj(values) else float)
     if ok is not None:
@@ -66,9 +75,9 @@ def _gaps(values: Any, ok: Any = None) -> np.ndarray:
 def _axes(ax: Any, figsize: tuple[float, float]) -> Axes:
     if ax is not None:
         return ax
-    from matplotlib.figure import Figure
+    import matplotlib.pyplot as plt  # pyplot's figure: plt.show() and notebooks show it
 
-    return Figure(figsize=figsize, layout="constrained").add_subplot()
+    return plt.figure(figsize=figsize, layout="constrained").add_subplot()
 
 
 # --------------------------------------------------------------------------------------
@@ -123,18 +132,36 @@ def plot_transmission_angle(
 
 
 def pin_force_charts(
-    forces: Mapping[str, Any], *, ok: Any = None, theta2: Any = None, unit: str = "force units"
+    forces: Mapping[str, Any],
+    *,
+    ok: Any = None,
+    theta2: Any = None,
+    unit: str = "force units",
+    units: Any = None,
+    where: str = "θ2",
 ) -> list[Chart]:
     """One polar chart per pin force, as Norton's programs draw them: the locus of the force's tip.
 
     The pin is at the origin, both axes at the same scale; the largest force
     is drawn as a point and named with its magnitude, direction and input angle.
+    ``units`` (a model's :class:`~machdyn.units.UnitSystem`, or
+    :class:`~machdyn.draw.units.Units`) converts the forces to its force unit
+    and labels them; otherwise they are drawn as given and labelled ``unit``.
+    ``theta2`` (radians) are the input angles named ``where`` in the titles.
+
+    Examples
+    --------
+    >>> from machdyn.units import UnitSystem
+    >>> c = pin_force_charts({"F32": [1000.0 + 0j, 2000j]}, units=UnitSystem(length="mm"))[0]
+    >>> c.xlabel, c.title
+    ('Fx (N)', 'F32: max |F| = 2 N, 90.0°')
     """
     if not forces:
         raise InputError("forces", "give at least one pin force")
+    show, unit = _shown(units, "force", unit)
     charts = []
     for name, F in forces.items():
-        F = _gaps(np.asarray(F, complex), ok)
+        F = show(_gaps(np.asarray(F, complex), ok))
         title = f"{name} (polar)"
         chart = Chart(
             title, f"Fx ({unit})", f"Fy ({unit})", [Series(F.real, F.imag, "")], equal=True
@@ -143,9 +170,9 @@ def pin_force_charts(
         if np.isfinite(F).any():
             k = int(np.nanargmax(np.abs(F)))
             z = F[k]
-            where = "" if theta2 is None else f" at θ2 = {np.degrees(np.ravel(theta2)[k]):.1f}°"
+            at = "" if theta2 is None else f" at {where} = {np.degrees(np.ravel(theta2)[k]):.1f}°"
             chart = Chart(
-                f"{name}: max |F| = {abs(z):.4g} {unit}, {np.degrees(np.angle(z)):.1f}°{where}",
+                f"{name}: max |F| = {abs(z):.4g} {unit}, {np.degrees(np.angle(z)):.1f}°{at}",
                 chart.xlabel,
                 chart.ylabel,
                 [
@@ -164,6 +191,7 @@ def plot_pin_forces(
     ok: Any = None,
     theta2: Any = None,
     unit: str = "force units",
+    units: Any = None,
     fig: Figure | None = None,
     columns: int = 2,
 ) -> Figure:
@@ -179,19 +207,8 @@ def plot_pin_forces(
     >>> fig.axes[0].get_xlabel()
     'Fx (N)'
     """
-    charts = pin_force_charts(forces, ok=ok, theta2=theta2, unit=unit)
-    cols = min(columns, len(charts))
-    rows = -(-len(charts) // cols)
-    if fig is None:
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(3.6 * cols, 3.4 * rows), layout="constrained")
-    axes = fig.subplots(rows, cols, squeeze=False).ravel()
-    for ax, chart in zip(axes, charts, strict=False):
-        chart.to_mpl(ax)
-    for ax in axes[len(charts) :]:
-        ax.set_visible(False)
-    return fig
+    charts = pin_force_charts(forces, ok=ok, theta2=theta2, unit=unit, units=units)
+    return figure(charts, fig=fig, columns=columns, panel=(3.6, 3.4))
 
 
 # --------------------------------------------------------------------------------------
@@ -199,14 +216,24 @@ def plot_pin_forces(
 
 
 def torque_chart(
-    theta: Any, torque: Any, *, flywheel: Any = None, ok: Any = None, unit: str = "torque units"
+    theta: Any,
+    torque: Any,
+    *,
+    flywheel: Any = None,
+    ok: Any = None,
+    unit: str = "torque units",
+    units: Any = None,
+    name: str = "T12",
+    xlabel: str = "θ2 (deg)",
 ) -> Chart:
     """The input torque over the cycle; with a flywheel, its lobes shaded and their areas labelled.
 
     ``flywheel`` is a :class:`~machdyn.flywheel.FlywheelResult` of the same
     curve: the mean torque is drawn, each lobe between the curve and it is
     shaded (red: energy taken from the flywheel, blue: given back) and labelled
-    with its area ``ΔE`` (the notes' Table 11-1).
+    with its area ``ΔE`` (the notes' Table 11-1). ``units`` converts torques
+    and energies to the model's units (else they are labelled ``unit``);
+    ``name`` and ``xlabel`` name the effort and the input (``θ2 (deg)``).
 
     Examples
     --------
@@ -217,13 +244,15 @@ def torque_chart(
     >>> sorted(t for _, _, t in c.notes)
     ['ΔE = -4.999', 'ΔE = -4.999', 'ΔE = 4.999', 'ΔE = 4.999']
     """
+    show, unit = _shown(units, "torque", unit)
+    energy, energy_unit = _shown(units, "energy", "")
     x = np.degrees(np.ravel(theta).astype(float))
-    T = _gaps(torque, ok).astype(float)
+    T = show(_gaps(torque, ok).astype(float))
     chart = Chart(
         "input torque",
-        "θ2 (deg)",
-        f"input torque T12 ({unit})",
-        [Series(x, T, "T12", colour="#000")],
+        xlabel,
+        f"input torque {name} ({unit})",
+        [Series(x, T, name, colour="#000")],
         hlines=[(0.0, "", "#999")],
     )
     if flywheel is None:
@@ -232,9 +261,10 @@ def torque_chart(
             chart.series.append(Series(x[k : k + 1], T[k : k + 1], colour="#d62728", marker=True))
             chart.notes.append((x[k], T[k], f"{T[k]:.4g} {unit} at {x[k]:.1f}°"))
         return chart
-    avg = float(flywheel.torque_avg)
+    avg = float(show(float(flywheel.torque_avg)))
     th = np.degrees(np.asarray(flywheel.theta, float))
-    Tf = np.asarray(flywheel.torque, float)
+    Tf = show(np.asarray(flywheel.torque, float))
+    eu = f" {energy_unit}" if energy_unit else ""
     above = np.where(Tf >= avg, Tf, avg)
     below = np.where(Tf < avg, Tf, avg)
     chart.bands.append((th, np.full_like(th, avg), above, "#d62728"))
@@ -249,10 +279,12 @@ def torque_chart(
             b += 360.0
         mid = t0 + (0.5 * (a + b) - t0) % 360.0
         y = float(np.interp(mid, th, Tf))
-        chart.notes.append((mid, 0.5 * (y + avg), f"ΔE = {area:.4g}"))
+        chart.notes.append((mid, 0.5 * (y + avg), f"ΔE = {float(energy(area)):.4g}{eu}"))
+    inertia, inertia_unit = _shown(units, "inertia", "")
+    iu = f" {inertia_unit}" if inertia_unit else ""
     return Chart(
-        f"input torque and flywheel lobes: ΔE = {flywheel.delta_e:.4g}, "
-        f"I = {flywheel.inertia:.4g} for k = {flywheel.k:g}",
+        f"input torque and flywheel lobes: ΔE = {float(energy(flywheel.delta_e)):.4g}{eu}, "
+        f"I = {float(inertia(flywheel.inertia)):.4g}{iu} for k = {flywheel.k:g}",
         chart.xlabel,
         chart.ylabel,
         chart.series,
@@ -269,6 +301,7 @@ def plot_torque(
     flywheel: Any = None,
     ok: Any = None,
     unit: str = "torque units",
+    units: Any = None,
     ax: Axes | None = None,
 ) -> Axes:
     """The input torque over the cycle with the flywheel's lobes (see :func:`torque_chart`).
@@ -282,7 +315,7 @@ def plot_torque(
     >>> len([t for t in ax.texts if t.get_text().startswith("ΔE")])
     4
     """
-    chart = torque_chart(theta, torque, flywheel=flywheel, ok=ok, unit=unit)
+    chart = torque_chart(theta, torque, flywheel=flywheel, ok=ok, unit=unit, units=units)
     return chart.to_mpl(_axes(ax, (7, 3.4)))
 
 
@@ -299,15 +332,23 @@ def shaking_charts(
     theta: Any = None,
     force_unit: str = "force units",
     torque_unit: str = "torque units",
+    units: Any = None,
+    xlabel: str = "θ2 (deg)",
 ) -> list[Chart]:
-    """The shaking force as a polar chart before/after balancing, and the shaking moment."""
+    """The shaking force as a polar chart before/after balancing, and the shaking moment.
+
+    ``units`` converts forces and moments to a model's units (else they are
+    labelled ``force_unit`` and ``torque_unit``).
+    """
+    force, force_unit = _shown(units, "force", force_unit)
+    torque, torque_unit = _shown(units, "torque", torque_unit)
     series = []
     for z, label, colour in (
         (before, "before balancing", "#d62728"),
         (after, "after balancing", "#2ca02c"),
     ):
         if z is not None:
-            z = np.ravel(np.asarray(z, complex))
+            z = force(np.ravel(np.asarray(z, complex)))
             series.append(
                 Series(z.real, z.imag, f"{label}: max {np.nanmax(np.abs(z)):.4g}", colour=colour)
             )
@@ -323,15 +364,13 @@ def shaking_charts(
     ]
     if moment_before is not None and theta is not None:
         x = np.degrees(np.ravel(theta).astype(float))
-        ms = [Series(x, np.ravel(moment_before).astype(float), "before", colour="#d62728")]
+        before_m = torque(np.ravel(moment_before).astype(float))
+        ms = [Series(x, before_m, "before", colour="#d62728")]
         if moment_after is not None:
-            ms.append(
-                Series(
-                    x, np.ravel(moment_after).astype(float), "after", colour="#2ca02c", dashed=True
-                )
-            )
+            after_m = torque(np.ravel(moment_after).astype(float))
+            ms.append(Series(x, after_m, "after", colour="#2ca02c", dashed=True))
         charts.append(
-            Chart("shaking moment about O2", "θ2 (deg)", f"shaking moment Ms ({torque_unit})", ms)
+            Chart("shaking moment about O2", xlabel, f"shaking moment Ms ({torque_unit})", ms)
         )
     return charts
 
@@ -345,6 +384,7 @@ def plot_shaking(
     theta: Any = None,
     force_unit: str = "force units",
     torque_unit: str = "torque units",
+    units: Any = None,
     fig: Figure | None = None,
 ) -> Figure:
     """Shaking force polar plot before/after balancing, and the moment (:func:`shaking_charts`).
@@ -364,14 +404,9 @@ def plot_shaking(
         theta=theta,
         force_unit=force_unit,
         torque_unit=torque_unit,
+        units=units,
     )
-    if fig is None:
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(4.2 * len(charts), 3.8), layout="constrained")
-    for ax, chart in zip(fig.subplots(1, len(charts), squeeze=False).ravel(), charts, strict=True):
-        chart.to_mpl(ax)
-    return fig
+    return figure(charts, fig=fig, columns=len(charts), panel=(4.2, 3.8))
 
 
 # --------------------------------------------------------------------------------------
@@ -379,7 +414,11 @@ def plot_shaking(
 
 
 def cam_charts(
-    profile: Any, *, max_pressure_angle_deg: float = 30.0, length_unit: str | None = None
+    profile: Any,
+    *,
+    max_pressure_angle_deg: float = 30.0,
+    length_unit: str | None = None,
+    units: Any = None,
 ) -> list[Chart]:
     """SVAJ of a cam with its pressure angle and radius of curvature beside it.
 
@@ -389,6 +428,9 @@ def cam_charts(
     and of the surface, with the roller radius drawn (a convex pitch radius
     below it undercuts, Norton §8.7; negative ρ is concave). Values beyond
     ±10 × the base radius (near inflections ρ → ∞) are left out as gaps.
+    Lengths are in ``units``' length unit (a model's unit system), or
+    ``length_unit``, or "model units"; an oscillating follower's s is its arm
+    angle, drawn in degrees (v, a, j in rad per radian of cam angle).
 
     Examples
     --------
@@ -401,36 +443,29 @@ def cam_charts(
     ['s (model units)', 'v (model units/rad)', 'a (model units/rad²)', 'j (model units/rad³)',
      'pressure angle φ (deg)', 'radius of curvature ρ (model units)']
     """
-    u = length_unit or "model units"
+    length, u = _shown(units, "length", length_unit or "model units")
     x = np.degrees(np.asarray(profile.theta, float))
+    xlabel = "cam angle θ (deg)"
+    if profile.follower == "oscillating roller":  # s is the arm's angle (radians)
+        svaj = [np.degrees(np.asarray(profile.s, float))] + [
+            np.asarray(getattr(profile, q), float) for q in "vaj"
+        ]
+        units_of = ("deg", "rad/rad", "rad/rad²", "rad/rad³")
+        names = ("arm angle s", "v", "a", "j")
+    else:
+        svaj = [np.asarray(length(np.asarray(getattr(profile, q), float))) for q in "svaj"]
+        units_of = (u, f"{u}/rad", f"{u}/rad²", f"{u}/rad³")
+        names = ("s", "v", "a", "j")
+    titles = ("follower displacement", "velocity", "acceleration", "jerk")
     charts = [
         Chart(
-            "follower displacement",
-            "cam angle θ (deg)",
-            f"s ({u})",
-            [Series(x, np.asarray(profile.s, float), "s")],
-        ),
-        Chart(
-            "velocity",
-            "cam angle θ (deg)",
-            f"v ({u}/rad)",
-            [Series(x, np.asarray(profile.v, float), "v")],
-            hlines=[(0.0, "", "#999")],
-        ),
-        Chart(
-            "acceleration",
-            "cam angle θ (deg)",
-            f"a ({u}/rad²)",
-            [Series(x, np.asarray(profile.a, float), "a")],
-            hlines=[(0.0, "", "#999")],
-        ),
-        Chart(
-            "jerk",
-            "cam angle θ (deg)",
-            f"j ({u}/rad³)",
-            [Series(x, np.asarray(profile.j, float), "j")],
-            hlines=[(0.0, "", "#999")],
-        ),
+            title,
+            xlabel,
+            f"{name} ({unit})",
+            [Series(x, y, name.split()[-1], gid="svaj"[k])],
+            hlines=[(0.0, "", "#999")] if k else [],
+        )
+        for k, (title, name, unit, y) in enumerate(zip(titles, names, units_of, svaj, strict=True))
     ]
     phi = np.degrees(np.asarray(profile.pressure_angle, float))
     lim = float(max_pressure_angle_deg)
@@ -451,21 +486,20 @@ def cam_charts(
         pa.notes.append((x[k], phi[k] * 0.8, f"|φ| max = {abs(phi[k]):.2f}° at {x[k]:.1f}°"))
     charts.append(pa)
     cap = 10.0 * max(float(profile.base_radius), 1e-12)
-    clip = lambda r: np.where(np.abs(r) <= cap, r, np.nan)  # noqa: E731
+    clip = lambda r: length(np.where(np.abs(r) <= cap, r, np.nan))  # noqa: E731
     rho = [Series(x, clip(np.asarray(profile.rho_surface, float)), "ρ surface")]
     if profile.rho_pitch is not None:
         rho.insert(0, Series(x, clip(np.asarray(profile.rho_pitch, float)), "ρ pitch curve"))
     rc = Chart(
         "radius of curvature",
-        "cam angle θ (deg)",
+        xlabel,
         f"radius of curvature ρ ({u})",
         rho,
         hlines=[(0.0, "", "#999")],
     )
     if profile.roller_radius > 0:
-        rc.hlines.append(
-            (float(profile.roller_radius), f"roller radius {profile.roller_radius:g}", "#d62728")
-        )
+        rf = float(length(float(profile.roller_radius)))
+        rc.hlines.append((rf, f"roller radius {rf:g}", "#d62728"))
     under = np.asarray(profile.undercut, bool)
     if under.any():
         y = np.where(under, 0.0, np.nan)
@@ -475,7 +509,11 @@ def cam_charts(
 
 
 def plot_cam_design(
-    profile: Any, *, max_pressure_angle_deg: float = 30.0, fig: Figure | None = None
+    profile: Any,
+    *,
+    max_pressure_angle_deg: float = 30.0,
+    units: Any = None,
+    fig: Figure | None = None,
 ) -> Figure:
     """SVAJ with the pressure angle and radius of curvature beside it (see :func:`cam_charts`).
 
@@ -490,11 +528,11 @@ def plot_cam_design(
     >>> len(fig.axes)
     6
     """
-    charts = cam_charts(profile, max_pressure_angle_deg=max_pressure_angle_deg)
+    charts = cam_charts(profile, max_pressure_angle_deg=max_pressure_angle_deg, units=units)
     if fig is None:
-        from matplotlib.figure import Figure
+        import matplotlib.pyplot as plt
 
-        fig = Figure(figsize=(11, 8), layout="constrained")
+        fig = plt.figure(figsize=(11, 8), layout="constrained")
     axes = fig.subplots(4, 2, squeeze=False)
     order = [axes[0, 0], axes[1, 0], axes[2, 0], axes[3, 0], axes[0, 1], axes[1, 1]]
     for ax, chart in zip(order, charts, strict=True):

@@ -1,25 +1,39 @@
 """Kinematic curves: angles, rates and slider motion against the input, axes with units.
 
-Flagged samples are gaps (masked), never zeros or lines drawn across them, and
-an angle's wrap from 360° to 0° is not joined by a vertical line.
+Each plot is a list of :class:`~machdyn.draw.chart.Chart` descriptions
+(:func:`kinematics_charts`, :func:`slider_charts`) drawn by matplotlib
+(:func:`plot_kinematics`, :func:`plot_slider_motion`, through
+:func:`machdyn.draw.chart.figure`) or written as inline SVG by the report. Every
+axis names its quantity and unit — the model's units where it has them
+(``motion.units``, :class:`~machdyn.draw.units.Units`): lengths, speeds and
+rates converted to the file's output units. Flagged samples are gaps (masked),
+never zeros or lines drawn across them, and an angle's wrap from 360° to 0° is
+not joined by a vertical line.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
 from ..fourbar import FourBarMotion
-from ..slidercrank import SliderCrankMotion
+from ..slidercrank import InvertedSliderCrankMotion, SliderCrankMotion
+from .chart import Chart, Series, figure
+from .units import Units
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-    from .chart import Chart
-
-__all__ = ["kinematics_charts", "length_label", "plot_kinematics", "plot_slider_motion"]
+__all__ = [
+    "kinematics_charts",
+    "length_label",
+    "plot_kinematics",
+    "plot_slider_motion",
+    "slider_charts",
+]
 
 
 def length_label(unit: str | None) -> str:
@@ -51,15 +65,98 @@ def _break_wraps(x: np.ndarray, y: np.ma.MaskedArray) -> tuple[np.ndarray, np.ma
     return x, np.ma.masked_array(data, mask=mask)
 
 
+def _curve(
+    x: np.ndarray, values: Any, valid: Any, kind: str, units: Units, label: str, gid: str
+) -> Series:
+    """One curve in shown units: gaps where not ``valid``; an angle's wraps broken."""
+    y = _masked(units.show(kind, np.asarray(values, dtype=float)), valid)
+    xs, ys = _break_wraps(x, y) if kind == "angle" else (x, y)
+    return Series(np.asarray(xs, float), ys.filled(np.nan), label, gid=gid)
+
+
+def _zero(chart: Chart) -> Chart:
+    chart.hlines.append((0.0, "", "#999999"))
+    return chart
+
+
+def kinematics_charts(
+    motion: FourBarMotion, *, jerk: bool = False, mu: bool = False, units: Any = None
+) -> list[Chart]:
+    """Charts of a four-bar's θ3, θ4, ω3, ω4, α3, α4 (and jerks) against θ2.
+
+    The descriptions behind :func:`plot_kinematics` (which draws them with
+    matplotlib) and the report's kinematics section (inline SVG). Angles in
+    degrees (the unit system's angle unit), rates in its angular-velocity and
+    angular-acceleration units (rad/s, rad/s² without one). Flagged samples
+    are gaps; an angle's wrap from 360° to 0° is a gap too.
+
+    Parameters
+    ----------
+    motion : FourBarMotion
+    jerk : bool
+        Add the angular jerks.
+    mu : bool
+        Also draw the transmission angle on the angle chart.
+    units : Units or UnitSystem, optional
+        Default: the motion's own (``motion.units``).
+
+    Examples
+    --------
+    >>> from machdyn import FourBar
+    >>> m = FourBar(8, 4, 7, 6).solve(np.radians(np.arange(0, 360, 5.0)), omega2=10.0)
+    >>> [c.ylabel for c in kinematics_charts(m)]
+    ['angle (deg)', 'ω (rad/s)', 'α (rad/s²)']
+    """
+    if not isinstance(motion, FourBarMotion):
+        raise InputError(
+            "motion", f"expected a FourBarMotion from FourBar.solve, got {type(motion).__name__}"
+        )
+    u = _units(motion, units)
+    x = np.ravel(u.show("angle", np.ravel(motion.theta2).astype(float)))
+    xlabel = u.axis("θ2", "angle")
+    panels = [
+        (
+            "link angles",
+            "angle",
+            "angle",
+            [("theta3", "θ3"), ("theta4", "θ4")] + ([("mu", "μ")] if mu else []),
+        ),
+        ("angular velocities", "ω", "angular_velocity", [("omega3", "ω3"), ("omega4", "ω4")]),
+        (
+            "angular accelerations",
+            "α",
+            "angular_acceleration",
+            [("alpha3", "α3"), ("alpha4", "α4")],
+        ),
+    ]
+    if jerk:
+        panels.append(
+            ("angular jerks", "jerk", "angular_jerk", [("jerk3", "jerk3"), ("jerk4", "jerk4")])
+        )
+    charts = []
+    for title, quantity, kind, names in panels:
+        valid = motion.assembled if kind == "angle" else motion.ok
+        series = [
+            _curve(x, getattr(motion, name), valid, kind, u, label, name)
+            for name, label in names
+            if getattr(motion, name, None) is not None
+        ]
+        if series:
+            charts.append(_zero(Chart(title, xlabel, u.axis(quantity, kind), series)))
+    return charts
+
+
 def plot_kinematics(
     motion: FourBarMotion, *, jerk: bool = False, mu: bool = False, fig: Figure | None = None
 ) -> Figure:
     """θ3, θ4, ω3, ω4, α3, α4 (and optionally the jerks) of a four-bar against θ2.
 
-    Angles are drawn in degrees, rates in rad/s, rad/s², rad/s³ (the time unit
-    of the ``omega2`` given to the solver). Flagged samples (``motion.ok``
-    False; positions also at toggles, where only the rates are undefined) are
-    left as gaps, and an angle's wrap from 360° to 0° is not joined.
+    The charts of :func:`kinematics_charts`, drawn with matplotlib. Angles are
+    drawn in degrees, rates in the motion's units (rad/s, rad/s², rad/s³ —
+    the time unit of the ``omega2`` given — for a model without units).
+    Flagged samples (``motion.ok`` False; positions also at toggles, where only
+    the rates are undefined) are left as gaps, and an angle's wrap from 360°
+    to 0° is not joined.
 
     Parameters
     ----------
@@ -86,62 +183,97 @@ def plot_kinematics(
     ['angle (deg)', 'ω (rad/s)', 'α (rad/s²)']
     >>> import matplotlib.pyplot as plt; plt.close("all")
     """
-    if not isinstance(motion, FourBarMotion):
-        raise InputError(
-            "motion", f"expected a FourBarMotion from FourBar.solve, got {type(motion).__name__}"
-        )
-    if fig is None:
-        import matplotlib.pyplot as plt
-
-        fig = plt.figure(figsize=(7, 7 if jerk else 5.5), layout="constrained")
-    panels: list[tuple[str, list[tuple[str, str, bool, bool]]]] = [
-        (
-            "angle (deg)",
-            [("theta3", "θ3", True, True), ("theta4", "θ4", True, True)]
-            + ([("mu", "μ", True, False)] if mu else []),
-        ),
-        ("ω (rad/s)", [("omega3", "ω3", False, False), ("omega4", "ω4", False, False)]),
-        ("α (rad/s²)", [("alpha3", "α3", False, False), ("alpha4", "α4", False, False)]),
-    ]
-    if jerk:
-        panels.append(
-            ("jerk (rad/s³)", [("jerk3", "jerk3", False, False), ("jerk4", "jerk4", False, False)])
-        )
-    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
-    x = np.degrees(np.ravel(motion.theta2))
-    for ax, (ylabel, curves) in zip(axes, panels, strict=True):
-        for name, label, is_angle, wraps in curves:
-            valid = motion.assembled if is_angle else motion.ok
-            values = np.ravel(getattr(motion, name))
-            y = _masked(np.degrees(values) if is_angle else values, valid)
-            xs, ys = _break_wraps(x, y) if wraps else (x, y)
-            (line,) = ax.plot(xs, ys, label=label)
-            line.set_gid(name)
-        ax.set_ylabel(ylabel)
-        ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
-        ax.grid(True, lw=0.3)
-        ax.legend(loc="best", fontsize=8)
-    axes[-1].set_xlabel("θ2 (deg)")
+    charts = kinematics_charts(motion, jerk=jerk, mu=mu)
     flagged = int(np.count_nonzero(~np.ravel(motion.ok)))
     title = f"Four-bar {motion.lengths}, form {motion.form}"
     if flagged:
         title += f" ({flagged} flagged samples left blank)"
-    axes[0].set_title(title, fontsize=10)
-    return fig
+    charts = [replace(c, title=title if k == 0 else "") for k, c in enumerate(charts)]
+    return figure(charts, fig=fig, sharex=True)
+
+
+def slider_charts(
+    motion: SliderCrankMotion | InvertedSliderCrankMotion,
+    *,
+    jerk: bool = True,
+    rod: bool = False,
+    units: Any = None,
+) -> list[Chart]:
+    """Charts of a slider's position and its derivatives against the crank angle θ2.
+
+    For a :class:`~machdyn.slidercrank.SliderCrankMotion`: the slider position
+    ``d`` along its line and ḋ, d̈ (and jerk); with ``rod`` also the
+    connecting rod's θ3, ω3, α3 first. For an
+    :class:`~machdyn.slidercrank.InvertedSliderCrankMotion`: the block's
+    position ``b`` along the slot and ḃ, b̈ (and jerk); with ``rod`` the slotted
+    link's θ4, ω4, α4 first. Lengths are in the motion's length unit, speeds
+    in its velocity units ("model units" and seconds without units).
+
+    Examples
+    --------
+    >>> from machdyn import SliderCrank
+    >>> m = SliderCrank(2.0, 6.0).solve(np.radians(np.arange(0, 360, 5.0)), omega2=10.0)
+    >>> [c.ylabel for c in slider_charts(m, jerk=False)]
+    ['d (model units)', 'ḋ (model units/s)', 'd̈ (model units/s²)']
+    """
+    if isinstance(motion, SliderCrankMotion):
+        s, link = "d", "3"
+        names = ("d", "d_dot", "d_ddot", "d_dddot")
+        labels = ("d", "ḋ", "d̈", "jerk")
+    elif isinstance(motion, InvertedSliderCrankMotion):
+        s, link = "b", "4"
+        names = ("b", "b_dot", "b_ddot", "b_dddot")
+        labels = ("b", "ḃ", "b̈", "jerk")
+    else:
+        raise InputError(
+            "motion",
+            "expected a SliderCrankMotion from SliderCrank.solve (or an "
+            f"InvertedSliderCrankMotion), got {type(motion).__name__}",
+        )
+    u = _units(motion, units)
+    x = np.ravel(u.show("angle", np.ravel(motion.theta2).astype(float)))
+    xlabel = u.axis("θ2", "angle")
+    assembled = getattr(motion, "assembled", None)
+    assembled = motion.ok if assembled is None else assembled
+    charts = []
+    if rod:
+        for q, kind, title in (
+            ("theta", "angle", "angle"),
+            ("omega", "angular_velocity", "angular velocity"),
+            ("alpha", "angular_acceleration", "angular acceleration"),
+        ):
+            valid = assembled if kind == "angle" else motion.ok
+            sym = {"theta": "θ", "omega": "ω", "alpha": "α"}[q] + link
+            series = [_curve(x, getattr(motion, q + link), valid, kind, u, sym, q + link)]
+            charts.append(_zero(Chart(f"link {link} {title}", xlabel, u.axis(sym, kind), series)))
+    kinds = ("length", "velocity", "acceleration", "jerk")
+    what = ("position", "velocity", "acceleration", "jerk")
+    for k, (name, label, kind) in enumerate(zip(names, labels, kinds, strict=True)):
+        if k == 3 and not jerk:
+            break
+        valid = assembled if k == 0 else motion.ok
+        y = _masked(u.show(kind, np.asarray(getattr(motion, name), float)), valid)
+        series = [Series(x, y.filled(np.nan), "", colour="#2ca02c", gid=name)]
+        title = f"slider {what[k]} {s}" if k else f"slider position {s} along its line"
+        charts.append(_zero(Chart(title, xlabel, u.axis(label, kind), series)))
+    return charts
 
 
 def plot_slider_motion(
-    motion: SliderCrankMotion,
+    motion: SliderCrankMotion | InvertedSliderCrankMotion,
     *,
     jerk: bool = True,
     fig: Figure | None = None,
     length_unit: str | None = None,
+    rod: bool = False,
 ) -> Figure:
-    """Slider position d and its derivatives against the crank angle (an "svaj" plot).
+    """Slider position and its derivatives against the crank angle (an "svaj" plot).
 
-    Flagged samples are left as gaps (positions are kept at toggles). Lengths
-    are labelled with ``length_unit`` (the model's, e.g. ``SliderCrank.length_unit``),
-    or "model units"; time in seconds (the unit of the ``omega2`` given).
+    The charts of :func:`slider_charts`, drawn with matplotlib. Flagged
+    samples are left as gaps (positions are kept at toggles). Lengths are
+    labelled in the motion's units (``motion.units``; ``length_unit`` names
+    the length unit of a motion without them), else "model units"; time in
+    seconds (the unit of the ``omega2`` given).
 
     Examples
     --------
@@ -152,70 +284,16 @@ def plot_slider_motion(
     ['d (model units)', 'ḋ (model units/s)', 'd̈ (model units/s²)', 'jerk (model units/s³)']
     >>> import matplotlib.pyplot as plt; plt.close("all")
     """
-    if not isinstance(motion, SliderCrankMotion):
-        raise InputError(
-            "motion",
-            f"expected a SliderCrankMotion from SliderCrank.solve, got {type(motion).__name__}",
-        )
-    if fig is None:
-        import matplotlib.pyplot as plt
+    units = None
+    if length_unit and getattr(motion, "units", None) is None:
+        from ..units import UnitSystem
 
-        fig = plt.figure(figsize=(7, 7 if jerk else 5.5), layout="constrained")
-    u = length_label(length_unit)
-    rows = [
-        ("d", f"d ({u})", True),
-        ("d_dot", f"ḋ ({u}/s)", False),
-        ("d_ddot", f"d̈ ({u}/s²)", False),
-    ]
-    if jerk:
-        rows.append(("d_dddot", f"jerk ({u}/s³)", False))
-    axes = fig.subplots(len(rows), 1, sharex=True, squeeze=False)[:, 0]
-    x = np.degrees(np.ravel(motion.theta2))
-    for ax, (name, ylabel, is_position) in zip(axes, rows, strict=True):
-        valid = motion.assembled if is_position else motion.ok
-        (line,) = ax.plot(x, _masked(getattr(motion, name), valid), color="C2")
-        line.set_gid(name)
-        ax.set_ylabel(ylabel)
-        ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
-        ax.grid(True, lw=0.3)
-    axes[-1].set_xlabel("θ2 (deg)")
-    axes[0].set_title(f"Slider motion, form {motion.form}", fontsize=10)
-    return fig
+        units = Units(UnitSystem(length=length_unit))
+    charts = slider_charts(motion, jerk=jerk, rod=rod, units=units)
+    title = f"Slider motion, form {motion.form}"
+    charts = [replace(c, title=title if k == 0 else "") for k, c in enumerate(charts)]
+    return figure(charts, fig=fig, sharex=True)
 
 
-def kinematics_charts(motion: FourBarMotion) -> list[Chart]:
-    """Charts of a four-bar's θ3, θ4 (deg), ω3, ω4 (rad/s) and α3, α4 (rad/s²) against θ2 (deg).
-
-    The same quantities as :func:`plot_kinematics`, as :class:`~machdyn.draw.chart.Chart`
-    descriptions (the report writes them as inline SVG). Flagged samples are
-    gaps; an angle's wrap from 360° to 0° is a gap too.
-
-    Examples
-    --------
-    >>> from machdyn import FourBar
-    >>> m = FourBar(8, 4, 7, 6).solve(np.radians(np.arange(0, 360, 5.0)), omega2=10.0)
-    >>> [c.ylabel for c in kinematics_charts(m)]
-    ['angle (deg)', 'ω (rad/s)', 'α (rad/s²)']
-    """
-    from .chart import Chart, Series
-
-    x = np.degrees(np.ravel(motion.theta2).astype(float))
-    charts = []
-    for title, ylabel, names, is_angle in (
-        ("link angles", "angle (deg)", ("theta3", "theta4"), True),
-        ("angular velocities", "ω (rad/s)", ("omega3", "omega4"), False),
-        ("angular accelerations", "α (rad/s²)", ("alpha3", "alpha4"), False),
-    ):
-        series = []
-        for name in names:
-            values = getattr(motion, name)
-            if values is None:
-                continue
-            valid = motion.assembled if is_angle else motion.ok
-            y = _masked(np.degrees(values) if is_angle else values, valid)
-            xs, ys = _break_wraps(x, y) if is_angle else (x, y)
-            label = name.replace("theta", "θ").replace("omega", "ω").replace("alpha", "α")
-            series.append(Series(np.asarray(xs, float), ys.filled(np.nan), label))
-        if series:
-            charts.append(Chart(title, "θ2 (deg)", ylabel, series))
-    return charts
+def _units(motion: Any, units: Any) -> Units:
+    return Units.of(motion if units is None else units)

@@ -15,11 +15,22 @@ identity that does not share the solver's code path:
   rate of change of kinetic energy, ``Σ m v_G·a_G + I_G ω α`` (Norton §11.3);
 * **Kennedy** — the instant centre of every pair of links, found from the two
   velocity fields, is collinear with the other two centres of every triple
-  (Norton §6.5).
+  (Norton §6.5);
+* **link angles** — each link angle printed is the direction of the line
+  through two of its points (θ3 = arg(B − A), ...), and μ follows from them;
+* **equilibrium of each link** — with the joint forces printed, every moving
+  link obeys ``ΣF = m a_G`` and ``ΣM_G = I_G α`` (Norton eq. 11.9), with
+  ``a_G`` written here from the motion (D'Alembert);
+* **momentum** — the shaking force and moment printed equal the external
+  loads less the rate of change of the machine's linear and angular momentum
+  (``F_s = ΣF_ext − Σ m a_G``, Norton §11.8), which involves no joint force;
+* **flywheel energy** — ΔE is the spread of the running integral of
+  ``T − T_avg`` over the cycle, integrated here by the trapezoid rule.
 
 A wrong motion (e.g. accelerations scaled by 1.01) fails the acceleration
 checks; Kennedy's rule is a velocity-level identity (accelerations do not
-enter it), failed by a wrong angular velocity.
+enter it), failed by a wrong angular velocity. ``docs/report.md`` lists which
+check covers which printed quantity.
 """
 
 from __future__ import annotations
@@ -27,10 +38,25 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
+from typing import Any
 
 import numpy as np
 
-__all__ = ["Check", "RigidMotion", "finite_differences", "kennedy", "loop_closure", "power_balance"]
+__all__ = [
+    "Body",
+    "Check",
+    "RigidMotion",
+    "acute",
+    "angles",
+    "equilibrium",
+    "finite_differences",
+    "flywheel_energy",
+    "kennedy",
+    "loop_closure",
+    "momentum",
+    "power_balance",
+    "power_of_loads",
+]
 
 
 @dataclass(frozen=True)
@@ -277,6 +303,206 @@ def kennedy(m: RigidMotion, tol: float = 1e-7) -> Check:
         "max distance of each secondary centre (from the velocity fields) from the line through "
         "its two primary centres (pins) / drawing size",
         n,
+    )
+
+
+def angles(
+    pairs: Sequence[tuple[np.ndarray, np.ndarray]],
+    ok: np.ndarray,
+    tol: float = 1e-9,
+    name: str = "link angles",
+    what: str = "max |θ − arg(q − p)| (rad, wrapped): every angle printed against the line "
+    "through two points of its link (μ against the two links' lines)",
+) -> Check:
+    """Each angle printed against the angle written from two points of its link.
+
+    ``pairs`` holds ``(angle, expected)`` arrays (radians); the difference is
+    wrapped to (−π, π] before it is measured.
+    """
+    worst, n = [], 0
+    for theta, expected in pairs:
+        with np.errstate(all="ignore"):
+            r = np.angle(np.exp(1j * (np.ravel(theta) - np.ravel(expected))))
+        good = ok & np.isfinite(r)
+        if good.any():
+            worst.append(np.abs(r[good]))
+            n = max(n, int(good.sum()))
+    return Check(name, _max(worst), tol, what, n)
+
+
+def acute(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The acute angle between the lines along ``u`` and ``v`` (radians, [0, π/2])."""
+    with np.errstate(all="ignore"):
+        m = np.abs(np.angle(v / u))
+    return np.minimum(m, np.pi - m)
+
+
+@dataclass
+class Body:
+    """A moving link as data for the force checks (one entry per sample).
+
+    ``loads`` are ``(force, point, source)`` acting on the body — ``source`` is
+    ``"joint"`` (another moving link), ``"ground"`` (a reaction of the frame)
+    or ``"external"`` (gravity, applied loads) — and ``torques`` are
+    ``(torque, source)``. ``G``, ``vG``, ``aG`` (complex) and ``omega``,
+    ``alpha`` are written by the check's caller from the solved motion.
+    """
+
+    name: str
+    mass: float
+    inertia: float
+    G: np.ndarray
+    vG: np.ndarray
+    aG: np.ndarray
+    omega: np.ndarray
+    alpha: np.ndarray
+    loads: list[tuple[np.ndarray, np.ndarray, str]] = field(default_factory=list)
+    torques: list[tuple[np.ndarray, str]] = field(default_factory=list)
+
+    def load(self, force: np.ndarray, point: np.ndarray, source: str) -> None:
+        """Add a force acting on the body at ``point``."""
+        self.loads.append((np.asarray(force, complex), np.asarray(point, complex), source))
+
+    def torque(self, torque: np.ndarray, source: str) -> None:
+        """Add a couple acting on the body."""
+        self.torques.append((np.asarray(torque, float), source))
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return (np.conj(a) * b).imag
+
+
+def _peak(x: Any, ok: np.ndarray) -> float:
+    """Largest finite magnitude of ``x`` (broadcast to the samples) where ``ok``."""
+    v = np.abs(np.broadcast_to(np.asarray(x), np.shape(ok)))[ok]
+    v = v[np.isfinite(v)]
+    return float(v.max()) if v.size else 0.0
+
+
+def equilibrium(bodies: Sequence[Body], ok: np.ndarray, size: float, tol: float = 1e-8) -> Check:
+    """``ΣF − m a_G`` and ``ΣM_G − I_G α`` of every moving link, relative to the largest force.
+
+    The joint forces printed, the drive and the external loads are summed on
+    each link; the moment is taken about its centre of mass. A wrong joint
+    force, driving torque or acceleration fails it (Norton eq. 11.9).
+    """
+    residuals, scale = [], 0.0
+    for b in bodies:
+        F = -b.mass * b.aG
+        M = -b.inertia * b.alpha
+        scale = max(scale, _peak(b.mass * b.aG, ok))
+        for force, point, _ in b.loads:
+            F = F + force
+            M = M + _cross(point - b.G, np.broadcast_to(force, np.shape(point)))
+            scale = max(scale, _peak(force, ok))
+        for torque, _ in b.torques:
+            M = M + torque
+        residuals.append(np.maximum(np.abs(F), np.abs(M) / max(size, 1e-300)))
+    if not residuals:
+        return Check("equilibrium of each link", float("nan"), tol, "no moving link", 0)
+    r = np.max(residuals, axis=0) / max(scale, 1e-300)
+    good = ok & np.isfinite(r)
+    return Check(
+        "equilibrium of each link",
+        float(r[good].max()) if good.any() else float("nan"),
+        tol,
+        "max over links of |ΣF − m a_G| and |ΣM_G − I_G α| / size, / the largest force "
+        "(joint forces, drive and loads as printed; a_G from the motion)",
+        int(good.sum()),
+    )
+
+
+def momentum(
+    bodies: Sequence[Body],
+    shaking_force: np.ndarray,
+    shaking_moment: np.ndarray | None,
+    ok: np.ndarray,
+    size: float,
+    tol: float = 1e-8,
+) -> Check:
+    """The shaking force and moment against the external loads less the rate of momentum.
+
+    ``F_s = ΣF_ext − Σ m a_G`` and ``M_s = ΣM_ext − Σ(m G × a_G + I_G α)``
+    about the origin: the machine's momentum balance, with no joint force in
+    it (``external`` loads only; the frame's reactions are what is checked).
+    """
+    Fs = np.zeros(np.shape(ok), complex)
+    Ms = np.zeros(np.shape(ok))
+    scale = _peak(shaking_force, ok)
+    for b in bodies:
+        Fs = Fs - b.mass * b.aG
+        Ms = Ms - (b.mass * _cross(b.G, b.aG) + b.inertia * b.alpha)
+        scale = max(scale, _peak(b.mass * b.aG, ok))
+        for force, point, source in b.loads:
+            if source == "external":
+                Fs = Fs + force
+                Ms = Ms + _cross(point, np.broadcast_to(force, np.shape(point)))
+                scale = max(scale, _peak(force, ok))
+        for torque, source in b.torques:
+            if source == "external":
+                Ms = Ms + torque
+    r = np.abs(np.ravel(shaking_force) - Fs)
+    if shaking_moment is not None:
+        r = np.maximum(r, np.abs(np.ravel(shaking_moment) - Ms) / max(size, 1e-300))
+    r = r / max(scale, 1e-300)
+    good = ok & np.isfinite(r)
+    return Check(
+        "momentum: shaking force and moment",
+        float(r[good].max()) if good.any() else float("nan"),
+        tol,
+        "max |F_s − (ΣF_ext − Σ m a_G)| and |M_s − (ΣM_ext − Σ(m G×a_G + I_G α))| / size, "
+        "/ the largest force (no joint force enters)",
+        int(good.sum()),
+    )
+
+
+def power_of_loads(bodies: Sequence[Body]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(P, dKE/dt, scale)``: the power of the frame's and the external loads, and dKE/dt.
+
+    Joint forces between moving links do no net work and are left out; the
+    point of application moves with the body (``v = v_G + jω (p − G)``).
+    """
+    power, dke, scale = 0.0, 0.0, 0.0
+    for b in bodies:
+        term = b.mass * (np.conj(b.vG) * b.aG).real + b.inertia * b.omega * b.alpha
+        dke, scale = dke + term, scale + np.abs(term)
+        for force, point, source in b.loads:
+            if source != "joint":
+                v = b.vG + 1j * b.omega * (point - b.G)
+                term = (np.conj(v) * force).real
+                power, scale = power + term, scale + np.abs(term)
+        for torque, source in b.torques:
+            if source != "joint":
+                term = torque * b.omega
+                power, scale = power + term, scale + np.abs(term)
+    return np.asarray(power), np.asarray(dke), np.asarray(scale)
+
+
+def flywheel_energy(theta: np.ndarray, torque: np.ndarray, result: Any, tol: float = 1e-3) -> Check:
+    """ΔE of a flywheel against the trapezoid rule on the sampled torque curve.
+
+    The running integral of ``T − T_avg`` over one cycle (``T_avg`` its mean
+    by the same rule), its spread ``max − min`` against the ΔE printed, and
+    ``I = ΔE / (k ω²)`` against the inertia printed. The sampled spread can
+    miss an extreme between two samples: the tolerance is relative (1e-3).
+    """
+    th = np.append(np.ravel(theta), np.ravel(theta)[0] + 2 * np.pi)
+    T = np.append(np.ravel(torque), np.ravel(torque)[0])
+    area = np.concatenate([[0.0], np.cumsum(0.5 * (T[1:] + T[:-1]) * np.diff(th))])
+    avg = area[-1] / (th[-1] - th[0])
+    E = area - avg * (th - th[0])
+    delta = float(E.max() - E.min())
+    inertia = delta / (result.k * result.omega_avg**2)
+    value = max(
+        abs(delta - result.delta_e) / max(abs(result.delta_e), 1e-300),
+        abs(inertia - result.inertia) / max(abs(result.inertia), 1e-300),
+    )
+    return Check(
+        "flywheel energy",
+        value,
+        tol,
+        "| ΔE − spread of ∫(T − T_avg)dθ (trapezoid rule) | / ΔE, and I = ΔE/(kω²) likewise",
+        int(np.size(theta)),
     )
 
 

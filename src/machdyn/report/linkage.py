@@ -12,9 +12,9 @@ import numpy as np
 from ..draw.chart import Chart, Series
 from ..draw.engineering import pin_force_charts, shaking_charts, torque_chart
 from ..draw.html import widget
-from ..draw.kinematics import length_label
 from ..draw.linkage import default_values, linkage_scene
 from ..draw.scene import Scene
+from ..draw.units import Units
 from .checks import (
     Check,
     RigidMotion,
@@ -24,7 +24,7 @@ from .checks import (
     loop_closure,
     power_balance,
 )
-from .fourbar import _force_labels, _model_length_unit
+from .fourbar import _units
 from .page import Page, esc, fmt
 
 __all__ = ["linkage_checks", "linkage_report"]
@@ -142,12 +142,11 @@ def linkage_report(
     k: float | None = None,
     title: str | None = None,
     length_unit: str | None = None,
+    units: Any = None,
 ) -> Page:
     """Build the report page of a linkage (see :func:`machdyn.report.report`)."""
     title = title or _title(lk)
-    length_unit = length_unit or _model_length_unit(lk)
-    unit = length_label(length_unit)
-    fu, tu = _force_labels(lk, length_unit)
+    u = _units(lk, units, length_unit)
     try:
         mobility = lk.mobility()
     except Exception as err:  # a model error is the answer here
@@ -157,7 +156,7 @@ def linkage_report(
         page.section(
             "model",
             "The model as drawn",
-            _model_tables(page, lk, unit) + widget(_drawing_as_given(lk, title)),
+            _model_tables(page, lk, u) + widget(_drawing_as_given(lk, title)),
         )
         return page
     driver = lk.drivers[0]
@@ -180,7 +179,7 @@ def linkage_report(
         page.section(
             "model",
             "The model as drawn",
-            _model_tables(page, lk, unit) + widget(_drawing_as_given(lk, title)),
+            _model_tables(page, lk, u) + widget(_drawing_as_given(lk, title)),
         )
         return page
     x = np.ravel(values[driver]).astype(float)
@@ -191,11 +190,11 @@ def linkage_report(
         page.section(
             "model",
             "The model as drawn",
-            _model_tables(page, lk, unit) + widget(_drawing_as_given(lk, title)),
+            _model_tables(page, lk, u) + widget(_drawing_as_given(lk, title)),
         )
         return page
-    xs = np.degrees(x) if is_angle else x
-    xunit = "deg" if is_angle else unit
+    xs = np.ravel(u.show("angle" if is_angle else "length", x))
+    xunit = u.unit("angle" if is_angle else "length")
     lo, hi = float(np.nanmin(xs[assembled])), float(np.nanmax(xs[assembled]))
     full = closed and is_angle and assembled.all()
     reach = "a full turn" if full else f"{lo:.4g} to {hi:.4g} {xunit}"
@@ -207,9 +206,10 @@ def linkage_report(
     step = max(1, len(x) // 120)
     frames = lk.solve({d: np.ravel(v)[::step] for d, v in values.items()})
     s = replace(
-        linkage_scene(lk, frames, title=title, closed=closed), length_unit=length_unit or ""
+        linkage_scene(lk, frames, title=title, closed=closed),
+        length_unit="" if u.free else u.unit("length"),
     )
-    page.section("model", "The model and its drawing", _model_tables(page, lk, unit) + widget(s))
+    page.section("model", "The model and its drawing", _model_tables(page, lk, u) + widget(s))
     page.section(
         "class",
         "Mobility and input range",
@@ -223,41 +223,12 @@ def linkage_report(
         ),
     )
     xlabel = f"θ {driver} ({xunit})" if driver in lk.links else f"{driver} ({xunit})"
-    angle_series = [
-        Series(xs, np.where(assembled, np.degrees(np.ravel(m.theta[n_])), np.nan), f"θ {n_}")
-        for n_, link in lk.links.items()
-        if len(link.points) >= 2 and n_ != driver
-    ]
-    charts = [Chart("link angles", xlabel, "angle (deg)", angle_series)] if angle_series else []
-    charts.append(
-        Chart(
-            "angular velocities",
-            xlabel,
-            "ω (rad/s)",
-            [
-                Series(xs, np.where(assembled, np.ravel(m.omega[n_]), np.nan), f"ω {n_}")
-                for n_ in lk.links
-                if n_ != driver
-            ],
-        )
-    )
-    charts.append(
-        Chart(
-            "angular accelerations",
-            xlabel,
-            "α (rad/s²)",
-            [
-                Series(xs, np.where(assembled, np.ravel(m.alpha[n_]), np.nan), f"α {n_}")
-                for n_ in lk.links
-                if n_ != driver
-            ],
-        )
-    )
+    charts = _kinematics_charts(lk, m, xs, xlabel, driver, assembled, u)
     page.section("kinematics", "Kinematics", "".join(c.to_svg(height=240) for c in charts))
     forces = None
     if any(link.mass > 0 or link.inertia > 0 for link in lk.links.values()):
         forces = lk.forces(m, gravity=gravity)
-        _force_sections(page, lk, m, forces, xs, xlabel, driver, fu, tu, full, velocity, k)
+        _force_sections(page, lk, m, forces, (x, xs), xlabel, driver, u, full, velocity, k)
     else:
         page.section(
             "forces",
@@ -279,14 +250,48 @@ def linkage_report(
     return page
 
 
-def _model_tables(page: Page, lk: Any, unit: str) -> str:
+def _kinematics_charts(
+    lk: Any,
+    m: Any,
+    xs: np.ndarray,
+    xlabel: str,
+    driver: str,
+    assembled: np.ndarray,
+    u: Units,
+) -> list[Chart]:
+    """Link angles, angular velocities and accelerations against the driver (shown units)."""
+    moving = [n for n in lk.links if n != driver]
+    panels = (
+        ("link angles", "θ", "angle", m.theta, assembled),
+        ("angular velocities", "ω", "angular_velocity", m.omega, m.ok),
+        ("angular accelerations", "α", "angular_acceleration", m.alpha, m.ok),
+    )
+    charts = []
+    for title, sym, kind, field, valid in panels:
+        series = [
+            Series(
+                xs,
+                np.where(np.ravel(valid), np.ravel(u.show(kind, np.ravel(field[n]))), np.nan),
+                f"{sym} {n}",
+                gid=f"{sym}_{n}",
+            )
+            for n in moving
+            if kind != "angle" or len(lk.links[n].points) >= 2
+        ]
+        if series:
+            charts.append(Chart(title, xlabel, u.axis(sym, kind), series))
+    return charts
+
+
+def _model_tables(page: Page, lk: Any, u: Units) -> str:
+    unit = u.unit("length")
     pts = page.grid(
         ("point", f"x ({unit})", f"y ({unit})", "on"),
         [
             [
                 esc(p),
-                fmt(z.real, 6),
-                fmt(z.imag, 6),
+                fmt(float(u.show("length", z.real)), 6),
+                fmt(float(u.show("length", z.imag)), 6),
                 esc(
                     ", ".join(
                         ["ground"] * (p in lk.ground_points)
@@ -305,9 +310,14 @@ def _model_tables(page: Page, lk: Any, unit: str) -> str:
         ],
     )
     links = page.grid(
-        ("link", "points", "mass", "I_G"),
+        ("link", "points", f"mass ({u.unit('mass')})", f"I_G ({u.unit('inertia')})"),
         [
-            [esc(n), esc(", ".join(link.points)), fmt(link.mass), fmt(link.inertia)]
+            [
+                esc(n),
+                esc(", ".join(link.points)),
+                fmt(float(u.show("mass", link.mass))),
+                fmt(float(u.show("inertia", link.inertia))),
+            ]
             for n, link in lk.links.items()
         ],
     )
@@ -319,18 +329,23 @@ def _force_sections(
     lk: Any,
     m: Any,
     f: Any,
-    xs: np.ndarray,
+    x: tuple[np.ndarray, np.ndarray],
     xlabel: str,
     driver: str,
-    fu: str,
-    tu: str,
+    u: Units,
     full: bool,
     velocity: float,
     k: float | None,
 ) -> None:
+    raw, xs = x
     ok = np.ravel(f.ok)
     rows = []
     where = xlabel.split(" (")[0]
+    xunit = xlabel.rsplit("(", 1)[-1].rstrip(")")
+
+    def at(j: int) -> str:
+        return f"{esc(where)} = {xs[j]:.4g}{'°' if xunit == 'deg' else ' ' + esc(xunit)}"
+
     for (a, b), F in f.pins.items():
         mag = np.where(ok, np.abs(np.ravel(F)), np.nan)
         if np.isfinite(mag).any():
@@ -338,36 +353,48 @@ def _force_sections(
             rows.append(
                 (
                     f"peak |F {a}→{b}|",
-                    f"{fmt(mag[j])} {esc(fu)} at {esc(where)} = {xs[j]:.4g}",
+                    f"{esc(u.text('force', mag[j]))} at {at(j)}",
                     f"peak_F_{a}_{b}",
                 )
             )
     for d, effort in f.driver.items():
         e = np.where(ok, np.ravel(effort), np.nan)
         kind = "torque" if d in m.angle_drivers else "force"
-        uu = tu if kind == "torque" else fu
+        if not np.isfinite(e).any():
+            continue
         jmax, jmin = int(np.nanargmax(e)), int(np.nanargmin(e))
-        rows.append(
-            (
-                f"driver {d} {kind}, largest",
-                f"{fmt(e[jmax])} {esc(uu)} at {esc(where)} = {xs[jmax]:.4g}",
-                f"driver_{d}_max",
+        for label, j, key in (("largest", jmax, "max"), ("smallest", jmin, "min")):
+            rows.append(
+                (
+                    f"driver {d} {kind}, {label}",
+                    f"{esc(u.text(kind, e[j]))} at {at(j)}",
+                    f"driver_{d}_{key}",
+                )
             )
-        )
-        rows.append(
-            (
-                f"driver {d} {kind}, smallest",
-                f"{fmt(e[jmin])} {esc(uu)} at {esc(where)} = {xs[jmin]:.4g}",
-                f"driver_{d}_min",
-            )
-        )
     Fs = np.where(ok, np.abs(np.ravel(f.shaking_force)), np.nan)
     Ms = np.where(ok, np.abs(np.ravel(f.shaking_moment)), np.nan)
-    rows.append(("peak |shaking force|", f"{fmt(np.nanmax(Fs))} {esc(fu)}", "shaking_force_max"))
-    rows.append(("peak |shaking moment|", f"{fmt(np.nanmax(Ms))} {esc(tu)}", "shaking_moment_max"))
+    if np.isfinite(Fs).any():
+        js, jm = int(np.nanargmax(Fs)), int(np.nanargmax(Ms))
+        rows.append(
+            (
+                "peak |shaking force|",
+                f"{esc(u.text('force', Fs[js]))} at {at(js)}",
+                "shaking_force_max",
+            )
+        )
+        rows.append(
+            (
+                "peak |shaking moment|",
+                f"{esc(u.text('torque', Ms[jm]))} at {at(jm)}",
+                "shaking_moment_max",
+            )
+        )
     pins = {f"F {a}→{b}": F for (a, b), F in f.pins.items()}
     polars = "".join(
-        c.to_svg(width=330, height=330) for c in pin_force_charts(pins, ok=ok, unit=fu)
+        c.to_svg(width=330, height=330)
+        for c in pin_force_charts(
+            pins, ok=ok, theta2=raw if xunit == "deg" else None, units=u, where=where
+        )
     )
     page.section(
         "forces",
@@ -375,17 +402,22 @@ def _force_sections(
         page.table(rows) + f'<div class="charts">{polars}</div>',
     )
     effort = np.ravel(f.driver[driver])
+    kind = "torque" if driver in m.angle_drivers else "force"
     fly = None
     if k is not None and full and ok.all():
         from ..flywheel import size_flywheel
 
-        fly = size_flywheel(np.radians(xs), effort, velocity, k)
+        fly = size_flywheel(raw, effort, abs(velocity), k)
         body = page.table(
             [
                 ("coefficient of fluctuation k", fmt(k), "k"),
-                ("average torque", f"{fmt(fly.torque_avg)} {esc(tu)}", "torque_avg"),
-                ("energy to swing ΔE", fmt(fly.delta_e), "delta_e"),
-                ("flywheel inertia I = ΔE/(k ω²)", fmt(fly.inertia), "flywheel_inertia"),
+                ("average torque", esc(u.text("torque", fly.torque_avg)), "torque_avg"),
+                ("energy to swing ΔE", esc(u.text("energy", fly.delta_e)), "delta_e"),
+                (
+                    "flywheel inertia I = ΔE/(k ω²)",
+                    esc(u.text("inertia", fly.inertia)),
+                    "flywheel_inertia",
+                ),
             ]
         )
     else:
@@ -393,16 +425,26 @@ def _force_sections(
             '<p class="remark">A flywheel is sized (give k) over a full turn of an angle '
             "driver.</p>"
         )
-    chart = torque_chart(np.radians(xs), effort, flywheel=fly, ok=ok, unit=tu)
-    chart = Chart(
-        chart.title.replace("input torque", f"driver {driver}"),
-        xlabel,
-        chart.ylabel.replace("input torque T12", f"driver {driver} effort"),
-        chart.series,
-        chart.bands,
-        chart.hlines,
-        chart.notes,
-    )
+    if kind == "torque":
+        chart = torque_chart(raw, effort, flywheel=fly, ok=ok, units=u, name=driver, xlabel=xlabel)
+        chart = replace(chart, title=chart.title.replace("input torque", f"driver {driver} torque"))
+    else:
+        y = np.where(ok, np.ravel(u.show("force", effort)), np.nan)
+        chart = Chart(
+            f"driver {driver} force",
+            xlabel,
+            u.axis(f"driver {driver} force", "force"),
+            [Series(xs, y, driver, colour="#000", gid=f"driver_{driver}")],
+            hlines=[(0.0, "", "#999")],
+        )
     page.section("flywheel", "Driver effort and flywheel", body + chart.to_svg())
-    shaking = shaking_charts(np.ravel(f.shaking_force), force_unit=fu, torque_unit=tu)
-    page.section("shaking", "Shaking force", shaking[0].to_svg(width=380, height=380))
+    angle = kind == "torque"
+    shaking = shaking_charts(
+        np.where(ok, np.ravel(f.shaking_force), np.nan),
+        moment_before=np.where(ok, np.ravel(f.shaking_moment), np.nan) if angle else None,
+        theta=raw if angle else None,
+        units=u,
+        xlabel=xlabel,
+    )
+    svgs = [shaking[0].to_svg(width=380, height=380)] + [c.to_svg() for c in shaking[1:]]
+    page.section("shaking", "Shaking force and moment", "".join(svgs))

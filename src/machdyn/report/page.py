@@ -1,9 +1,11 @@
 """The report page: sections of tables, inline figures and the animated drawing, one HTML file.
 
-Nothing is loaded from the network: figures are inline SVG (matplotlib's, its
-header and metadata removed), the drawing is the inline-SVG widget of
-:mod:`machdyn.draw.html` with its small script, and the style sheet is inline.
-Every number a test or a reader may look up carries ``data-key``.
+Nothing is loaded from the network: figures are inline SVG charts
+(:meth:`machdyn.draw.chart.Chart.to_svg`), the drawing is the inline-SVG widget
+of :mod:`machdyn.draw.html` with its small script, and the style sheet is
+inline. Every number a test or a reader may look up carries ``data-key``; on
+the page of a machine of several parts, the keys of a part start with its
+name (``press:peak_F32``) and its sections are numbered under it.
 """
 
 from __future__ import annotations
@@ -45,16 +47,37 @@ def fmt(value: Any, digits: int = 4) -> str:
 
 @dataclass
 class Page:
-    """A report being written: a title, a first line, then sections."""
+    """A report being written: a title, a first line, then sections (grouped by part).
+
+    While a part of a machine is written (:meth:`part`), section ids, data keys
+    and check keys carry the part's prefix.
+    """
 
     title: str
     headline: str
-    sections: list[tuple[str, str, str]] = field(default_factory=list)
+    sections: list[tuple[str, str, str, int]] = field(default_factory=list)
     failed: bool = False
+    prefix: str = ""
+    slug: str = ""
+    level: int = 2
+
+    def key(self, name: str) -> str:
+        """A data key of the part being written."""
+        return self.prefix + name
 
     def section(self, key: str, title: str, body: str) -> None:
         """Add a section (``key`` becomes its id)."""
-        self.sections.append((key, title, body))
+        self.sections.append((self.slug + key, title, body, self.level))
+
+    def part(self, index: int, name: str, title: str, body: str) -> None:
+        """Start the sections of part ``name`` (the ``index``-th) of a machine."""
+        self.prefix, self.slug, self.level = "", "", 2
+        self.section(f"part{index}", title, body)
+        self.prefix, self.slug, self.level = f"{name}:", f"part{index}-", 3
+
+    def span(self, key: str, text: str) -> str:
+        """``text`` (HTML) marked with a data key."""
+        return f'<span data-key="{esc(self.key(key))}">{text}</span>'
 
     def table(self, rows: list[tuple[str, str, str]], head: tuple[str, ...] = ()) -> str:
         """Rows of (label, value HTML, data-key or '') as a two-column table."""
@@ -62,7 +85,7 @@ class Page:
         if head:
             out.append("<tr>" + "".join(f"<th>{esc(h)}</th>" for h in head) + "</tr>")
         for label, value, key in rows:
-            attr = f' data-key="{esc(key)}"' if key else ""
+            attr = f' data-key="{esc(self.key(key))}"' if key else ""
             out.append(f"<tr><td>{esc(label)}</td><td{attr}>{value}</td></tr>")
         out.append("</table>")
         return "".join(out)
@@ -84,8 +107,9 @@ class Page:
                 self.failed = True
             key = re.sub(r"[^a-z0-9]+", "_", c.name.lower()).strip("_")
             rows.append(
-                f'<tr class="{state.split()[0].lower()}" data-check="{esc(key)}">'
-                f'<td>{esc(c.name)}</td><td data-key="check_{esc(key)}">{describe(c.value)}</td>'
+                f'<tr class="{state.split()[0].lower()}" data-check="{esc(self.key(key))}">'
+                f'<td>{esc(c.name)}</td><td data-key="{esc(self.key("check_" + key))}">'
+                f"{describe(c.value)}</td>"
                 f'<td>{c.tolerance:.0e}</td><td>{c.samples}</td><td class="state">{state}</td>'
                 f"<td>{esc(c.what)}</td></tr>"
             )
@@ -98,9 +122,13 @@ class Page:
 
     def html(self) -> str:
         """The whole page."""
-        toc = "".join(f'<li><a href="#{esc(k)}">{esc(t)}</a></li>' for k, t, _ in self.sections)
+        toc = "".join(
+            f'<li class="l{level}"><a href="#{esc(k)}">{esc(t)}</a></li>'
+            for k, t, _, level in self.sections
+        )
         body = "".join(
-            f'<section id="{esc(k)}"><h2>{esc(t)}</h2>{b}</section>' for k, t, b in self.sections
+            f'<section id="{esc(k)}" class="l{level}"><h{level}>{esc(t)}</h{level}>{b}</section>'
+            for k, t, b, level in self.sections
         )
         cls = "headline bad" if self.failed else "headline"
         return (
@@ -123,6 +151,9 @@ h2 { font-size: 1.1em; border-bottom: 1px solid #ccc; margin-top: 1.6em; }
             padding: 0.4em 0.7em; margin: 0; }
 .headline.bad { background: #fbeaea; border-left-color: #d62728; }
 nav ol { columns: 2; font-size: 0.9em; color: #555; }
+nav li.l3 { margin-left: 1.2em; list-style: circle; }
+h3 { font-size: 1.0em; margin-top: 1.2em; color: #333; }
+section.l2.part { border-top: 3px solid #888; }
 table.facts, table.grid, table.checks { border-collapse: collapse; margin: 0.5em 0;
   font-variant-numeric: tabular-nums; font-size: 0.92em; }
 table.facts td, table.grid td, table.grid th, table.checks td, table.checks th {

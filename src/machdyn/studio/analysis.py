@@ -12,7 +12,6 @@ the module only chooses the samples, calls and packs the answers as JSON.
 
 from __future__ import annotations
 
-import copy
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -84,30 +83,29 @@ def _grid(lk: Any, driver: str, n: int) -> tuple[np.ndarray, int, bool]:
     return x, half, False
 
 
-def _run_document(doc: dict, part: Any, machine: Any, x: np.ndarray) -> Any:
-    """``Machine.run`` of the part with its first driver swept over ``x`` (all points reported)."""
-    from ..spec import read
+def _run_document(part: Any, machine: Any, x: np.ndarray) -> Any:
+    """``Machine.run`` of the part with its first driver swept over ``x`` (all points reported).
+
+    The part's driver settings are replaced as ``machdyn linkage --sweep/--at`` does
+    (``machdyn.cli.linkage.driver_values``): values in the model's units, the file's
+    velocity and acceleration kept; the other drivers stay at their drawn values.
+    """
+    from ..spec._linkage import DriverSetting
+    from ..spec._types import Grid
 
     lk = part.model
-    units = machine.units
-    run_doc = copy.deepcopy(doc)
-    table = run_doc["linkage"][part.name]
-    motion = table.setdefault("motion", {})
-    first = lk.drivers[0]
+    motion = dict(part.values.get("motion", {}))
     for d in lk.drivers:
-        entry = dict(motion.get(d) or {})
-        entry.pop("value", None)
-        entry.pop("sweep", None)
         kind = "angle" if _is_angle(lk, d) else "length"
-        if d == first:
-            entry["sweep"] = {"values": [float(v) for v in units.show(kind, x)]}
-        else:
-            entry["value"] = float(units.show(kind, float(lk.drawn_inputs[d])))
-        motion[d] = entry
+        values = x if d == lk.drivers[0] else np.array([float(lk.drawn_inputs[d])])
+        old = motion.get(d) or DriverSetting(kind)
+        motion[d] = DriverSetting(
+            kind, Grid.of(values), old.velocity, old.acceleration, old.driven_by
+        )
+    part.values["motion"] = motion
     carried = {p for link in lk.links.values() for p in link.points}
-    table["report"] = [p for p in lk.points if p in carried]  # a point on no link has no motion
-    again = read(run_doc)
-    return again, again.run([part.name])[part.name]
+    part.values["report"] = [p for p in lk.points if p in carried]  # a point on no link: no motion
+    return machine.run([part.name])[part.name]
 
 
 def _columns(result: Any, units: Any, wanted: Any) -> tuple[list[str], dict[str, list]]:
@@ -447,8 +445,8 @@ def analyse(
         )
     first = lk.drivers[0]
     x, drawn, closed = _grid(lk, first, samples)
-    machine2, result = _run_document(dict(doc), p, machine, x)
-    units = machine2.units
+    result = _run_document(p, machine, x)  # (``p`` belongs to this call's ``machine``)
+    units = machine.units
     m = result.objects["motion"]
     f = result.objects.get("forces")
     ok = np.ravel(f.ok if f is not None else m.ok).astype(bool)
@@ -462,7 +460,7 @@ def analyse(
     columns.update(mu_columns)
     scene = linkage_scene(lk, m, title=p.name, closed=closed and bool(ok.all()))
     out: dict[str, Any] = {
-        "summary": _summary(lk, p, machine2),
+        "summary": _summary(lk, p, machine),
         "x": _numbers(x_shown),
         "x_label": names[0] if names else first,
         "drawn": drawn,

@@ -68,10 +68,10 @@ def _solved(doc: Mapping[str, Any], part_name: str | None) -> tuple[Any, Any, An
     part = linkage_part(machine, part_name)
     lk = part.model
     x, _, _ = _grid(lk, lk.drivers[0], SAMPLES)
-    machine2, result = _run_document(dict(doc), part, machine, x)
+    result = _run_document(part, machine, x)
     m = result.objects["motion"]
     scene = linkage_scene(lk, m, title=str(doc.get("title") or part.name))
-    return machine2, part, result, scene
+    return machine, part, result, scene
 
 
 def _columns(machine: Any, result: Any) -> dict[str, Any]:

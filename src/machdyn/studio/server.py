@@ -30,6 +30,7 @@ import asyncio
 import json
 import logging
 import threading
+import time
 import traceback
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -187,7 +188,11 @@ class ApiHandler(_Guarded):
                 raise Refused(404, f"no such call: {call!r}")
             pool = studio.slow_pool if slow else studio.fast_pool
             loop = asyncio.get_running_loop()
+            started = time.perf_counter()
             answer = await loop.run_in_executor(pool, fn, body)
+            self.set_header(
+                "Server-Timing", f"app;dur={1000 * (time.perf_counter() - started):.1f}"
+            )
         except Refused as r:
             return self._refuse(r)
         except MachdynError as exc:
@@ -212,7 +217,7 @@ class ApiHandler(_Guarded):
 
     def _json(self, data: Any) -> None:
         self.set_header("Content-Type", "application/json; charset=utf-8")
-        self.finish(json.dumps(data, allow_nan=False))
+        self.finish(json.dumps(data, allow_nan=False, separators=(",", ":")))
 
 
 def _key_of(exc: Exception) -> dict[str, Any]:
@@ -274,7 +279,7 @@ class Studio:
                 (r"/api/([a-z_]+)", ApiHandler),
             ],
             studio=self,
-            compress_response=True,
+            compress_response=False,  # loopback: compressing costs more than it saves
         )
 
     def _listen(self) -> None:
@@ -322,10 +327,21 @@ class Studio:
         self._listen()
         if self.on_ready is not None:
             self._loop.add_callback(self.on_ready)
+        self.fast_pool.submit(self._warm_up)
         try:
             self._loop.start()
         finally:
             self._close()
+
+    def _warm_up(self) -> None:
+        """Analyse a template once, so the first real answer does not pay the imports."""
+        try:
+            from .analysis import analyse
+            from .templates import template
+
+            analyse(template("four-bar"), samples=36, quantities=[])
+        except Exception:  # never worth a failed start
+            log.debug("studio: warm-up failed", exc_info=True)
 
     def _close(self) -> None:
         if self._server is not None:

@@ -90,7 +90,10 @@ class App {
     this.banner();
     if (!this.editing) { this.panels.render(); }
     this.stats.drawn++;
-    this.lastLatency = performance.now() - tag.t;
+    const now = performance.now();
+    this.lastLatency = now - tag.t;
+    // where a drag step's time goes: the server's analysis, the rest of the round trip, drawing
+    this.timing = { total: now - tag.t, server: tag.server, trip: tag.received - tag.t - (tag.server || 0), draw: now - tag.received };
     document.body.dataset.analysed = String(this.stats.drawn);
   }
 
@@ -278,6 +281,18 @@ class App {
       const near = this.pointNear(px, py);
       const body = e.target.closest ? (e.target.closest("[data-body]") || {}).dataset : null;
       if (this.synth.active() && e.button === 0) { this.synth.pick(near ? this.view.pointAt(near) : world); return; }
+      if (this.addingTo && e.button === 0) {
+        const link = this.addingTo;
+        this.addingTo = null; this.hint("");
+        let name = null;
+        this.store.commit((d, p) => {
+          name = addPoint(p, world);
+          p.links[link].points.push(name);
+          p.report = [...(p.report || []), name];
+        });
+        this.select({ kind: "point", name });
+        return;
+      }
       if (e.button === 1 || (e.button === 0 && this.tool === "select" && !near && !(body && body.body))) {
         drag = { pan: true, x: px, y: py, tx: this.view.tx, ty: this.view.ty, moved: false };
         svg.setPointerCapture(e.pointerId);
@@ -359,6 +374,13 @@ class App {
     window.addEventListener("resize", () => this.draw());
   }
 
+  // The next click on the canvas adds a point to ``link`` (drawn there; traced).
+  addPointTo(link) {
+    this.addingTo = this.addingTo === link ? null : link;
+    this.hint(this.addingTo ? `Click where the new point of ${link} goes (Esc cancels).` : "");
+    this.panels.renderDesign();
+  }
+
   finishLink() {
     const pts = [...new Set(this.pending)];
     this.pending = []; this.view.rubber = null;
@@ -383,7 +405,7 @@ class App {
       else if (ctrl && e.key.toLowerCase() === "s") { e.preventDefault(); this.save(); }
       else if (typing) return;
       else if (e.key === "Delete" || e.key === "Backspace") this.deleteSelection();
-      else if (e.key === "Escape") { this.pending = []; this.view.rubber = null; if (this.synth.active()) this.synth.stop(); this.setTool("select"); }
+      else if (e.key === "Escape") { this.addingTo = null; this.pending = []; this.view.rubber = null; if (this.synth.active()) this.synth.stop(); this.setTool("select"); }
       else if (e.key === "Enter" && this.tool === "link") this.finishLink();
       else if (e.key === " ") { e.preventDefault(); this.togglePlay(); }
       else if (e.key === "f") { this.view.fit(); this.draw(); }

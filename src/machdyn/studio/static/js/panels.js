@@ -90,6 +90,7 @@ export class Panels {
         h("label", { class: "wide" }, `centre of mass${lu}`, cg)),
       h("div", { class: "buttons" },
         h("button", { disabled: isDriver, onclick: () => store.commit((d, pt) => setDriver(pt, sel.name)) }, isDriver ? "the driver" : "Drive this link"),
+        h("button", { id: "add-point", class: app.addingTo === sel.name ? "on" : "", title: "Click on the canvas to add a point carried by this link (a coupler point); its path is traced", onclick: () => app.addPointTo(sel.name) }, "Add a point"),
         h("button", { class: "danger", onclick: () => { store.commit((d, pt) => deleteLink(pt, sel.name)); app.select(null); } }, "Delete link")));
       return box;
     }
