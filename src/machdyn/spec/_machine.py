@@ -182,9 +182,12 @@ class Machine(Mapping[str, Any]):
 
 
 def _write_gravity(w: Writer, g: float) -> Any:
-    if not w.system.is_unit_free and g == u.standard_gravity(w.system):
+    if w.system.is_unit_free:
+        return g
+    if g == u.standard_gravity(w.system):
         return True
-    return w.quantity(g, "acceleration")
+    # with its unit: a bare gravity far from standard gravity is refused on reading
+    return f"{g!r} {w.system.internal('acceleration')}"
 
 
 # ------------------------------------------------------------------- reading
