@@ -344,14 +344,14 @@ def test_gear_trains_function_and_path_synthesis_in_two_systems_agree():
                     "theta2": [45, 105],
                     "theta4": [135, 225],
                     "r1": 200,
-                }  # fmt: skip
+                }
             },
             "path_synthesis": {
                 "p": {
                     "targets": [[mm_per_m * x, mm_per_m * y] for x, y in targets],
                     "tolerance": 1,
                     **search,
-                }  # fmt: skip
+                }
             },
         },
     )

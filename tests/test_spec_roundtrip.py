@@ -328,10 +328,20 @@ def test_every_kind_is_covered_here():
     from machdyn.spec._machine import KINDS
 
     covered = {
-        "fourbar", "slider_crank", "inverted_slider_crank", "linkage", "cam", "gear_pair",
-        "gear_train", "planetary", "flywheel", "rotor", "motion_synthesis",
-        "function_synthesis", "path_synthesis",
-    }  # fmt: skip
+        "fourbar",
+        "slider_crank",
+        "inverted_slider_crank",
+        "linkage",
+        "cam",
+        "gear_pair",
+        "gear_train",
+        "planetary",
+        "flywheel",
+        "rotor",
+        "motion_synthesis",
+        "function_synthesis",
+        "path_synthesis",
+    }
     assert covered == set(KINDS)
 
 
@@ -391,7 +401,10 @@ def test_fourbar_machines_with_masses_loads_and_gravity(scale, m, i, cg, load, w
                                                         gravity, how):  # fmt: skip
     r1, r2, r3, r4 = (scale * x for x in (8.0, 4.0, 7.0, 6.0))
     part = {
-        "r1": r1, "r2": r2, "r3": r3, "r4": r4,
+        "r1": r1,
+        "r2": r2,
+        "r3": r3,
+        "r4": r4,
         "coupler": {"p": 5 * scale, "delta": 0.5},
         "motion": {"theta2": [0, 6, 0.75], "omega2": w, "alpha2": alpha},
         "link2": {"mass": m[0], "inertia": i[0], "cg": [cg[0] * r2, 0]},
@@ -402,7 +415,7 @@ def test_fourbar_machines_with_masses_loads_and_gravity(scale, m, i, cg, load, w
             "torques": {"link3": -load / 2},
             "force": [{"link": 3, "at": [r3 / 2, 0], "force": [load, -load]}],
         },
-    }  # fmt: skip
+    }
     assert_machine_round_trip(_with({"fourbar": {"f": part}}, units, gravity), how)
 
 
@@ -415,13 +428,15 @@ def test_slider_crank_machines_with_friction(a, ratio, e, m, friction, mu, force
     loads_ = {"force4": force, "friction": friction}
     loads_ |= {"coulomb": {"mu": mu}, "viscous": {"beta": mu}, "smooth": {}}[friction]
     part = {
-        "crank": a, "coupler": ratio * a, "offset": e * a,
+        "crank": a,
+        "coupler": ratio * a,
+        "offset": e * a,
         "motion": {"theta2": ["0 deg", "360 deg", "45 deg"], "omega2": 10.0},
         "link2": {"mass": m[0], "inertia": m[0] * a * a / 12, "cg": a / 2},
         "link3": {"mass": m[1], "inertia": m[1] * a * a, "cg": ratio * a / 2},
         "link4": {"mass": m[2]},
         "loads": loads_,
-    }  # fmt: skip
+    }
     doc = {"slider_crank": {"s": part}, "inverted_slider_crank": {"i": {"crank": a,
            "ground": ratio * a, "offset": e * a}}}  # fmt: skip
     assert_machine_round_trip(_with(doc, units, gravity), how)
@@ -445,13 +460,20 @@ def test_linkage_machines_with_forces_friction_springs_and_gravity(a, b, angle, 
             "block": {"points": ["B"], "mass": m, "shape": {"disc": 0.1}},
         },
         "sliders": {"guide": {"block": "block", "on": "ground", "at": "B", "direction": angle}},
-        "springs": {"s": {"start": "G", "end": "B", "stiffness": 10 * c + 1,
-                          "free_length": 0.5, "damping": c}},
+        "springs": {
+            "s": {
+                "start": "G",
+                "end": "B",
+                "stiffness": 10 * c + 1,
+                "free_length": 0.5,
+                "damping": c,
+            }
+        },
         "motion": {"crank": {"sweep": [0, 3, 0.5], "velocity": 2.0, "acceleration": 0.5}},
         "forces": [{"link": "rod", "at": "B", "force": list(f)}],
         "torques": {"rod": t},
         "friction": {"guide": {"coulomb": mu, "viscous": c}},
-    }  # fmt: skip
+    }
     assert_machine_round_trip(_with({"linkage": {"lk": part}}, units, gravity), how)
 
 

@@ -215,7 +215,12 @@ def _prescan(doc: Any, found: dict[str, str]) -> None:
                 continue
             found[key] = unit
             return
-        found.setdefault("any", unit)
+        try:  # '3 A', '3 furlongz': refused at their key, not as the file's units
+            mechanical = not u.describe(unit).startswith("not a mechanical")
+        except ValueError:
+            return
+        if mechanical:
+            found.setdefault("any", unit)
 
 
 def _is_angle(unit: str) -> bool:
