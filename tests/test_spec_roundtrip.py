@@ -124,8 +124,12 @@ def units_of(model, system):
 
 # ------------------------------------------------------------------ mechanisms
 @FAST
-@given(r=st.tuples(length, length, length, length), p=st.none() | st.tuples(length, angle), how=HOW,
-       system=SYSTEMS)  # fmt: skip
+@given(
+    r=st.tuples(length, length, length, length),
+    p=st.none() | st.tuples(length, angle),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_fourbars(r, p, how, system):
     try:
         fb = units_of(FourBar(*r, coupler=p), system)
@@ -138,8 +142,14 @@ def test_fourbars(r, p, how, system):
 
 
 @FAST
-@given(a=length, b=length, c=st.floats(-0.9, 0.9), point=st.none() | st.tuples(length, angle),
-       how=HOW, system=SYSTEMS)  # fmt: skip
+@given(
+    a=length,
+    b=length,
+    c=st.floats(-0.9, 0.9),
+    point=st.none() | st.tuples(length, angle),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_slider_cranks_and_inversions(a, b, c, point, how, system):
     try:
         sc = units_of(SliderCrank(a, b, c * (a + b), point=point), system)
@@ -167,8 +177,15 @@ def _linkage(a: float, b: float, angle: float, m: float, k: float) -> Linkage:
 
 
 @FAST
-@given(a=st.floats(0.5, 2.0), b=st.floats(3.0, 8.0), angle=st.floats(-0.5, 0.5),
-       m=st.floats(0.1, 5.0), k=st.floats(1e-3, 10.0), how=HOW, system=SYSTEMS)  # fmt: skip
+@given(
+    a=st.floats(0.5, 2.0),
+    b=st.floats(3.0, 8.0),
+    angle=st.floats(-0.5, 0.5),
+    m=st.floats(0.1, 5.0),
+    k=st.floats(1e-3, 10.0),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_linkages(a, b, angle, m, k, how, system):
     lk = _linkage(a, b, angle, m, k)
     lk.units = system
@@ -183,9 +200,14 @@ LAWS = st.sampled_from(["cycloidal", "simple_harmonic", "poly345", "poly4567", "
 
 
 @FAST
-@given(law=LAWS, h=st.floats(0.05, 50.0), beta=st.lists(st.floats(0.3, 1.4), min_size=3,
-       max_size=3), kind=st.sampled_from(["roller", "flat", "oscillating", "program"]), how=HOW,
-       system=SYSTEMS)  # fmt: skip
+@given(
+    law=LAWS,
+    h=st.floats(0.05, 50.0),
+    beta=st.lists(st.floats(0.3, 1.4), min_size=3, max_size=3),
+    kind=st.sampled_from(["roller", "flat", "oscillating", "program"]),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_cams(law, h, beta, kind, how, system):
     rest = 2 * math.pi - sum(beta)
     program = cams.CamProgram(
@@ -202,8 +224,9 @@ def test_cams(law, h, beta, kind, how, system):
         "oscillating": cams.OscillatingRoller(4.0, 0.5, 6.0, 5.0, pivot_side="left"),
     }
     if kind == "oscillating":  # an oscillating follower's lift is an angle
-        program = cams.CamProgram([cams.Segment(s.motion, s.beta, min(s.h, 0.3), s.law)
-                                   for s in program.segments])  # fmt: skip
+        program = cams.CamProgram(
+            [cams.Segment(s.motion, s.beta, min(s.h, 0.3), s.law) for s in program.segments]
+        )
     model = program if kind == "program" else Cam(program, followers[kind])
     units_of(model, system)
     again = assert_round_trip(model, how)
@@ -213,10 +236,18 @@ def test_cams(law, h, beta, kind, how, system):
 
 
 @FAST
-@given(np_=st.integers(12, 40), ng=st.integers(41, 120), size=st.sampled_from(
-       [("module", 2.5), ("diametral_pitch", 8.0), ("module", 0.7), ("module", 1.25)]),
-       phi=st.floats(0.25, 0.44), shift=st.floats(-0.3, 0.3), driver=st.sampled_from(
-       ["pinion", "gear"]), extra=st.floats(0.0, 0.2), how=HOW)  # fmt: skip
+@given(
+    np_=st.integers(12, 40),
+    ng=st.integers(41, 120),
+    size=st.sampled_from(
+        [("module", 2.5), ("diametral_pitch", 8.0), ("module", 0.7), ("module", 1.25)]
+    ),
+    phi=st.floats(0.25, 0.44),
+    shift=st.floats(-0.3, 0.3),
+    driver=st.sampled_from(["pinion", "gear"]),
+    extra=st.floats(0.0, 0.2),
+    how=HOW,
+)
 def test_gear_pairs(np_, ng, size, phi, shift, driver, extra, how):
     try:
         pinion = gears.Gear(np_, **{size[0]: size[1]}, pressure_angle=phi, profile_shift=shift)
@@ -229,9 +260,17 @@ def test_gear_pairs(np_, ng, size, phi, shift, driver, extra, how):
 
 
 @FAST
-@given(stages=st.lists(st.tuples(st.integers(8, 120), st.integers(8, 120), st.sampled_from(
-       ["external", "internal"])), min_size=1, max_size=5),
-       planet=st.tuples(st.integers(12, 40), st.integers(12, 40)), how=HOW)  # fmt: skip
+@given(
+    stages=st.lists(
+        st.tuples(
+            st.integers(8, 120), st.integers(8, 120), st.sampled_from(["external", "internal"])
+        ),
+        min_size=1,
+        max_size=5,
+    ),
+    planet=st.tuples(st.integers(12, 40), st.integers(12, 40)),
+    how=HOW,
+)
 def test_gear_trains_and_planetary_trains(stages, planet, how):
     try:
         train = gears.GearTrain(stages)
@@ -246,8 +285,15 @@ def test_gear_trains_and_planetary_trains(stages, planet, how):
 
 # ------------------------------------------------------------------ tasks
 @FAST
-@given(n=st.integers(3, 50), k=st.floats(0.001, 0.45), w=st.floats(0.5, 900.0),
-       mean=st.floats(-50.0, 50.0), disc=st.booleans(), how=HOW, system=SYSTEMS)  # fmt: skip
+@given(
+    n=st.integers(3, 50),
+    k=st.floats(0.001, 0.45),
+    w=st.floats(0.5, 900.0),
+    mean=st.floats(-50.0, 50.0),
+    disc=st.booleans(),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_flywheels(n, k, w, mean, disc, how, system):
     theta = np.linspace(0.0, 2 * math.pi, n)
     torque = mean + 10.0 * np.sin(theta) + np.cos(3 * theta)
@@ -261,9 +307,14 @@ mass_row = st.tuples(st.floats(0.01, 20.0), st.floats(0.001, 2.0), angle, st.flo
 
 
 @FAST
-@given(masses=st.lists(mass_row, min_size=1, max_size=5), planes=st.none() | st.tuples(
-       st.floats(-1.0, 0.0), st.floats(0.1, 2.0)), radius=st.floats(0.01, 1.0),
-       speed=st.none() | st.floats(1.0, 500.0), how=HOW, system=SYSTEMS)  # fmt: skip
+@given(
+    masses=st.lists(mass_row, min_size=1, max_size=5),
+    planes=st.none() | st.tuples(st.floats(-1.0, 0.0), st.floats(0.1, 2.0)),
+    radius=st.floats(0.01, 1.0),
+    speed=st.none() | st.floats(1.0, 500.0),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_rotors(masses, planes, radius, speed, how, system):
     radii = None if planes is None else (radius, 1.5 * radius)
     task = RotorBalance(tuple(masses), planes, radii, speed, units=system)
@@ -282,8 +333,13 @@ point = st.builds(complex, st.floats(-10.0, 10.0), st.floats(-10.0, 10.0))
 
 
 @FAST
-@given(c=st.lists(point, min_size=3, max_size=3), d=st.lists(point, min_size=3, max_size=3),
-       pivots=st.sampled_from(["free", "moving", "fixed"]), how=HOW, system=SYSTEMS)  # fmt: skip
+@given(
+    c=st.lists(point, min_size=3, max_size=3),
+    d=st.lists(point, min_size=3, max_size=3),
+    pivots=st.sampled_from(["free", "moving", "fixed"]),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_motion_synthesis_tasks(c, d, pivots, how, system):
     extra = {
         "free": {},
@@ -299,10 +355,18 @@ def test_motion_synthesis_tasks(c, d, pivots, how, system):
 
 
 @FAST
-@given(x0=st.floats(0.5, 2.0), dx=st.floats(0.5, 3.0), t2=st.tuples(angle, angle),
-       t4=st.tuples(angle, angle), points=st.integers(2, 3), spacing=st.sampled_from(
-       ["chebyshev", "even"]), r1=st.floats(0.1, 100.0), fn=st.sampled_from(
-       ["log10(x)", "x**2", "sin(x) + 1", "1/x"]), how=HOW, system=SYSTEMS)  # fmt: skip
+@given(
+    x0=st.floats(0.5, 2.0),
+    dx=st.floats(0.5, 3.0),
+    t2=st.tuples(angle, angle),
+    t4=st.tuples(angle, angle),
+    points=st.integers(2, 3),
+    spacing=st.sampled_from(["chebyshev", "even"]),
+    r1=st.floats(0.1, 100.0),
+    fn=st.sampled_from(["log10(x)", "x**2", "sin(x) + 1", "1/x"]),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_function_synthesis_tasks(x0, dx, t2, t4, points, spacing, r1, fn, how, system):
     try:
         task = FunctionTask(fn, (x0, x0 + dx), t2, t4, points, spacing, r1, units=system)
@@ -314,13 +378,20 @@ def test_function_synthesis_tasks(x0, dx, t2, t4, points, spacing, r1, fn, how, 
 
 
 @FAST
-@given(targets=st.lists(point, min_size=3, max_size=8, unique=True), timed=st.booleans(),
-       mu=st.floats(0.1, 0.7), tol=st.none() | st.floats(1e-4, 1.0), seed=st.integers(0, 2**31),
-       how=HOW, system=SYSTEMS)  # fmt: skip
+@given(
+    targets=st.lists(point, min_size=3, max_size=8, unique=True),
+    timed=st.booleans(),
+    mu=st.floats(0.1, 0.7),
+    tol=st.none() | st.floats(1e-4, 1.0),
+    seed=st.integers(0, 2**31),
+    how=HOW,
+    system=SYSTEMS,
+)
 def test_path_synthesis_tasks(targets, timed, mu, tol, seed, how, system):
     timing = tuple(np.linspace(0.0, 5.0, len(targets)).tolist()) if timed else None
-    task = PathTask(tuple(targets), timing, mu, tol, seed, maxiter=50, popsize=8, polish=False,
-                    units=system)  # fmt: skip
+    task = PathTask(
+        tuple(targets), timing, mu, tol, seed, maxiter=50, popsize=8, polish=False, units=system
+    )
     assert_round_trip(task, how)
 
 
@@ -393,12 +464,21 @@ def _with(doc: dict, units: dict, gravity) -> dict:
 
 
 @FAST
-@given(scale=st.floats(0.1, 100.0), m=st.tuples(pos, pos, pos), i=st.tuples(pos, pos, pos),
-       cg=st.tuples(st.floats(-1, 1), st.floats(-1, 1)), load=st.floats(-50.0, 50.0),
-       w=st.floats(-100.0, 100.0), alpha=st.floats(-10.0, 10.0), units=UNIT_TABLES,
-       gravity=GRAVITY, how=HOW)  # fmt: skip
-def test_fourbar_machines_with_masses_loads_and_gravity(scale, m, i, cg, load, w, alpha, units,
-                                                        gravity, how):  # fmt: skip
+@given(
+    scale=st.floats(0.1, 100.0),
+    m=st.tuples(pos, pos, pos),
+    i=st.tuples(pos, pos, pos),
+    cg=st.tuples(st.floats(-1, 1), st.floats(-1, 1)),
+    load=st.floats(-50.0, 50.0),
+    w=st.floats(-100.0, 100.0),
+    alpha=st.floats(-10.0, 10.0),
+    units=UNIT_TABLES,
+    gravity=GRAVITY,
+    how=HOW,
+)
+def test_fourbar_machines_with_masses_loads_and_gravity(
+    scale, m, i, cg, load, w, alpha, units, gravity, how
+):
     r1, r2, r3, r4 = (scale * x for x in (8.0, 4.0, 7.0, 6.0))
     part = {
         "r1": r1,
@@ -420,11 +500,21 @@ def test_fourbar_machines_with_masses_loads_and_gravity(scale, m, i, cg, load, w
 
 
 @FAST
-@given(a=pos, ratio=st.floats(1.5, 6.0), e=st.floats(-0.4, 0.4), m=st.tuples(pos, pos, pos),
-       friction=st.sampled_from(["smooth", "coulomb", "viscous"]), mu=st.floats(0.0, 0.5),
-       force=st.floats(-100.0, 100.0), units=UNIT_TABLES, gravity=GRAVITY, how=HOW)  # fmt: skip
-def test_slider_crank_machines_with_friction(a, ratio, e, m, friction, mu, force, units, gravity,
-                                             how):  # fmt: skip
+@given(
+    a=pos,
+    ratio=st.floats(1.5, 6.0),
+    e=st.floats(-0.4, 0.4),
+    m=st.tuples(pos, pos, pos),
+    friction=st.sampled_from(["smooth", "coulomb", "viscous"]),
+    mu=st.floats(0.0, 0.5),
+    force=st.floats(-100.0, 100.0),
+    units=UNIT_TABLES,
+    gravity=GRAVITY,
+    how=HOW,
+)
+def test_slider_crank_machines_with_friction(
+    a, ratio, e, m, friction, mu, force, units, gravity, how
+):
     loads_ = {"force4": force, "friction": friction}
     loads_ |= {"coulomb": {"mu": mu}, "viscous": {"beta": mu}, "smooth": {}}[friction]
     part = {
@@ -437,18 +527,30 @@ def test_slider_crank_machines_with_friction(a, ratio, e, m, friction, mu, force
         "link4": {"mass": m[2]},
         "loads": loads_,
     }
-    doc = {"slider_crank": {"s": part}, "inverted_slider_crank": {"i": {"crank": a,
-           "ground": ratio * a, "offset": e * a}}}  # fmt: skip
+    doc = {
+        "slider_crank": {"s": part},
+        "inverted_slider_crank": {"i": {"crank": a, "ground": ratio * a, "offset": e * a}},
+    }
     assert_machine_round_trip(_with(doc, units, gravity), how)
 
 
 @FAST
-@given(a=st.floats(0.5, 2.0), b=st.floats(3.0, 8.0), angle=st.floats(-0.5, 0.5), m=pos,
-       mu=st.floats(0.0, 0.4), c=st.floats(0.0, 20.0), f=st.tuples(st.floats(-50, 50),
-       st.floats(-50, 50)), t=st.floats(-20, 20), units=UNIT_TABLES, gravity=GRAVITY,
-       how=HOW)  # fmt: skip
-def test_linkage_machines_with_forces_friction_springs_and_gravity(a, b, angle, m, mu, c, f, t,
-                                                                  units, gravity, how):  # fmt: skip
+@given(
+    a=st.floats(0.5, 2.0),
+    b=st.floats(3.0, 8.0),
+    angle=st.floats(-0.5, 0.5),
+    m=pos,
+    mu=st.floats(0.0, 0.4),
+    c=st.floats(0.0, 20.0),
+    f=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+    t=st.floats(-20, 20),
+    units=UNIT_TABLES,
+    gravity=GRAVITY,
+    how=HOW,
+)
+def test_linkage_machines_with_forces_friction_springs_and_gravity(
+    a, b, angle, m, mu, c, f, t, units, gravity, how
+):
     part = {
         "ground": ["O2", "G"],
         "drive": ["crank"],
