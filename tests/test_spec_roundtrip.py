@@ -176,7 +176,29 @@ def _linkage(a: float, b: float, angle: float, m: float, k: float) -> Linkage:
     )
 
 
-@FAST
+def _curved(a: float, b: float, r: float) -> tuple[Linkage, Linkage]:
+    """A block on a circular guide of radius r; a crank pin in a curved slot of a yoke."""
+    block = (
+        Linkage({"O2": 0, "A": complex(a, 0), "P": complex(a + b, 0), "C": complex(a + b, -r)})
+        .ground("O2", "C")
+        .link("crank", "O2", "A")
+        .link("rod", "A", "P")
+        .link("block", "P")
+        .slider("block", "ground", "P", centre="C", radius=r)
+        .drive("crank")
+    )
+    yoke = (
+        Linkage({"O2": 0, "A": complex(a, 0), "Y": complex(a + b, 0), "K": complex(a, r)})
+        .ground("O2", "Y")
+        .link("crank", "O2", "A")
+        .link("yoke", "Y", "K")
+        .slot("A", "crank", "yoke", centre="K", radius=r)
+        .drive("crank")
+    )
+    return block, yoke
+
+
+@settings(FAST, max_examples=15)
 @given(
     a=st.floats(0.5, 2.0),
     b=st.floats(3.0, 8.0),
@@ -193,6 +215,12 @@ def test_linkages(a, b, angle, m, k, how, system):
     values = np.linspace(0.0, 1.0, 5)
     x, y = lk.solve(values, velocity=1.0), again.solve(values, velocity=1.0)
     assert state(x.points["B"]) == state(y.points["B"])
+    for curved, centre in zip(_curved(a, b, k + 1.0), "CK", strict=True):
+        curved.units = system
+        again = assert_round_trip(curved, how)
+        assert (again.joints[-1].centre, again.joints[-1].radius) == (centre, k + 1.0)
+        x, y = curved.solve(values, velocity=1.0), again.solve(values, velocity=1.0)
+        assert state(x.points) == state(y.points)
 
 
 # ------------------------------------------------------------------ cams and gears
