@@ -145,6 +145,8 @@ NOT_CALLED = {
     "machdyn.simulate:SteadyState",
     "machdyn.simulate:Step",
     "machdyn.sensitivity:Sensitivity",
+    "machdyn.tolerance:Spread",
+    "machdyn.tolerance:Tolerance",
 }
 
 #: Public callables not fuzzed here, with the reason.

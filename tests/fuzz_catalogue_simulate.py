@@ -119,6 +119,7 @@ def add_simulate(c: dict[str, Any], fn, meth) -> None:
     meth(f"{s}:PeriodicMotion.at", _periodic, theta=np.array([0.0, 1.0]))
     meth("machdyn.flywheel:FlywheelResult.simulate", _flywheel, model=_sc(), **FAST, **SC_MASS)
     add_sensitivity(c, fn, meth)
+    add_tolerance(c, fn)
 
 
 @cache
@@ -150,3 +151,16 @@ def add_sensitivity(c: dict[str, Any], fn, meth) -> None:
     for name in ("of", "stack_up", "rss"):
         c[f"{k}:Sensitivity.{name}"].accepts.update(output={"text"}, dimension={"text"})
     c["machdyn.flywheel:FlywheelResult.simulate"].accepts["motor"] = {"none"}
+
+
+def add_tolerance(c: dict[str, Any], fn) -> None:
+    """Entries for machdyn.tolerance (a small run: the fuzzer calls it many times)."""
+    k = "machdyn.tolerance:tolerance"
+    fn(k, model=_fb(), tolerances={"r2": 0.01, "p": (0.01, "uniform")},
+       theta2=np.radians([10.0, 50.0]), samples=20, chunk=8, seed=1, sigmas=3.0,
+       outputs=["theta4", "coupler", "T12"], omega2=10.0, alpha2=1.0, mass=(1.0, 2.0, 1.5),
+       inertia=(0.1, 0.5, 0.3), cg=(2.0, 3.0, 3.0), gravity=9.81, load=-1.0)  # fmt: skip
+    c[k].accepts.update(
+        theta2={"none"}, branch={"none"}, outputs={"none"}, scheduler={"none"}, workers={"none"},
+        seed={"zero"}, alpha2={"zero"}, gravity={"zero"}, load={"zero"}, omega2={"zero"},
+    )  # fmt: skip

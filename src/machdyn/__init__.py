@@ -23,6 +23,7 @@ from .mobility import Joint, mobility, mobility_of
 from .sensitivity import sensitivity
 from .simulate import simulate
 from .slidercrank import InvertedSliderCrank, SliderCrank
+from .tolerance import tolerance
 
 __version__ = "0.1.0"
 
@@ -44,6 +45,7 @@ __all__ = [
     "mobility_of",
     "sensitivity",
     "simulate",
+    "tolerance",
 ]
 
 # Subpackages and modules loaded lazily on attribute access.

@@ -313,18 +313,44 @@ def _fourbar(fb, theta2, omega2, alpha2, form, branch, mass, inertia, cg, gravit
     motion = fb.solve(theta, w2, a2, form, branch=branch, order=2)
     names = ("r1", "r2", "r3", "r4") + (("p", "delta") if fb.coupler is not None else ())
     m = len(names)
-    d, a, b, c = (Dual.seed(np.full(theta.shape, r), k, m) for k, r in enumerate(fb.lengths))
-    e2 = expj(Dual.constant(theta, m))
-    # positions: J ∂θ/∂p = −∂F/∂p, with θ3, θ4 held (F's own derivative) — then θ as duals
-    th3, th4 = Dual.constant(motion.theta3, m), Dual.constant(motion.theta4, m)
-    F = a * e2 + b * expj(th3) - c * expj(th4) - d
-    c1, c2 = (1j * b * expj(th3)), (-1j * c * expj(th4))
-    dth3, dth4 = solve_pair(lift(c1.v, m), lift(c2.v, m), -F)
-    th3, th4 = Dual(motion.theta3, dth3.d), Dual(motion.theta4, dth4.d)
+    lengths = tuple(Dual.seed(np.full(theta.shape, r), k, m) for k, r in enumerate(fb.lengths))
+    coupler = None
+    if fb.coupler is not None:
+        coupler = tuple(
+            Dual.seed(np.full(theta.shape, v), 4 + k, m) for k, v in enumerate(fb.coupler)
+        )
+    torque = None
+    if mass is not None:
+        torque = (mass, inertia, cg, gravity, load, fb.length_unit)
+    values = fourbar_outputs(lengths, coupler, theta, motion.theta3, motion.theta4, w2, a2, torque)
+    return names, values, motion, np.asarray(motion.status).ravel(), STATUS_REASONS
+
+
+def fourbar_outputs(
+    lengths, coupler, theta, theta3, theta4, w2, a2, torque=None
+) -> dict[str, Dual]:
+    """A four-bar's outputs as duals, given its solved angles θ3, θ4 (any broadcast shapes).
+
+    ``lengths`` (r1, r2, r3, r4) and ``coupler`` (p, δ) are duals: seeded for
+    sensitivities, or constants with no directions for a batch of linkages
+    (:mod:`machdyn.tolerance`). The position derivatives follow from the loop
+    ``F = 0`` by implicit differentiation; ω, α and the points from the same
+    Jacobian's systems with their right-hand sides as in :mod:`machdyn.fourbar`.
+    """
+    d, a, b, c = lengths
+    m = a.d.shape[-1]
+    e2 = expj(
+        lift(np.broadcast_to(theta, np.broadcast_shapes(np.shape(theta), np.shape(theta3))), m)
+    )
+    th3, th4 = lift(theta3, m), lift(theta4, m)
+    if m:  # positions: J ∂θ/∂p = −∂F/∂p, with θ3, θ4 held (F's own derivative)
+        F = a * e2 + b * expj(th3) - c * expj(th4) - d
+        c1, c2 = (1j * b * expj(th3)), (-1j * c * expj(th4))
+        dth3, dth4 = solve_pair(lift(c1.v, m), lift(c2.v, m), -F)
+        th3, th4 = Dual(th3.v, dth3.d), Dual(th4.v, dth4.d)
     e3, e4 = expj(th3), expj(th4)
-    c1, c2 = 1j * b * e3, -1j * c * e4  # the Jacobian's columns, now with their derivatives
+    c1, c2 = 1j * b * e3, -1j * c * e4  # the Jacobian's columns, with their derivatives
     A = a * e2
-    # velocities and accelerations: the same system, right-hand sides as in fourbar.py
     w3, w4 = solve_pair(c1, c2, -1j * w2 * A)
     h3, h4 = solve_pair(c1, c2, -1j * A)  # kinematic coefficients (unit input speed)
     k_acc = -(1j * a2 - w2 * w2) * A + b * w3 * w3 * e3 - c * w4 * w4 * e4
@@ -334,37 +360,25 @@ def _fourbar(fb, theta2, omega2, alpha2, form, branch, mass, inertia, cg, gravit
         "theta3": th3, "theta4": th4, "omega3": w3, "omega4": w4, "alpha3": al3, "alpha4": al4,
         "A": A, "B": B, "B_velocity": 1j * w4 * c * e4,
     }  # fmt: skip
-    if fb.coupler is not None:
-        p = Dual.seed(np.full(theta.shape, fb.coupler[0]), 4, m)
-        delta = Dual.seed(np.full(theta.shape, fb.coupler[1]), 5, m)
+    if coupler is not None:
+        p, delta = coupler
         arm = p * expj(th3 + delta)
         values["coupler"] = A + arm
         values["coupler_velocity"] = 1j * w2 * A + 1j * w3 * arm
         values["coupler_acceleration"] = (1j * a2 - w2 * w2) * A + (1j * al3 - w3 * w3) * arm
-    if mass is not None:
+    if torque is not None:
         values["T12"] = _fourbar_torque(
-            fb,
-            (e2, e3, e4),
-            A,
-            (w3, w4, al3, al4, h3, h4),
-            w2,
-            a2,
-            mass,
-            inertia,
-            cg,
-            gravity,
-            load,
-            m,
+            (e2, e3, e4), A, (w3, w4, al3, al4, h3, h4), w2, a2, *torque, m
         )
-    return names, values, motion, np.asarray(motion.status).ravel(), STATUS_REASONS
+    return values
 
 
-def _fourbar_torque(fb, e, A, rates, w2, a2, mass, inertia, cg, gravity, load, m):
+def _fourbar_torque(e, A, rates, w2, a2, mass, inertia, cg, gravity, load, unit, m):
     """``T12`` by virtual work, as duals (the kinematic coefficients of ``virtual_work``)."""
     from ._validate import finite_scalar, nonnegative
     from .dynamics import link_properties
 
-    props = link_properties(mass, inertia, cg, fb.length_unit)
+    props = link_properties(mass, inertia, cg, unit)
     g = nonnegative("gravity", gravity)
     load = finite_scalar("load", load)
     e2, e3, e4 = e

@@ -30,6 +30,7 @@ def _register() -> None:
     from .plot import animate
     from .report import report
     from .run import run, spec_app
+    from .simulate import simulate_command, tolerance_command
     from .studio import studio
     from .synth import synth_app
 
@@ -45,6 +46,8 @@ def _register() -> None:
     app.command("run")(run)
     app.add_typer(spec_app, name="spec")
     app.command("studio")(studio)
+    app.command("simulate")(simulate_command)
+    app.command("tolerance")(tolerance_command)
 
 
 _register()

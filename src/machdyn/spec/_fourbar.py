@@ -15,6 +15,7 @@ import numpy as np
 from ._context import Context
 from ._machine import Machine, Part, PartKind
 from ._run import PartResult, ResultTable, Summary, flagged_rows
+from ._simulate import FOURBAR_TOLERANCE, SIMULATE, SLIDER_TOLERANCE
 from ._types import (
     Choice,
     Grid,
@@ -120,6 +121,8 @@ FOURBAR = Table(
         link3=optional(MASS),
         link4=optional(MASS),
         loads=optional(FOURBAR_LOADS),
+        simulate=optional(SIMULATE, "for `machdyn simulate`"),
+        tolerance=optional(FOURBAR_TOLERANCE, "for `machdyn tolerance`"),
         notes=optional(Text()),
     ),
     doc="a four-bar: ground r1, input r2, coupler r3, output r4",
@@ -137,6 +140,8 @@ SLIDER_CRANK = Table(
         link3=optional(MASS),
         link4=optional(MASS),
         loads=optional(SLIDER_LOADS),
+        simulate=optional(SIMULATE, "for `machdyn simulate`"),
+        tolerance=optional(SLIDER_TOLERANCE, "for `machdyn tolerance`"),
         notes=optional(Text()),
     ),
     doc="an offset slider-crank",

@@ -1,0 +1,134 @@
+"""``machdyn simulate FILE`` and ``machdyn tolerance FILE``: read the file, label, one-line errors.
+
+The numbers are the library's (tested against independent checks in test_simulate.py and
+test_tolerance.py); here: the file's motor, flywheel, masses and tolerances reach the
+library unchanged (the same run made in Python from the values written in the test), the
+output is in the file's units (rpm, mm), and bad files or command lines end in one line.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import machdyn
+from machdyn.cli import main
+from machdyn.simulate import DCMotor
+
+EXAMPLE = str(Path(__file__).resolve().parents[1] / "docs" / "examples" / "motor.toml")
+MASSES = dict(mass=(0.2, 0.3, 0.25), inertia=(3e-5, 1.2e-4, 7.5e-5), cg=(0.02, 0.035, 0.03))
+FB = machdyn.FourBar(0.08, 0.04, 0.07, 0.06)
+RPM = 60.0 / (2.0 * math.pi)
+
+
+def cli(capsys, *args: str) -> tuple[int, str, str]:
+    status = main(list(args))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_simulate_reads_the_motor_and_prints_in_the_files_units(capsys):
+    status, out, err = cli(capsys, "simulate", EXAMPLE, "--json")
+    assert status == 0, err
+    part = json.loads(out)["parts"]["hw6"]
+    motor = DCMotor(0.5, 300.0, ratio=10.0, inertia=2e-6)
+    run = machdyn.simulate(FB, motor, flywheel=0.02, until="steady", gravity=9.80665, **MASSES)
+    summary = part["summary"]
+    assert summary["status"] == "steady"
+    assert summary["steady: k = (max - min) / avg"] == pytest.approx(run.steady.k, rel=1e-9)
+    assert summary["steady: omega avg [rpm]"] == pytest.approx(run.steady.omega_avg * RPM)
+    table = part["tables"]["motion"]
+    assert table["columns"] == ["t [s]", "theta2 [deg]", "omega2 [rpm]", "alpha2 [rad/s^2]",
+                                "T_motor [N*m]"]  # fmt: skip
+    rows = np.array(table["rows"], dtype=float)
+    assert np.allclose(rows[:, 2], run.omega * RPM)
+    assert np.allclose(rows[:, 1], np.degrees(run.theta))
+    assert part["tables"]["events"]["rows"][-1][0] == "steady"
+
+
+def test_simulate_text_and_csv(capsys, tmp_path):
+    status, out, err = cli(capsys, "simulate", EXAMPLE)
+    assert status == 0, err
+    assert "steady: omega min, max [rpm]" in out and "one row in" in out
+    status, out, err = cli(capsys, "simulate", EXAMPLE, "--csv")
+    lines = out.splitlines()
+    header = "t [s],theta2 [deg],omega2 [rpm],alpha2 [rad/s^2],T_motor [N*m]"
+    assert status == 0 and lines[0] == header
+    assert len(lines) == 2002  # every sample (2001) and the header
+
+
+def test_tolerance_reads_the_tolerances(capsys):
+    status, out, err = cli(capsys, "tolerance", EXAMPLE, "--json", "--samples", "3000")
+    assert status == 0, err
+    part = json.loads(out)["parts"]["hw6"]
+    omega2 = 286.0 / RPM
+    t = machdyn.tolerance(FB, {f"r{k}": 1e-4 for k in range(1, 5)}, samples=3000, omega2=omega2,
+                          gravity=9.80665, **MASSES)  # fmt: skip
+    assert part["summary"]["unassembled"] == "0 (0 %)"
+    assert part["summary"]["+/- r2 (3 sigma) [m]"] == pytest.approx(1e-4)
+    theta4 = part["tables"]["theta4"]
+    assert theta4["columns"][:3] == ["theta2 [deg]", "theta4_nominal [deg]", "std [deg]"]
+    rows = np.array(theta4["rows"], dtype=float)
+    assert np.allclose(rows[:, 2], np.degrees(t.outputs["theta4"].std))
+    torque = np.array(part["tables"]["T12"]["rows"], dtype=float)
+    assert np.allclose(torque[:, 3], t.outputs["T12"].linear_std)  # N*m
+
+
+def _file(tmp_path: Path, extra: str) -> str:
+    base = Path(EXAMPLE).read_text(encoding="utf-8")
+    base = base[: base.index("[fourbar.hw6.simulate]")]
+    path = tmp_path / "m.toml"
+    path.write_text(base + extra, encoding="utf-8")
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    ("command", "extra", "needle"),
+    [
+        ("simulate", "", "no fourbar or slider_crank part has a [<kind>.<name>.simulate] table"),
+        ("tolerance", "", "[<kind>.<name>.tolerance] table"),
+        (
+            "simulate",
+            '[fourbar.hw6.simulate]\nmotor = { kind = "dc", stall_torque = 1 }\nuntil = "steady"\n',
+            "a dc motor needs stall_torque, no_load_speed",
+        ),
+        (
+            "simulate",
+            '[fourbar.hw6.simulate]\nmotor = { kind = "constant", torque = 1 }\n',
+            "give exactly one of t_end, turns",
+        ),
+        ("tolerance", '[fourbar.hw6.tolerance]\nr2 = "-0.1 mm"\n', "must be at least 0"),
+        ("tolerance", '[fourbar.hw6.tolerance]\nr9 = "0.1 mm"\n', "r9: unknown key"),
+        ("tolerance", "[fourbar.hw6.tolerance]\nsamples = 10\n", "give the ± tolerance"),
+    ],
+)
+def test_bad_files_end_in_one_line(capsys, tmp_path, command, extra, needle):
+    status, out, err = cli(capsys, command, _file(tmp_path, extra))
+    assert status == 1 and out == ""
+    assert err.count("\n") == 1 and needle in err and "Traceback" not in err
+
+
+def test_a_motor_too_weak_to_start_is_a_stall_with_its_deficit(capsys, tmp_path):
+    weak = '[fourbar.hw6.simulate]\nmotor = { kind = "dc", stall_torque = "0.001 N*m", '
+    weak += "no_load_speed = 10 }\nt_end = 1\ntheta0 = 60\n"
+    status, out, err = cli(capsys, "simulate", _file(tmp_path, weak), "--json")
+    assert status == 0, err
+    summary = json.loads(out)["parts"]["hw6"]["summary"]
+    # the static torque at 60 deg (Newton-Euler, zero speed) less the motor's 0.001 N*m
+    static = FB.dynamics(math.radians(60.0), 0.0, 0.0, gravity=9.80665, **MASSES).T12
+    assert summary["status"] == "stall"
+    assert summary["stall: the motor's deficit [N*m]"] == pytest.approx(float(static) - 0.001)
+
+
+def test_bad_command_lines(capsys):
+    status, out, err = cli(capsys, "simulate", EXAMPLE, "--part", "nope")
+    assert out == ""
+    assert status == 1 and "--part: 'nope' is not a part" in err and err.count("\n") == 1
+    status, _, err = cli(capsys, "tolerance", EXAMPLE, "--samples", "0")
+    assert status == 1 and "samples" in err and err.count("\n") == 1
+    status, _, err = cli(capsys, "tolerance", EXAMPLE, "--scheduler", "nowhere")
+    assert status == 1 and "scheduler" in err and err.count("\n") == 1
