@@ -378,9 +378,14 @@ def _build(ctx: Context, path: tuple, v: dict) -> Any:
                 preload=e.get("preload", 0.0),
                 links=tuple(e["links"]) if "links" in e else None,
             )
+    on_links = {q for ln in lk.links.values() for q in ln.points} | set(lk.ground_points)
     for i, p in enumerate(v.get("report", []), start=1):
         with ctx.at((*path, "report", i)):
             lk.position(p)
+        if p not in on_links:  # a loose point moves with nothing: no motion to report
+            raise ctx.error(
+                (*path, "report", i), f"point {p!r} is on no link: add it to a link's points"
+            )
     _check_loads(ctx, path, v, lk)
     v["motion"] = _motions(ctx, path, v.get("motion", {}), lk)
     lk.units = None if ctx.system.is_unit_free else ctx.system
