@@ -259,3 +259,27 @@ def test_the_report_prints_to_pdf(tmp_path):
     data = path.read_bytes()
     assert data.startswith(b"%PDF") and len(data) > 10_000
     assert (tmp_path / "hw6.html").exists()
+
+
+def test_a_machine_report_of_several_parts_renders(tab, tmp_path):
+    from machdyn.cli import main
+
+    path = tmp_path / "slider_crank.html"
+    examples = __import__("pathlib").Path(__file__).parent.parent / "docs" / "examples"
+    assert main(["report", str(examples / "slider_crank.toml"), "-o", str(path)]) == 0
+    page = tab.open(path, wait_ms=500)
+    tab.assert_clean(path)
+    assert page.locator("#headline").inner_text().startswith("Slider-cranks: 2 parts.")
+    assert page.locator("section.l2 h2").all_inner_texts()[:2] == [
+        "1. engine (slider crank)",
+        "2. shaper (inverted slider crank)",
+    ]
+    assert page.locator("svg.machdyn-drawing").count() == 2  # each part drawn, each playing
+    states = page.locator("table.checks td.state").all_inner_texts()
+    assert len(states) == 10 + 7 and set(states) == {"pass"}  # no k: no flywheel check
+    for k in range(page.locator("svg.chart").count()):
+        box = page.locator("svg.chart").nth(k).bounding_box()
+        assert box["width"] > 250 and box["height"] > 150
+        labels = page.locator("svg.chart").nth(k).locator("text.axis-label").all_inner_texts()
+        assert all("(" in t for t in labels if t), labels  # every axis says its unit
+    tab.shot("report_machine_slider_cranks")

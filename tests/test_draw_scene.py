@@ -213,3 +213,48 @@ def test_gears_turn_at_the_velocity_ratio_along_their_line_of_action():
         u = (last - first) / abs(last - first)
         assert abs(((centre - first) * np.conj(u)).imag) == pytest.approx(rb, rel=1e-9)
     assert abs(last - first) == pytest.approx(pair.length_of_action, rel=1e-9)
+
+
+def test_instant_centres_of_any_model_off_the_view_are_border_arrows_with_coordinates():
+    """A linkage drawn with its centres: each one inside the view is a cross, each one
+    outside an arrow labelled with its coordinates — which equal the four-bar's closed-form
+    centres (FourBar.instant_centres, a different code path) of the same geometry."""
+    from machdyn.draw import draw
+
+    theta2 = np.radians(100.0)
+    fb = FourBar(8, 4, 7, 6)
+    m = fb.solve(theta2)
+    A, B = complex(m.A), complex(m.B)
+    lk = (
+        Linkage({"O2": 0j, "O4": 8 + 0j, "A": A, "B": B})
+        .ground("O2", "O4")
+        .link("2", "O2", "A")
+        .link("3", "A", "B")
+        .link("4", "O4", "B")
+        .drive("2")
+    )
+    ax = draw(lk, 0, n=2, instant_centres=True)  # frame 0: the drawn pose
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    truth = fb.instant_centres(theta2)
+    names = {"1": "ground"}
+    arrows = {
+        t.get_gid(): t.get_text()
+        for t in ax.texts
+        if (t.get_gid() or "").startswith("centre_arrow")
+    }
+    cross = next(line for line in ax.lines if line.get_gid() == "instant_centres")
+    inside = set(zip(np.round(cross.get_xdata(), 6), np.round(cross.get_ydata(), 6), strict=True))
+    outside = 0
+    for (i, j), c in truth.items():
+        z = complex(np.ravel(c.point)[0])
+        a, b = names.get(str(i), str(i)), names.get(str(j), str(j))
+        if x0 <= z.real <= x1 and y0 <= z.imag <= y1:
+            assert (round(z.real, 6), round(z.imag, 6)) in inside, (i, j)
+        else:
+            outside += 1
+            text = arrows.get(f"centre_arrow_I({a}, {b})") or arrows[f"centre_arrow_I({b}, {a})"]
+            x, y = (float(v) for v in re.findall(r"\(([-\d.e+]+), ([-\d.e+]+)\)", text)[-1])
+            assert x == pytest.approx(z.real, rel=1e-3) and y == pytest.approx(z.imag, rel=1e-3)
+    assert outside >= 1  # this pose puts I24 far off the drawing
+    plt.close("all")

@@ -11,10 +11,22 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from machdyn import FourBar
+from machdyn import FourBar, jit
 from machdyn.errors import InputError, ModelError
 from machdyn.loops import LoopSystem, lu_factor, lu_solve
 from machdyn.loops.solve import REASONS, SINGULAR
+
+# Every test runs on the NumPy path and again on the compiled kernels.
+pytestmark = pytest.mark.usefixtures("backend")
+
+
+@pytest.fixture
+def numpy_path():
+    """For the tests that look inside the NumPy continuation: the compiled kernels off."""
+    previous = jit.mode()
+    jit.set_mode("off")
+    yield
+    jit.set_mode(previous)
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -883,6 +895,7 @@ def _fast_taken(s: LoopSystem, theta2: np.ndarray, guess: dict) -> bool:
         ),
     ],
 )
+@pytest.mark.usefixtures("numpy_path")
 def test_fast_and_careful_paths_agree(monkeypatch, build, guess):
     s = build()
     theta2 = np.linspace(0.0, 2 * np.pi, 3600)
@@ -905,6 +918,7 @@ def test_fast_and_careful_paths_agree(monkeypatch, build, guess):
     np.testing.assert_allclose(fast.residual, 0.0, atol=1e-12)
 
 
+@pytest.mark.usefixtures("numpy_path")
 def test_fast_path_four_bar_matches_the_law_of_cosines_and_finite_differences():
     r1, r2, r3, r4 = 8.0, 2.0, 7.0, 6.0
     theta2 = np.linspace(0.0, 2 * np.pi, 3600)
@@ -921,6 +935,7 @@ def test_fast_path_four_bar_matches_the_law_of_cosines_and_finite_differences():
         np.testing.assert_allclose(vel, five_point(m[name], h), atol=1e-8 * np.abs(vel).max())
 
 
+@pytest.mark.usefixtures("numpy_path")
 def test_hard_sweeps_fall_back_to_the_careful_path(monkeypatch):
     """An assembly gap, dead points, a reversing or uneven sweep: no fast path, same answers."""
     tri = fourbar_system(4.0, 3.0, 3.0, 2.5)  # triple rocker: cannot pass ~102.6 deg
@@ -959,6 +974,7 @@ def test_hard_sweeps_fall_back_to_the_careful_path(monkeypatch):
             np.testing.assert_array_equal(a[key], b[key])
 
 
+@pytest.mark.usefixtures("numpy_path")
 def test_fill_that_cannot_converge_falls_back(monkeypatch):
     """With no corrector step allowed the fast fill fails its checks; the careful path
     then solves the sweep, so the answer is unchanged (against the law of cosines)."""
@@ -1037,6 +1053,7 @@ def test_small_step_trig_rotation_is_exact_to_rounding(rng):
             np.testing.assert_allclose(a, b, rtol=0, atol=4e-16)
 
 
+@pytest.mark.usefixtures("numpy_path")
 def test_failed_fill_samples_are_re_solved_carefully_on_their_stretch_only(monkeypatch):
     """Samples the fast fill rejects (here: forced) are re-solved by the careful path over
     the stretch that holds them; the result equals the law of cosines everywhere."""

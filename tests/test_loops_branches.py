@@ -21,6 +21,9 @@ import pytest
 from closed_forms import circle_meet, slide_meet
 from machdyn.loops import LoopSystem
 
+# Every test runs on the NumPy path and again on the compiled kernels.
+pytestmark = pytest.mark.usefixtures("backend")
+
 # ----------------------------------------------------------------------------- drawings
 
 
@@ -236,7 +239,7 @@ def random_chain(rng: np.random.Generator) -> Drawing:
         else:
             others = [q for q in p if q not in (a, n) and not any({a, q} <= lk for lk in links)]
             if not others or rng.random() < 0.4:  # a new ground pivot
-                q = f"O{k}"
+                q = f"P{k}"
                 p[q] = complex(*rng.uniform(-4, 4, 2))
             else:
                 q = others[int(rng.integers(len(others)))]

@@ -160,7 +160,9 @@ def test_instant_centres_obey_kennedy_and_keep_the_view(hw6):
     # (coordinates as printed, 4 significant digits)
     assert collinear(0, A, labels["I13"]) < 1e-3 and collinear(8, B, labels["I13"]) < 1e-3
     assert collinear(0, 8, labels["I24"]) < 1e-3 and collinear(A, B, labels["I24"]) < 1e-3
-    assert ax.get_xlim() == pytest.approx(plain.get_xlim())
+    plain.apply_aspect()  # the plain drawing's view as shown (equal aspect applied)
+    assert ax.get_xlim() == pytest.approx(plain.get_xlim(), rel=1e-6)
+    assert ax.get_ylim() == pytest.approx(plain.get_ylim(), rel=1e-6)
 
 
 def test_parallel_links_put_a_centre_at_infinity():

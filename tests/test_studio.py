@@ -316,3 +316,30 @@ def test_flip_redraws_the_dyad_on_its_other_assembly():
     assert abs(complex(*again["linkage"]["fourbar"]["points"]["B"]) - B) < 1e-9
     with pytest.raises(machdyn.errors.MachdynError):
         edit(doc, {"kind": "flip", "group": "driver crank (crank)"})
+
+
+def hw6_positions():
+    """The notes' HW 6 four-bar (8-4-7-6 cm, here mm ×10) at θ2 = 20°, 70°, 130°:
+    its coupler point P (50 mm at 30° from AB) and pin B, the three positions of line CD."""
+    m = FourBar(80, 40, 70, 60, coupler=(50, math.radians(30))).solve(np.radians([20, 70, 130]))
+    return np.asarray(m.coupler), np.asarray(m.B)
+
+
+def test_three_position_synthesis_with_fixed_pivots_gives_the_linkage_back():
+    """Norton's inversion (Ex. 3-7) with HW 6's own pivots returns HW 6, and the design the
+    page opens, solved by the general linkage solver at the reported θ2, carries C through
+    the three positions (loop closure, not the synthesis' code)."""
+    from machdyn.studio.synthesis import motion
+
+    c, d = hw6_positions()
+    xy = [[float(z.real), float(z.imag)] for z in (*c, *d)]
+    out = motion({"c": xy[:3], "d": xy[3:], "O2": [0, 0], "O4": [80, 0]})
+    assert out["lengths"] == pytest.approx([80, 40, 70, 60])
+    assert out["theta2_deg"] == pytest.approx([20, 70, 130])
+    assert not out["defects"] and out["class"] == "GCRR"
+    lk = machdyn.from_spec(out["doc"])
+    m = lk.solve(np.radians(out["theta2_deg"]))
+    assert m.ok.all()
+    assert np.allclose(m.points["C"], c) and np.allclose(m.points["B"], d)
+    with pytest.raises(InputError, match="O4"):
+        motion({"c": xy[:3], "d": xy[3:], "O2": [0, 0]})

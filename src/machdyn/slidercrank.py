@@ -364,6 +364,12 @@ class SliderCrank:
 
         return to_html(self, path, **options)
 
+    def report(self, path: Any = None, **options: Any) -> str:
+        """The design report as one HTML page (:func:`machdyn.report.report`)."""
+        from .report import report
+
+        return report(self, path, **options)
+
     def dynamics(self, theta2: Any, omega2: Any, alpha2: Any = 0.0, **options: Any):
         """Joint forces, guide normal force and crank torque (with slider friction).
 
@@ -546,6 +552,12 @@ class InvertedSliderCrank:
         from .draw import to_html
 
         return to_html(self, path, **options)
+
+    def report(self, path: Any = None, **options: Any) -> str:
+        """The design report as one HTML page (:func:`machdyn.report.report`)."""
+        from .report import report
+
+        return report(self, path, **options)
 
     def solve(
         self,

@@ -153,6 +153,7 @@ def _kind(kind: Any) -> Kind:
     return KINDS[kind]
 
 
+@cache  # pure, and called for every column label of every table
 def _compose(*parts: tuple[str, int]) -> str:
     """``'kg*mm/s^2'`` from ``(('kg', 1), ('mm', 1), ('s', -2))``; simple names stay bare."""
 

@@ -24,6 +24,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .build import scene
 from .html import to_svg
 from .scene import Curve, Item, Readout, Scene
@@ -45,18 +47,50 @@ def draw(model: Any, frame: int | None = None, ax: Any = None, **options: Any) -
     """Draw ``model`` in one pose on matplotlib Axes (see :func:`machdyn.draw.mpl.draw_scene`).
 
     ``options`` go to :func:`scene` (``n``, ``form``, ``theta2``, ...) and to
-    the renderer (``labels``, ``status``).
+    the renderer (``labels``, ``status``). ``instant_centres=True`` also marks
+    the model's instant centres in that pose (``model.instant_centres``, for a
+    four-bar, slider-crank, inverted slider-crank or linkage): a centre inside
+    the view is a labelled cross, one outside an arrow at the border labelled
+    with its coordinates, one at infinity an arrow along its direction.
 
     Examples
     --------
-    >>> from machdyn import InvertedSliderCrank
+    >>> from machdyn import InvertedSliderCrank, SliderCrank
     >>> ax = draw(InvertedSliderCrank(2.0, 4.0), n=8)
+    >>> ax = draw(SliderCrank(2.0, 6.0), 1, n=8, instant_centres=True)
+    >>> [t.get_gid() for t in ax.texts if t.get_gid() == "centre_arrow_I14"]  # at infinity
+    ['centre_arrow_I14']
     >>> import matplotlib.pyplot as plt; plt.close("all")
     """
     from .mpl import draw_scene
 
     render = {k: options.pop(k) for k in ("labels", "status", "title") if k in options}
-    return draw_scene(scene(model, **options), frame, ax, **render)
+    centres = bool(options.pop("instant_centres", False))
+    s = scene(model, **options)
+    ax = draw_scene(s, frame, ax, **render)
+    if centres:
+        from .fourbar import draw_centres
+
+        k = (s.first_shown() if frame is None else frame) % len(s)
+        draw_centres(ax, _centres_at(model, s, k, options.get("form", 1)), tuple(s.xy[k]))
+    return ax
+
+
+def _centres_at(model: Any, s: Scene, k: int, form: int) -> Any:
+    """The model's instant centres in frame ``k`` of its scene (inputs read off the readout)."""
+    from ..errors import InputError
+
+    inputs = {r.label: r for r in s.readout}
+    if hasattr(model, "drivers") and hasattr(model, "instant_centres"):  # a Linkage
+        values = {}
+        for d in model.drivers:
+            r = inputs.get(f"θ {d} (driver)") or inputs.get(f"{d} (driver)")
+            v = float(r.values[k])
+            values[d] = np.radians(v) if r.unit == "deg" else v
+        return model.instant_centres(values)
+    if "θ2" in inputs and hasattr(model, "instant_centres"):
+        return model.instant_centres(np.radians(float(inputs["θ2"].values[k])), form)
+    raise InputError("instant_centres", f"a {type(model).__name__} has no instant centres to draw")
 
 
 def animate(model: Any, path: str | Path | None = None, **options: Any) -> Any:

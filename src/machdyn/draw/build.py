@@ -58,7 +58,16 @@ def _deg(values: Any, keep: np.ndarray) -> np.ndarray:
 
 
 def _unit(model: Any) -> str:
-    return str(getattr(model, "length_unit", None) or "")
+    """The length unit the model's coordinates are in ('' when it has none).
+
+    A model built from pint quantities names it in ``length_unit``; one read
+    from a machine file computes in its unit system's length unit.
+    """
+    unit = getattr(model, "length_unit", None)
+    system = getattr(model, "units", None)
+    if not unit and system is not None and not getattr(system, "is_unit_free", True):
+        unit = system.internal("length")
+    return str(unit or "")
 
 
 # --------------------------------------------------------------------------------------

@@ -202,11 +202,11 @@ class Chart:
                 f'<text x="{left - 5}" y="{py + 4:.1f}" text-anchor="end">{_tick(t)}</text>'
             )
         out.append(
-            f'<text x="{left + w / 2:.1f}" y="{height - 8}" text-anchor="middle">'
-            f"{e(self.xlabel)}</text>"
+            f'<text class="axis-label x" x="{left + w / 2:.1f}" y="{height - 8}" '
+            f'text-anchor="middle">{e(self.xlabel)}</text>'
         )
         out.append(
-            f'<text transform="translate(14 {top + h / 2:.1f}) rotate(-90)" '
+            f'<text class="axis-label y" transform="translate(14 {top + h / 2:.1f}) rotate(-90)" '
             f'text-anchor="middle">{e(self.ylabel)}</text>'
         )
         out.append(f'<g clip-path="url(#{clip})">')

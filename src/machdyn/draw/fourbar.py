@@ -274,8 +274,10 @@ def draw_centres(ax: Axes, centres: Any, keep: Sequence[complex] = ()) -> None:
     from matplotlib.lines import Line2D
 
     ax.autoscale_view()
+    ax.apply_aspect()  # the view as it will be shown (equal aspect applied)
     x0, x1 = ax.get_xlim()
     y0, y1 = ax.get_ylim()
+    ax.set_adjustable("box")  # keep this view: the box, not the limits, keeps the aspect
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     centre = complex(0.5 * (x0 + x1), 0.5 * (y0 + y1))
@@ -283,7 +285,7 @@ def draw_centres(ax: Axes, centres: Any, keep: Sequence[complex] = ()) -> None:
     xs, ys = [], []
     for i, j in centres:
         c = centres[i, j]
-        name = f"I{i}{j}"
+        name = f"I{i}{j}" if isinstance(i, int | np.integer) else f"I({i}, {j})"
         if bool(np.ravel(c.at_infinity)[0]):
             d = complex(np.ravel(c.direction)[0])
             _border_arrow(

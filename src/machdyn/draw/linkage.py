@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from .build import GROUND, PALETTE, TRACE
+from .build import GROUND, PALETTE, TRACE, _unit
 from .scene import Curve, Item, Readout, Scene
 
 __all__ = ["default_values", "drawn_value", "linkage_scene", "scene_of_linkage"]
@@ -463,10 +463,6 @@ def linkage_scene(lk: Any, motion: Any, *, title: str | None = None, closed: boo
         length_unit=_unit(lk),
         closed=closed,
     )
-
-
-def _unit(lk: Any) -> str:
-    return str(getattr(lk, "length_unit", None) or "")
 
 
 def scene_of_linkage(

@@ -154,6 +154,11 @@ class Compiled:
         return {int(v): i for i, v in enumerate(self.unknown)}
 
     @cached_property
+    def angle_names(self) -> tuple[str, ...]:
+        """The variables that are angles (plotted in degrees), in variable order."""
+        return tuple(self.names[i] for i in np.unique(self.angle_var[self.angle_var >= 0]))
+
+    @cached_property
     def angle_rows(self) -> np.ndarray:
         """Rows of ``q`` that hold angles (defined up to whole turns)."""
         angles = set(self.angle_var[self.angle_var >= 0].tolist())
@@ -187,6 +192,20 @@ class Compiled:
         from ._newton import Scalar
 
         return Scalar(self)
+
+    @cached_property
+    def kernel_arrays(self) -> tuple:
+        """The model as plain arrays for the compiled sweep (``_jit_sweep.arrays``)."""
+        from ._jit_sweep import arrays
+
+        return arrays(self)
+
+    @cached_property
+    def kernel_dyads(self) -> tuple:
+        """The groups' closed-form data for the compiled sweep (``_jit_sweep.dyad_arrays``)."""
+        from ._jit_sweep import dyad_arrays
+
+        return dyad_arrays(self)
 
     @cached_property
     def sign_identified(self) -> bool:

@@ -13,6 +13,7 @@ add one scalar equation each.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -411,12 +412,10 @@ class LoopSystem:
             raise InputError(
                 "values", f"input arrays of shapes {[a.shape for a in arrays]} do not broadcast"
             ) from None
-        n = int(np.prod(shape))
-        u = (
-            np.stack([np.broadcast_to(a, shape).reshape(n) for a in arrays])
-            if arrays
-            else np.zeros((0, n))
-        )
+        n = math.prod(shape)
+        u = np.empty((len(arrays), n))
+        for i, a in enumerate(arrays):
+            u[i] = a.reshape(n) if a.shape == shape else np.broadcast_to(a, shape).reshape(n)
         return u, shape
 
     @staticmethod
@@ -432,13 +431,13 @@ class LoopSystem:
         missing = [n for n in inputs if n not in rates]
         if required and missing:
             raise ModelError(f"{field}: no value for input(s) {', '.join(missing)}")
-        n = int(np.prod(shape))
+        n = math.prod(shape)
         out = np.zeros((len(inputs), n))
         for i, name in enumerate(inputs):
             if name in rates:
                 a = finite_array(f"{field}[{name}]", rates[name])
                 try:
-                    out[i] = np.broadcast_to(a, shape).reshape(n)
+                    out[i] = a if a.ndim == 0 else np.broadcast_to(a, shape).reshape(n)
                 except ValueError:
                     raise InputError(
                         f"{field}[{name}]", f"shape {a.shape} does not match inputs {shape}"
@@ -534,7 +533,7 @@ class LoopSystem:
         for i, name in enumerate(unknowns):
             g = finite_array(f"guess[{name}]", guess[name])
             try:
-                q0[i] = np.broadcast_to(g, shape).reshape(n)
+                q0[i] = g if g.ndim == 0 else np.broadcast_to(g, shape).reshape(n)
             except ValueError:
                 raise InputError(
                     f"guess[{name}]", f"shape {g.shape} does not match inputs {shape}"
@@ -546,13 +545,17 @@ class LoopSystem:
         if step <= 0:
             raise InputError("max_step", f"must be positive, got {step}")
         tol = _tolerance(tol)
-        pos = _solve.solve_positions(c, u, q0, continuation, max_step=step, tol=tol)
-        x0 = np.empty((len(c.names), n))
-        x0[c.inputs] = u
-        x0[c.unknown] = pos.q
-        return self._finish(
-            c, x0, pos.code, pos.residual, shape, velocity, acceleration, jerk, order, pos
+        u_rates = self._input_rates(inputs, shape, velocity, acceleration, jerk, order)
+        pos = _solve.solve_positions(
+            c, u, q0, continuation, max_step=step, tol=tol, u_rates=u_rates
         )
+        if pos.x is not None:  # the compiled sweep's every variable
+            x0 = pos.x
+        else:
+            x0 = np.empty((len(c.names), n))
+            x0[c.inputs] = u
+            x0[c.unknown] = pos.q
+        return self._finish(c, x0, pos.code, pos.residual, shape, u_rates, pos)
 
     def evaluate(
         self,
@@ -591,31 +594,35 @@ class LoopSystem:
         f, _ = residual_and_jacobian(c, x0, jacobian=False)
         resid = np.abs(f * c.row_weight[:, None]).max(axis=0) if f.size else np.zeros(x0.shape[1])
         code = np.zeros(x0.shape[1], dtype=np.int8)
-        return self._finish(c, x0, code, resid, shape, velocity, acceleration, jerk, order)
+        u_rates = self._input_rates(inputs, shape, velocity, acceleration, jerk, order)
+        return self._finish(c, x0, code, resid, shape, u_rates)
 
-    def _finish(
-        self, c, x0, code, resid, shape, velocity, acceleration, jerk, order, pos=None
-    ) -> Motion:
-        inputs = tuple(c.names[i] for i in c.inputs)
+    def _input_rates(
+        self, inputs, shape, velocity, acceleration, jerk, order
+    ) -> list[np.ndarray] | None:
+        """The inputs' rates (checked), as many orders as asked; None without velocity."""
         order = integer("order", order, minimum=1)
         if order > 3:
             raise InputError(
                 "order", f"must be 1, 2 or 3 (velocity, acceleration, jerk), got {order}"
             )
-        states = [x0]
-        if velocity is not None:
-            u_rates = [
-                self._rates("velocity", velocity, inputs, shape, required=True),
-                self._rates("acceleration", acceleration, inputs, shape, required=False),
-                self._rates("jerk", jerk, inputs, shape, required=False),
-            ][:order]
-            reuse = pos.reuse if pos is not None else None
-            rates, fac = derivatives(c, x0, u_rates, reuse=reuse)
-            states += rates
-            det, rcond, gdet, grc = fac.det, fac.rcond, fac.block_det, fac.block_rcond
-        else:
+        if velocity is None:
             if acceleration is not None or jerk is not None:
                 raise ModelError("acceleration/jerk need the input velocity too (velocity=...)")
+            return None
+        return [
+            self._rates("velocity", velocity, inputs, shape, required=True),
+            self._rates("acceleration", acceleration, inputs, shape, required=False),
+            self._rates("jerk", jerk, inputs, shape, required=False),
+        ][:order]
+
+    def _finish(self, c, x0, code, resid, shape, u_rates, pos=None) -> Motion:
+        inputs = tuple(c.names[i] for i in c.inputs)
+        states = [x0]
+        if u_rates is not None:
+            rates, det, rcond, gdet, grc = _derivatives(c, x0, u_rates, pos)
+            states += rates
+        else:
             det, rcond, gdet, grc = _determinants(c, x0, pos)
         group = pos.group.copy() if pos is not None else np.full(x0.shape[1], -1, np.int16)
         singular = (code == _solve.OK) & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
@@ -623,13 +630,17 @@ class LoopSystem:
         if len(c.groups) > 1 and singular.any():
             group[singular] = np.argmin(np.nan_to_num(grc[:, singular], nan=np.inf), axis=0)
         ok = code == _solve.OK
-        terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
-        pts = point_motion(c, states, terms)
         bad_pos = (code != _solve.OK) & (code != _solve.SINGULAR)
         mask = [bad_pos] + [~ok] * (len(states) - 1)
+        masked = pos is not None and pos.points is not None  # the compiled sweep's
+        if masked:
+            pts = list(pos.points)
+        else:
+            terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
+            pts = point_motion(c, states, terms)
 
         def pack(arr: np.ndarray, bad: np.ndarray) -> np.ndarray:
-            return np.where(bad, np.nan, arr).reshape(shape)
+            return arr.reshape(shape) if masked else np.where(bad, np.nan, arr).reshape(shape)
 
         per_var = [
             {name: pack(s[i], m) for i, name in enumerate(c.names)}
@@ -645,7 +656,9 @@ class LoopSystem:
         frozen = [_freeze(d) for d in per_var]
         frozen_pts = [_freeze(d) for d in per_pt]
         extra = [None] * (4 - len(frozen))
-        group_branch = np.where(bad_pos, 0, np.sign(np.nan_to_num(gdet))).astype(np.int8)
+        signs = np.sign(gdet)
+        signs[:, bad_pos] = 0.0
+        signs[np.isnan(signs)] = 0.0
         return Motion(
             positions=frozen[0],
             velocity=(frozen + extra)[1],
@@ -660,9 +673,9 @@ class LoopSystem:
             residual=np.where(bad_pos, np.nan, resid).reshape(shape),
             branch=np.where(bad_pos, 0, np.sign(det)).astype(np.int8).reshape(shape),
             inputs=inputs,
-            angles=tuple(c.names[i] for i in np.unique(c.angle_var[c.angle_var >= 0])),
+            angles=c.angle_names,
             groups=tuple(g.names for g in c.groups),
-            group_branch=group_branch.reshape((len(c.groups), *shape)),
+            group_branch=signs.astype(np.int8).reshape((len(c.groups), *shape)),
         )
 
 
@@ -692,6 +705,30 @@ def _tolerance(tol: Any) -> float:
     return value
 
 
+def _derivatives(c, x0: np.ndarray, u_rates: list[np.ndarray], pos) -> tuple:
+    """Rates of every variable and det, rcond, group dets and rconds at ``x0``.
+
+    What the compiled sweep computed already (``pos.rates`` at
+    ``pos.rates_done``) is kept; the other samples go to the NumPy stage.
+    """
+    if pos is None or pos.rates is None:
+        reuse = pos.reuse if pos is not None else None
+        rates, fac = derivatives(c, x0, u_rates, reuse=reuse)
+        return rates, fac.det, fac.rcond, fac.block_det, fac.block_rcond
+    if pos.rates_done.all():
+        return pos.rates, pos.det, pos.rcond, pos.gdet, pos.grc
+    rates = [r.copy() for r in pos.rates]
+    det, rcond, gdet, grc = (a.copy() for a in (pos.det, pos.rcond, pos.gdet, pos.grc))
+    todo = np.flatnonzero(~pos.rates_done)
+    if todo.size:
+        sub, fac = derivatives(c, x0[:, todo], [r[:, todo] for r in u_rates])
+        for full, part in zip(rates, sub, strict=True):
+            full[:, todo] = part
+        det[todo], rcond[todo] = fac.det, fac.rcond
+        gdet[:, todo], grc[:, todo] = fac.block_det, fac.block_rcond
+    return rates, det, rcond, gdet, grc
+
+
 def _determinants(c, x0: np.ndarray, pos) -> tuple[np.ndarray, ...]:
     """det, rcond and the groups' det and rcond of ``J_q`` at ``x0`` (from ``pos`` if known)."""
     n = x0.shape[1]
@@ -713,6 +750,8 @@ def _determinants(c, x0: np.ndarray, pos) -> tuple[np.ndarray, ...]:
 
 def _reasons(c, code: np.ndarray, group: np.ndarray) -> np.ndarray:
     """Per-sample reason texts; a flag about one group names it (when there are several)."""
+    if not code.any():
+        return np.full(code.shape, "", dtype=object)
     reasons = np.array(_solve.REASONS, dtype=object)[code]
     named = (group >= 0) & ((code == _solve.LOST) | (len(c.groups) > 1)) & (code != _solve.OK)
     for gi, g in enumerate(c.groups):

@@ -10,10 +10,13 @@ ok has those signs, through assembly gaps and change points alike.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .. import jit
+from . import _jit_sweep
 from ._branches import assemble, fix_branches, wrong_groups
 from ._compiled import Compiled
 from ._equations import _step_terms, _vector_terms, residual_and_jacobian
@@ -62,14 +65,33 @@ class Positions:
     #: ``(terms, jac, factor)`` at these positions (to rounding) when every sample came
     #: from the fast path: the derivative stage reuses them instead of recomputing.
     reuse: tuple | None = None
+    #: Velocity, acceleration, jerk of every variable (n_var, N) already computed (by
+    #: the compiled sweep) at the samples ``rates_done``.
+    rates: list[np.ndarray] | None = None
+    rates_done: np.ndarray | None = None
+    #: From the compiled sweep: every variable (n_var, N) and the named points with
+    #: their rates, already masked (NaN where not assembled, rates NaN where not ok).
+    x: np.ndarray | None = None
+    points: np.ndarray | None = None
+
+    _PER_SAMPLE = ("q", "code", "residual", "det", "rcond", "gdet", "grc", "group")
 
     def join(self, other: Positions, span: slice) -> Positions:
         """The samples ``span`` replaced by those of ``other`` (as long as the span)."""
         out = {}
-        for name in ("q", "code", "residual", "det", "rcond", "gdet", "grc", "group"):
+        for name in self._PER_SAMPLE:
             arr = getattr(self, name).copy()
             arr[..., span] = getattr(other, name)
             out[name] = arr
+        done = None
+        if self.rates_done is not None:
+            done = self.rates_done.copy()
+            done[span] = False
+        return Positions(**out, want=self.want, rates=self.rates, rates_done=done)
+
+    def take(self, sl: slice) -> Positions:
+        """The samples ``sl`` (a slice) alone."""
+        out = {name: getattr(self, name)[..., sl] for name in self._PER_SAMPLE}
         return Positions(**out, want=self.want)
 
 
@@ -224,6 +246,8 @@ def solve_positions(
     sing_tol: float = SINGULAR_RCOND,
     fast: bool = True,
     want: np.ndarray | None = None,
+    u_rates: list[np.ndarray] | None = None,
+    compiled: bool = True,
 ) -> Positions:
     """Positions of the unknowns for inputs ``u`` (n_u, N).
 
@@ -240,7 +264,10 @@ def solve_positions(
     other root back); a failed verification is re-solved with smaller steps or
     flagged. Straight, evenly stepped sweeps first try :func:`_sweep_fast`
     (unless ``fast`` is False); if only some of its samples fail, the stretch
-    holding them is re-solved this careful way (:func:`_patch`).
+    holding them is re-solved this careful way (:func:`_patch`). When
+    :mod:`machdyn.jit` lets the compiled kernels serve (and ``compiled``), the
+    sweep is followed by :func:`_sweep_compiled` first, which also computes the
+    derivatives for the inputs' rates ``u_rates``.
     """
     n_q, n_u, n_samples = guess.shape[0], u.shape[0], u.shape[1]
     if n_q == 0:  # every variable driven (an open chain): nothing to solve
@@ -264,6 +291,67 @@ def solve_positions(
         pos = Positions(q, code, res.residual, res.det, res.rcond, res.gdet, res.grc, group)
         return _closure(c, u, pos)
     options = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "sing_tol": sing_tol}
+    if compiled and n_u:
+        done = _sweep_compiled(
+            c, u, guess, want, u_rates, sing_tol=sing_tol, tol=tol, max_iter=max_iter
+        )
+        if done is not None:
+            return done
+    start = time.perf_counter()
+    pos = _turns_after_gaps(c, _sweep_numpy(c, u, guess, want, fast=fast, **options))
+    jit.charge(time.perf_counter() - start)
+    return pos
+
+
+def _turns_after_gaps(c: Compiled, pos: Positions) -> Positions:
+    """Every stretch of poses after a gap in the whole turns of the last pose before it.
+
+    Across a gap (samples with no pose) an angle's whole turn is not defined by
+    continuity; the rule (docs/loops.md) is that the first pose after the gap
+    lies within π of the last pose before it, and the stretch that follows moves
+    with it. The compiled sweep keeps the same rule sample by sample.
+    """
+    rows = c.angle_rows
+    there = np.flatnonzero(np.isfinite(pos.q).all(axis=0))
+    if not rows.size or there.size < 2:
+        return pos
+    starts = np.flatnonzero(np.diff(there) > 1) + 1  # runs that begin after a gap
+    if not starts.size:
+        return pos
+    jump = pos.q[np.ix_(rows, there[starts])] - pos.q[np.ix_(rows, there[starts - 1])]
+    turns = np.cumsum(np.round(jump / (2.0 * np.pi)), axis=1)
+    if len(c.con0):  # no shift that a constraint would not follow (a gear's ratio, an input)
+        full = np.zeros((len(c.names), starts.size))
+        full[c.unknown[rows]] = turns
+        for _ in range(len(c.con0)):
+            broken = np.abs(c.con @ full) > 1e-9  # (constraint, run)
+            if not broken.any():
+                break
+            full[((c.con != 0.0)[:, :, None] & broken[:, None, :]).any(axis=0)] = 0.0
+        turns = full[c.unknown[rows]]
+    run = np.zeros(there.size, dtype=np.int64)
+    run[starts] = 1
+    shift = np.concatenate([np.zeros((rows.size, 1)), turns], axis=1)[:, np.cumsum(run)]
+    q = pos.q.copy()
+    q[np.ix_(rows, there)] -= 2.0 * np.pi * shift
+    return replace(pos, q=q)
+
+
+def _sweep_numpy(
+    c: Compiled,
+    u: np.ndarray,
+    guess: np.ndarray,
+    want: np.ndarray | None,
+    *,
+    fast: bool,
+    max_step: float,
+    tol: float,
+    max_iter: int,
+    sing_tol: float,
+) -> Positions:
+    """The NumPy continuation: the fast path, else the careful one (see above)."""
+    n_u, n_samples = u.shape
+    options = {"max_step": max_step, "tol": tol, "max_iter": max_iter, "sing_tol": sing_tol}
     first = None
     if want is None:
         first = newton_one(c, guess[:, :1], u[:, :1], max_iter=max_iter, tol=tol)
@@ -284,6 +372,60 @@ def solve_positions(
                 return patched
     pos = _sweep_careful(c, u, guess, want, **options)
     return _closure(c, u, _verify(c, u, pos, sing_tol))
+
+
+#: The NumPy continuation costs about this many four-bar closed-form poses per pose
+#: (a few µs): the ``auto`` rule of :mod:`machdyn.jit` counts a sweep accordingly.
+NUMPY_POSE_COST = 40
+
+
+def _sweep_compiled(
+    c: Compiled,
+    u: np.ndarray,
+    guess: np.ndarray,
+    want: np.ndarray | None,
+    u_rates: list[np.ndarray] | None,
+    *,
+    sing_tol: float,
+    tol: float,
+    max_iter: int,
+) -> Positions | None:
+    """The sweep by the compiled kernel (models of dyads and linear groups).
+
+    None when the kernels do not serve, the model has larger groups, or the
+    sweep's first sample gives no branch (a gap or a toggle there): the NumPy
+    path then takes the whole sweep.
+    """
+    res = _jit_sweep.sweep(
+        c,
+        u,
+        guess,
+        want,
+        u_rates,
+        sing_tol=sing_tol,
+        tol=tol,
+        max_iter=max_iter,
+        cost=NUMPY_POSE_COST,
+    )
+    if res is None:
+        return None
+    x, rates, points, det, rcond, gdet, grc, resid, code, group, want = res
+    codes = np.array([OK, NO_ASSEMBLY, SINGULAR], dtype=np.int8)[code]
+    return Positions(
+        x[c.unknown],
+        codes,
+        resid,
+        det,
+        rcond,
+        gdet,
+        grc,
+        group,
+        want,
+        rates=list(rates),
+        rates_done=np.ones(code.size, dtype=bool),
+        x=x,
+        points=points,
+    )
 
 
 def _closure(c: Compiled, u: np.ndarray, pos: Positions) -> Positions:

@@ -33,12 +33,18 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
 
     Parameters
     ----------
-    model : FourBar, Linkage, CamProfile or GearPair
+    model : FourBar, SliderCrank, InvertedSliderCrank, Linkage, CamProfile, GearPair or Machine
+        A :class:`machdyn.spec.Machine` (``machdyn.spec.load_machine(path)``)
+        gives one page with every part (see :mod:`machdyn.report.machine`).
     path : str or Path, optional
         Where to write the page (``.html``); ``.pdf`` prints it with Chromium.
     **options
         FourBar: ``form``, ``omega2``, ``n``, ``mass``, ``inertia``, ``cg``,
         ``gravity``, ``load_torque4``, ``k`` (flywheel), ``mu_limit_deg``.
+        SliderCrank: ``form``, ``omega2``, ``n``, ``mass`` (m2, m3, m4), ``inertia``
+        (IG2, IG3), ``cg`` (c2, c3), ``gravity``, ``load_force4``, ``k``.
+        InvertedSliderCrank: ``form``, ``omega2``, ``n``.
+        Machine: ``n``, ``k``, ``speed`` (every mechanism's input speed).
         Linkage: ``values`` (driver sweep), ``velocity``, ``n``, ``gravity``, ``k``.
 
     Returns
@@ -50,8 +56,22 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
     from ..fourbar import FourBar
     from ..gears import GearPair
     from ..linkage import Linkage
+    from ..slidercrank import InvertedSliderCrank, SliderCrank
+    from ..spec import Machine
 
-    if isinstance(model, CamProfile):
+    if isinstance(model, Machine):
+        from .machine import machine_report
+
+        page = machine_report(model, **options).html()
+    elif isinstance(model, SliderCrank):
+        from .slidercrank import slidercrank_report
+
+        page = slidercrank_report(model, **options).html()
+    elif isinstance(model, InvertedSliderCrank):
+        from .slidercrank import inverted_report
+
+        page = inverted_report(model, **options).html()
+    elif isinstance(model, CamProfile):
         from .elements import cam_report
 
         page = cam_report(model, **options).html()
@@ -70,8 +90,8 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
     else:
         raise InputError(
             "model",
-            f"no report for a {type(model).__name__}; give a FourBar, Linkage, cam profile "
-            "or gear pair",
+            f"no report for a {type(model).__name__}; give a FourBar, SliderCrank, "
+            "InvertedSliderCrank, Linkage, cam profile or gear pair",
         )
     if path is not None:
         path = Path(path)

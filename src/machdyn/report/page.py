@@ -47,33 +47,25 @@ def fmt(value: Any, digits: int = 4) -> str:
 
 @dataclass
 class Page:
-    """A report being written: a title, a first line, then sections (grouped by part).
+    """A report being written: a title, a first line, then sections.
 
-    While a part of a machine is written (:meth:`part`), section ids, data keys
-    and check keys carry the part's prefix.
+    A section is ``(id, title, body, level)``: level 2, or 3 for the sections
+    of a part on a machine's page (:mod:`machdyn.report.machine`, which also
+    prefixes the part's data keys with its name).
     """
 
     title: str
     headline: str
     sections: list[tuple[str, str, str, int]] = field(default_factory=list)
     failed: bool = False
-    prefix: str = ""
-    slug: str = ""
-    level: int = 2
 
     def key(self, name: str) -> str:
         """A data key of the part being written."""
-        return self.prefix + name
+        return name
 
     def section(self, key: str, title: str, body: str) -> None:
         """Add a section (``key`` becomes its id)."""
-        self.sections.append((self.slug + key, title, body, self.level))
-
-    def part(self, index: int, name: str, title: str, body: str) -> None:
-        """Start the sections of part ``name`` (the ``index``-th) of a machine."""
-        self.prefix, self.slug, self.level = "", "", 2
-        self.section(f"part{index}", title, body)
-        self.prefix, self.slug, self.level = f"{name}:", f"part{index}-", 3
+        self.sections.append((key, title, body, 2))
 
     def span(self, key: str, text: str) -> str:
         """``text`` (HTML) marked with a data key."""
@@ -152,6 +144,7 @@ h2 { font-size: 1.1em; border-bottom: 1px solid #ccc; margin-top: 1.6em; }
 .headline.bad { background: #fbeaea; border-left-color: #d62728; }
 nav ol { columns: 2; font-size: 0.9em; color: #555; }
 nav li.l3 { margin-left: 1.2em; list-style: circle; }
+nav ol:has(li.l3) { list-style: none; }
 h3 { font-size: 1.0em; margin-top: 1.2em; color: #333; }
 section.l2.part { border-top: 3px solid #888; }
 table.facts, table.grid, table.checks { border-collapse: collapse; margin: 0.5em 0;

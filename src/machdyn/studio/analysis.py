@@ -44,6 +44,15 @@ def _numbers(values: Any, digits: int = 7, places: int | None = None) -> list[fl
     return [v if g else None for v, g in zip(rounded, good.tolist(), strict=True)]
 
 
+def _number(value: Any, digits: int = 7) -> float | None:
+    """One value for JSON, as :func:`_numbers` writes it (``None`` where not finite)."""
+    v = float(value)
+    if not math.isfinite(v):
+        return None
+    places = digits - 1 - (math.floor(math.log10(abs(v))) if v else 0)
+    return round(v, max(min(places, 15), -15)) + 0.0
+
+
 def linkage_part(machine: Any, name: str | None = None) -> Any:
     """The linkage part ``name`` of a :class:`~machdyn.spec.Machine` (default: the first)."""
     parts = [p for p in machine.parts.values() if p.kind == "linkage"]
@@ -115,7 +124,7 @@ def _columns(result: Any, units: Any, wanted: Any) -> tuple[list[str], dict[str,
     pairs: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for table in result.tables:
         for label, values in table.labelled(units).items():
-            if label in ("ok", "reason"):
+            if label in ("ok", "reason") or label in names:  # (the input is in every table)
                 continue
             names.append(label)
             if wanted is None or label in wanted:
@@ -163,7 +172,7 @@ def _problems(x_shown: np.ndarray, ok: np.ndarray, reason: np.ndarray) -> list[d
             {
                 "reason": why,
                 "count": len(idx),
-                "ranges": [[_numbers([x_shown[a]])[0], _numbers([x_shown[b]])[0]] for a, b in runs],
+                "ranges": [[_number(x_shown[a]), _number(x_shown[b])] for a, b in runs],
                 "samples": idx,
             }
         )
@@ -190,7 +199,7 @@ def _classes(lk: Any, units: Any) -> list[dict[str, Any]]:
     out = []
     for loop in fourbar_loops(lk):
         c = loop.classification
-        shown = [_numbers([units.show("length", r)])[0] for r in loop.lengths]
+        shown = [_number(units.show("length", r)) for r in loop.lengths]
         out.append(
             {
                 "links": list(loop.links),
@@ -216,12 +225,12 @@ def _limits(lk: Any, m: Any, x_shown: np.ndarray, ok: np.ndarray, reason: np.nda
     if not (len(runs) == 1 and runs[0] == (0, n - 1)):
         for a, b in runs:
             for k in {a, b}:
-                where = _numbers([x_shown[k]])[0]
+                where = _number(x_shown[k])
                 out.append(
                     {"frame": k, "kind": "limit", "text": f"end of the input range at {where}"}
                 )
     for k in np.flatnonzero(np.char.find(reason.astype(str), "singular") >= 0).tolist():
-        out.append({"frame": k, "kind": "toggle", "text": f"toggle at {_numbers([x_shown[k]])[0]}"})
+        out.append({"frame": k, "kind": "toggle", "text": f"toggle at {_number(x_shown[k])}"})
     if m.omega is not None:
         rockers = {n for n, ln in lk.links.items() if set(ln.points) & set(lk.ground_points)}
         for name, w in m.omega.items():
@@ -232,7 +241,7 @@ def _limits(lk: Any, m: Any, x_shown: np.ndarray, ok: np.ndarray, reason: np.nda
             flips = np.flatnonzero((s[:-1] * s[1:]) < 0)
             for k in flips.tolist():
                 k = k if abs(w[k]) <= abs(w[k + 1]) else k + 1
-                where = _numbers([x_shown[k]])[0]
+                where = _number(x_shown[k])
                 out.append(
                     {"frame": k, "kind": "extreme", "text": f"{name} reverses (ω = 0) at {where}"}
                 )
@@ -360,7 +369,7 @@ def _summary(lk: Any, part: Any, machine: Any) -> dict[str, Any]:
         for a in range(len(pts)):
             for b in range(a + 1, len(pts)):
                 d = abs(lk.points[pts[b]] - lk.points[pts[a]])
-                sides.append([pts[a], pts[b], _numbers([units.show("length", d)])[0]])
+                sides.append([pts[a], pts[b], _number(units.show("length", d))])
         lengths[name] = sides
     return {
         "part": part.name,

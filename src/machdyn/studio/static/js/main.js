@@ -95,6 +95,8 @@ class App {
     // where a drag step's time goes: the server's analysis, the rest of the round trip, drawing
     this.timing = { total: now - tag.t, server: tag.server, trip: tag.received - tag.t - (tag.server || 0), draw: now - tag.received };
     document.body.dataset.analysed = String(this.stats.drawn);
+    const s = r.summary;
+    v.svg.setAttribute("aria-label", `drawing of ${s.part}: mobility ${s.mobility}, driven by ${s.drivers.join(", ")}; ${r.ok.filter(Boolean).length} of ${r.ok.length} poses assembled`);
   }
 
   onError(err, tag) {
@@ -236,7 +238,7 @@ class App {
   // -- pointer editing -----------------------------------------------------------------
   setTool(tool) {
     this.tool = tool; this.pending = []; this.view.rubber = null;
-    for (const b of document.querySelectorAll("[data-tool]")) b.classList.toggle("on", b.dataset.tool === tool);
+    for (const b of document.querySelectorAll("[data-tool]")) { b.classList.toggle("on", b.dataset.tool === tool); b.setAttribute("aria-pressed", String(b.dataset.tool === tool)); }
     const hints = {
       select: "", ground: "Click to place a ground pivot, or click a joint to make it (or unmake it) a ground pivot.",
       link: "Click joints or empty space, one after another; Enter, a double-click or clicking the last joint again ends the link.",
@@ -280,7 +282,11 @@ class App {
       const world = this.snap(this.view.toWorld(px, py));
       const near = this.pointNear(px, py);
       const body = e.target.closest ? (e.target.closest("[data-body]") || {}).dataset : null;
-      if (this.synth.active() && e.button === 0) { this.synth.pick(near ? this.view.pointAt(near) : world); return; }
+      if (this.synth.active() && e.button === 0) {
+        this.synth.pick(near ? this.view.pointAt(near) : world);
+        if (this.synth.picking === "path") { drag = { sketch: true, x: px, y: py }; svg.setPointerCapture(e.pointerId); }  // or draw it
+        return;
+      }
       if (this.addingTo && e.button === 0) {
         const link = this.addingTo;
         this.addingTo = null; this.hint("");
@@ -347,6 +353,8 @@ class App {
         this.view.tx = drag.tx + px - drag.x; this.view.ty = drag.ty + py - drag.y;
         drag.moved = drag.moved || Math.hypot(px - drag.x, py - drag.y) > 3;
         this.draw();
+      } else if (drag && drag.sketch) {  // a path drawn freehand: a target every 24 px
+        if (Math.hypot(px - drag.x, py - drag.y) >= 24) { drag.x = px; drag.y = py; this.synth.pick(this.view.toWorld(px, py)); }
       } else if (drag && drag.point) {
         const xy = this.snap(this.view.toWorld(px, py));
         drag.moved = true;
@@ -409,8 +417,25 @@ class App {
       else if (e.key === "Enter" && this.tool === "link") this.finishLink();
       else if (e.key === " ") { e.preventDefault(); this.togglePlay(); }
       else if (e.key === "f") { this.view.fit(); this.draw(); }
+      else if (e.key.startsWith("Arrow")) { e.preventDefault(); this.arrow(e.key.slice(5), e.shiftKey, e.altKey); }
+      else if (e.key === "+" || e.key === "=" || e.key === "-") { const [w, h] = this.view.size(); this.view.zoomAt(w / 2, h / 2, e.key === "-" ? 1 / 1.25 : 1.25); this.draw(); }
       else if ({ s: 1, g: 1, l: 1, p: 1 }[e.key]) this.setTool({ s: "select", g: "ground", l: "link", p: "slider" }[e.key]);
     });
+  }
+
+  // Arrow keys: move the selected joint by one snap step (Shift: ten, Alt: a tenth), or pan.
+  arrow(dir, big, fine) {
+    const [ux, uy] = { Left: [-1, 0], Right: [1, 0], Up: [0, 1], Down: [0, -1] }[dir] || [0, 0];
+    const s = this.view.selection, part = this.store.part;
+    if (s && s.kind === "point" && part && part.points[s.name]) {
+      const step = this.view.gridStep() / 2 * (big ? 10 : fine ? 0.1 : 1);
+      const round = (v) => Math.round(v / step * 1e6) / 1e6 * step;  // no 0.1 + 0.2 drift
+      this.store.commit((d, p) => { const q = p.points[s.name]; p.points[s.name] = [round(q[0] + ux * step), round(q[1] + uy * step)]; });
+      this.status(`${s.name} moved to (${this.store.part.points[s.name].map((v) => +v.toFixed(6)).join(", ")})`);
+    } else {
+      this.view.tx -= ux * 40 * (big ? 5 : 1); this.view.ty += uy * 40 * (big ? 5 : 1);
+      this.draw();
+    }
   }
 
   togglePlay() { this.playing = !this.playing; this.syncPlay(); this.draw(); }
@@ -427,7 +452,7 @@ class App {
     for (const b of document.querySelectorAll("[data-tool]")) b.addEventListener("click", () => this.setTool(b.dataset.tool));
     for (const b of document.querySelectorAll("[data-tab]")) {
       b.addEventListener("click", () => {
-        for (const o of document.querySelectorAll("[data-tab]")) o.classList.toggle("on", o === b);
+        for (const o of document.querySelectorAll("[data-tab]")) { o.classList.toggle("on", o === b); o.setAttribute("aria-selected", String(o === b)); }
         for (const t of document.querySelectorAll(".tab")) t.hidden = t.id !== "tab-" + b.dataset.tab;
         if (b.dataset.tab === "synthesis") this.synth.render();
       });

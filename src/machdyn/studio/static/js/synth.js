@@ -1,5 +1,5 @@
 // Synthesis in the page: three-position motion generation (positions and pivots picked on the
-// canvas) and path generation (points clicked on the canvas or read from a CSV file).
+// canvas) and path generation (points clicked or drawn on the canvas, or read from a CSV file).
 
 import { h, fmt } from "./dom.js";
 import { post } from "./api.js";
@@ -36,7 +36,7 @@ export class Synthesis {
     if (kind === "motion") { this.motion.pts = []; this.motion.extra = []; this.motion.result = null; }
     if (kind === "pivots") { this.motion.extra = []; this.motion.result = null; }
     if (kind === "path") { this.path.pts = []; this.path.result = null; this.path.preview = null; }
-    this.app.hint(kind === "path" ? "Click target points along the path; press Done when finished."
+    this.app.hint(kind === "path" ? "Click target points along the path, or draw it with the mouse held down; press Done when finished."
       : kind === "pivots" ? `Click the ${this.motion.pivots === "fixed" ? "fixed pivots O2 then O4" : "moving pivots A then B (position 1)"}.`
         : "Click C1, D1 (position 1), then C2, D2 and C3, D3.");
     this.show(); this.render();
@@ -148,7 +148,7 @@ export class Synthesis {
     const path = h("section", { class: "card" }, h("h3", {}, "Path generation"),
       h("p", { class: "muted" }, `${p.pts.length} target points.`),
       h("div", { class: "buttons" },
-        h("button", { id: "pick-path", class: picking("path") ? "on" : "", onclick: () => (picking("path") ? this.stop() : this.start("path")) }, picking("path") ? "Done" : "Click points"),
+        h("button", { id: "pick-path", class: picking("path") ? "on" : "", onclick: () => (picking("path") ? this.stop() : this.start("path")) }, picking("path") ? "Done" : "Click or draw points"),
         h("button", { onclick: () => csv.click() }, "Load CSV"), csv,
         h("label", { class: "check" }, closed, " closed"),
         h("button", { disabled: p.pts.length < 5 || this.busy, onclick: () => this.runPath(), id: "run-path" }, this.busy ? "Searching…" : "Synthesise")),

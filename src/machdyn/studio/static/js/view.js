@@ -56,9 +56,11 @@ export class View {
     const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
     const [w, h] = this.size();
     const span = Math.max(x1 - x0, y1 - y0, 1e-9);
-    this.scale = Math.min((w - 80) / Math.max(x1 - x0, span * 0.2), (h - 110) / Math.max(y1 - y0, span * 0.2));
+    // clear of the view bar (top) and the play bar (bottom) drawn over the canvas
+    const top = 100, bottom = h - 75;
+    this.scale = Math.min((w - 80) / Math.max(x1 - x0, span * 0.2), (bottom - top) / Math.max(y1 - y0, span * 0.2));
     this.tx = w / 2 - this.scale * (x0 + x1) / 2;
-    this.ty = (h - 40) / 2 + this.scale * (y0 + y1) / 2;
+    this.ty = (top + bottom) / 2 + this.scale * (y0 + y1) / 2;
   }
 
   zoomAt(px, py, factor) {
