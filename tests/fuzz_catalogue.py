@@ -494,12 +494,41 @@ ACCEPTS = {
     ("machdyn.massprops:cg_motion", "origin_acceleration"): {"complex"},
     ("machdyn.massprops:parallel_axis", "d"): {"complex"},
     ("machdyn.rotor:Rotor.from_masses", "R"): {"complex"},
+    ("machdyn.gears:gear_outline", "center"): {"complex"},  # a point x + jy or (x, y)
+    **{
+        (f"machdyn.synthesis:{f}", p): {"complex"}
+        for f, ps in {
+            "circumcentre": ("p1", "p2", "p3"),
+            "driving_dyad": ("pivot", "b1", "b2"),
+            "intersect_lines": ("p1", "u1", "p2", "u2"),
+            "perpendicular_bisector": ("p", "q"),
+            "rigid_motion": ("c_from", "d_from", "c_to", "d_to"),
+            "rotopole": ("c1", "d1", "c2", "d2"),
+            "three_position": ("A", "B"),
+            "three_position_fixed_pivots": ("O2", "O4"),
+            "two_position": ("A", "B"),
+            "path_objective": ("centre",),
+            "PlacedFourBar.theta2_of": ("A",),
+            "PlacedFourBar.to_global": ("z",),
+            "PlacedFourBar.to_local": ("z",),
+        }.items()
+        for p in ps
+    },
+    ("machdyn.gears:GearPair.with_center_distance", "center_distance"): {"none"},  # tight mesh
+    # a tooth count of inf is a rack (documented)
+    ("machdyn.gears:min_pinion_teeth", "gear_teeth"): {"inf"},
+    ("machdyn.gears:onset_gear_teeth", "pinion_teeth"): {"inf"},
+    ("machdyn.gears:max_gear_teeth", "pinion_teeth"): {"inf"},
+    ("machdyn.gears:min_profile_shift", "teeth"): {"inf"},
+    ("machdyn.gears:undercut", "teeth"): {"inf"},
     ("machdyn.rotor:Rotor.with_masses", "R"): {"complex"},
 }
 
 #: Entries whose results may hold ±inf unflagged, with the documented reason.
 NONFINITE = {
     "machdyn.virtual_work:mechanical_advantage": "±inf where the output stops (a toggle)",
+    "machdyn.gears:onset_gear_teeth": "inf: the pinion meshes even with a rack (documented)",
+    "machdyn.gears:max_gear_teeth": "inf: any gear, even a rack (documented)",
 }
 
 
@@ -959,6 +988,9 @@ def _add_design(c, fn, meth) -> None:
     c["machdyn.synthesis:synthesize_path"].accepts.update(
         timing={"none"}, tolerance={"none"}, seed={"none"}
     )
+    c["machdyn.synthesis:synthesize_path"].skip["polish"] = (
+        "True is valid and runs a full local search (seconds); other values are refused"
+    )
     fn("machdyn.synthesis:three_position", c=cc, d=dd)
     c["machdyn.synthesis:three_position"].accepts.update(A={"none"}, B={"none"})
     fn("machdyn.synthesis:three_position_fixed_pivots", c=cc, d=dd, O2=-1 + 0.5j, O4=7 + 0.5j)
@@ -1031,8 +1063,10 @@ def _in_temporary_folder(func):
 def _add_atlas(c, fn, meth, targets) -> None:
     syn = __import__("machdyn.synthesis").synthesis
     build = lambda: _in_temporary_folder(syn.build_atlas)  # noqa: E731
-    fn("machdyn.synthesis:build_atlas", Call(build, dict(path="a", count=20, chunk_size=20,
-                                                          progress=False)))  # fmt: skip
+    fn(
+        "machdyn.synthesis:build_atlas",
+        Call(build, dict(path="a", count=20, chunk_size=20, progress=False)),
+    )
     c["machdyn.synthesis:build_atlas"].accepts.update(
         path={"text"}, scheduler={"none"}, workers={"none"}
     )

@@ -197,6 +197,7 @@ def test_phi_typed_in_radians_is_refused_with_the_conversion(args):
         (("train", "20:40:belt"), "stage 1"),
         (("plot", "--np", "20", "--ng", "40", "-m", "2", "--angle", "nan", "-o", "x.png"),
          "--angle"),
+        (("plot", "--np", "20", "--ng", "40", "-m", "2", "-o", "0.5"), "--output"),
     ],
 )  # fmt: skip
 def test_errors_name_the_command_line_option(args, option):

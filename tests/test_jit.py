@@ -349,3 +349,44 @@ def test_a_failed_load_leaves_numpy_in_charge_and_says_why(monkeypatch):
     for m in (first, second):  # NumPy served both: the loop closes
         loop = 4 * np.exp(0.5j) + 7 * np.exp(1j * m.theta3) - 6 * np.exp(1j * m.theta4) - 8
         assert abs(loop) < 1e-13
+
+
+def test_auto_keeps_to_the_documented_bound_across_its_switch_and_on_off_repeat_bits(
+    monkeypatch,
+):
+    """The same call in one process: NumPy before the switch, compiled after it.
+
+    The bits may change at the switch (documented in machdyn.jit); they stay within
+    the conditioning bound, and a fixed path (on or off) repeats them exactly.
+    """
+    fb = FourBar(8, 4, 7, 6, coupler=(3.0, 0.5))
+    theta2 = np.linspace(0, 2 * np.pi, 3_601)
+
+    def call():
+        return fb.solve(theta2, 10.0, -3.0, jerk2=2.0)
+
+    monkeypatch.setattr(jit, "_kernels", None)  # as in a new process
+    monkeypatch.setattr(jit, "_spent", 0.0)
+    monkeypatch.setattr(jit, "BUDGET", 1e-4)
+    jit.set_mode("auto")
+    before = call()  # NumPy: nothing spent yet
+    assert jit.kernels(1) is not None  # that call spent the budget
+    after = call()  # compiled
+    s34 = np.abs(np.sin(before.theta3 - before.theta4))
+    kappa = 8 / 4 / s34
+    for name in ("theta3", "theta4", "A", "B", "coupler"):
+        diff = np.abs(getattr(after, name) - getattr(before, name))
+        if name.startswith("theta"):
+            diff = np.minimum(diff, 2 * np.pi - diff)
+            scale = 1.0
+        else:
+            scale = np.abs(getattr(before, name)).max()
+        assert np.all(diff <= 1e-14 * kappa * scale), name
+    for name in ("omega3", "omega4", "alpha3", "alpha4", "jerk3", "jerk4"):
+        diff = np.abs(getattr(after, name) - getattr(before, name))
+        assert np.all(diff <= 1e-14 * kappa**2 * np.abs(getattr(before, name)).max()), name
+    for mode in ("off", "on"):
+        jit.set_mode(mode)
+        first, second = call(), call()
+        for name in QUANTITIES:
+            np.testing.assert_array_equal(getattr(first, name), getattr(second, name))

@@ -172,10 +172,25 @@ def positive(field: str, value: Any, unit: str | None = None) -> float:
 
 
 def nonnegative(field: str, value: Any, unit: str | None = None) -> float:
-    """Return ``value`` as a float >= 0 or raise :class:`InputError`."""
+    """Return ``value`` as a float >= 0 or raise :class:`InputError`.
+
+    A positive value below :data:`TINY` is refused too: 1e-320 as a roller
+    radius is neither a knife edge (0) nor a roller machdyn can compute with.
+
+    Examples
+    --------
+    >>> nonnegative("roller_radius", 0)
+    0.0
+    >>> nonnegative("roller_radius", 1e-320)
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: roller_radius: 1e-320 is below 1e-50; give 0 or use smaller units
+    """
     out = finite_scalar(field, value, unit)
     if out < 0.0:
         raise InputError(field, f"must be zero or positive, got {out}")
+    if 0.0 < out < TINY:
+        raise InputError(field, f"{out:g} is below {TINY:g}; give 0 or use smaller units")
     return out
 
 

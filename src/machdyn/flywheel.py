@@ -342,9 +342,9 @@ def size_flywheel(
     """
     omega_avg = positive("omega_avg", omega_avg, "rad/s")
     k = finite_scalar("k", k)
-    if not 0.0 < k < 0.5:
+    if not 1e-12 <= k < 0.5:  # below 1e-12 the flywheel (I ~ 1/k) outgrows double precision
         raise InputError(
-            "k", f"coefficient of fluctuation must be in (0, 0.5), typically 0.01-0.05; got {k}"
+            "k", f"coefficient of fluctuation must be in [1e-12, 0.5), typically 0.01-0.05; got {k}"
         )
     theta, torque, period = _closed_cycle(theta, torque, period)
 

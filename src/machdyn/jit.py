@@ -15,9 +15,20 @@ knowing the future.
 The environment variable ``MACHDYN_JIT`` chooses: ``auto`` (the default),
 ``on`` (load at the first call) or ``off`` (NumPy only); :func:`set_mode`
 overrides it for the process. :func:`load` loads now, e.g. before timing
-something. Both paths give the same numbers up to rounding: a few units in the
-last place, more only near a toggle, where the pose itself is ill-conditioned
-(the test suite runs every four-bar test on both).
+something. Both paths give the same numbers up to rounding, not the same bits:
+the compiled kernels carry their own sin, cos and atan2 (polynomials within 2
+ulp of libm's, so that the loops vectorise). The difference is bounded by the
+pose's conditioning: with ``κ = (longest link / shortest link) / |sin(θ3 − θ4)|``,
+angles and points agree to ``1e-14 κ`` (points relative to their size) and
+rates to ``1e-14 κ²``; a few units in the last place away from toggles, more
+only next to one, where the pose itself is ill-conditioned (tests/test_jit.py
+checks this bound sample by sample, and runs every four-bar test on both paths).
+
+Under ``auto`` the same call may therefore differ in its last bits before and
+after the switch. For bit-for-bit reproducible results choose one path for the
+whole process: ``MACHDYN_JIT=off`` (NumPy, identical on every machine with the
+same NumPy and libm) or ``MACHDYN_JIT=on`` (compiled from the first call; NumPy
+throughout if numba is unavailable).
 
 Loading sets two of LLVM's process-wide options (how many run-time alias
 checks the loop vectoriser may emit; see :mod:`machdyn._kernels`): other numba

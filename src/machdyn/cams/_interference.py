@@ -12,9 +12,11 @@ Two steps, both vectorised:
 
 1. :func:`polyline_crossings` finds every proper crossing of two
    non-adjacent segments of a closed polyline. Candidate pairs come from a
-   uniform grid: each segment is entered in every cell its bounding box
-   touches, and only segments sharing a cell are tested. Two segments that
-   cross share the cell of their crossing point, so no crossing is missed.
+   uniform grid of cells about two segments wide: each segment is entered in
+   every cell its bounding box touches, and only segments sharing a cell are
+   tested. Two segments that cross share the cell of their crossing point, so
+   no crossing is missed. Only occupied cells are kept (sorted keys), so time
+   and memory grow as n log n with the number of points.
 2. :func:`loop_pieces` cuts the outline at the crossings and asks, for each
    piece, how many times the whole outline winds round a point just inside it
    (on the material side). A piece of the real surface has the solid cam
@@ -116,6 +118,8 @@ def _cross(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 _LONG_CELLS = 64
 #: Most pairs tested for long segments before they are gridded like the rest.
 _LONG_PAIRS = 4_000_000
+#: Grid entries allowed per segment on average (the cells grow until they fit).
+_ENTRIES_PER_SEGMENT = 16
 
 
 def _candidate_pairs(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -133,17 +137,23 @@ def _candidate_pairs(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np
     hi = np.maximum(start.real, end.real) + 1j * np.maximum(start.imag, end.imag)
     origin = complex(lo.real.min(), lo.imag.min())
     extent = max(hi.real.max() - origin.real, hi.imag.max() - origin.imag)
-    # About two typical segments per cell, never more than 4096 cells across.
-    cell = max(2.0 * float(np.median(length)), extent / 4096.0)
+    # About two typical segments per cell (a typical segment then touches at most four
+    # cells, so the grid holds O(n) entries and each cell a few: O(n log n) in all, the
+    # sort). Only occupied cells exist (their keys are sorted, no dense array).
+    cell = max(2.0 * float(np.median(length)), extent * 2.0**-40)
     if not cell > 0.0:
         return np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp)
-    ix0 = np.floor((lo.real - origin.real) / cell).astype(np.int64)
-    iy0 = np.floor((lo.imag - origin.imag) / cell).astype(np.int64)
-    nx = np.floor((hi.real - origin.real) / cell).astype(np.int64) - ix0 + 1
-    ny = np.floor((hi.imag - origin.imag) / cell).astype(np.int64) - iy0 + 1
-    long = nx * ny > _LONG_CELLS
-    if long.sum() * n > _LONG_PAIRS:  # many long segments (no cam outline): grid them all
-        long[:] = False
+    while True:
+        ix0 = np.floor((lo.real - origin.real) / cell).astype(np.int64)
+        iy0 = np.floor((lo.imag - origin.imag) / cell).astype(np.int64)
+        nx = np.floor((hi.real - origin.real) / cell).astype(np.int64) - ix0 + 1
+        ny = np.floor((hi.imag - origin.imag) / cell).astype(np.int64) - iy0 + 1
+        long = nx * ny > _LONG_CELLS
+        if long.sum() * n > _LONG_PAIRS:  # many long segments (no cam outline): grid them all
+            long[:] = False
+        if int((nx * ny)[~long].sum()) <= _ENTRIES_PER_SEGMENT * n:
+            break
+        cell *= 2.0  # a few very long segments among short ones: coarser cells
     # One entry per (short segment, cell of its bounding box).
     short = np.flatnonzero(~long)
     count = (nx * ny)[short]

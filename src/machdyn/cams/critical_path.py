@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, integer, nonnegative
+from .._validate import count, finite_array, integer, nonnegative
 from ..errors import InputError
 from .program import ContinuityReport, Discontinuity, Motion
 
@@ -140,7 +140,7 @@ class CriticalPathMotion:
 
     def sample(self, n: int = 3600) -> Motion:
         """The motion at ``n`` equally spaced angles θ = 2πk/n."""
-        n = integer("n", n, minimum=4)
+        n = count("n", n, minimum=4, bytes_each=48, what="samples")
         return self.svaj(np.arange(n) * (_TWO_PI / n))
 
     def continuity(self, rtol: float = 1e-9) -> ContinuityReport:
@@ -157,6 +157,7 @@ class CriticalPathMotion:
         >>> report.ok, report.notes[0][:34]
         (True, 'degree 3: the jerk jumps at knots ')
         """
+        rtol = nonnegative("rtol", rtol)
         from scipy.interpolate import PPoly
 
         pieces = PPoly.from_spline(self.spline)

@@ -37,7 +37,16 @@ from typing import Any
 import numpy as np
 
 from .._summary import Summarized
-from .._validate import broadcast, choice, finite_array, finite_scalar, nonnegative, positive
+from .._validate import (
+    broadcast,
+    choice,
+    complex_array,
+    count,
+    finite_array,
+    finite_scalar,
+    nonnegative,
+    positive,
+)
 from ..errors import InputError, ModelError
 from ._interference import loop_pieces, polyline_crossings
 from .critical_path import CriticalPathMotion
@@ -364,7 +373,7 @@ def surface_self_intersection(theta: Any, surface: Any) -> SurfaceSelfIntersecti
     [[10.4, 45.8], [164.2, 199.6]]
     """
     theta = finite_array("theta", theta)
-    z = np.asarray(surface, dtype=complex)
+    z = complex_array("surface", surface)
     if theta.ndim != 1 or z.shape != theta.shape:
         raise InputError(
             "surface", f"needs one point per cam angle: theta {theta.shape}, surface {z.shape}"
@@ -571,6 +580,9 @@ class CamProfile(Summarized):
         face_width : float, optional
             Flat face: the width you have, checked against the least width.
         """
+        rho_ratio = positive("rho_ratio", rho_ratio)
+        if face_width is not None:
+            face_width = positive("face_width", face_width)
         limit = positive("max_pressure_angle", max_pressure_angle, "radian")
         if limit >= np.pi / 2.0:
             raise InputError(
@@ -930,8 +942,13 @@ class OscillatingRoller:
 Follower = TranslatingRoller | TranslatingFlatFace | OscillatingRoller
 
 
+#: Memory per sample of a profile with its checks (outline, curvature, crossings grid).
+_BYTES_PER_SAMPLE = 800
+
+
 def _as_motion(motion: MotionSource, n: int) -> Motion:
     if isinstance(motion, CamProgram | CriticalPathMotion):
+        n = count("n", n, minimum=4, bytes_each=_BYTES_PER_SAMPLE, what="cam samples")
         return motion.sample(n)
     if isinstance(motion, Motion):
         return motion

@@ -34,7 +34,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar, positive
+from .._validate import finite_array, finite_scalar, instance, items, positive
 from ..errors import InputError
 
 __all__ = [
@@ -275,6 +275,8 @@ class PolynomialLaw(MotionLaw):
 
     def coefficients(self, h: float, beta: float) -> np.ndarray:
         """Power-series coefficients ``c_k`` of ``s(x) = Σ c_k x^k``."""
+        h = finite_scalar("h", h)
+        beta = positive("beta", beta, "radian")
         rows = [(0.0, 0, 0.0), (1.0, 0, h), *self.conditions]
         n = len(rows)
         powers = np.arange(n)
@@ -346,6 +348,11 @@ def polynomial_law(
     """
     rows: list[tuple[float, int, float]] = []
     for where, given in ((0.0, start), (1.0, end)):
+        if given is not None and not isinstance(given, Mapping):
+            raise InputError(
+                "start" if where == 0.0 else "end",
+                f"must map v, a or j to values, e.g. {{'v': 0}}; got {given!r}"[:200],
+            )
         for name, value in (given or {}).items():
             if name not in ("v", "a", "j"):
                 raise InputError(
@@ -353,7 +360,7 @@ def polynomial_law(
                     f"end conditions are on v, a or j (s is set by h); got {name!r}",
                 )
             rows.append((where, _ORDER[name], finite_scalar(name, value)))
-    for item in points:
+    for item in items("points", points, what="(x, name, value) conditions"):
         try:
             x0, name, value = item
         except (TypeError, ValueError):
@@ -466,6 +473,7 @@ def dwell(x: Any, h: float = 1.0, beta: float = 1.0) -> LawValues:
     >>> dwell([0.0, 1.0]).s.tolist()
     [0.0, 0.0]
     """
+    finite_scalar("h", h)  # ignored, but it must still be a number
     return _NAMED["dwell"](x, 0.0, beta)
 
 
@@ -567,5 +575,6 @@ def fall(law: MotionLaw | str, x: Any, h: float = 1.0, beta: float = 1.0) -> Law
     """
     if isinstance(law, str):
         law = get_law(law)
+    instance("law", law, MotionLaw, "a law name or a MotionLaw")
     s, v, a, j = law(x, h, beta)
     return LawValues(h - s, -v, -a, -j)

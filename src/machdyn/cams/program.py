@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from .._summary import Summarized
-from .._validate import choice, finite_array, integer, nonnegative, positive
+from .._validate import choice, count, finite_array, items, nonnegative, positive
 from ..errors import InputError
 from ..units import warn_if_degrees
 from .laws import LawValues, MotionLaw, PolynomialLaw, get_law
@@ -302,7 +302,7 @@ class CamProgram:
     """
 
     def __init__(self, segments: Sequence[Segment]) -> None:
-        segments = tuple(segments)
+        segments = items("segments", segments, what="Segments")
         if not segments:
             raise InputError("segments", "a cam program needs at least one segment")
         for i, seg in enumerate(segments):
@@ -359,8 +359,10 @@ class CamProgram:
         >>> [s.motion for s in p.segments]
         ['rise', 'dwell', 'fall', 'dwell']
         """
+        beta_rise = positive("beta_rise", beta_rise, "radian")
+        beta_fall = positive("beta_fall", beta_fall, "radian")
         rest = 2.0 * np.pi - beta_rise - beta_fall
-        high = rest / 2.0 if dwell_high is None else dwell_high
+        high = rest / 2.0 if dwell_high is None else nonnegative("dwell_high", dwell_high, "radian")
         low = rest - high
         if high <= 0.0 or low <= 0.0:
             raise InputError("beta_rise", "rise and fall leave no room for both dwells")
@@ -408,7 +410,7 @@ class CamProgram:
 
     def sample(self, n: int = 3600) -> Motion:
         """Return the motion at ``n`` equally spaced angles θ = 2πk/n."""
-        n = integer("n", n, minimum=4)
+        n = count("n", n, minimum=4, bytes_each=48, what="samples")
         return self.svaj(np.arange(n) * (2.0 * np.pi / n))
 
     def continuity(self, rtol: float = 1e-9) -> ContinuityReport:
@@ -426,6 +428,7 @@ class CamProgram:
         >>> [d.quantity for d in p.continuity().discontinuities]
         ['a', 'a', 'a', 'a']
         """
+        rtol = nonnegative("rtol", rtol)
         found: list[Discontinuity] = []
         notes: list[str] = []
         n = len(self.segments)

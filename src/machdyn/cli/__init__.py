@@ -16,6 +16,7 @@ each distinct warning follows the output as one ``machdyn: warning:`` line.
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 import warnings
@@ -54,6 +55,12 @@ def _command(args: list[str]) -> Any:
         fast.callback()(lambda: None)
         fast.command(args[0])(command)
         return typer.main.get_command(fast)
+    return _full_command()
+
+
+@functools.cache
+def _full_command() -> Any:
+    """The click command of the whole application, built once per process (~0.2 s)."""
     return typer.main.get_command(_full_app())
 
 

@@ -365,6 +365,8 @@ def plot_cmd(
 
     if not math.isfinite(angle):
         raise InputError("--angle", f"must be a finite angle in degrees, got {angle:g}")
+    if output.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise InputError("--output", f"use a .png, .svg or .pdf file, got {output.name!r}")
     _check_cutter(cutter_teeth, internal)
     pair = _pair(
         np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, 0.0, 0.0, driver

@@ -7,14 +7,13 @@ Only parsing and presentation live here; the synthesis is
 
 from __future__ import annotations
 
-import ast
-from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated
 
 import numpy as np
 import typer
 
+from .._expression import parse_function
 from ..errors import AssemblyError, InputError
 from ._common import dumps, print_table
 
@@ -56,77 +55,6 @@ def parse_points(text: str, field: str, count: int) -> list[complex]:
     if len(points) != count:
         raise InputError(field, f"expected {count} points 'x,y; x,y; x,y', got {len(points)}")
     return points
-
-
-_FUNCTIONS: dict[str, Callable] = {
-    "sin": np.sin,
-    "cos": np.cos,
-    "tan": np.tan,
-    "exp": np.exp,
-    "log": np.log,
-    "log10": np.log10,
-    "sqrt": np.sqrt,
-    "abs": np.abs,
-}
-_CONSTANTS = {"pi": np.pi, "e": np.e}
-_ALLOWED_NODES = (
-    ast.Expression,
-    ast.BinOp,
-    ast.UnaryOp,
-    ast.Call,
-    ast.Name,
-    ast.Load,
-    ast.Constant,
-    ast.Add,
-    ast.Sub,
-    ast.Mult,
-    ast.Div,
-    ast.Pow,
-    ast.USub,
-    ast.UAdd,
-)
-
-
-def parse_function(text: str) -> Callable[[np.ndarray], np.ndarray]:
-    """Turn an expression in ``x`` (e.g. ``"log10(x)"``, ``"x**1.5"``) into a function.
-
-    Only arithmetic, numbers, ``x``, ``pi``, ``e`` and the functions
-    sin, cos, tan, exp, log, log10, sqrt, abs are accepted.
-
-    Examples
-    --------
-    >>> f = parse_function("2*x**2 + sin(pi*x)")
-    >>> round(float(f(np.array(1.0))), 12)
-    2.0
-    >>> parse_function("__import__('os')")  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    machdyn.errors.InputError: --f: only x, numbers, + - * / **, pi, e and sin, ... are allowed
-    """
-    message = "only x, numbers, + - * / **, pi, e and " + ", ".join(_FUNCTIONS) + " are allowed"
-    try:
-        tree = ast.parse(text, mode="eval")
-    except SyntaxError:
-        raise InputError("--f", f"cannot read {text!r} as an expression in x") from None
-    for node in ast.walk(tree):
-        if not isinstance(node, _ALLOWED_NODES):
-            raise InputError("--f", message)
-        if isinstance(node, ast.Name) and node.id not in {"x", *_FUNCTIONS, *_CONSTANTS}:
-            raise InputError("--f", message)
-        if isinstance(node, ast.Call) and not (
-            isinstance(node.func, ast.Name) and node.func.id in _FUNCTIONS and not node.keywords
-        ):
-            raise InputError("--f", message)
-        if isinstance(node, ast.Constant) and not isinstance(node.value, int | float):
-            raise InputError("--f", message)
-    code = compile(tree, "<--f>", "eval")
-    names = {"__builtins__": {}, **_FUNCTIONS, **_CONSTANTS}
-
-    def func(x: np.ndarray) -> np.ndarray:
-        with np.errstate(all="ignore"):
-            return np.asarray(eval(code, names, {"x": np.asarray(x, dtype=float)}), dtype=float)
-
-    return func
 
 
 def _pair(text: str, field: str) -> tuple[float, float]:

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import as_array, magnitude
+from .._validate import LIMIT, TINY, as_array, magnitude
 from ..errors import InputError
 
 __all__ = ["finite", "pressure_angle_array"]
@@ -28,8 +28,18 @@ def finite(field: str, value: Any, message: str) -> np.ndarray:
     """
     out = as_array(field, value)
     if not np.all(np.isfinite(out)):
-        raise InputError(field, f"{message}, got {value!r}")
+        raise InputError(field, f"{message}, got {_short(value)}")
+    size = np.abs(out)
+    if np.any(size > LIMIT) or np.any((size > 0.0) & (size < TINY)):
+        raise InputError(
+            field, f"{message} within 1e-50 … 1e50 in magnitude (or 0), got {_short(value)}"
+        )
     return out
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:57]}..."
 
 
 def pressure_angle_array(value: Any, upper_deg: float = 90.0) -> np.ndarray:
@@ -49,7 +59,7 @@ def pressure_angle_array(value: Any, upper_deg: float = 90.0) -> np.ndarray:
     """
     phi = as_array("pressure_angle", magnitude(value, "radian", "pressure_angle"))
     upper = math.radians(upper_deg)
-    bad = ~np.isfinite(phi) | (phi <= 0) | (phi >= upper)
+    bad = ~np.isfinite(phi) | (phi < TINY) | (phi >= upper)
     if np.any(bad):
         first = float(phi.ravel()[int(np.flatnonzero(bad.ravel())[0])])
         hint = f"; did you pass degrees? use np.radians({first:g})" if upper <= first < 90.0 else ""

@@ -45,9 +45,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validate import (
-    as_array,
+    boolean,
     broadcast,
     choice,
+    finite_array,
     finite_scalar,
     integer,
     magnitude,
@@ -55,7 +56,7 @@ from .._validate import (
     positive,
 )
 from ..errors import InputError
-from ._checks import pressure_angle_array
+from ._checks import finite, pressure_angle_array
 
 __all__ = [
     "SYSTEMS",
@@ -75,6 +76,8 @@ SYSTEMS: dict[str, tuple[float, float]] = {
 
 #: Fewest teeth accepted for any gear (the tip must also not be pointed).
 MIN_TEETH = 3
+#: Most teeth a Gear may have (more than any gear that is cut; keeps outlines finite).
+MAX_TEETH = 1_000_000
 
 
 def involute(phi: ArrayLike) -> NDArray[np.float64]:
@@ -98,7 +101,9 @@ def involute(phi: ArrayLike) -> NDArray[np.float64]:
     >>> float(involute(np.radians(20.0)))
     0.014904383867336446
     """
-    phi = np.asarray(phi, dtype=np.float64)
+    phi = finite_array("phi", phi, "radian")
+    if np.any(np.abs(phi) >= 0.5 * math.pi):
+        raise InputError("phi", "the involute function is defined for |φ| < π/2 (radians)")
     return np.tan(phi) - phi
 
 
@@ -120,9 +125,9 @@ def inverse_involute(value: ArrayLike) -> NDArray[np.float64]:
     >>> round(float(np.degrees(inverse_involute(0.014904383867336446))), 10)
     20.0
     """
-    value = np.asarray(value, dtype=np.float64)
-    if np.any(value < 0) or not np.all(np.isfinite(value)):
-        raise InputError("value", "the involute function is finite and >= 0")
+    value = finite("value", value, "the involute function is finite and >= 0")
+    if np.any(value < 0) or np.any(value > 1e15):
+        raise InputError("value", "the involute function is >= 0 (and below 1e15: φ < 90°)")
     # Starting guess from the series inv φ ≈ φ³/3, good to a few per cent up to 60°.
     phi = np.minimum(np.cbrt(3.0 * value), 1.5)
     for _ in range(50):
@@ -160,7 +165,8 @@ def base_pitch(pitch_radius: ArrayLike, teeth: ArrayLike, pressure_angle: ArrayL
     >>> round(float(base_pitch(1.5, 24, np.radians(20.0))), 4)
     0.369
     """
-    r, n = as_array("pitch_radius", pitch_radius), as_array("teeth", teeth)
+    r = finite("pitch_radius", pitch_radius, "must be a positive, finite length")
+    n = finite("teeth", teeth, f"must be at least {MIN_TEETH}")
     if np.any(r <= 0) or not np.all(np.isfinite(r)):
         raise InputError("pitch_radius", f"must be a positive, finite length, got {pitch_radius!r}")
     if np.any(n < MIN_TEETH) or not np.all(np.isfinite(n)):
@@ -206,9 +212,7 @@ def tooth_thickness_at(
     >>> float(tooth_thickness_at(10.0, 10.0, 1.5, np.radians(20.0)))
     1.5
     """
-    radius = as_array("radius", radius)
-    if not np.all(np.isfinite(radius)):
-        raise InputError("radius", f"must be finite, got {radius!r}")
+    radius = finite("radius", radius, "must be finite")
     pitch_radius = positive("pitch_radius", pitch_radius)
     thickness = finite_scalar("thickness", thickness)
     phi = pressure_angle_array(pressure_angle)
@@ -296,7 +300,7 @@ class Gear:
         thickness_reduction: float = 0.0,
     ) -> None:
         s = object.__setattr__
-        s(self, "teeth", integer("teeth", teeth, minimum=MIN_TEETH))
+        s(self, "teeth", integer("teeth", teeth, minimum=MIN_TEETH, maximum=MAX_TEETH))
         if (module is None) == (diametral_pitch is None):
             raise InputError("module", "give exactly one of module or diametral_pitch")
         if module is not None:
@@ -322,7 +326,7 @@ class Gear:
         s(self, "given_addendum", None if addendum is None else positive("addendum", addendum))
         s(self, "given_dedendum", None if dedendum is None else positive("dedendum", dedendum))
         s(self, "profile_shift", finite_scalar("profile_shift", profile_shift))
-        s(self, "internal", bool(internal))
+        s(self, "internal", boolean("internal", internal))
         s(self, "thickness_reduction", nonnegative("thickness_reduction", thickness_reduction))
         self._check()
 

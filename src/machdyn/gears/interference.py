@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validate import as_array, broadcast, magnitude
+from .._validate import TINY, as_array, broadcast, magnitude
 from ..errors import InputError
 
 __all__ = [
@@ -44,15 +44,15 @@ _TWENTY_DEG = math.radians(20.0)
 
 
 def _sin2(pressure_angle: ArrayLike) -> np.ndarray:
-    phi = as_array("pressure_angle", magnitude(pressure_angle, "radian"))
-    if np.any(phi <= 0) or np.any(phi >= np.pi / 4) or not np.all(np.isfinite(phi)):
+    phi = as_array("pressure_angle", magnitude(pressure_angle, "radian", "pressure_angle"))
+    if np.any(~(phi >= TINY)) or np.any(phi >= np.pi / 4):  # NaN fails >=
         raise InputError("pressure_angle", "must be in radians between 0 and π/4")
     return np.sin(phi) ** 2
 
 
 def _k(k: ArrayLike) -> np.ndarray:
     k = as_array("k", k)
-    if np.any(k <= 0) or not np.all(np.isfinite(k)):
+    if np.any(~((k >= TINY) & (k <= 1e6))):  # NaN and ±inf fail too
         raise InputError("k", "the addendum constant must be positive (1 full depth, 0.8 stub)")
     return k
 
@@ -62,6 +62,8 @@ def _teeth(field: str, teeth: ArrayLike) -> np.ndarray:
     finite = n[np.isfinite(n)]
     if np.any(n <= 0) or np.any(np.isnan(n)) or np.any(finite != np.round(finite)):
         raise InputError(field, "tooth numbers must be positive whole numbers")
+    if np.any(finite > 1e12):
+        raise InputError(field, "tooth numbers must be below 1e12 (inf for a rack)")
     return n
 
 

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import as_array, broadcast, choice, magnitude
+from .._validate import broadcast, choice, positive
 from ..errors import InputError
 from ._checks import finite, pressure_angle_array
 from .geometry import Gear, inverse_involute, involute
@@ -154,10 +154,10 @@ def length_of_action(
     ...
     machdyn.errors.InputError: center_distance: 6 is too large: the teeth lose contact ...
     """
-    rg = as_array("r_gear", r_gear)
-    rp = as_array("r_pinion", r_pinion)
-    ag = as_array("a_gear", a_gear)
-    ap = as_array("a_pinion", a_pinion)
+    rg = finite("r_gear", r_gear, "must be a positive, finite pitch radius")
+    rp = finite("r_pinion", r_pinion, "must be a positive, finite pitch radius")
+    ag = finite("a_gear", a_gear, "must be a finite addendum >= 0")
+    ap = finite("a_pinion", a_pinion, "must be a finite addendum >= 0")
     phi = pressure_angle_array(pressure_angle)
     for name, value in (("r_gear", rg), ("r_pinion", rp)):
         if np.any(value <= 0) or not np.all(np.isfinite(value)):
@@ -223,8 +223,8 @@ def contact_ratio(length_of_action: ArrayLike, base_pitch: ArrayLike) -> Any:
     1.694
     """
     z = finite("length_of_action", length_of_action, "must be a finite length")
-    pb = as_array("base_pitch", base_pitch)
-    if np.any(pb <= 0) or not np.all(np.isfinite(pb)):
+    pb = finite("base_pitch", base_pitch, "must be a positive, finite length")
+    if np.any(pb <= 0):
         raise InputError("base_pitch", "must be a positive, finite length")
     broadcast(length_of_action=z, base_pitch=pb)
     if np.any(z < 0):
@@ -396,11 +396,7 @@ class GearPair:
         if center_distance is None:
             c_op = self.tight_center_distance
         else:
-            c_op = float(magnitude(center_distance))
-            if not (math.isfinite(c_op) and c_op > 0):
-                raise InputError(
-                    "center_distance", f"must be a positive, finite length, got {c_op}"
-                )
+            c_op = positive("center_distance", center_distance)
         object.__setattr__(self, "center_distance", c_op)
         self._check_center_distance()
 

@@ -38,7 +38,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._validate import integer, nonnegative
+from .._validate import (
+    boolean,
+    count,
+    finite_scalar,
+    instance,
+    integer,
+    nonnegative,
+    point,
+)
 from ..errors import InputError, MachdynError
 from .geometry import Gear, involute
 
@@ -100,6 +108,7 @@ def cutter_teeth_range(gear: Gear) -> tuple[int, int]:
     >>> cutter_teeth_range(Gear(2000, module=1.0, internal=True))[0]  # a rack: Table 9-4
     18
     """
+    instance("gear", gear, Gear)
     if not isinstance(gear, Gear) or not gear.internal:
         raise InputError("gear", "only an internal gear is cut by a shaper cutter here")
     m, phi, n = gear.module, gear.pressure_angle, gear.teeth
@@ -138,6 +147,7 @@ def default_cutter_teeth(gear: Gear) -> int:
     >>> default_cutter_teeth(Gear(40, module=1.0, internal=True))  # 20 would interfere
     24
     """
+    instance("gear", gear, Gear)
     low, high = cutter_teeth_range(gear)
     return min(max(max(12, min(25, gear.teeth // 2)), low), high)
 
@@ -159,6 +169,7 @@ def default_tip_radius(gear: Gear) -> float:
     >>> round(default_tip_radius(Gear(20, module=1.0, pressure_angle=math.radians(25))), 3)
     0.3
     """
+    instance("gear", gear, Gear)
     phi = gear.pressure_angle
     h_f = gear.dedendum + gear.profile_shift * gear.module
     by_clearance = gear.clearance / (1.0 - math.sin(phi))
@@ -609,7 +620,11 @@ def gear_outline(
     """
     if not isinstance(gear, Gear):
         raise InputError("gear", "must be a machdyn.gears.Gear")
-    points = integer("points", points, minimum=4)
+    teeth = 1 if single_tooth is True else gear.teeth
+    points = count("points", points, minimum=4, bytes_each=256 * teeth, what="outline points")
+    rotation = finite_scalar("rotation", rotation, "radian")
+    center = point("center", center)
+    single_tooth = boolean("single_tooth", single_tooth)
     if tip_radius is not None:
         tip_radius = nonnegative("tip_radius", tip_radius)
     if cutter_teeth is not None and not gear.internal:
@@ -640,8 +655,8 @@ def gear_outline(
     angle = (psi_tooth[None, :] + offsets[:, None] + rotation).ravel()
     radius = np.broadcast_to(r_tooth, (offsets.size, r_tooth.size)).ravel()
     return GearOutline(
-        x=center[0] + radius * np.cos(angle),
-        y=center[1] + radius * np.sin(angle),
+        x=center.real + radius * np.cos(angle),
+        y=center.imag + radius * np.sin(angle),
         segment=np.tile(seg_tooth, offsets.size),
         teeth=teeth,
         internal=gear.internal,
@@ -694,6 +709,10 @@ def mesh_outlines(
     >>> round(float(np.mean(gear.x)), 9)  # the gear is centred at C' = 29
     29.0
     """
+    from .mesh import GearPair
+
+    instance("pair", pair, GearPair)
+    pinion_angle = finite_scalar("pinion_angle", pinion_angle, "radian")
     p, g, c = pair.pinion, pair.gear, pair.center_distance
     ratio = p.teeth / g.teeth
     if pair.internal:

@@ -28,7 +28,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validate import broadcast, choice, finite_array, finite_scalar, integer, positive
+from .._validate import (
+    TINY,
+    boolean,
+    broadcast,
+    choice,
+    finite_array,
+    finite_scalar,
+    integer,
+    items,
+    positive,
+)
 from ..errors import InputError
 from .interference import max_gear_teeth
 
@@ -72,7 +82,7 @@ def stage_ratio(driver: ArrayLike, driven: ArrayLike, kind: str = "external") ->
     sign = MESH_KINDS[choice("kind", kind, MESH_KINDS)]
     a, b = finite_array("driver", driver), finite_array("driven", driven)
     for name, value in (("driver", a), ("driven", b)):
-        if np.any(value <= 0):
+        if np.any(value < TINY):
             raise InputError(name, "tooth numbers and diameters must be positive")
     broadcast(driver=a, driven=b)
     out = sign * a / b
@@ -98,6 +108,7 @@ def train_value(stages: Sequence[Sequence[Any]]) -> float:
     >>> train_value([(20, 40), (30, 90, "internal"), (1, 2, "crossed_belt")])
     0.08333333333333333
     """
+    stages = items("stages", stages, what="(driver, driven) stages")
     if len(stages) == 0:
         raise InputError("stages", "give at least one (driver, driven) stage")
     value = 1.0
@@ -120,7 +131,7 @@ def simple_train_value(teeth: Sequence[int]) -> float:
     >>> simple_train_value([20, 35, 17, 40])
     -0.5
     """
-    n = [integer(f"teeth[{i}]", t, minimum=1) for i, t in enumerate(teeth)]
+    n = [integer(f"teeth[{i}]", t, minimum=1) for i, t in enumerate(items("teeth", teeth))]
     if len(n) < 2:
         raise InputError("teeth", "a train needs at least two gears")
     return train_value(list(itertools.pairwise(n)))
@@ -136,7 +147,8 @@ def belt_ratio(
     >>> belt_ratio(100, 250), belt_ratio(100, 250, crossed=True)
     (0.4, -0.4)
     """
-    return stage_ratio(driver_diameter, driven_diameter, "crossed_belt" if crossed else "open_belt")
+    kind = "crossed_belt" if boolean("crossed", crossed) else "open_belt"
+    return stage_ratio(driver_diameter, driven_diameter, kind)
 
 
 def chain_ratio(driver_teeth: ArrayLike, driven_teeth: ArrayLike) -> Any:
@@ -463,12 +475,14 @@ class PlanetaryTrain:
     """
 
     def __init__(self, chain: Sequence[Sequence[Any]]) -> None:
+        chain = items("chain", chain, what="(name, teeth[, connection]) entries")
         if len(chain) < 2:
             raise InputError("chain", "a planetary train needs at least two gears")
         names: list[str] = []
         ratios: list[float] = []
         teeth_prev = None
         for i, link in enumerate(chain):
+            link = items(f"chain[{i}]", link, what="values (name, teeth[, connection])")
             if len(link) not in (2, 3) or (i == 0) != (len(link) == 2):
                 raise InputError(
                     f"chain[{i}]",
@@ -562,6 +576,10 @@ class PlanetaryTrain:
         >>> PlanetaryTrain.simple(sun=40, planet=20, ring=80).ratio("sun", "arm", fixed="ring")
         0.3333333333333333
         """
+        driver, driven, fixed = (
+            choice(name, value, self.members)
+            for name, value in (("driver", driver), ("driven", driven), ("fixed", fixed))
+        )
         if len({driver, driven, fixed}) != 3:
             raise InputError("fixed", "driver, driven and fixed must be three different members")
         return self.speeds(**{fixed: 0.0, driver: 1.0})[choice("driven", driven, self.members)]

@@ -8,8 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import finite_scalar, magnitude
-from ..errors import InputError
+from .._validate import magnitude, point
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -19,20 +18,8 @@ GROUND = "ground"
 
 
 def _complex_point(field: str, value: Any) -> complex:
-    if isinstance(value, complex):
-        z = value
-    else:
-        try:
-            if np.ndim(value) == 0:
-                z = complex(value)
-            else:
-                x, y = value
-                z = complex(finite_scalar(f"{field} x", x), finite_scalar(f"{field} y", y))
-        except (TypeError, ValueError):
-            raise InputError(field, f"a point is (x, y) or x + yj, got {value!r}") from None
-    if not (np.isfinite(z.real) and np.isfinite(z.imag)):
-        raise InputError(field, f"coordinates must be finite, got {value!r}")
-    return z
+    """A drawn point, ``(x, y)`` or ``x + yj`` (machdyn._validate.point: finite, within ±1e50)."""
+    return point(field, value)
 
 
 def _frozen(d: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:

@@ -142,7 +142,7 @@ class FunctionTask:
 
     def solve(self) -> Any:
         """The :class:`~machdyn.synthesis.FunctionGenerator`."""
-        from ..cli.synth import parse_function
+        from .._expression import parse_function
         from ..synthesis import function_generator
 
         func = parse_function(self.function)

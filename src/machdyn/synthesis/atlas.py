@@ -24,7 +24,8 @@ from typing import Any
 import numpy as np
 
 from .. import jit
-from .._validate import finite_array, integer
+from .._parallel import require_memory
+from .._validate import TINY, choice, count, finite_array, positive
 from ..errors import InputError
 from ..fourbar import _CLOSE_TOL, OK, _unit_vectors
 
@@ -78,7 +79,9 @@ def coupler_points(
     >>> bool(np.allclose(pts[0], m.B))
     True
     """
-    theta2 = np.ravel(finite_array("theta2", theta2))
+    theta2 = np.ravel(finite_array("theta2", theta2, "radian"))
+    if theta2.size == 0:
+        raise InputError("theta2", "needs at least one input angle")
     arrays = [
         np.ravel(finite_array(n, v))
         for n, v in zip(_NAMES, (r1, r2, r3, r4, p, delta, branch), strict=True)
@@ -91,8 +94,11 @@ def coupler_points(
         cols.append(np.broadcast_to(a, (n,)))
     r1, r2, r3, r4, p, delta, branch = cols
     for name, a in zip(_NAMES[:4], (r1, r2, r3, r4), strict=True):
-        if np.any(a <= 0.0):
-            raise InputError(name, "every length must be positive")
+        if np.any(a < TINY):
+            raise InputError(name, f"every length must be positive (at least {TINY:g})")
+    if np.any(np.abs(branch) != 1.0):
+        raise InputError("branch", "must be 1 or -1 (the sign of phi12) for every candidate")
+    require_memory("theta2", 17 * n * theta2.size, f"{n:,} candidates x {theta2.size:,} angles")
     return _kernel(r1, r2, r3, r4, p, delta, theta2, branch)
 
 
@@ -259,9 +265,9 @@ def atlas(
     >>> bool(at.full_turn[0])        # 2, 1, 2.5, 2: a Grashof crank-rocker
     True
     """
-    if branch not in (1, -1):
-        raise InputError("branch", f"must be one of 1, -1; got {branch!r}")
-    n = integer("n", n, minimum=2)
+    branch = choice("branch", branch, (1, -1))
+    n = count("n", n, minimum=2, bytes_each=8)
+    r2 = positive("r2", r2)
     axes = [
         np.ravel(finite_array(k, v))
         for k, v in zip(("r1", "r3", "r4", "p", "delta"), (r1, r3, r4, p, delta), strict=True)

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from .._angles import wrap_pi
-from .._validate import choice, finite_array, finite_scalar, integer
+from .._validate import choice, count, finite_array, finite_scalar, items
 from ..errors import AssemblyError, InputError
 from ..fourbar import FourBar, positions
 
@@ -55,7 +55,7 @@ def chebyshev_spacing(x0: float, xf: float, n: int) -> np.ndarray:
     """
     x0 = finite_scalar("x0", x0)
     xf = finite_scalar("xf", xf)
-    n = integer("n", n, minimum=1)
+    n = count("n", n, minimum=1, bytes_each=8)
     j = np.arange(1, n + 1)
     return 0.5 * (x0 + xf) - 0.5 * (xf - x0) * np.cos((2 * j - 1) * np.pi / (2 * n))
 
@@ -121,7 +121,10 @@ def lengths_from_freudenstein(k: Any, r1: float = 1.0) -> tuple[float, float, fl
     >>> lengths_from_freudenstein([2.0, 4 / 3, 67 / 48], r1=8.0)
     (8.0, 4.0, 7.0, 6.0)
     """
-    k1, k2, k3 = (float(v) for v in np.ravel(k))
+    k = np.ravel(finite_array("k", k))
+    if k.size != 3:
+        raise InputError("k", f"must hold the three coefficients K1, K2, K3, got {k.size}")
+    k1, k2, k3 = (float(v) for v in k)
     d = finite_scalar("r1", r1)
     if abs(k1) < 1e-12 or abs(k2) < 1e-12:
         raise InputError("k", "K1 and K2 must be non-zero (a zero K means an infinite link)")
@@ -249,12 +252,12 @@ class FunctionGenerator:
     def theta2_of(self, x: Any) -> np.ndarray:
         """Input angle for argument ``x`` (the linear map)."""
         (x0, xf), (t0, tf) = self.x_range, self.theta2_range
-        return t0 + (np.asarray(x, dtype=float) - x0) / (xf - x0) * (tf - t0)
+        return t0 + (finite_array("x", x) - x0) / (xf - x0) * (tf - t0)
 
     def theta4_of(self, y: Any) -> np.ndarray:
         """Output angle for value ``y`` (the linear map)."""
         (y0, yf), (t0, tf) = self.y_range, self.theta4_range
-        return t0 + (np.asarray(y, dtype=float) - y0) / (yf - y0) * (tf - t0)
+        return t0 + (finite_array("y", y) - y0) / (yf - y0) * (tf - t0)
 
     def structural_error(self, n: int = 201, x: Any = None) -> StructuralError:
         """Structural error at ``n`` evenly spaced arguments (or at ``x``).
@@ -270,7 +273,7 @@ class FunctionGenerator:
         True
         """
         if x is None:
-            x = np.linspace(*self.x_range, integer("n", n, minimum=2))
+            x = np.linspace(*self.x_range, count("n", n, minimum=2, bytes_each=96))
         x = np.ravel(finite_array("x", x))
         if x.size > 1:  # include the precision points (unless a sample already is one)
             gap = np.min(np.abs(self.x_precision[:, None] - x[None, :]), axis=1)
@@ -283,8 +286,11 @@ class FunctionGenerator:
         theta4 = theta4_want + wrap_pi(th4 - self.output_offset - theta4_want)
         (y0, yf), (t0, tf) = self.y_range, self.theta4_range
         y_gen = y0 + (theta4 - t0) / (tf - t0) * (yf - y0)
-        error = np.where(ok, y_gen - y_desired, np.nan)
+        defined = np.isfinite(y_desired)
         reason = np.where(ok, "", "cannot be assembled at this input (outside link 2's range)")
+        reason = np.where(defined, reason, "the function is not finite here")
+        ok = ok & defined
+        error = np.where(ok, y_gen - y_desired, np.nan)
         return StructuralError(
             x, y_desired, np.where(ok, y_gen, np.nan), error, theta2, theta4, ok, reason
         )
@@ -296,7 +302,8 @@ def _evaluate(func: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.nda
     A function that ignores its argument (a constant) is broadcast to ``x``.
     """
     try:
-        y = np.asarray(func(x), dtype=float)
+        with np.errstate(all="ignore"):  # f undefined somewhere (log10(0)): NaN, flagged there
+            y = np.asarray(func(x), dtype=float)
         return np.broadcast_to(y, x.shape).astype(float)
     except (TypeError, ValueError) as exc:
         raise InputError(
@@ -358,11 +365,17 @@ def function_generator(
     >>> bool(np.all(np.abs(err) < 1e-12))
     True
     """
-    x0, xf = (finite_scalar("x_range", v) for v in x_range)
+    x0, xf = (finite_scalar("x_range", v) for v in items("x_range", x_range, 2, "values"))
     if x0 == xf:
         raise InputError("x_range", "start and end must differ")
-    t20, t2f = (finite_scalar("theta2_range", v, "radian") for v in theta2_range)
-    t40, t4f = (finite_scalar("theta4_range", v, "radian") for v in theta4_range)
+    t20, t2f = (
+        finite_scalar("theta2_range", v, "radian")
+        for v in items("theta2_range", theta2_range, 2, "angles")
+    )
+    t40, t4f = (
+        finite_scalar("theta4_range", v, "radian")
+        for v in items("theta4_range", theta4_range, 2, "angles")
+    )
     if t20 == t2f or t40 == t4f:
         raise InputError("theta2_range", "the input and output ranges must be non-zero")
     y0, yf = (float(v) for v in _evaluate(func, np.array([x0, xf])))
@@ -371,7 +384,7 @@ def function_generator(
             "func", f"f(x0) and f(xf) must be finite and differ to map onto θ4, got {y0}, {yf}"
         )
     if x_precision is None:
-        n = integer("n", n, minimum=3)
+        n = count("n", n, minimum=3, bytes_each=1024, what="precision points")
         spacing = choice("spacing", spacing, ("chebyshev", "uniform"))
         xp = chebyshev_spacing(x0, xf, n) if spacing == "chebyshev" else np.linspace(x0, xf, n)
     else:

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import TINY, complex_array, point
 from ..errors import InputError
 
 __all__ = [
@@ -51,19 +52,14 @@ def as_points(field: str, value: Any, count: int | None = None) -> np.ndarray:
     is_xy = isinstance(value, np.ndarray) and value.ndim == 2 and value.shape[1] == 2
     if is_xy and value.dtype.kind in "fiu":  # an (N, 2) array of x, y
         value = value[:, 0].astype(float) + 1j * value[:, 1].astype(float)
-    try:
-        if isinstance(value, list | tuple) and not (
-            len(value) == 2 and count == 1 and all(np.isscalar(v) for v in value)
-        ):
-            pts = np.array([_point(v) for v in value], dtype=complex)
-        elif isinstance(value, list | tuple):
-            pts = np.array([_point(value)], dtype=complex)
-        else:
-            pts = np.atleast_1d(np.asarray(value, dtype=complex))
-    except (TypeError, ValueError):
-        raise InputError(
-            field, f"expected points as complex numbers or (x, y) pairs, got {value!r}"
-        ) from None
+    if isinstance(value, list | tuple) and not (
+        len(value) == 2 and count == 1 and all(np.isscalar(v) for v in value)
+    ):
+        pts = np.array([point(f"{field}[{i}]", v) for i, v in enumerate(value)], dtype=complex)
+    elif isinstance(value, list | tuple):
+        pts = np.array([point(field, value)], dtype=complex)
+    else:
+        pts = np.atleast_1d(complex_array(field, value))
     if pts.ndim != 1:
         raise InputError(field, f"expected a flat list of points, got shape {pts.shape}")
     if count is not None and pts.size != count:
@@ -71,12 +67,6 @@ def as_points(field: str, value: Any, count: int | None = None) -> np.ndarray:
     if not np.all(np.isfinite(pts)):
         raise InputError(field, "every coordinate must be finite")
     return pts
-
-
-def _point(value: Any) -> complex:
-    if isinstance(value, list | tuple | np.ndarray) and len(value) == 2:
-        return complex(float(value[0]), float(value[1]))
-    return complex(value)
 
 
 def _scale(*points: Any) -> float:
@@ -102,8 +92,8 @@ def perpendicular_bisector(p: Any, q: Any) -> tuple[np.ndarray, np.ndarray]:
     >>> complex(m), complex(u)
     ((1+0j), 1j)
     """
-    p = np.asarray(p, dtype=complex)
-    q = np.asarray(q, dtype=complex)
+    p = complex_array("p", p)
+    q = complex_array("q", q)
     chord = q - p
     length = np.abs(chord)
     if np.any(length <= GEOMETRY_RTOL * _scale(p, q)):
@@ -128,7 +118,13 @@ def intersect_lines(p1: Any, u1: Any, p2: Any, u2: Any) -> np.ndarray:
     >>> complex(intersect_lines(0, 1, 1j, 1 + 1j))
     (-1+0j)
     """
-    p1, u1, p2, u2 = (np.asarray(v, dtype=complex) for v in (p1, u1, p2, u2))
+    p1, u1, p2, u2 = (
+        complex_array(name, v)
+        for name, v in zip(("p1", "u1", "p2", "u2"), (p1, u1, p2, u2), strict=True)
+    )
+    for name, u in (("u1", u1), ("u2", u2)):
+        if np.any(np.abs(u) < TINY):
+            raise InputError(name, "must be a non-zero direction")
     cross = (np.conj(u1) * u2).imag  # u1 × u2
     if np.any(np.abs(cross) <= GEOMETRY_RTOL * np.abs(u1) * np.abs(u2)):
         raise InputError("lines", "the lines are parallel, so they do not intersect in one point")
@@ -154,7 +150,9 @@ def circumcentre(p1: Any, p2: Any, p3: Any) -> np.ndarray:
     >>> round(z.real, 12), round(z.imag, 12)
     (0.0, 0.0)
     """
-    p1, p2, p3 = (np.asarray(v, dtype=complex) for v in (p1, p2, p3))
+    p1, p2, p3 = (
+        complex_array(name, v) for name, v in zip(("p1", "p2", "p3"), (p1, p2, p3), strict=True)
+    )
     for a, b, names in ((p1, p2, "1 and 2"), (p2, p3, "2 and 3"), (p1, p3, "1 and 3")):
         if np.any(np.abs(b - a) <= GEOMETRY_RTOL * _scale(p1, p2, p3)):
             raise InputError(
@@ -188,8 +186,9 @@ def rigid_motion(c_from: Any, d_from: Any, c_to: Any, d_to: Any) -> tuple[np.nda
     >>> complex(rot), complex(rot * 0.5 + shift)
     (1j, (1+0.5j))
     """
+    names = ("c_from", "d_from", "c_to", "d_to")
     c_from, d_from, c_to, d_to = (
-        np.asarray(v, dtype=complex) for v in (c_from, d_from, c_to, d_to)
+        complex_array(name, v) for name, v in zip(names, (c_from, d_from, c_to, d_to), strict=True)
     )
     v_from, v_to = d_from - c_from, d_to - c_to
     l_from, l_to = np.abs(v_from), np.abs(v_to)

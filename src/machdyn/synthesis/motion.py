@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from .._angles import TWO_PI
+from .._validate import boolean, choice, finite_scalar, positive
 from ..classify import classify
 from ..errors import AssemblyError, InputError
 from ..fourbar import positions
@@ -152,7 +153,7 @@ class MotionSynthesis:
         """One row per precision position (pandas imported lazily)."""
         import pandas as pd
 
-        theta2 = np.degrees(self.theta2) if degrees else self.theta2
+        theta2 = np.degrees(self.theta2) if boolean("degrees", degrees) else self.theta2
         return pd.DataFrame(
             {
                 "A_x": self.A.real,
@@ -285,11 +286,7 @@ def three_position_fixed_pivots(
     (True, True, True)
     """
     c, d = _positions(c, d, 3)
-    reference = int(reference)
-    if reference not in (0, 1, 2):
-        raise InputError(
-            "reference", f"must be one of 0, 1, 2 (the position index); got {reference}"
-        )
+    reference = choice("reference", reference, (0, 1, 2))
     O2 = as_points("O2", O2, 1)[0]
     O4 = as_points("O4", O4, 1)[0]
     if abs(O2 - O4) <= 1e-12 * max(abs(O2), 1.0):
@@ -344,8 +341,8 @@ def two_position(
     ((1+3j), (1+4j))
     """
     c, d = _positions(c, d, 2)
-    s2 = float(s2)
-    s4 = float(s4)
+    s2 = finite_scalar("s2", s2)
+    s4 = finite_scalar("s4", s4)
     a = c if A is None else _carry(c, d, as_points("A", A, 1)[0], 0)
     b = d if B is None else _carry(c, d, as_points("B", B, 1)[0], 0)
     try:
@@ -368,6 +365,7 @@ def two_position(
 def _finish(
     O2: complex, O4: complex, a: np.ndarray, b: np.ndarray, c: np.ndarray, strict: bool
 ) -> MotionSynthesis:
+    strict = boolean("strict", strict)
     if abs(O2 - O4) <= 1e-9 * max(abs(O2), abs(O4), 1.0):
         raise AssemblyError("the two fixed pivots coincide; choose other moving pivots")
     linkage = PlacedFourBar.from_pivots(O2, O4, a[0], b[0], P=c[0])
@@ -588,8 +586,8 @@ def driving_dyad(pivot: Any, b1: Any, b2: Any, *, distance: float) -> DrivingDya
     pivot = as_points("pivot", pivot, 1)[0]
     b1 = as_points("b1", b1, 1)[0]
     b2 = as_points("b2", b2, 1)[0]
-    distance = float(distance)
-    if not np.isfinite(distance) or distance <= 0.0:
+    distance = positive("distance", distance)
+    if distance <= 0.0:
         raise InputError("distance", f"must be a positive distance from b1, got {distance!r}")
     r4, r4b = abs(b1 - pivot), abs(b2 - pivot)
     if r4 == 0.0 or abs(r4 - r4b) > 1e-6 * r4:

@@ -30,7 +30,16 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar, integer
+from .._validate import (
+    boolean,
+    count,
+    finite_array,
+    finite_scalar,
+    in_range,
+    integer,
+    point,
+    positive,
+)
 from ..classify import classify
 from ..errors import AssemblyError, InputError
 from ..fourbar import FourBar
@@ -103,6 +112,7 @@ class PathSynthesis:
 
     def curve(self, n: int = 360) -> np.ndarray:
         """The coupler curve in the plane (``n`` input angles over a turn)."""
+        n = count("n", n, minimum=2, bytes_each=96)
         _, _, P, ok = self.linkage.pose(np.linspace(0.0, 2 * np.pi, n, endpoint=False))
         return P[ok]
 
@@ -242,12 +252,29 @@ def path_objective(
     >>> bool(path_objective(x, targets, timing=theta2) < 1e-20)
     True
     """
-    x = np.asarray(x, dtype=float)
+    x = finite_array("x", x)
+    size = 10 if timing is None else 8
+    if x.ndim not in (1, 2) or x.shape[0] != size:
+        raise InputError("x", f"must have shape ({size},) or ({size}, S), got {x.shape}")
     single = x.ndim == 1
     x = x.reshape(x.shape[0], -1)
-    targets = np.asarray(targets, dtype=complex)
+    targets = as_points("targets", targets)
+    if timing is not None:
+        timing = np.ravel(finite_array("timing", timing, "radian"))
+        if timing.size != targets.size:
+            raise InputError("timing", f"needs one angle per target ({targets.size})")
+    mu_min = in_range("mu_min", mu_min, 0.0, 0.5 * np.pi, unit="radian")
+    n = count("n", n, minimum=3, bytes_each=64 * x.shape[1])
+    if targets.size < 2:
+        raise InputError("targets", f"needs at least 2 points, got {targets.size}")
+    scale = None if scale is None else positive("scale", scale)
+    centre = None if centre is None else point("centre", centre)
     if scale is None or centre is None:
-        scale, centre = _frame(targets)
+        own_scale, own_centre = _frame(targets)
+        if own_scale <= 0.0:
+            raise InputError("targets", "all target points coincide")
+        scale = own_scale if scale is None else scale
+        centre = own_centre if centre is None else centre
     theta2 = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
     if timing is None:
         q = _decode(x, scale, centre)
@@ -259,7 +286,7 @@ def path_objective(
     else:
         q = _decode_timed(x, scale)
         _, ok = _kernel(q["r1"], q["r2"], q["r3"], q["r4"], q["p"], q["delta"], theta2, q["branch"])
-        _, _, d2, okk = _procrustes(q, np.asarray(timing, dtype=float), targets)
+        _, _, d2, okk = _procrustes(q, timing, targets)
         nearest = np.where(okk, d2, np.inf)
     bad_fraction = 1.0 - ok.mean(axis=1)
     nearest = np.minimum(nearest, 1e6 * scale * scale)
@@ -416,8 +443,12 @@ def synthesize_path(
                 "timing", f"needs one angle per target ({targets.size}), got {timing.size}"
             )
         timing = timing - timing[0]
-    mu_min = finite_scalar("mu_min", mu_min, "radian")
-    n = integer("n", n, minimum=12)
+    mu_min = in_range("mu_min", mu_min, 0.0, 0.5 * np.pi, unit="radian")
+    popsize = integer("popsize", popsize, minimum=5, maximum=10_000)
+    maxiter = integer("maxiter", maxiter, minimum=1, maximum=1_000_000)
+    n = count("n", n, minimum=12, bytes_each=2 * 64 * 10 * popsize, what="curve samples")
+    seed = None if seed is None else integer("seed", seed, minimum=0, maximum=2**32 - 1)
+    polish = boolean("polish", polish)
     bounds = list(_BOUNDS) if timing is None else list(_BOUNDS_TIMED)
 
     def objective(x: np.ndarray) -> np.ndarray:
@@ -428,8 +459,8 @@ def synthesize_path(
     res = differential_evolution(
         objective,
         bounds,
-        popsize=integer("popsize", popsize, minimum=5),
-        maxiter=integer("maxiter", maxiter, minimum=1),
+        popsize=popsize,
+        maxiter=maxiter,
         seed=seed,
         tol=1e-10,
         atol=1e-12,

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validate import choice, complex_array, finite_array, finite_scalar, instance, point
 from ..errors import InputError
 from ..fourbar import FourBar, positions
 
@@ -48,6 +49,12 @@ class PlacedFourBar:
     theta1: float
     branch: int
 
+    def __post_init__(self) -> None:
+        instance("fourbar", self.fourbar, FourBar)
+        object.__setattr__(self, "O2", point("O2", self.O2))
+        object.__setattr__(self, "theta1", finite_scalar("theta1", self.theta1, "radian"))
+        object.__setattr__(self, "branch", choice("branch", self.branch, (1, -1)))
+
     @classmethod
     def from_pivots(
         cls, O2: complex, O4: complex, A: complex, B: complex, P: complex | None = None
@@ -59,7 +66,7 @@ class PlacedFourBar:
         InputError
             If two joints that a link connects coincide (a zero-length link).
         """
-        O2, O4, A, B = complex(O2), complex(O4), complex(A), complex(B)
+        O2, O4, A, B = (point(k, v) for k, v in (("O2", O2), ("O4", O4), ("A", A), ("B", B)))
         names = {"r1 (O2O4)": O4 - O2, "r2 (O2A)": A - O2, "r3 (AB)": B - A, "r4 (O4B)": B - O4}
         scale = max(abs(O2), abs(O4), abs(A), abs(B), 1e-300)
         for name, vec in names.items():
@@ -68,7 +75,7 @@ class PlacedFourBar:
         r1, r2, r3, r4 = (abs(v) for v in names.values())
         coupler = None
         if P is not None:
-            P = complex(P)
+            P = point("P", P)
             coupler = (abs(P - A), float(np.angle((P - A) / (B - A))) if P != A else 0.0)
         phi12 = np.angle((B - O4) / (B - A))  # θ4 − θ3
         branch = 1 if phi12 >= 0.0 else -1
@@ -87,15 +94,17 @@ class PlacedFourBar:
 
     def to_global(self, z: Any) -> np.ndarray:
         """Map points of the linkage's own frame to the plane."""
-        return self.O2 + np.asarray(z, dtype=complex) * np.exp(1j * self.theta1)
+        return self.O2 + complex_array("z", z) * np.exp(1j * self.theta1)
 
     def to_local(self, z: Any) -> np.ndarray:
         """Map points of the plane into the linkage's own frame."""
-        return (np.asarray(z, dtype=complex) - self.O2) * np.exp(-1j * self.theta1)
+        return (complex_array("z", z) - self.O2) * np.exp(-1j * self.theta1)
 
     def theta2_of(self, A: Any) -> np.ndarray:
         """Local input angle θ2 (from the ground line) that puts the crank pin at ``A``."""
-        return np.mod(np.angle(self.to_local(A)), 2.0 * np.pi)
+        return np.mod(
+            np.angle((complex_array("A", A) - self.O2) * np.exp(-1j * self.theta1)), 2 * np.pi
+        )
 
     def pose(self, theta2: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Global joints ``A``, ``B``, coupler point ``P`` and an ``ok`` mask at local ``theta2``.
@@ -111,7 +120,7 @@ class PlacedFourBar:
         8.000000000 6.000000000 True
         """
         fb = self.fourbar
-        theta2 = np.asarray(theta2, dtype=float)
+        theta2 = finite_array("theta2", theta2, "radian")
         th3, th4, ok = positions(*fb.lengths, theta2, self.branch)
         a_loc = fb.r2 * np.exp(1j * theta2)
         b_loc = fb.r1 + fb.r4 * np.exp(1j * th4)

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import finite_scalar, integer, positive
+from .._validate import count, finite_scalar, positive
 from ..errors import InputError
 from .placed import PlacedFourBar
 
@@ -111,11 +111,11 @@ def quick_return(
     ('GCRR', 20.0)
     """
     swing = finite_scalar("swing", swing, "radian")
-    if not 0.0 < swing < np.pi:
+    if not 1e-9 < swing < np.pi:  # a swing below 1e-9 rad has no chord to work with
         raise InputError("swing", f"must lie between 0 and 180 deg, got {np.degrees(swing):g} deg")
     delta = time_ratio_angle(time_ratio)
     r4 = positive("r4", r4)
-    n = integer("n", n, minimum=11)
+    n = count("n", n, minimum=11, bytes_each=256)
     max_ground = positive("max_ground", max_ground)
     b1 = r4 * np.exp(1j * (0.5 * np.pi - 0.5 * swing))
     b2 = r4 * np.exp(1j * (0.5 * np.pi + 0.5 * swing))
