@@ -1,126 +1,185 @@
-"""Path synthesis from the atlas on targets from the literature, and against pylinkage's PSO.
+"""Path synthesis from the atlas on the literature's classic four-bar targets.
 
 Run:
-    pip install -e ".[bench]"                 # pylinkage 1.3.0 (the peer; never a run-time need)
-    python benchmarks/bench_atlas_literature.py --atlas ~/.cache/machdyn/fourbar.atlas
+    pip install -e ".[bench]"        # pylinkage 1.3.0 (the PSO peer; never a run-time need)
+    python benchmarks/bench_atlas_literature.py --atlas ~/.cache/machdyn/fourbar.atlas [--no-pso]
 
-Each target is synthesised by :func:`machdyn.synthesis.path_from_atlas` (query + refine);
-then pylinkage's particle swarm (``pylinkage.particle_swarm_optimization``, local-best
-ring PSO, 100 particles) gets the *same wall time* on the same target, its fitness being
-the path objective over the same 10 design numbers machdyn's differential evolution uses
-(lengths, coupler point, placement, assembly; with timing, θ2 of the first point).
-Both results are measured the same way, by :func:`error`: the distance from each
-target to the linkage's coupler curve (3,600 samples, then polished), or to the timed
-point. The literature's usual figure, the sum of squared distances, is printed too.
+The targets, their constraints and the earlier methods' solution vectors are in
+``benchmarks/data/path_literature.toml`` (its header names the source, file by file).
+For each case this script
 
-Targets (coordinates as given in the cited papers; the closed-form shapes — a line, a
-circle, an ellipse — are how they were constructed):
+1. re-evaluates every published solution vector with the common error definition
+   (:func:`sse_published`: the papers' closed form, written out here, one assembly),
+   and checks it against the case's constraints and bounds;
+2. runs :func:`machdyn.synthesis.path_from_atlas` under the same constraints (crank or
+   not, fixed pivot and ground line, absolute timing, the length bound) and measures
+   its result with an independent circle-intersection evaluation (:func:`sse_machdyn`),
+   on the same definition: the sum of squared distances from the targets to the coupler
+   point at each target's input angle;
+3. gives pylinkage's particle swarm (``pylinkage.particle_swarm_optimization``, 100
+   particles) the same wall time on the same target, its fitness being the path
+   objective machdyn's differential evolution uses, and measures its result the same way.
 
-* ``line6``: six points on a vertical straight line, no timing (Kunjur & Krishnamurty,
-  "Genetic algorithms in mechanism synthesis", J. Appl. Mech. Robot. 4(2), 1997, problem 2;
-  Cabrera, Simon & Prado, "Optimal synthesis of mechanisms with genetic algorithms",
-  Mech. Mach. Theory 37, 2002, example 2).
-* ``arc5``: five points on a half circle with prescribed timing θ2 = 30°, 45°, 60°, 75°,
-  90° (Cabrera et al. 2002, example 1).
-* ``closed18``: 18 points around a closed path, no timing (McGarva, "Rapid search and
-  selection of path generating mechanisms from a library", Mech. Mach. Theory 29, 1994;
-  Kunjur & Krishnamurty 1997, problem 3; Cabrera et al. 2002, example 3).
-* ``ellipse10``: ten points on an ellipse (centre (10, 10), semi-axes 10 and 8, every
-  40°), no timing (Ullah & Kota, "Optimal synthesis of mechanisms for path generation
-  using Fourier descriptors and global search methods", J. Mech. Des. 119, 1997;
-  Acharyya & Mandal, "Performance of EAs for four-bar linkage synthesis", Mech. Mach.
-  Theory 44, 2009, case 3 with timing).
-
-The published errors are not reproduced here: the papers could not be read from this
-machine, and a number typed from memory is not a citation. The table's "published"
-column says so; fill it in from the papers (their objective is the sum of squared
-distances, printed as "SSE").
+Where machdyn's problem differs from the paper's (a bound it cannot hold, the other
+assembly than the papers' formula), the table says so.
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+import tomllib
+from pathlib import Path
 
 import numpy as np
 
 from machdyn import jit
 from machdyn.synthesis import open_atlas, path_from_atlas
-from machdyn.synthesis.path import _BOUNDS, _BOUNDS_TIMED, _frame, path_objective
 
-TARGETS = {
-    "line6": dict(
-        points=[(20, 20), (20, 25), (20, 30), (20, 35), (20, 40), (20, 45)], closed=False
-    ),
-    "arc5": dict(
-        points=[(0, 0), (1.9098, 5.8779), (6.9098, 9.5106), (13.09, 9.5106), (18.09, 5.8779)],
-        closed=False,
-        timing=np.radians([30, 45, 60, 75, 90]),
-    ),
-    "closed18": dict(
-        points=[
-            (0.5, 1.1),
-            (0.4, 1.1),
-            (0.3, 1.1),
-            (0.2, 1.0),
-            (0.1, 0.9),
-            (0.005, 0.75),
-            (0.02, 0.6),
-            (0.0, 0.5),
-            (0.0, 0.4),
-            (0.03, 0.3),
-            (0.1, 0.25),
-            (0.15, 0.2),
-            (0.2, 0.3),
-            (0.3, 0.4),
-            (0.4, 0.5),
-            (0.5, 0.7),
-            (0.6, 0.9),
-            (0.6, 1.0),
-        ],
-        closed=True,
-    ),
-    "ellipse10": dict(
-        points=[
-            (20, 10),
-            (17.66, 15.142),
-            (11.736, 17.878),
-            (5, 16.928),
-            (0.60307, 12.736),
-            (0.60307, 7.2638),
-            (5, 3.0718),
-            (11.736, 2.1215),
-            (17.66, 4.8577),
-        ],
-        closed=True,
-    ),
-}
+DATA = Path(__file__).with_name("data") / "path_literature.toml"
 
 
-def error(linkage, targets, timing=None, theta0=None) -> np.ndarray:
-    """Distance from each target to a placed four-bar's coupler curve (or timed point)."""
-    if timing is not None:
-        P, ok = linkage.pose(theta0 + timing)[2:]
-        return np.where(ok, np.abs(P - targets), np.inf)
-    th = np.linspace(0, 2 * np.pi, 3600, endpoint=False)
-    P, ok = linkage.pose(th)[2:]
-    d = np.where(ok[None, :], np.abs(P[None, :] - targets[:, None]), np.inf)
-    i = np.argmin(d, axis=1)
-    out = d[np.arange(targets.size), i]
-    for k in range(targets.size):  # polish on a fine grid around the nearest sample
-        fine = th[i[k]] + np.linspace(-2e-3, 2e-3, 401)
-        Pf, okf = linkage.pose(fine)[2:]
-        out[k] = min(out[k], np.min(np.where(okf, np.abs(Pf - targets[k]), np.inf)))
+def load_cases(path: Path = DATA) -> dict:
+    """The cases of the data file, with points as complex arrays and angles in radians."""
+    cases = tomllib.loads(path.read_text())
+    for case in cases.values():
+        case["targets"] = np.array([complex(x, y) for x, y in case["points"]])
+        if "theta2_deg" in case:
+            case["theta2"] = np.radians(case["theta2_deg"])
+    return cases
+
+
+def coupler_published(x: np.ndarray, theta2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The papers' coupler point (Freudenstein's half-angle form, minus root), placed.
+
+    ``x = r1 r2 r3 r4 rcx rcy x0 y0 θ0``. Returns the points and whether the
+    linkage closes at each angle (a negative discriminant: it does not; the
+    papers' code then takes the real part of a complex angle).
+    """
+    r1, r2, r3, r4, rcx, rcy, x0, y0, th0 = x[:9]
+    k1, k4 = r1 / r2, r1 / r3
+    k5 = (r4**2 - r1**2 - r2**2 - r3**2) / (2 * r3 * r2)
+    c, s = np.cos(theta2), np.sin(theta2)
+    d = c - k1 + k4 * c + k5
+    e = -2 * s
+    f = k1 + (k4 - 1) * c + k5
+    disc = e**2 - 4 * d * f
+    theta3 = 2 * np.arctan((-e - np.sqrt(np.maximum(disc, 0.0))) / (2 * d))
+    local = r2 * np.exp(1j * theta2) + (rcx + 1j * rcy) * np.exp(1j * theta3)
+    return complex(x0, y0) + np.exp(1j * th0) * local, disc >= 0
+
+
+def angles_of(case: dict, x: np.ndarray) -> np.ndarray:
+    """Input angle at each target for a design vector of the case."""
+    n = case["targets"].size
+    if case["timing"] == "absolute":
+        return case["theta2"]
+    if case["timing"] == "step":
+        return x[9] + np.arange(n) * np.radians(case["step_deg"])
+    return np.asarray(x[9 : 9 + n])
+
+
+def sse_published(case: dict, x) -> tuple[float, bool]:
+    """SSE of a published vector, and whether the linkage closes at every target."""
+    x = np.asarray(x, dtype=float)
+    P, ok = coupler_published(x, angles_of(case, x))
+    return float(np.sum(np.abs(P - case["targets"]) ** 2)), bool(ok.all())
+
+
+def constraint_report(case: dict, lengths, coupler, placement, theta) -> list[str]:
+    """The case's constraints and bounds a design breaks (empty: none)."""
+    out = []
+    r = np.asarray(lengths, float)
+    srt = np.sort(r)
+    grashof = srt[0] + srt[3] <= srt[1] + srt[2]
+    if "crank" in case["constraints"] and not (grashof and np.argmin(r) == 1):
+        out.append("not a Grashof crank (r2 shortest)")
+    if "grashof" in case["constraints"] and not grashof:
+        out.append("not Grashof")
+    b = case["bounds"]
+    if np.any(r < b["lengths"][0]) or np.any(r > b["lengths"][1]):
+        out.append(f"a length outside {b['lengths']}")
+    if np.any(np.abs(coupler) > b["coupler"][1]):
+        out.append(f"rcx/rcy outside {b['coupler']}")
+    if "placement" in b and np.any(np.abs(placement) > b["placement"][1]):
+        out.append(f"x0/y0 outside {b['placement']}")
+    if "order" in case["constraints"]:
+        steps = np.mod(np.diff(theta), 2 * np.pi)
+        if not (np.all(steps <= np.pi) or np.all(steps >= np.pi)):
+            out.append("targets out of order")
     return out
 
 
-def pso(targets, timing, seconds: float, seed: int):
-    """pylinkage's particle swarm on the 10-number path objective, for ``seconds``."""
+def sse_machdyn(case: dict, result) -> tuple[float, bool]:
+    """SSE of machdyn's result by circle intersection (not machdyn's solver), and its assembly.
+
+    The assembly is the side of ``A O4`` that reproduces the linkage's own pose at the
+    first target; the second value is True when that is the papers' (minus-root) one.
+    """
+    pl = result.linkage
+    r1, r2, r3, r4 = pl.fourbar.lengths
+    p, delta = pl.fourbar.coupler
+    theta = np.asarray(result.theta2, float)
+
+    def point(t, side):
+        a = r2 * np.exp(1j * t)
+        d = a - r1  # O4 → A
+        dist = np.abs(d)
+        along = (r4**2 - r3**2 + dist**2) / (2 * dist)
+        h = np.sqrt(np.maximum(r4**2 - along**2, 0.0))
+        b = r1 + (d / dist) * (along + 1j * side * h)  # B on one side of O4 → A
+        return pl.O2 + np.exp(1j * pl.theta1) * (a + p * np.exp(1j * delta) * (b - a) / r3)
+
+    own = pl.pose(theta[:1])[2][0]
+    side = min((1.0, -1.0), key=lambda s: abs(point(theta[0], s) - own))
+    P = point(theta, side)
+    x = np.array([r1, r2, r3, r4, p * np.cos(delta), p * np.sin(delta), pl.O2.real,
+                  pl.O2.imag, pl.theta1])  # fmt: skip
+    papers = abs(coupler_published(x, theta[:1])[0][0] - P[0]) < 1e-9 * (1 + abs(P[0]))
+    return float(np.sum(np.abs(P - targets_of(case, result)) ** 2)), bool(papers)
+
+
+def targets_of(case: dict, result) -> np.ndarray:
+    """The targets machdyn was given (a closed path's repeated last point dropped)."""
+    return result.targets
+
+
+def run_machdyn(case: dict, atlas):
+    """machdyn under the case's constraints; returns the result and the seconds taken."""
+    targets = case["targets"]
+    closed = case["closed"]
+    kw = dict(closed=closed, n=1, mu_min=0.0, crank="crank" in case["constraints"])
+    b = case["bounds"]
+    kw["max_length"] = min(b["lengths"][1], b["coupler"][1])  # |rcx|, |rcy| <= p
+    if "placement" in b:
+        lo, hi = b["placement"]
+        kw["pivot_box"] = (lo, lo, hi, hi)
+    if case["timing"] == "absolute":
+        kw.update(timing=case["theta2"], absolute_timing=True)
+    elif case["timing"] == "step":
+        kw.update(timing=np.arange(targets.size) * np.radians(case["step_deg"]))
+    if "fixed_placement" in case:
+        x0, y0, th0 = case["fixed_placement"]
+        kw.update(O2=complex(x0, y0), theta1=th0)
+    t0 = time.perf_counter()
+    res = path_from_atlas(targets, atlas, **kw)
+    return res, time.perf_counter() - t0
+
+
+def pso(case: dict, seconds: float, seed: int) -> float:
+    """pylinkage's particle swarm on the 10-number path objective for ``seconds``: its SSE."""
     import pylinkage as pl
 
+    from machdyn.synthesis.path import _BOUNDS, _BOUNDS_TIMED, _frame, _result, path_objective
+
+    targets = case["targets"]
+    timing = None
+    if case["timing"] == "absolute":
+        timing = case["theta2"] - case["theta2"][0]
+    elif case["timing"] == "step":
+        timing = np.arange(targets.size) * np.radians(case["step_deg"])
     bounds = _BOUNDS if timing is None else _BOUNDS_TIMED
-    lo = np.array([b[0] for b in bounds])
-    hi = np.array([b[1] for b in bounds])
+    lo, hi = np.array([b[0] for b in bounds]), np.array([b[1] for b in bounds])
     scale, centre = _frame(targets)
     crank = pl.Crank(anchor=pl.Ground(0, 0), radius=1.0, angular_velocity=0.1)
     dummy = pl.Linkage([crank.anchor, crank], name="placeholder")  # the PSO needs one
@@ -131,69 +190,59 @@ def pso(targets, timing, seconds: float, seed: int):
 
     np.random.seed(seed)  # noqa: NPY002  (pylinkage's PSO draws from NumPy's global generator)
     t0 = time.perf_counter()
-    pl.particle_swarm_optimization(fitness, dummy, dimensions=lo.size, n_particles=100,
-                                   iterations=1, bounds=(lo, hi), order_relation=min,
-                                   verbose=False)  # fmt: skip
-    per_iter = time.perf_counter() - t0
-    iters = max(1, int(seconds / per_iter))
-    t0 = time.perf_counter()
-    ens = pl.particle_swarm_optimization(fitness, dummy, dimensions=lo.size, n_particles=100,
-                                         iterations=iters, bounds=(lo, hi), order_relation=min,
-                                         verbose=False)  # fmt: skip
-    spent = time.perf_counter() - t0
+    run = dict(dimensions=lo.size, n_particles=100, bounds=(lo, hi), order_relation=min,
+               verbose=False)  # fmt: skip
+    pl.particle_swarm_optimization(fitness, dummy, iterations=1, **run)
+    iters = max(1, int(seconds / (time.perf_counter() - t0)))
+    ens = pl.particle_swarm_optimization(fitness, dummy, iterations=iters, **run)
     best = np.asarray(ens.top(1)[0].dimensions if hasattr(ens, "top") else ens[0].dimensions)
-    return best, spent, iters
-
-
-def linkage_of(x, targets, timing):
-    """The placed four-bar of a design vector (as machdyn's DE decodes it)."""
-    from machdyn.synthesis.path import _result
-
-    scale, centre = _frame(targets)
-    res = _result(x, 0.0, targets, timing, scale, centre, 0.0, None)
-    return res
+    res = _result(best, 0.0, targets, timing, scale, centre, 0.0, None)
+    return float(np.sum(res.distance**2))
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--atlas", required=True)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--no-pso", action="store_true")
     args = ap.parse_args()
     jit.load()
-    at = open_atlas(args.atlas)
-    print(f"atlas: {len(at):,} entries\n")
-    head = f"{'target':10s} {'pts':>3s} {'kind':>14s} {'published':>10s} " \
-           f"{'machdyn max':>12s} {'machdyn SSE':>12s} {'time':>6s} " \
-           f"{'PSO max':>10s} {'PSO SSE':>10s} {'PSO iters':>9s} {'ratio':>8s}"  # fmt: skip
-    print(head)
-    for name, spec in TARGETS.items():
-        targets = np.array([complex(*p) for p in spec["points"]])
-        timing = spec.get("timing")
-        closed = spec["closed"]
-        t0 = time.perf_counter()
-        res = path_from_atlas(targets, at, closed=closed, timing=timing, n=1, mu_min=0.0)
-        t = time.perf_counter() - t0
-        best = res.best
-        th0 = None if timing is None else best.theta2[0] - timing[0]
-        d = error(best.linkage, targets, timing, th0)
-        try:
-            x, _spent, iters = pso(targets, timing, t, args.seed)
-            r = linkage_of(x, targets, timing)
-            th0p = None if timing is None else r.theta2[0]
-            dp = error(r.linkage, targets, timing, th0p)
-            pso_max, pso_sse = f"{dp.max():.3e}", f"{np.sum(dp**2):.3e}"
-            ratio = f"{np.sum(dp**2) / max(np.sum(d**2), 1e-300):.1e}"
-        except ImportError:
-            pso_max = pso_sse = "n/a"
-            iters, ratio = 0, "-"
-        kind = ("timed " if timing is not None else "") + ("closed" if closed else "open")
-        print(f"{name:10s} {targets.size:3d} {kind:>14s} {'see paper':>10s} {d.max():12.3e} "
-              f"{np.sum(d**2):12.3e} {t:6.2f} {pso_max:>10s} {pso_sse:>10s} {iters:9d} "
-              f"{ratio:>8s}")  # fmt: skip
-        if best.defects:
-            print(f"{'':10s} machdyn's best has defects: {'; '.join(best.defects)}")
-        if not res.near:
-            print(f"{'':10s} {res.note}")
+    at = open_atlas(args.atlas, verify=False)
+    print(f"atlas: {len(at):,} entries")
+    path_from_atlas(load_cases()["case5"]["targets"][:-1], at, n=1)  # warm-up (imports)
+    for name, case in load_cases().items():
+        print(f"\n{name}: {case['title']} ({case['targets'].size} points)")
+        best = np.inf
+        for pub in case["published"]:
+            sse, closes = sse_published(case, pub["x"])
+            x = np.asarray(pub["x"], float)
+            broken = constraint_report(case, x[:4], x[4:6], x[6:8], angles_of(case, x))
+            broken += [] if closes else ["does not close at some target"]
+            if not broken:
+                best = min(best, sse)
+            note = f"  [{'; '.join(broken)}]" if broken else ""
+            print(f"  published  {pub['label']:52s} SSE {sse:10.3e}{note}")
+        res, seconds = run_machdyn(case, at)
+        r = res.best
+        sse, papers = sse_machdyn(case, r)
+        if case["closed"] and abs(case["targets"][-1] - case["targets"][0]) < 1e-12:
+            sse += float(np.abs(r.distance[0]) ** 2)  # the repeated point counts twice
+        pl = r.linkage
+        p, delta = pl.fourbar.coupler
+        broken = constraint_report(case, pl.fourbar.lengths,
+                                   [p * np.cos(delta), p * np.sin(delta)],
+                                   [pl.O2.real, pl.O2.imag], r.theta2)  # fmt: skip
+        broken += list(r.defects) + ([] if papers else ["the other assembly than the papers'"])
+        note = f"  [{'; '.join(broken)}]" if broken else ""
+        verdict = "<= best published" if sse <= best * (1 + 1e-9) else "WORSE than published"
+        print(f"  machdyn    {'atlas + refine':52s} SSE {sse:10.3e}  {seconds:5.2f} s  "
+              f"{verdict}{note}")  # fmt: skip
+        if not args.no_pso:
+            try:
+                sse_pso = pso(case, seconds, args.seed)
+                print(f"  pylinkage  {'PSO, same wall time':52s} SSE {sse_pso:10.3e}")
+            except ImportError:
+                print("  pylinkage  not installed (pip install -e '.[bench]')")
 
 
 if __name__ == "__main__":

@@ -1082,7 +1082,7 @@ def _add_atlas(c, fn, meth, targets) -> None:
         refine_count=1,
     )
     c["machdyn.synthesis:path_from_atlas"].accepts.update(
-        atlas={"text"}, timing={"none"}, tolerance={"none"}, client={"none"}
+        atlas={"text"}, timing={"none"}, tolerance={"none"}, client={"none"}, O2={"complex"}
     )
     meth("machdyn.synthesis:Atlas.entries", _tiny_atlas, index=[0, 5, 399])
     meth("machdyn.synthesis:Atlas.nearest", _tiny_atlas, descriptor=_tiny_atlas().desc[0][3], k=3)
@@ -1095,6 +1095,7 @@ def _add_general(c, fn, meth) -> None:
     fn("machdyn.linkage:Linkage", points={"O2": (0, 0), "A": (1, 0)})
     c["machdyn.linkage:Linkage"].accepts["points"] = {"none"}
     meth("machdyn.linkage:Linkage.point", lk, name="P", xy=(1.0, 2.0))
+    c["machdyn.linkage:Linkage.point"].accepts["xy"] = {"complex"}  # x + yj is a point
     meth("machdyn.linkage:Linkage.position", lk, name="A")
     meth("machdyn.linkage:Linkage.mobility", lk)
     meth("machdyn.linkage:Linkage.loop_system", lk)

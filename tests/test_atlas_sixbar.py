@@ -91,6 +91,29 @@ def test_analytic_jacobian_against_differences(rows):
         np.testing.assert_allclose(Jt, fdt, atol=2e-6 * (1 + np.abs(Jt).max()))
 
 
+def test_compiled_jacobian_equals_the_numpy_forward_mode(rows):
+    pytest.importorskip("numba")
+    from machdyn.synthesis.sixbar_path import coupler_function
+
+    compiled = coupler_function(True)
+    for row in rows[:12]:
+        fixed = {k: int(row[k]) for k in ("s4", "s6", "topology", "on")}
+        names = ("r1", "r3", "r4", "cu", "cv", "du", "dv", "a", "b", "pu", "pv")
+        r1, r3, r4, cu, cv, du, dv, a, b, pu, pv = (float(row[k]) for k in names)
+        s = 1.3  # the crank's length
+        x = np.array([0.3, -0.2, 0.4, s * r1, s, s * r3, s * r4, cu, cv, du, dv, s * a, s * b,
+                      pu, pv])  # fmt: skip
+        th = np.linspace(0, 6, 9)
+        want = sixbar_coupler(x, th, fixed)
+        got = compiled(x, th, fixed)
+        np.testing.assert_array_equal(got[3], want[3])
+        for g, w in zip(got[:3], want[:3], strict=True):
+            np.testing.assert_allclose(g, w, atol=1e-12 * (1 + np.abs(w).max()))
+        # and the compiled point against circle intersections (no machdyn solver)
+        indep = _independent(row, th, (0.3 - 0.2j, 0.4, 1.3))
+        np.testing.assert_allclose(got[0], indep, atol=1e-9)
+
+
 @pytest.fixture(scope="module")
 def atlas6(tmp_path_factory):
     folder = tmp_path_factory.mktemp("six")
@@ -164,3 +187,41 @@ def test_synth_path_cli_on_a_sixbar_atlas_writes_runnable_linkage_files(atlas6, 
     assert np.min(np.abs(P - first)) <= 1e-6 * size
     assert main(["atlas", "info", str(atlas6.path), "--json", "--no-verify"]) == 0
     assert json.loads(capsys.readouterr().out)["kind"] == "sixbar"
+
+
+def test_transmission_angle_of_a_sixbar_is_checked(atlas6):
+    row = atlas6.entries([4321])[0]
+    theta = np.linspace(0, 2 * np.pi, 15, endpoint=False)
+    targets = (3 - 1j) + 2.5 * np.exp(0.7j) * _independent(row, theta)
+    free = path_from_atlas(targets, atlas6, n=1, mu_min=0.0).best
+    assert free.ok
+    # μ of both RRR dyads over the whole turn, from the solved joints (angle at the middle pin)
+    lk = free.linkage
+    m = lk.solve(free.design[2] + free.theta2[0] + np.linspace(0, 2 * np.pi, 361))
+    P = m.points
+    mu = []
+    for mid, ends in (("B", ("A", "O4")), ("E", ("C", "D"))):
+        u, v = P[ends[0]] - P[mid], P[ends[1]] - P[mid]
+        ang = np.abs(np.angle(u / v))
+        mu.append(np.minimum(ang, np.pi - ang))
+    want = float(np.min(mu))
+    assert free.mu_min == pytest.approx(want, abs=1e-9)
+    strict = path_from_atlas(targets, atlas6, n=1, mu_min=np.radians(89.0))
+    worst = strict.rejected[0] if strict.rejected else strict.best
+    assert not strict.candidates or all(c.mu_min >= np.radians(88.5) for c in strict.candidates)
+    assert any("transmission angle falls to" in d for d in worst.defects)
+
+
+def test_a_candidate_drawn_at_a_toggle_is_dropped_not_raised(rows):
+    # a six-bar whose dyad 5-6 is stretched straight (a + b = |CD|) at the first target:
+    # the Linkage solver cannot tell its branches apart there, so it is no result
+    from machdyn.synthesis.sixbar_path import _design_of, _joints, sixbar_result
+
+    row = rows[0]
+    x, fixed = _design_of(row, 1.0 + 0j, 0j)
+    theta = np.linspace(0, 2 * np.pi, 8, endpoint=False) + 0.3
+    j = _joints(x, theta[0], fixed)
+    a = 0.4 * abs(j["D"] - j["C"])
+    x[11], x[12] = a, abs(j["D"] - j["C"]) - a
+    pts = np.exp(1j * theta)  # any targets: the check stops before comparing with them
+    assert sixbar_result(x, theta, fixed, pts, None, True, None) is None

@@ -31,28 +31,6 @@ CATALOGUE = catalogue()
 
 #: Callables whose bad-input cases are not all clean yet (issue #17 in progress).
 PENDING: set[str] = {
-    "machdyn.linkage:Linkage",
-    "machdyn.linkage:Linkage.actuator",
-    "machdyn.linkage:Linkage.forces",
-    "machdyn.linkage:Linkage.ground",
-    "machdyn.linkage:Linkage.link",
-    "machdyn.linkage:Linkage.motor",
-    "machdyn.linkage:Linkage.point",
-    "machdyn.linkage:Linkage.position",
-    "machdyn.linkage:Linkage.roll",
-    "machdyn.linkage:Linkage.slider",
-    "machdyn.linkage:Linkage.slot",
-    "machdyn.linkage:Linkage.solve",
-    "machdyn.linkage:Linkage.spring",
-    "machdyn.linkage:Linkage.torsion_spring",
-    "machdyn.linkage:LinkageForces.F",
-    "machdyn.linkage:LinkageMotion.angle",
-    "machdyn.loops:LoopSystem.check",
-    "machdyn.loops:LoopSystem.evaluate",
-    "machdyn.loops:LoopSystem.inputs",
-    "machdyn.loops:LoopSystem.point",
-    "machdyn.loops:LoopSystem.solve",
-    "machdyn.loops:Vector",
     "machdyn.loops:lu_factor",
     "machdyn.loops:lu_solve",
 }

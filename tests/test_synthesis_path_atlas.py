@@ -142,3 +142,58 @@ def test_bad_targets_are_refused(atlas):
         path_from_atlas(np.full(6, 1 + 1j), atlas)
     with pytest.raises(InputError, match="timing"):
         path_from_atlas(pts, atlas, timing=[0, 1])
+
+
+def test_held_pivot_ground_line_and_absolute_timing(atlas):
+    # the known linkage's crank angles from its ground line, its pivot and ground direction held
+    th = np.radians([20, 55, 95, 150, 210, 270])
+    targets = KNOWN.pose(th)[2]
+    size = np.max(np.abs(targets - targets.mean()))
+    res = path_from_atlas(
+        targets, atlas, timing=th, absolute_timing=True, O2=KNOWN.O2, theta1=KNOWN.theta1, n=1
+    )
+    best = res.best
+    pl = best.linkage
+    assert pl.O2 == KNOWN.O2 and pl.theta1 == KNOWN.theta1  # held exactly
+    np.testing.assert_allclose(np.mod(best.theta2 - th + np.pi, 2 * np.pi) - np.pi, 0, atol=1e-12)
+    # the coupler point at the prescribed θ2, by circle intersection, on each target
+    side = min(
+        (1.0, -1.0),
+        key=lambda s: abs(
+            _coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, s, th[0])
+            - targets[0]
+        ),
+    )
+    P = _coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2, pl.theta1, side, th)
+    assert np.max(np.abs(P - targets)) <= 1e-6 * size
+
+
+def test_length_bound_and_pivot_box_are_kept(atlas):
+    th = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    targets = KNOWN.pose(th)[2]
+    box = (-1.0, -1.0, 0.5, 0.5)  # away from the known pivot 1 + 2j
+    res = path_from_atlas(targets, atlas, n=3, max_length=6.0, pivot_box=box)
+    for r in (*res.candidates, *res.rejected):
+        pl = r.linkage
+        assert max(pl.fourbar.lengths) <= 6.0 + 1e-9 and pl.fourbar.coupler[0] <= 6.0 + 1e-9
+        assert box[0] - 1e-9 <= pl.O2.real <= box[2] + 1e-9
+        assert box[1] - 1e-9 <= pl.O2.imag <= box[3] + 1e-9
+
+
+def test_a_closed_path_written_back_to_its_start_is_accepted(atlas):
+    th = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    targets = KNOWN.pose(th)[2]
+    res = path_from_atlas(np.append(targets, targets[0]), atlas, n=1)
+    assert res.targets.size == 12
+
+
+def test_bad_constraints_are_refused(atlas):
+    pts = KNOWN.pose(np.linspace(0, 6, 8))[2]
+    with pytest.raises(InputError, match="absolute_timing"):
+        path_from_atlas(pts, atlas, absolute_timing=True)
+    with pytest.raises(InputError, match="pivot_box"):
+        path_from_atlas(pts, atlas, pivot_box=(1, 1, 0, 0))
+    with pytest.raises(InputError, match="max_length"):
+        path_from_atlas(pts, atlas, max_length=-1)
+    with pytest.raises(InputError, match="O2"):
+        path_from_atlas(pts, atlas, O2="here")

@@ -7,7 +7,7 @@ numbers or arrays.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -305,6 +305,39 @@ def text(field: str, value: Any) -> str:
     if isinstance(value, str) and value:
         return value
     raise InputError(field, f"must be a non-empty name (text), got {_describe(value)}")
+
+
+def mapping(field: str, value: Any, what: str = "values") -> dict[str, Any]:
+    """``value`` as a dict if it is a mapping with text keys, else raise :class:`InputError`.
+
+    Examples
+    --------
+    >>> mapping("velocity", {"theta2": 10.0})
+    {'theta2': 10.0}
+    >>> mapping("velocity", 10.0, "rates by input name")
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: velocity: must be a mapping of names to rates by input name, got 10.0
+    """
+    if not isinstance(value, Mapping):
+        raise InputError(field, f"must be a mapping of names to {what}, got {_describe(value)}")
+    bad = [k for k in value if not isinstance(k, str)]
+    if bad:
+        raise InputError(field, f"names are text, got the key {_describe(bad[0])}")
+    return dict(value)
+
+
+def names(field: str, value: Any, what: str = "names") -> tuple[str, ...]:
+    """A sequence of non-empty names (text) as a tuple, else raise :class:`InputError`.
+
+    Examples
+    --------
+    >>> names("inputs", ["theta2", "theta5"])
+    ('theta2', 'theta5')
+    """
+    if isinstance(value, str):
+        raise InputError(field, f"must be a sequence of {what}, got the text {value!r}")
+    return tuple(text(field, n) for n in items(field, value, what=what))
 
 
 def _array(field: str, value: Any, unit: str | None, kinds: str, what: str) -> np.ndarray:

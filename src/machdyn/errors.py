@@ -17,6 +17,7 @@ __all__ = [
     "MachdynError",
     "ModelError",
     "SingularityError",
+    "UnknownNameError",
 ]
 
 
@@ -47,6 +48,25 @@ class InputError(MachdynError, ValueError):
         self.field = field
         self.message = message
         super().__init__(f"{field}: {message}")
+
+
+class UnknownNameError(InputError, KeyError):
+    """A name (link, point, joint, variable) the model does not have.
+
+    Also a :class:`KeyError`, as the mapping-style lookups that raise it
+    (``motion.angle("coupler")``, ``forces.F("crank", "coupler")``) promise.
+
+    Examples
+    --------
+    >>> err = UnknownNameError("link", "unknown link 'arm'; known: crank, rocker")
+    >>> str(err)
+    "link: unknown link 'arm'; known: crank, rocker"
+    >>> isinstance(err, KeyError) and isinstance(err, InputError)
+    True
+    """
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return BaseException.__str__(self)
 
 
 class ModelError(MachdynError, ValueError):

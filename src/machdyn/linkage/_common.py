@@ -8,7 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import magnitude, point
+from .._validate import magnitude, point, text
+from ..errors import InputError
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -22,6 +23,19 @@ def _complex_point(field: str, value: Any) -> complex:
     return point(field, value)
 
 
+def _name(field: str, value: Any) -> str:
+    """A point, link or joint name: non-empty text (machdyn._validate.text)."""
+    return text(field, value)
+
+
+def _link_pair(field: str, links: Any) -> tuple[str, ...]:
+    """``()`` or two link names, as ``links=`` of an actuator, spring or motor takes."""
+    given = tuple(links) if isinstance(links, list | tuple) else None
+    if given is None or len(given) not in (0, 2) or not all(isinstance(n, str) for n in given):
+        raise InputError(field, f"give two link names, got {links!r}")
+    return given
+
+
 def _frozen(d: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:
     for v in d.values():
         v.flags.writeable = False
@@ -31,7 +45,7 @@ def _frozen(d: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:
 def _is_inf(value: Any) -> bool:
     try:
         return bool(np.isposinf(float(magnitude(value))))
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return False
 
 

@@ -10,13 +10,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import finite_scalar
+from .._validate import finite_array, finite_scalar
 from ..errors import InputError, ModelError
 from ..loops import LoopSystem
 from ..massprops import MassProperties
 from ..mobility import mobility_of
 from . import kinematics as _kinematics
-from ._common import GROUND, _complex_point, _ref_angle
+from ._common import GROUND, _complex_point, _name, _ref_angle
 from .elements import _ElementMethods, _Spring, _Torsion
 from .forces import LinkageForces, _forces
 from .groups import Group, decompose
@@ -75,6 +75,8 @@ class Linkage(_JointMethods, _ElementMethods):
         self._drivers: list[str] = []
         self._compiled: _Model | None = None
         self._points_extra: dict[str, complex] = {}
+        if points is not None and not isinstance(points, Mapping):
+            raise InputError("points", f"must map point names to (x, y), got {points!r}")
         for name, xy in (points or {}).items():
             self.point(name, xy)
 
@@ -105,12 +107,12 @@ class Linkage(_JointMethods, _ElementMethods):
         >>> Linkage({"O4": (8, 0)}).position("O4")
         (8+0j)
         """
-        if name not in self._points:
+        if _name("name", name) not in self._points:
             raise ModelError(f"unknown point {name!r}; known points: {', '.join(self._points)}")
         return self._points[name]
 
     def _need_points(self, owner: str, names: Iterable[str]) -> None:
-        missing = [p for p in names if p not in self._points]
+        missing = [p for p in names if _name(owner, p) not in self._points]
         if missing:
             raise ModelError(
                 f"{owner} names point(s) {', '.join(map(repr, missing))} without coordinates; "
@@ -172,7 +174,7 @@ class Linkage(_JointMethods, _ElementMethods):
             raise InputError("link", "'ground' is the fixed link; use ground(...) for its points")
         if name in self._links:
             raise ModelError(f"link {name!r} is defined twice")
-        points = tuple(dict.fromkeys(points))
+        points = tuple(dict.fromkeys(_name(f"link {name!r}", p) for p in points))
         if not points:
             raise ModelError(
                 f"link {name!r} has no points; list its joints, e.g. link('crank', 'O2', 'A')"
@@ -717,7 +719,13 @@ class Linkage(_JointMethods, _ElementMethods):
         (-100.0, -2.0)
         """
         return _forces(
-            self, motion, gravity, external_forces, external_torques, viscous or {}, coulomb or {}
+            self,
+            motion,
+            gravity,
+            external_forces,
+            external_torques,
+            {} if viscous is None else viscous,
+            {} if coulomb is None else coulomb,
         )
 
 
@@ -733,4 +741,4 @@ def _warn_degrees(lk: Linkage, values: Any) -> None:
     for name, value in items:
         if name in angles:
             with contextlib.suppress(TypeError, ValueError):  # the solver names a bad value
-                warn_if_degrees(name, value, stacklevel=4)
+                warn_if_degrees(name, finite_array(name, value), stacklevel=4)

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 from .._validate import finite_scalar, nonnegative, positive
 from ..errors import InputError, ModelError
-from ._common import GROUND
+from ._common import GROUND, _link_pair
 
 
 @dataclass(frozen=True)
@@ -118,9 +118,7 @@ class _ElementMethods:
         L0 = positive(f"{name}.free_length", free_length)
         c = nonnegative(f"{name}.damping", damping)
         T0 = finite_scalar(f"{name}.preload", preload)
-        ends = tuple(links)
-        if ends and (len(ends) != 2 or not all(isinstance(n, str) for n in ends)):
-            raise InputError(f"{name}.links", f"give two link names, got {links!r}")
+        ends = _link_pair(f"{name}.links", links)
         for point, link in zip((start, end), ends, strict=False):
             self._owner(point, link)
         if ends and ends[0] == ends[1]:
@@ -195,8 +193,8 @@ class _ElementMethods:
         tau0 = finite_scalar(f"{name}.preload", preload)
         pair: tuple[str, str] | None = None
         if links is not None:
-            given = tuple(links) if isinstance(links, list | tuple) else ()
-            if len(given) != 2 or not all(isinstance(n, str) for n in given):
+            given = _link_pair(f"{name}.links", links)
+            if len(given) != 2:
                 raise InputError(f"{name}.links", f"give two link names, got {links!r}")
             for n in given:
                 self._owner(at, n)

@@ -9,11 +9,11 @@ from typing import Any
 import numpy as np
 
 from .._summary import Summarized
-from .._validate import finite_array, nonnegative
-from ..errors import InputError, ModelError
+from .._validate import finite_array, items, mapping, nonnegative
+from ..errors import InputError, ModelError, UnknownNameError
 from ..loops import lu_factor, lu_solve
 from . import newton_euler
-from ._common import GROUND, _complex_point, _frozen, _ref_angle, _typical_length
+from ._common import GROUND, _complex_point, _frozen, _name, _ref_angle, _typical_length
 from .kinematics import LinkageMotion
 from .topology import _Edge
 
@@ -116,11 +116,14 @@ class LinkageForces(Summarized):
 
     def F(self, a: str, p: str) -> np.ndarray:
         """The pin force on link ``p`` from link ``a`` (``F_ap``)."""
+        _name("a", a), _name("p", p)
         if (a, p) in self.pins:
             return self.pins[(a, p)]
         if (p, a) in self.pins:
             return -self.pins[(p, a)]
-        raise KeyError(f"no pin joins {a!r} and {p!r}; pins: {', '.join(map(str, self.pins))}")
+        raise UnknownNameError(
+            "F", f"no pin joins {a!r} and {p!r}; pins: {', '.join(map(str, self.pins))}"
+        )
 
     def __len__(self) -> int:
         return int(self.ok.size)
@@ -381,14 +384,14 @@ def _forces(
         b[:, r + 1] -= F.imag
         b[:, r + 2] -= _cross(X - G[link], F)
 
-    for item in external_forces:
+    for item in items("external_forces", external_forces, what="(link, point, force) triples"):
         try:
             link, point, force = item
         except (TypeError, ValueError):
             raise InputError(
                 "external_forces", f"each is (link, point, force), got {item!r}"
             ) from None
-        if link not in lk._links:
+        if _name("external_forces", link) not in lk._links:
             raise ModelError(f"external force on unknown link {link!r}; links: {lk._names()}")
         if isinstance(point, str):
             if point not in lk._links[link].points:
@@ -412,14 +415,19 @@ def _forces(
             ) from None
         apply(link, X, F)
     torques = (
-        external_torques.items() if isinstance(external_torques, Mapping) else external_torques
+        external_torques.items()
+        if isinstance(external_torques, Mapping)
+        else items("external_torques", external_torques, what="(link, torque) pairs")
     )
-    for link, T in torques:
-        if link not in lk._links:
+    for pair in torques:
+        if not isinstance(pair, tuple | list) or len(pair) != 2:
+            raise InputError("external_torques", f"each is (link, torque), got {pair!r}")
+        link, T = pair
+        if _name("external_torques", link) not in lk._links:
             raise ModelError(f"external torque on unknown link {link!r}; links: {lk._names()}")
         b[:, row[link] + 2] -= flat(finite_array(f"external torque on {link}", T))
     friction: dict[str, np.ndarray] = {}
-    for name, beta in viscous.items():
+    for name, beta in mapping("viscous", viscous, "friction coefficients β").items():
         edge = next((e for e in lk._edges() if e.name == name and e.kind == "P"), None)
         if edge is None:
             raise ModelError(
@@ -528,7 +536,7 @@ def _forces(
     x, singular = solve_system()
     kappa: dict[str, Any] = {}
     slipping = {}
-    for name, mu in coulomb.items():
+    for name, mu in mapping("coulomb", coulomb, "friction coefficients μ").items():
         edge = next((e for e in edges if e.name == name and e.kind in ("P", "slot")), None)
         if edge is None:
             raise ModelError(

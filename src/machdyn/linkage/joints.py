@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
-from .._validate import finite_scalar
+from .._validate import boolean, finite_scalar
 from ..errors import AssemblyError, InputError, ModelError
-from ._common import GROUND, _complex_point, _is_inf
+from ._common import GROUND, _complex_point, _is_inf, _link_pair, _name
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -28,7 +28,7 @@ class _JointMethods:
             u = self._points[direction] - at
             if abs(u) == 0:
                 raise AssemblyError(f"{field}: direction point {direction!r} coincides with it")
-        elif np.ndim(direction) == 0 and not isinstance(direction, complex):
+        elif not isinstance(direction, complex | list | tuple | np.ndarray):
             ang = finite_scalar(f"{field}.direction", direction)
             u = complex(np.cos(ang), np.sin(ang))
         else:
@@ -94,7 +94,8 @@ class _JointMethods:
         >>> m.length_rate["guide"].round(6).tolist()    # ḋ = −a ω2 at 90°
         [0.0, -20.0, -0.0]
         """
-        name = name or f"{block}/{on}"
+        name = f"{block}/{on}" if name is None else _name("name", name)
+        _names_given(name, block=block, on=on, at=at, through=through, centre=centre)
         if centre is not None or radius is not None:
             return self._curved_joint("slider", block, on, at, centre, radius, name)
         if block not in self._links:
@@ -151,7 +152,8 @@ class _JointMethods:
         >>> (m.points["Y"].real - 3.0).round(9).tolist()
         [2.0, 1.0, 0.0]
         """
-        name = name or f"{pin}@{on}"
+        name = f"{pin}@{on}" if name is None else _name("name", name)
+        _names_given(name, pin=pin, link=link, on=on, through=through, centre=centre)
         if centre is not None or radius is not None:
             return self._curved_joint("slot", link, on, pin, centre, radius, name)
         if link not in self._links:
@@ -244,9 +246,7 @@ class _JointMethods:
         if self._joint_named(name):
             raise ModelError(f"joint name {name!r} is used twice")
         self._need_points(f"actuator {name!r}", (start, end))
-        ends = tuple(links)
-        if ends and len(ends) != 2:
-            raise InputError(f"{name}.links", f"give two link names, got {links!r}")
+        ends = _link_pair(f"{name}.links", links)
         for point, link in zip((start, end), ends, strict=False):
             self._owner(point, link)
         self._actuators[name] = (start, end, *(ends or ("", "")))
@@ -318,9 +318,8 @@ class _JointMethods:
         >>> m.omega["w3"].round(12).tolist()
         [-4.0, -4.0]
         """
-        name = name or f"{link_a}~{link_b}"
-        if not isinstance(name, str) or not name:
-            raise InputError("roll", f"a joint name is a non-empty string, got {name!r}")
+        _names_given("roll", link_a=link_a, centre_a=centre_a, link_b=link_b, centre_b=centre_b)
+        name = f"{link_a}~{link_b}" if name is None else _name("roll", name)
         if self._joint_named(name):
             raise ModelError(f"joint name {name!r} is used twice")
         for link, centre in ((link_a, centre_a), (link_b, centre_b)):
@@ -346,7 +345,7 @@ class _JointMethods:
                 f"{name}.radius_b",
                 f"must be a positive radius (or inf for a straight profile), got {radius_b!r}",
             )
-        internal = bool(internal)
+        internal = boolean(f"{name}.internal", internal)
         d = abs(self._points[centre_b] - self._points[centre_a])
         if np.isinf(r_b):
             if internal:
@@ -420,8 +419,8 @@ class _JointMethods:
         self._need_points(f"motor {name!r}", [at])
         pair: tuple[str, str] | None = None
         if links is not None:
-            given = tuple(links) if isinstance(links, list | tuple) else ()
-            if len(given) != 2 or not all(isinstance(n, str) for n in given):
+            given = _link_pair(f"{name}.links", links)
+            if len(given) != 2:
                 raise InputError(f"{name}.links", f"give two link names, got {links!r}")
             pair = (given[0], given[1])
             for n in pair:
@@ -458,3 +457,10 @@ def _ground_motor(name: str, at: str, pair: tuple[str, str]) -> NoReturn:
         f"motor {name!r}: pin {at!r} joins the ground, so the motor turns {other!r} "
         f"by its absolute angle — that is an ordinary link driver: drive({other!r})"
     )
+
+
+def _names_given(joint: str, **given: Any) -> None:
+    """Refuse a point or link name that is not text (None: not given)."""
+    for field, value in given.items():
+        if value is not None:
+            _name(f"{joint}.{field}", value)

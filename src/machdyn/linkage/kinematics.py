@@ -28,6 +28,10 @@ def solve(
     continuation: bool | None = None,
 ) -> LinkageMotion:
     """The body of :meth:`Linkage.solve` (see there)."""
+    if continuation is not None:
+        from .._validate import boolean
+
+        continuation = boolean("continuation", continuation)
     model = lk._compile()
     drivers = tuple(lk._drivers)
     vals = _per_driver("values", values, drivers, required=True)
@@ -49,6 +53,7 @@ def solve(
     cont = continuation if continuation is not None else (len(shape) <= 1 and n > 1)
     from .sweep import solve_closed
 
+    _rates_match(shape, velocity=vel, acceleration=acc, jerk=jrk)
     return solve_closed(lk, model, vals, vel, acc, jrk, shape, bool(cont) or n == 1)
 
 
@@ -218,8 +223,11 @@ class LinkageMotion(Summarized):
 def _lookup(table: Mapping[str, np.ndarray] | None, key: str, what: str) -> np.ndarray:
     if table is None:
         raise ModelError("no rates were computed: solve with velocity=...")
-    if key not in table:
-        raise KeyError(f"unknown {what} {key!r}; known: {', '.join(table)}")
+    from ..errors import UnknownNameError
+    from ._common import _name
+
+    if _name(what, key) not in table:
+        raise UnknownNameError(what, f"unknown {what} {key!r}; known: {', '.join(table)}")
     return table[key]
 
 
@@ -230,3 +238,17 @@ def _cg_drawn(lk: Linkage, ln: Link) -> complex:
     if isinstance(ln.cg, str):
         return lk._points[ln.cg]
     return p0 + ln.cg * np.exp(1j * _ref_angle(lk, ln.name))
+
+
+def _rates_match(shape: tuple[int, ...], **rates: dict[str, np.ndarray] | None) -> None:
+    """Refuse driver rates whose arrays do not broadcast to the driver values' shape."""
+    for kind, table in rates.items():
+        for d, a in (table or {}).items():
+            try:
+                ok = np.broadcast_shapes(a.shape, shape) == shape
+            except ValueError:
+                ok = False
+            if not ok:
+                raise InputError(
+                    f"{kind}[{d}]", f"shape {a.shape} does not match the driver values' {shape}"
+                )

@@ -21,7 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import boolean, finite_array, finite_scalar, integer
+from .._validate import boolean, finite_array, finite_scalar, integer, mapping
+from .._validate import names as name_list
 from ..errors import InputError, ModelError
 from . import solve as _solve
 from ._equations import derivatives, point_motion, residual_and_jacobian
@@ -40,6 +41,19 @@ class Vector:
     name: str
     length: float | str
     angle: float | str
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not _IDENT.match(self.name):
+            raise InputError("name", f"a vector name is an identifier like 'R2', got {self.name!r}")
+        for field in ("length", "angle"):
+            value = getattr(self, field)
+            if isinstance(value, str):
+                if not _IDENT.match(value):
+                    raise InputError(field, f"a variable name is an identifier, got {value!r}")
+                continue
+            number = finite_scalar(f"{self.name}.{field}", value)
+            if field == "length" and number <= 0.0:
+                raise InputError(f"{self.name}.length", f"must be a positive length, got {number}")
 
 
 @dataclass(frozen=True)
@@ -170,7 +184,7 @@ class LoopSystem:
                     "point", f"write 'P = R2 + R3p' or point('P', 'R2 + R3p'), got {name!r}"
                 )
             name, chain = (part.strip() for part in name.split("=", 1))
-        if not _IDENT.match(name):
+        if not isinstance(name, str) or not _IDENT.match(name):
             raise InputError("point", f"a point name must be an identifier, got {name!r}")
         self._points[name] = (chain, parse_signed_sum(chain, f"point {name}"))
         self._cache.clear()
@@ -183,7 +197,7 @@ class LoopSystem:
         --------
         >>> s = LoopSystem().inputs("theta2", "theta5")  # a five-bar with two cranks
         """
-        self._inputs = tuple(names)
+        self._inputs = _identifiers("inputs", names)
         self._cache.clear()
         return self
 
@@ -316,7 +330,7 @@ class LoopSystem:
         ...
         machdyn.errors.ModelError: 3 variables, 2 equations: DOF 1, but 2 inputs were named: ...
         """
-        inputs = tuple(self._inputs if inputs is None else inputs)
+        inputs = self._inputs if inputs is None else _identifiers("inputs", inputs)
         variables = self._structure()
         labels = self._equation_labels()
         dof = len(variables) - len(labels)
@@ -512,11 +526,13 @@ class LoopSystem:
         >>> str(m.reason[3])
         'cannot assemble: Newton-Raphson did not converge at this input'
         """
+        values = mapping("values", values, "input values")
+        velocity, acceleration, jerk = _rate_maps(velocity, acceleration, jerk)
         inputs = self._inputs or tuple(values)
         c = self._checked(inputs)
         u, shape = self._input_arrays(values, inputs)
         unknowns = [c.names[i] for i in c.unknown]
-        guess = dict(guess)
+        guess = mapping("guess", guess, "approximate values of the unknowns")
         missing = [n for n in unknowns if n not in guess]
         if missing:
             raise ModelError(
@@ -585,6 +601,8 @@ class LoopSystem:
         >>> round(float(m.velocity["d1"]), 1), round(float(m.velocity["theta3"]), 3)
         (-144.3, -1.443)
         """
+        values = mapping("values", values, "values of every variable")
+        velocity, acceleration, jerk = _rate_maps(velocity, acceleration, jerk)
         inputs = self._inputs
         if not inputs:
             raise ModelError("evaluate needs the inputs named first: call inputs(...)")
@@ -682,6 +700,24 @@ class LoopSystem:
 #: The range of ``tol``: below 1e-15 a loop residual cannot be told from rounding;
 #: above 1e-6 a pose that does not close would pass as solved.
 TOL_RANGE = (1e-15, 1e-6)
+
+
+def _identifiers(field: str, value: Any) -> tuple[str, ...]:
+    """Variable names (identifiers such as ``theta2``) as a tuple."""
+    out = name_list(field, value, "variable names")
+    bad = [n for n in out if not _IDENT.match(n)]
+    if bad:
+        raise InputError(field, f"a variable name is an identifier like 'theta2', got {bad[0]!r}")
+    return out
+
+
+def _rate_maps(*rates: Any) -> tuple[dict[str, Any] | None, ...]:
+    """velocity, acceleration, jerk: each None or a mapping of input name to rate."""
+    fields = ("velocity", "acceleration", "jerk")
+    return tuple(
+        None if r is None else mapping(f, r, "rates by input name")
+        for f, r in zip(fields, rates, strict=True)
+    )
 
 
 def _tolerance(tol: Any) -> float:

@@ -71,6 +71,9 @@ REFINE = 10
 BLAS_ROWS = 2048
 #: How many of the refined candidates are refined on to convergence.
 POLISH = 3
+#: Six-bars: starts screened per refined candidate, and steps of each polished one.
+SIXBAR_SCREEN = 4
+SIXBAR_POLISH = 600
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: A best result farther than this (over the target's size) means no entry came near.
@@ -310,6 +313,8 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
     size = float(np.max(np.abs(pts - centre)))
     if size == 0.0:
         raise InputError("targets", "all target points coincide")
+    if closed and timing is None and pts.size > need and abs(pts[-1] - pts[0]) <= 1e-9 * size:
+        pts = pts[:-1]  # a closed path written back to its start: the first point ends it
     step = np.abs(np.diff(np.concatenate([pts, pts[:1]]) if closed else pts))
     same = np.flatnonzero(step <= 1e-9 * size)
     if same.size:
@@ -324,7 +329,6 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
             raise InputError(
                 "timing", f"needs one angle per target ({pts.size}), got {timing.size}"
             )
-        timing = timing - timing[0]
     return pts, timing
 
 
@@ -341,6 +345,11 @@ def path_from_atlas(
     retrieve: int = RETRIEVE,
     refine_count: int = REFINE,
     client: Any = None,
+    O2: Any = None,
+    theta1: float | None = None,
+    absolute_timing: bool = False,
+    max_length: float | None = None,
+    pivot_box: Any = None,
 ) -> PathCandidates:
     """Four-bars whose coupler curve passes through target points, from an atlas.
 
@@ -365,9 +374,21 @@ def path_from_atlas(
     tolerance : float, optional
         A target farther than this from the curve is a defect.
     retrieve, refine_count : int
-        Entries taken from the atlas, and how many of the best-placed are refined.
+        Entries taken from the atlas, and how many of the best-placed are refined
+        (four times as many when ``O2``, ``theta1`` or the timing is held).
     client : distributed.Client, optional
         Score the atlas's chunks as tasks on this Dask cluster.
+    O2, theta1 : complex or (x, y), float, optional
+        Hold the crank's pivot ``O2`` and the ground line's direction ``θ1``
+        (radians) at these values (four-bar atlases).
+    absolute_timing : bool
+        With ``timing``: the angles are link 2's angle from the ground line
+        (θ2), not increments from the first target.
+    max_length : float, optional
+        No link (``r1 … r4``, and the coupler point's distance ``p`` from A)
+        longer than this.
+    pivot_box : (xmin, ymin, xmax, ymax), optional
+        Keep the crank's pivot ``O2`` inside this rectangle.
 
     Returns
     -------
@@ -397,17 +418,24 @@ def path_from_atlas(
         raise InputError("client", "must be a distributed.Client (or None)")
     crank = boolean("crank", crank) or timing is not None
     size = float(np.max(np.abs(pts - pts.mean())))
+    fixed, max_length, pivot_box = _constraints(O2, theta1, absolute_timing, max_length,
+                                                pivot_box, timing, atlas)  # fmt: skip
+    if timing is not None and not absolute_timing:
+        timing = timing - timing[0]  # increments from the first target
     t0 = time.perf_counter()
     if atlas.manifest.kind == "sixbar":
-        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count,
-                            client, start)  # fmt: skip
+        return _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve,
+                            refine_count, client, start)  # fmt: skip
+    if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
+        refine_count *= 4
     if timing is None:
         entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
         starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
     else:
-        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client)
+        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
     t1 = time.perf_counter()
-    options = dict(timing=timing, crank=crank, mu_min=mu_min)
+    options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,
+                   pivot_box=pivot_box)  # fmt: skip
     fits = [refine(*first, pts, max_nfev=40, **options) for first in starts if first is not None]
     # the few best go on until they converge (the rest rarely overtake them)
     fits.sort(key=lambda f: f.rms)
@@ -441,22 +469,57 @@ def path_from_atlas(
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
 
 
-def _sixbar_path(atlas, pts, timing, closed, n, tolerance, retrieve, refine_count, client, start):
+def _constraints(O2, theta1, absolute_timing, max_length, pivot_box, timing, atlas):
+    """Refinement's fixed unknowns (index → value), the length bound and the pivot box."""
+    from .._validate import point
+
+    absolute_timing = boolean("absolute_timing", absolute_timing)
+    fixed: dict[int, float] = {}
+    if O2 is not None:
+        O2 = point("O2", O2)
+        fixed.update({6: O2.real, 7: O2.imag})
+    if theta1 is not None:
+        fixed[8] = finite_scalar("theta1", theta1, "radian")
+    if absolute_timing:
+        if timing is None:
+            raise InputError("absolute_timing", "needs timing (the input angle at each target)")
+        fixed[9] = 0.0
+    if max_length is not None:
+        max_length = positive("max_length", max_length)
+    if pivot_box is not None:
+        box = np.ravel(finite_array("pivot_box", pivot_box))
+        if box.size != 4 or not (box[0] < box[2] and box[1] < box[3]):
+            raise InputError("pivot_box", "must be (xmin, ymin, xmax, ymax) with min < max")
+        pivot_box = tuple(float(v) for v in box)
+    if (fixed or max_length is not None or pivot_box) and atlas.manifest.kind == "sixbar":
+        raise InputError("O2", "placement and size limits are for four-bar atlases only")
+    return fixed, max_length, pivot_box
+
+
+def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, refine_count, client,
+                 start):  # fmt: skip
     """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
+    from .. import jit
     from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
 
     size = float(np.max(np.abs(pts - pts.mean())))
+    compiled = jit.mode() != "off" and jit.load()  # one choice for the whole synthesis
     t0 = time.perf_counter()
-    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client)
+    # six-bars: many atlas entries draw nearly the same curve, so many are screened
+    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, SIXBAR_SCREEN * refine_count,
+                           client)  # fmt: skip
     t1 = time.perf_counter()
-    fits = [(*refine_sixbar(x0, th0, fx, pts, timing=timing, max_nfev=40), fx)
+    options = dict(timing=timing, compiled=compiled)
+    fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
             for x0, th0, fx in starts]  # fmt: skip
     fits.sort(key=lambda f: f[2])
+    fits = fits[:refine_count]
     for i in range(min(POLISH, len(fits))):
         x, th, rms, fx = fits[i]
-        more = refine_sixbar(x, th, fx, pts, timing=timing, max_nfev=400)
+        more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
         fits[i] = (*more, fx) if more[2] <= rms else fits[i]
-    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance) for x, th, _, fx in fits]
+    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance, mu_min)
+               for x, th, _, fx in fits]  # fmt: skip
     results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
     t2 = time.perf_counter()
     chosen, rejected = [], []
@@ -521,15 +584,19 @@ TIMED_POOL = 5_000
 TIMED_GRID = 60
 
 
-def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None):
+def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None,
+                    fixed=None):  # fmt: skip
     """Refinement starts for timed targets: scan θ0 for every entry of a pool, fit each.
 
     For each crank entry (and its mirror image: δ → −δ on the other assembly,
     which runs the other way round for the same crank rotation) and each of
     ``TIMED_GRID`` starting angles θ0, the coupler points at ``θ0 + Δ_k`` are
     fitted onto the targets by a rotation, scale and offset (closed form); the
-    best fits start the refinements.
+    best fits start the refinements. ``fixed`` (see :func:`refine`) holds the
+    pivot, the ground line's direction or θ0 (absolute timing): the fit then
+    keeps them (a scale only, or a scale and rotation).
     """
+    fixed = fixed or {}
     man = atlas.manifest
     idx = atlas.pool(TIMED_POOL, crank=True)
     if closed:
@@ -537,14 +604,13 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
         q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
         idx = np.union1d(idx, atlas.nearest(q, retrieve, crank=True, client=client)[0])
     rows = atlas.entries(idx)
-    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+    grid = np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
     th = grid[:, None] + timing[None, :]  # (G, K)
-    a0 = pts - pts.mean()
-    aa = float(np.sum(np.abs(a0) ** 2))
+    O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
     best = []
     for mirror in (1.0, -1.0):
         for lo in range(0, rows.size, 2048):  # blocks keep the (rows, θ0, targets) arrays small
-            best.append(_timed_fits(rows[lo : lo + 2048], mirror, th, pts, aa))
+            best.append(_timed_fits(rows[lo : lo + 2048], mirror, th, pts, O2, fixed.get(8)))
     score, g, hh, off, mirror = (np.concatenate(x) for x in zip(*best, strict=True))
     order = np.argsort(-score)[:refine_count]
     rows2 = np.concatenate([rows, rows])  # the order of the blocks: all unmirrored, then mirrored
@@ -560,8 +626,14 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
     return starts
 
 
-def _timed_fits(rows, mirror, th, pts, aa):
-    """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets."""
+def _timed_fits(rows, mirror, th, pts, O2=None, theta1=None):
+    """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets.
+
+    The placement ``t + h·Q`` minimising ``Σ |a_k − t − h Q_k|²`` in closed form:
+    ``t`` the offset (``O2`` when held) and ``h`` a rotation and scale (a scale
+    ``s ≥ 0`` times ``e^{jθ1}`` when ``θ1`` is held). The score is the share of
+    the targets' spread the fit explains.
+    """
     from .atlas import _kernel  # the compiled coupler-point kernel (angles shared by all rows)
 
     f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
@@ -569,17 +641,27 @@ def _timed_fits(rows, mirror, th, pts, aa):
     one = np.ones(rows.size)
     Q, _ = _kernel(f["r1"], one, f["r3"], f["r4"], f["p"], mirror * f["delta"], th.ravel(), circuit)
     Q = Q.reshape(rows.size, *th.shape)
-    qm = Q.mean(axis=2, keepdims=True)
-    q0 = Q - qm
-    a0 = pts - pts.mean()
-    c = np.sum(np.conj(q0) * a0, axis=2)  # (R, G)
-    v = np.sum(np.abs(q0) ** 2, axis=2)
-    score = np.abs(c) ** 2 / np.where(v > 0, v, np.inf) / aa  # 1 − normalised residual²
-    score = np.nan_to_num(score, nan=-1.0)  # a pose that cannot be assembled fits nothing
+    if O2 is None:  # free offset: fit the centred points
+        qm = Q.mean(axis=2, keepdims=True)
+        q, a = Q - qm, pts - pts.mean()
+    else:
+        qm, q, a = np.zeros_like(Q[..., :1]), Q, pts - O2
+    aa = float(np.sum(np.abs(a) ** 2))
+    c = np.sum(np.conj(q) * a, axis=2)  # (R, G)
+    v = np.sum(np.abs(q) ** 2, axis=2)
+    v = np.where(v > 0, v, np.inf)
+    if theta1 is None:
+        h = c / v
+        gain = np.abs(c) ** 2 / v
+    else:
+        along = np.maximum(np.real(c * np.exp(-1j * theta1)), 0.0)
+        h = along / v * np.exp(1j * theta1)
+        gain = along**2 / v
+    score = np.nan_to_num(gain / max(aa, 1e-300), nan=-1.0)  # an unassembled pose fits nothing
     g = np.argmax(score, axis=1)
     r = np.arange(rows.size)
-    hh = c[r, g] / v[r, g]
-    off = pts.mean() - hh * qm[r, g, 0]
+    hh = h[r, g]
+    off = (pts.mean() if O2 is None else O2) - hh * qm[r, g, 0]
     return score[r, g], g, hh, off, np.full(rows.size, mirror)
 
 

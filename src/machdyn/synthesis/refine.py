@@ -136,6 +136,9 @@ def refine(
     crank: bool = True,
     mu_min: float = 0.0,
     max_nfev: int = 60,
+    fixed: dict[int, float] | None = None,
+    max_length: float | None = None,
+    pivot_box: tuple[float, float, float, float] | None = None,
 ) -> Refined:
     """Refine a placed four-bar so its coupler curve passes through ``targets``.
 
@@ -152,6 +155,15 @@ def refine(
         Prescribed input-angle increments ``Δ_k``.
     crank, mu_min :
         Soft constraints: link 2 a crank, transmission angle above ``mu_min``.
+    fixed : dict, optional
+        Unknowns held at given values, by index into ``(x, θ…)``: 6, 7 for the
+        pivot ``O2``, 8 for ``θ1``, 9 for ``θ0`` with timing (0: the timing is
+        the input angle itself, measured from the ground line).
+    max_length : float, optional
+        Upper bound on the link lengths ``r1 … r4`` and on ``p`` (the coupler
+        point's distance from A).
+    pivot_box : (xmin, ymin, xmax, ymax), optional
+        Bounds on the pivot ``O2``.
 
     Examples
     --------
@@ -210,13 +222,28 @@ def refine(
     lo[:4] = 1e-6 * scale
     lo[4] = 0.0
     hi = np.full(nvar, np.inf)
-    z0 = np.clip(z0, lo + 1e-12, hi)
+    if max_length is not None:
+        hi[:5] = max_length
+    if pivot_box is not None:
+        lo[6], lo[7], hi[6], hi[7] = pivot_box
+    free = np.ones(nvar, dtype=bool)
+    for i, value in (fixed or {}).items():
+        free[i] = False
+        z0[i] = value
+    z0 = np.where(free, np.clip(z0, lo + 1e-12 * scale, hi - 1e-12 * scale), z0)
+
+    def full(y: np.ndarray) -> np.ndarray:
+        z = z0.copy()
+        z[free] = y
+        return z
+
     try:
         sol = least_squares(
-            residual, z0, jac=jacobian, bounds=(lo, hi), method="trf", x_scale="jac",
+            lambda y: residual(full(y)), z0[free], jac=lambda y: jacobian(full(y))[:, free],
+            bounds=(lo[free], hi[free]), method="trf", x_scale="jac",
             max_nfev=max_nfev, xtol=1e-13, ftol=1e-13, gtol=1e-13,
         )  # fmt: skip
-        z, ok = sol.x, bool(sol.status > 0)
+        z, ok = full(sol.x), bool(sol.status > 0)
     except (ValueError, np.linalg.LinAlgError):
         z, ok = z0, False
     G = coupler_and_jacobian(z[:9], angles(z), branch)[0]

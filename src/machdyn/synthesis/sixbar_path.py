@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ModelError
 from .sixbar import TOPOLOGIES
 
 # Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
@@ -121,49 +122,115 @@ def sixbar_coupler(x: np.ndarray, theta: np.ndarray, fixed: dict[str, int]):
     return P.v, P.g[:, :_NP], P.g[:, _NP], ok4 & ok6
 
 
-def refine_sixbar(x0, theta0, fixed, targets, *, timing=None, max_nfev=200):
-    """Least squares on the distances of the coupler point to the targets (analytic Jacobian)."""
-    from scipy.optimize import least_squares
+def coupler_function(compiled: bool = False):
+    """``(x, θ, fixed) → (P, dP/dx, dP/dθ, ok)``: the compiled kernel or :func:`sixbar_coupler`.
 
+    ``compiled`` is the caller's choice (made once per synthesis, as the atlas
+    build does: :func:`machdyn.jit.load` unless ``MACHDYN_JIT=off``); the kernel
+    (:func:`machdyn.synthesis._atlas_kernels.sixbar_coupler`) is tested against
+    the NumPy forward mode here and both against central differences.
+    """
+    if not compiled:
+        return sixbar_coupler
+    from ._atlas_kernels import sixbar_coupler as kernel
+
+    def evaluate(x, theta, fixed):
+        theta = np.ascontiguousarray(theta, dtype=float)
+        k = theta.size
+        P, J = np.empty(k, complex), np.empty((k, _NP), complex)
+        Jt, ok = np.empty(k, complex), np.empty(k, bool)
+        (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
+        kernel(np.ascontiguousarray(x, dtype=float), theta, float(fixed["s4"]),
+               float(fixed["s6"]), l1, l2, fixed["on"] == 6, P, J, Jt, ok)  # fmt: skip
+        return P, J, Jt, ok
+
+    return evaluate
+
+
+def refine_sixbar(x0, theta0, fixed, targets, *, timing=None, iterations=200, compiled=False):
+    """Levenberg–Marquardt on the distances of the coupler point to the targets.
+
+    The residuals are the coupler point's offsets from the targets (over the
+    targets' size); the unknowns the 15 design numbers and the crank angle at
+    each target (one ``θ0`` with prescribed ``timing``); the Jacobian is
+    analytic (:func:`coupler_function`). A plain damped Gauss–Newton loop
+    (Marquardt's scaling by the diagonal of ``JᵀJ``) rather than
+    :func:`scipy.optimize.least_squares`: each step is one 30 × 30 solve, so the
+    loop costs tens of microseconds a step where scipy's trust region costs
+    milliseconds, and a synthesis can afford to refine many candidates. Lengths
+    may pass through zero on the way; the result is re-expressed with positive
+    lengths (the same joints). Returns the design, the crank angle at each
+    target and the RMS distance (inf where the six-bar comes apart at a target).
+    """
     k = targets.size
     scale = float(np.max(np.abs(targets - targets.mean()))) or 1.0
     timed = timing is not None
-    z0 = np.concatenate([x0, [theta0[0] - timing[0]] if timed else theta0])
+    z = np.concatenate([x0, [theta0[0] - timing[0]] if timed else theta0]).astype(float)
+    coupler = coupler_function(compiled)
+    rows = np.arange(k)
 
     def angles(z):
         return z[_NP] + timing if timed else z[_NP:]
 
-    def residual(z):
-        P, _, _, ok = sixbar_coupler(z[:_NP], angles(z), fixed)
-        d = np.where(ok, (P - targets) / scale, 10.0)
-        return np.concatenate([d.real, d.imag])
-
-    def jacobian(z):
-        _, J, jt, ok = sixbar_coupler(z[:_NP], angles(z), fixed)
-        J = np.where(ok[:, None] & np.isfinite(J), J, 0.0)  # a constant residual where apart
-        jt = np.where(ok & np.isfinite(jt), jt, 0.0)
+    def evaluate(z):
+        P, J, jt, ok = coupler(z[:_NP], angles(z), fixed)
+        d = np.where(ok, (P - targets) / scale, 10.0)  # a constant residual where apart
+        J = np.where(ok[:, None] & np.isfinite(J), J, 0.0) / scale
+        jt = np.where(ok & np.isfinite(jt), jt, 0.0) / scale
         out = np.zeros((2 * k, z.size))
-        out[:k, :_NP], out[k:, :_NP] = (J / scale).real, (J / scale).imag
+        out[:k, :_NP], out[k:, :_NP] = J.real, J.imag
         if timed:
-            out[:k, _NP], out[k:, _NP] = (jt / scale).real, (jt / scale).imag
+            out[:k, _NP], out[k:, _NP] = jt.real, jt.imag
         else:
-            i = np.arange(k)
-            out[i, _NP + i], out[k + i, _NP + i] = (jt / scale).real, (jt / scale).imag
-        return out
+            out[rows, _NP + rows], out[k + rows, _NP + rows] = jt.real, jt.imag
+        r = np.concatenate([d.real, d.imag])
+        return r, out, float(r @ r)
 
-    lo = np.full(z0.size, -np.inf)
-    lo[[3, 4, 5, 6, 11, 12]] = 1e-6 * scale
-    z0 = np.maximum(z0, lo + 1e-12)
-    try:
-        sol = least_squares(residual, z0, jac=jacobian, bounds=(lo, np.inf), method="trf",
-                            x_scale="jac", max_nfev=max_nfev, xtol=1e-13, ftol=1e-13,
-                            gtol=1e-13)  # fmt: skip
-        z = sol.x
-    except (ValueError, np.linalg.LinAlgError):
-        z = z0
-    P, _, _, ok = sixbar_coupler(z[:_NP], angles(z), fixed)
+    r, J, cost = evaluate(z)
+    lam = 1e-3
+    for _ in range(iterations):
+        A = J.T @ J
+        g = J.T @ r
+        diag = np.maximum(np.diag(A), 1e-12 * max(float(np.max(np.diag(A))), 1e-300))
+        try:
+            step = np.linalg.solve(A + lam * np.diag(diag), -g)
+        except np.linalg.LinAlgError:
+            lam *= 10.0
+            continue
+        z_new = z + step
+        r_new, J_new, cost_new = evaluate(z_new)
+        if cost_new < cost:
+            small = np.max(np.abs(step)) <= 1e-15 * (1.0 + np.max(np.abs(z)))
+            z, r, J, cost = z_new, r_new, J_new, cost_new
+            lam = max(lam / 3.0, 1e-15)
+            if small or cost <= 1e-30:
+                break
+        else:
+            lam *= 4.0
+            if lam > 1e15:
+                break
+    x, theta = _positive_lengths(z[:_NP].copy(), np.asarray(angles(z), float).copy())
+    P, _, _, ok = coupler(x, theta, fixed)
     rms = float(np.sqrt(np.mean(np.abs(P - targets) ** 2))) if ok.all() else np.inf
-    return z[:_NP], np.asarray(angles(z), float), rms
+    return x, theta, rms
+
+
+def _positive_lengths(x: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The same six-bar with every length positive (the joints do not move).
+
+    r3, r4, a, b enter only through the dyads' circles (their squares); a
+    negative r1 is the ground line turned half a turn (θ1 + π, and the crank
+    angle from it − π, so A stays); a negative r2 is the crank half a turn on.
+    """
+    for i in (5, 6, 11, 12):
+        x[i] = abs(x[i])
+    if x[3] < 0:
+        x[3], x[2] = -x[3], x[2] + np.pi
+        theta = theta - np.pi
+    if x[4] < 0:
+        x[4] = -x[4]
+        theta = theta + np.pi
+    return x, theta
 
 
 def sixbar_linkage(x: np.ndarray, fixed: dict[str, int], theta2: float = 0.0):
@@ -249,6 +316,11 @@ class SixBarPath:
 
 
 _FIXED = ("s4", "s6", "topology", "on")
+#: Six-bar entries spread over the atlas that timed targets are scanned against.
+SIXBAR_TIMED_POOL = 1_000
+#: Timed targets: starting angles every entry is scanned at, and entries scanned again finely.
+SIXBAR_COARSE = 20
+SIXBAR_FINE = 96
 
 
 def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
@@ -268,7 +340,8 @@ def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, in
 
 def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None):
     """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries."""
-    from .atlas_path import TIMED_GRID, TIMED_POOL, _retrieve
+    from .atlas_path import TIMED_GRID, _retrieve
+    from .descriptor import curve_descriptor, interpolate_closed, resample_closed
     from .sixbar import sixbar_points
 
     starts = []
@@ -283,25 +356,23 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
             near = np.argmin(np.abs((t + h * z)[None, :] - pts[:, None]), axis=1)
             starts.append((x0, u[near], fixed))
         return starts
-    rows = atlas.entries(atlas.pool(TIMED_POOL, crank=True))
-    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-    a0 = pts - pts.mean()
+    idx = atlas.pool(SIXBAR_TIMED_POOL, crank=True)
+    if closed:  # the entries whose whole curve looks like the target's, and a spread pool
+        dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
+        even = resample_closed(dense, atlas.manifest.samples)
+        q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
+        idx = np.union1d(idx, atlas.nearest(q, retrieve, client=client)[0])
+    rows = atlas.entries(idx)
+    # coarse to fine: every entry at SIXBAR_COARSE starting angles, the best
+    # SIXBAR_FINE of each direction again at every one of the TIMED_GRID angles
     found = []
     for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
-        for lo in range(0, rows.size, 1024):
-            block = rows[lo : lo + 1024]
-            th = mirror * (grid[:, None] + timing[None, :]).ravel()
-            Q = sixbar_points(block, th)[0].reshape(block.size, grid.size, -1)
-            Q = Q.conj() if mirror < 0 else Q
-            qm = np.nanmean(Q, axis=2, keepdims=True)
-            c = np.sum(np.conj(Q - qm) * a0, axis=2)
-            v = np.sum(np.abs(Q - qm) ** 2, axis=2)
-            score = np.nan_to_num(np.abs(c) ** 2 / np.where(v > 0, v, np.inf), nan=-1.0)
-            g = np.argmax(score, axis=1)
-            r = np.arange(block.size)
-            hh = c[r, g] / v[r, g]
-            off = pts.mean() - hh * qm[r, g, 0]
-            found += [(score[i, g[i]], block[i], hh[i], off[i], grid[g[i]], mirror) for i in r]
+        coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
+        score = _timed_scan(rows, coarse, timing, pts, mirror)[0]
+        best = rows[np.argsort(-score)[:SIXBAR_FINE]]
+        grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+        score, hh, off, g = _timed_scan(best, grid, timing, pts, mirror)
+        found += [(score[i], best[i], hh[i], off[i], grid[g[i]], mirror) for i in range(best.size)]
     found.sort(key=lambda f: -f[0])
     for _, row, h, t, g0, mirror in found[:refine_count]:
         x0, fixed = _design_of(row, h, t, mirror)
@@ -309,8 +380,41 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     return starts
 
 
-def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance) -> SixBarPath | None:
-    """Check a refined six-bar with the Linkage solver; None if it cannot be built."""
+def _timed_scan(rows, grid, timing, pts, mirror):
+    """Each row's best starting angle on ``grid`` for timed targets: fit score, placement.
+
+    The coupler points at ``θ0 + Δ_k`` placed on the targets by a rotation, scale and
+    offset ``t + h·Q`` (closed form); the score is the share of the targets' spread the
+    fit explains. Returns per row the score, ``h``, ``t`` and the index of θ0 in ``grid``.
+    """
+    from .sixbar import sixbar_points
+
+    a0 = pts - pts.mean()
+    out = []
+    for lo in range(0, rows.size, 1024):
+        block = rows[lo : lo + 1024]
+        th = mirror * (grid[:, None] + timing[None, :]).ravel()
+        Q = sixbar_points(block, th)[0].reshape(block.size, grid.size, -1)
+        Q = Q.conj() if mirror < 0 else Q
+        qm = np.nanmean(Q, axis=2, keepdims=True)
+        c = np.sum(np.conj(Q - qm) * a0, axis=2)
+        v = np.sum(np.abs(Q - qm) ** 2, axis=2)
+        score = np.nan_to_num(np.abs(c) ** 2 / np.where(v > 0, v, np.inf), nan=-1.0)
+        g = np.argmax(score, axis=1)
+        r = np.arange(block.size)
+        hh = c[r, g] / v[r, g]
+        out.append((score[r, g], hh, pts.mean() - hh * qm[r, g, 0], g))
+    return tuple(np.concatenate(x) for x in zip(*out, strict=True))
+
+
+def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -> SixBarPath | None:
+    """Check a refined six-bar with the Linkage solver; None if it cannot be built.
+
+    Defects: the crank cannot turn fully, the targets are met out of order, a
+    target where the six-bar comes apart, a target farther than ``tolerance``,
+    and a transmission angle (of either dyad, over the whole turn, by
+    :meth:`machdyn.linkage.Linkage.transmission_angles`) below ``mu_min``.
+    """
     from .atlas_path import _in_order
 
     theta = np.mod(theta, 2 * np.pi)
@@ -318,12 +422,22 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance) -> SixBarPath
         lk = sixbar_linkage(x, fixed, float(theta[0]))
     except Exception:  # a drawing the Linkage refuses (coincident joints …)
         return None
-    m = lk.solve(x[2] + theta, continuation=False)
+    try:
+        m = lk.solve(x[2] + theta, continuation=False)
+        turn = lk.solve(x[2] + theta[0] + np.linspace(0, 2 * np.pi, 361))
+    except ModelError:  # drawn at a toggle: its branches meet there, neither can be followed
+        return None
     distance = np.where(m.ok, np.abs(m.points["P"] - pts), np.inf)
-    turn = lk.solve(x[2] + theta[0] + np.linspace(0, 2 * np.pi, 361))
     defects = []
+    mu = float("nan")
     if not np.all(turn.ok):
         defects.append("the six-bar cannot be driven round a whole turn of the crank")
+    else:
+        angles = [np.asarray(a, float) for a in lk.transmission_angles(turn).values()]
+        if angles:
+            mu = float(np.nanmin(np.concatenate(angles)))
+        if mu < mu_min - np.radians(0.5):
+            defects.append(f"transmission angle falls to {np.degrees(mu):.1f} deg")
     in_order = _in_order(theta, closed, timing)
     if not in_order:
         defects.append("order defect: the coupler point meets the targets out of order")
@@ -335,5 +449,5 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance) -> SixBarPath
             defects.append(f"targets {[int(i) + 1 for i in far]} are farther than {tolerance:g}")
     (l1, l2), chain = TOPOLOGIES[fixed["topology"]]
     name = f"{chain} (dyad on links {l1} and {l2}, point on link {fixed['on']})"
-    return SixBarPath(lk, name, x, fixed, pts, theta, distance, tuple(defects),
+    return SixBarPath(lk, name, x, fixed, pts, theta, distance, tuple(defects), mu_min=mu,
                       in_order=in_order)  # fmt: skip
