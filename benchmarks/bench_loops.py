@@ -2,10 +2,12 @@
 
 One full input turn, continuation on (the default), positions + velocities +
 accelerations (and, separately, + jerks), best of N runs, single process.
-Even sweeps take the fast path (plain-float coarse march + one batched fill);
-the "careful path" rows force the general doubling-wave continuation (what
-uneven or hard sweeps get) for comparison. Also compares the hand-vectorised
-batched LU with numpy.linalg.solve.
+The rows are the NumPy path (``MACHDYN_JIT=off``) unless marked "compiled"
+(the numba sweep, loaded first). On the NumPy path even sweeps take the fast
+path (plain-float coarse march + one batched fill); the "careful path" rows
+force the general doubling-wave continuation (what uneven or hard sweeps get)
+for comparison. Also compares the hand-vectorised batched LU with
+numpy.linalg.solve.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import time
 
 import numpy as np
 
+from machdyn import jit
 from machdyn.loops import LoopSystem, lu_factor, lu_solve
 from machdyn.loops import solve as core
 
@@ -63,6 +66,26 @@ def best(fn, repeat: int) -> float:
 def main() -> None:
     big = int(float(sys.argv[1])) if len(sys.argv) > 1 else 1_000_000
     rows = []
+    assert jit.load(), jit.reason()
+    jit.set_mode("on")
+    for label, build in (
+        ("four-bar (2 unknowns)", fourbar),
+        ("six-bar+slider (4 unknowns)", sixbar),
+    ):
+        s, guess = build()
+        for n in (3_600, big):
+            theta2 = np.linspace(0.0, 2 * np.pi, n)
+            kw = {"velocity": {"theta2": 10.0}, "order": 2}
+            m = s.solve({"theta2": theta2}, guess=guess, **kw)
+            assert m.ok.all(), f"{label}: {np.unique(m.reason)}"
+            t = best(
+                lambda s=s, kw=kw, theta2=theta2, guess=guess: s.solve(
+                    {"theta2": theta2}, guess=guess, **kw
+                ),
+                20 if n <= 10_000 else 5,
+            )
+            rows.append((f"{label} pos+vel+acc, compiled", n, t, n / t))
+    jit.set_mode("off")
     for label, build in (
         ("four-bar (2 unknowns)", fourbar),
         ("six-bar+slider (4 unknowns)", sixbar),

@@ -1,14 +1,15 @@
 """machdyn.loops against pylinkage + numba on a Watt II six-bar (issue 10's speed row).
 
 Run: ``pip install -e ".[bench]" && python benchmarks/bench_loops_vs_pylinkage.py [N] [ROUNDS]``
-(default N = 3600 poses, one crank turn; ROUNDS = 30).
+(default N = 3600 poses, one crank turn; ROUNDS = 200).
 
 The same linkage (the crank-rocker 8-2-7-6 of ``bench_linkage.py`` whose ternary
 rocker drives the dyad C-D-O6) and the same poses, positions + velocities +
 accelerations, in one process, timed in interleaved rounds (machdyn, then
 pylinkage, then machdyn, ...) so that the other jobs on the shared machine slow
-both alike; reported: the best and the median of each, and the ratio of the
-medians. machdyn runs with its compiled kernels loaded (``jit.load()``);
+both alike; reported: the best, 10th percentile and median of each, and the
+ratios (of the bests, of the medians, and the median of the rounds' own
+ratios). machdyn runs with its compiled kernels loaded (``jit.load()``);
 pylinkage runs its fastest path, ``Linkage.step_fast_with_kinematics`` (numba).
 Before timing, the two answers are compared (every joint's position, velocity
 and acceleration), so that the race is between two right answers.
@@ -122,7 +123,7 @@ def check(m, lk, names, n: int) -> float:
 
 def main() -> None:
     n = int(float(sys.argv[1])) if len(sys.argv) > 1 else 3600
-    rounds = int(sys.argv[2]) if len(sys.argv) > 2 else 30
+    rounds = int(sys.argv[2]) if len(sys.argv) > 2 else 200
     import numba
     import pylinkage
 
@@ -152,18 +153,25 @@ def main() -> None:
     for _ in range(rounds):
         ours.append(time_machdyn())
         theirs.append(time_pylinkage())
-    med_o, med_t = statistics.median(ours), statistics.median(theirs)
+    pairs = statistics.median(t / o for o, t in zip(ours, theirs, strict=True))
     print(
         f"Python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}, "
         f"pylinkage {pylinkage.__version__}; {n} poses, {rounds} interleaved rounds"
     )
-    print(f"{'':34s} {'best [ms]':>10s} {'median [ms]':>12s}")
-    print(f"{'machdyn.loops (compiled)':34s} {min(ours) * 1e3:10.3f} {med_o * 1e3:12.3f}")
+    print(f"{'':36s} {'best':>8s} {'10 %':>8s} {'median':>8s}  [ms]")
+    for label, t in (
+        ("machdyn.loops (compiled)", ours),
+        ("pylinkage step_fast_with_kinematics", theirs),
+    ):
+        t = sorted(t)
+        print(
+            f"{label:36s} {t[0] * 1e3:8.3f} {t[len(t) // 10] * 1e3:8.3f} "
+            f"{t[len(t) // 2] * 1e3:8.3f}"
+        )
     print(
-        f"{'pylinkage step_fast_with_kinematics':34s} {min(theirs) * 1e3:10.3f} {med_t * 1e3:12.3f}"
-    )
-    print(
-        f"ratio pylinkage / machdyn: median {med_t / med_o:.2f}, best {min(theirs) / min(ours):.2f}"
+        f"ratio pylinkage / machdyn: of the bests {min(theirs) / min(ours):.2f}, of the medians "
+        f"{statistics.median(theirs) / statistics.median(ours):.2f}, median of the rounds' own "
+        f"ratios {pairs:.2f}"
     )
 
 

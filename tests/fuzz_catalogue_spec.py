@@ -124,6 +124,7 @@ def add_spec(c: dict, fn, meth) -> None:
     for name in ("load", "load_machine"):
         fn(f"machdyn.spec:{name}", path=str(EXAMPLES / "hw6.toml"))
         c[f"machdyn.spec:{name}"].accepts["path"] = {"text"}
+    fn("machdyn.spec:loads", text=(EXAMPLES / "hw6.toml").read_text(), source="hw6.toml")
     meth("machdyn.spec:Machine.to_spec", _machine)
     meth("machdyn.spec:Machine.run", _machine, names=["hw6"])
     c["machdyn.spec:Machine.run"].accepts["names"] = {"none", "empty"}

@@ -280,6 +280,25 @@ def test_a_machine_report_of_several_parts_renders(tab, tmp_path):
     for k in range(page.locator("svg.chart").count()):
         box = page.locator("svg.chart").nth(k).bounding_box()
         assert box["width"] > 250 and box["height"] > 150
-        labels = page.locator("svg.chart").nth(k).locator("text.axis-label").all_inner_texts()
-        assert all("(" in t for t in labels if t), labels  # every axis says its unit
+        labels = page.locator("svg.chart").nth(k).locator("text.axis-label").all_text_contents()
+        assert len(labels) == 2 and all(re.search(r"\(.+\)$", t) for t in labels), labels
     tab.shot("report_machine_slider_cranks")
+
+
+def test_the_linkage_report_shows_every_chart_with_units(tab, tmp_path):
+    from machdyn.report import report
+    from test_report import watt
+
+    path = tmp_path / "watt.html"
+    report(watt(), path, velocity=10.0, n=180, gravity=9.81, k=0.05)
+    page = tab.open(path, wait_ms=500)
+    tab.assert_clean(path)
+    for section in ("model", "class", "angles", "kinematics", "forces", "flywheel", "shaking"):
+        assert page.locator(f"section#{section}").count() == 1, section
+    charts = page.locator("svg.chart")
+    assert charts.count() >= 10
+    for k in range(charts.count()):
+        labels = charts.nth(k).locator("text.axis-label").all_text_contents()
+        assert len(labels) == 2 and all(re.search(r"\(.+\)$", t) for t in labels), labels
+    assert set(page.locator("table.checks td.state").all_inner_texts()) == {"pass"}
+    tab.shot("report_linkage_watt")

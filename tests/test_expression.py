@@ -52,7 +52,7 @@ def test_huge_powers_are_float_overflow_not_python_integers():
     assert np.all(np.isposinf(values))
     assert float(parse_function("2**-9**9**9")(1.0)) == 0.0
     assert np.isposinf(float(parse_function("1" + "0" * 400)(1.0)))  # a 401-digit literal
-    assert time.perf_counter() - start < 1.0
+    assert time.perf_counter() - start < 30.0  # guards against a hang, not a timing
 
 
 def test_size_is_bounded():

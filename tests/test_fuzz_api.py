@@ -30,10 +30,7 @@ from fuzz_support import BAD, parameters, public_callables, run_case
 CATALOGUE = catalogue()
 
 #: Callables whose bad-input cases are not all clean yet (issue #17 in progress).
-PENDING: set[str] = {
-    "machdyn.loops:lu_factor",
-    "machdyn.loops:lu_solve",
-}
+PENDING: set[str] = set()
 
 
 def test_every_public_callable_is_catalogued():

@@ -392,3 +392,15 @@ def test_random_command_lines_of_slow_commands(name, rng):
     _build_atlas()
     argv = [*name.split(), *_mutate(name, rng)]
     check(argv, *run(argv))
+
+
+def test_a_report_point_on_no_link_is_one_error_line():
+    # Issue #17: `report = ["P"]` with P on no link ended in KeyError (exit 70).
+    text = (EXAMPLES / "fourbar.toml").read_text()
+    loose = _write(
+        "loose_point.toml", text.replace('points = ["A", "B", "P"]', 'points = ["A", "B"]')
+    )
+    argv = ["linkage", loose, "--sweep", "crank=0:90:15", "--json"]
+    status, out, err = run(argv)
+    check(argv, status, out, err)
+    assert status == 1 and "report[1]: point 'P' is on no link" in err, err

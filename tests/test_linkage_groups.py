@@ -459,3 +459,38 @@ def test_flipping_a_group_with_one_assembly_is_refused():
         lk.flipped(lk.groups[0].name)
     with pytest.raises(ModelError, match="no group named"):
         lk.flipped("RRR dyad (x, y)")
+
+
+def test_a_failing_compiled_kernel_hands_over_to_numpy_but_a_timeout_is_not_swallowed(
+    backend, monkeypatch
+):
+    """The kernel failing warns once and NumPy answers (the reference); any other
+    exception raised during the call (a signal's timeout, say) propagates."""
+    from machdyn.linkage import kernel
+
+    if backend != "compiled":
+        pytest.skip("the hand-over is from the compiled kernel")
+    lk = fourbar(1.0)
+    ref = lk.solve(SWEEP, velocity=2.0)
+    kern = kernel.compiled_kernel(SWEEP.size)
+
+    class Timeout(Exception):
+        pass
+
+    def raising(exc):
+        def run(*args):
+            raise exc
+
+        return run
+
+    monkeypatch.setattr(kernel, "_failed", "")
+    monkeypatch.setattr(kern, "run", raising(Timeout()))
+    with pytest.raises(Timeout):
+        fourbar(1.0).solve(SWEEP, velocity=2.0)
+    assert kernel._failed == ""
+    monkeypatch.setattr(kern, "run", raising(RuntimeError("broken")))
+    with pytest.warns(RuntimeWarning, match="broken.*NumPy serves"):
+        m = fourbar(1.0).solve(SWEEP, velocity=2.0)
+    assert "broken" in kernel._failed
+    np.testing.assert_allclose(m.points["B"], ref.points["B"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(m.omega["rocker"], ref.omega["rocker"], rtol=0, atol=1e-12)

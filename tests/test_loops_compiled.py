@@ -356,3 +356,19 @@ def test_gear_on_an_unknown_angle_stays_on_numpy_and_keeps_its_ratio(served):
     # P = O4 + e^{jθ6} with θ6 = -2 θ4, from the solved θ4 (an independent evaluation)
     p_ref = 4.0 + np.exp(-2j * got["theta4"])
     np.testing.assert_allclose(got.points["P"][got.ok], p_ref[got.ok], atol=1e-12)
+
+
+@pytest.mark.parametrize("build", [triple_rocker, slider_watt])
+def test_sweeps_longer_than_a_chunk(build, served):
+    """The kernel works in chunks of samples: a sweep over three of them (the last one
+    partial), through gaps and whole turns, equals the NumPy path everywhere."""
+    from machdyn.loops import _kernels
+
+    s, guess = build()
+    n = 2 * _kernels.CHUNK + 77
+    t = np.linspace(0.3, 0.3 + 6 * np.pi, n)
+    ref, got = both(s, {"theta2": t}, guess, velocity={"theta2": 3.0}, jerk={"theta2": 1.0})
+    assert served == [True]
+    margin = dyad_margin(ref, *PAIRS[build.__name__])
+    assert_same_motion(ref, got, 8.0, f"{build.__name__} long", margin)
+    assert got.ok[_kernels.CHUNK :].any()

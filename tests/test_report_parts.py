@@ -206,3 +206,48 @@ def test_parts_without_a_report_show_their_curve_or_drawing(cli, tmp_path):
     # both synthesised four-bars drawn (the motion task in its three precision positions)
     assert len(re.findall(r'<svg id="[^"]+" class="machdyn-drawing"', page)) == 2
     assert "in its 3 precision positions" in page
+
+
+def test_transmission_angles_with_their_limit_in_closed_form(sc):
+    # slider-crank: μ = 90° − |rod angle|, sin(rod angle) = (a sin θ2 − c)/b, smallest at 270°
+    page = report(sc, n=360)
+    expected = 90.0 - np.degrees(np.arcsin((2.0 + 0.5) / 6.0))
+    assert number(cell(page, "mu_min_deg")) == pytest.approx(expected, abs=5e-3)
+    assert f"μ min = {expected:.2f}° at θ2 = 270.0°" in page  # the chart marks it
+    assert "limit 40°" in page
+
+
+def test_linkage_report_draws_the_transmission_angle_of_every_dyad():
+    from test_report import watt
+
+    lk = watt()
+    page = report(lk, velocity=10.0, n=360)
+    x = np.radians(np.linspace(0.0, 360.0, 360))
+    m = lk.solve({"2": x})
+    P = {k: np.ravel(v) for k, v in m.points.items()}
+    # μ written here from the pins: the acute angle between the two links at B and at D
+    for key, (mid, a, b) in {"mu_min_0": ("B", "A", "O4"), "mu_min_1": ("D", "C", "O6")}.items():
+        ang = np.abs(np.angle((P[a] - P[mid]) / (P[b] - P[mid])))
+        mu = np.degrees(np.minimum(ang, np.pi - ang))
+        assert number(cell(page, key)) == pytest.approx(np.nanmin(mu), abs=0.3)  # 1° sweep
+    for group in ("RRR dyad (3, 4)", "RRR dyad (5, 6)"):  # a chart each, with the limit
+        assert f"transmission angle of the {group}" in page
+
+
+def test_the_flywheel_check_fails_on_a_wrong_energy():
+    from machdyn.flywheel import size_flywheel
+    from machdyn.report.checks import flywheel_energy
+
+    th = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+    T = 10.0 + 4.0 * np.sin(2 * th) + np.cos(3 * th)
+    right = size_flywheel(th, T, 12.0, 0.05)
+    assert flywheel_energy(th, T, right).passed
+    # ΔE of this curve in closed form: T − T_avg = 4 sin 2θ + cos 3θ; its integral's spread
+    E = (
+        -2.0 * np.cos(2 * np.linspace(0, 2 * np.pi, 100_001))
+        + np.sin(3 * np.linspace(0, 2 * np.pi, 100_001)) / 3.0
+    )
+    assert right.delta_e == pytest.approx(np.ptp(E), rel=1e-3)
+    # the sizing checked against a torque 1 % larger fails, and so does an inertia 1 % off
+    assert not flywheel_energy(th, T * 1.01, right).passed
+    assert not flywheel_energy(th, T, replace(right, inertia=right.inertia * 1.01)).passed

@@ -383,3 +383,29 @@ def test_pint_quantities_give_a_model_its_units_and_labelled_columns():
     df = fb.solve(np.radians([0.0, 10.0]), omega2=1.0).to_pandas(degrees=True)
     assert {"theta3 [deg]", "omega4 [rad/s]", "B_x [mm]"} <= set(df.columns)
     assert "theta3_deg" in FourBar(8, 4, 7, 6).solve(0.1).to_pandas(degrees=True)
+
+
+def test_loads_reads_text_as_load_machine_reads_the_file(tmp_path):
+    from machdyn.spec import loads
+
+    text = (EXAMPLES / "hw6.toml").read_text(encoding="utf-8")
+    machine = loads(text, "hw6.toml")
+    assert machine.to_spec() == load_machine(EXAMPLES / "hw6.toml").to_spec()
+    assert machine.source == "hw6.toml" and not machine.legacy
+    # errors carry the given name and the key's line, as from a file
+    bad = BASE.replace("r2 = 40", 'r2 = "4 kg"')
+    with pytest.raises(SpecError, match=r"^dropped\.toml:8: \[fourbar\.a\] r2: expected a length"):
+        loads(bad, "dropped.toml")
+    # JSON by the name's ending; an old linkage file is upgraded
+    json_text = '{"machdyn": 1, "fourbar": {"a": {"r1": 8, "r2": 4, "r3": 7, "r4": 6}}}'
+    assert loads(json_text, "a.json")["a"].lengths == (8.0, 4.0, 7.0, 6.0)
+    old = 'ground = ["O2"]\ndrive = ["c"]\n[points]\nO2 = [0, 0]\nA = [1, 0]\n'
+    old += '[[link]]\nname = "c"\npoints = ["O2", "A"]\n'
+    assert loads(old, "old.toml").legacy
+    for text_, source, needle in (
+        (b"machdyn = 1", "a.toml", "text: expected the file's text"),
+        ("machdyn = 1", "a.txt", "source: expected a name ending in .toml or .json"),
+        ("machdyn = 1", "", "source: expected a name"),
+    ):
+        with pytest.raises(machdyn.InputError, match=needle):
+            loads(text_, source)

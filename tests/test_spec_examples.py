@@ -190,3 +190,37 @@ def test_press_example_refers_parts_to_each_other():
     # I in the file's units: kg*mm^2 (1 kg*m^2 = 1e6 kg*mm^2)
     assert s["I (flywheel inertia) [kg*mm^2]"] == pytest.approx(fw.inertia * 1e6, rel=1e-9)
     assert s["omega_avg [rpm]"] == pytest.approx(360.0, rel=1e-12)
+
+
+def test_the_cam_command_reads_a_machine_file(tmp_path, capsys):
+    """``machdyn cam --program`` takes the cam part of a machine file (DXF in the file's unit)."""
+    import json
+
+    from machdyn.cli import main
+
+    dxf = tmp_path / "lifter.dxf"
+    assert main(["cam", "--program", str(EXAMPLES / "cam.toml"), "--json", "--dxf", str(dxf)]) == 0
+    got = json.loads(capsys.readouterr().out)
+    program = cams.CamProgram(
+        [
+            cams.Segment("rise", math.radians(60), 25.0, "cycloidal"),
+            cams.Segment("dwell", math.radians(120)),
+            cams.Segment("fall", math.radians(60), 25.0, "cycloidal"),
+            cams.Segment("dwell", math.radians(120)),
+        ]
+    )
+    profile = cams.TranslatingRoller(75.0, 12.5).profile(program)
+    assert got["pressure_angle_max_deg"] == pytest.approx(
+        math.degrees(abs(profile.pressure_angle_max)),
+        abs=0.1,  # the command samples 3600
+    )
+    assert got["rpm"] == pytest.approx(100.0, rel=1e-12)
+    # cycloidal rise: peak V = 2 h / beta * omega = 2 * 25 / (pi/3) * (100 rpm), mm/s
+    assert got["peaks_time"]["V"] == pytest.approx(2 * 25 / (math.pi / 3) * 100 * RPM, rel=1e-9)
+    lines = dxf.read_text().splitlines()
+    assert lines[lines.index("$INSUNITS") + 2].strip() == "4"  # millimetres
+    # a file of several cams (or none) is refused in one line, naming the option
+    two = tmp_path / "two.toml"
+    two.write_text("machdyn = 1\n[fourbar.a]\nr1 = 8\nr2 = 4\nr3 = 7\nr4 = 6\n")
+    assert main(["cam", "--program", str(two)]) == 1
+    assert "--program" in capsys.readouterr().err

@@ -310,3 +310,77 @@ def test_bad_parts_of_every_kind_name_the_key(spec, needle):
     with pytest.raises(SpecError) as info:
         from_spec({"machdyn": 1, "units": {"length": "mm"}, **spec})
     assert needle in str(info.value) and "\n" not in str(info.value)
+
+
+def test_gear_trains_function_and_path_synthesis_in_two_systems_agree():
+    """The remaining kinds: SI (m, rad/s) against mm, deg and rpm; factors written here."""
+    mm_per_m, rpm_per_rad_s = 1000.0, 60 / (2 * math.pi)
+    targets = [[0, 0], [0.1, 0.05], [0.2, 0], [0.1, -0.05]]
+    search = {"maxiter": 20, "popsize": 6, "seed": 3, "polish": False}
+    si = _pair(
+        {"length": "m", "angle": "rad"},
+        {
+            "gear_train": {"b": {"stages": [[18, 54], [20, 60]], "input_speed": 100.0}},
+            "function_synthesis": {
+                "f": {
+                    "function": "log10(x)",
+                    "x": [1, 2],
+                    "theta2": [math.radians(45), math.radians(105)],
+                    "theta4": [math.radians(135), math.radians(225)],
+                    "r1": 0.2,
+                }
+            },
+            "path_synthesis": {"p": {"targets": targets, "tolerance": 0.001, **search}},
+        },
+    )
+    mm = _pair(
+        {"length": "mm", "angle": "deg", "angular_velocity": "rpm"},
+        {
+            "gear_train": {"b": {"stages": [[18, 54], [20, 60]], "input_speed": "100 rad/s"}},
+            "function_synthesis": {
+                "f": {
+                    "function": "log10(x)",
+                    "x": [1, 2],
+                    "theta2": [45, 105],
+                    "theta4": [135, 225],
+                    "r1": 200,
+                }
+            },
+            "path_synthesis": {
+                "p": {
+                    "targets": [[mm_per_m * x, mm_per_m * y] for x, y in targets],
+                    "tolerance": 1,
+                    **search,
+                }
+            },
+        },
+    )
+    ra, rb = si.run(), mm.run()
+
+    def s(results, machine, part):
+        return dict(i.shown(machine.units) for i in results[part].summary)
+
+    # the train: 18/54 * 20/60 = 1/9 of the input speed, shown in rad/s and in rpm
+    assert s(ra, si, "b")["output speed [rad/s]"] == pytest.approx(100 / 9, rel=1e-12)
+    assert s(rb, mm, "b")["output speed [rpm]"] == pytest.approx(100 / 9 * rpm_per_rad_s)
+    sa = ra["b"].table("stages").labelled(si.units)["driven_speed [rad/s]"]
+    sb = rb["b"].table("stages").labelled(mm.units)["driven_speed [rpm]"]
+    np.testing.assert_allclose(sb, sa * rpm_per_rad_s, rtol=1e-12)
+    # Freudenstein: the same linkage, lengths scaled by 1000
+    np.testing.assert_allclose(
+        s(rb, mm, "f")["r1, r2, r3, r4 [mm]"],
+        mm_per_m * np.array(s(ra, si, "f")["r1, r2, r3, r4 [m]"]),
+        rtol=1e-10,
+    )
+    # the path search (same seed): the same design at 1000 times the size
+    np.testing.assert_allclose(
+        s(rb, mm, "p")["r1, r2, r3, r4 [mm]"],
+        mm_per_m * np.array(s(ra, si, "p")["r1, r2, r3, r4 [m]"]),
+        rtol=1e-6,
+    )
+    assert s(rb, mm, "p")["mu_min [deg]"] == pytest.approx(
+        math.degrees(s(ra, si, "p")["mu_min [rad]"]), rel=1e-6
+    )
+    da = ra["p"].table("targets").labelled(si.units)["distance [m]"]
+    db = rb["p"].table("targets").labelled(mm.units)["distance [mm]"]
+    np.testing.assert_allclose(db, mm_per_m * da, rtol=1e-5, atol=1e-9)

@@ -257,3 +257,11 @@ def test_old_linkage_files_upgrade_to_the_same_machine():
 def test_the_examples_are_machine_files():
     for name in ("fourbar.toml", "lid.toml"):
         assert not load_machine(EXAMPLES / name).legacy
+
+
+def test_a_reported_point_on_no_link_is_refused_at_its_key(tmp_path):
+    path = tmp_path / "lid.toml"
+    text = LID_SI.replace('report = ["A"]', 'report = ["A", "Z"]')
+    path.write_text(text.replace("S = [0.15, -0.3]\n", "S = [0.15, -0.3]\nZ = [1, 1]\n"))
+    with pytest.raises(SpecError, match=r":8: \[linkage\.lid\] report\[2\]: point 'Z' is on no"):
+        load_machine(path)

@@ -179,3 +179,55 @@ def test_json_machine_files_read_like_toml(tmp_path, capsys):
     file.write_text('{"machdyn": 1,\n "fourbar": }')
     assert main(["run", str(file)]) == 1
     assert f"{file}:2: JSON syntax error" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ every quantity of every example
+def _leaves(doc, prefix=()):
+    if isinstance(doc, dict):
+        for key, value in doc.items():
+            yield from _leaves(value, (*prefix, key))
+    elif isinstance(doc, list):
+        for i, value in enumerate(doc):
+            yield from _leaves(value, (*prefix, i))
+    else:
+        yield prefix, doc
+
+
+def _quantity_like(value) -> bool:
+    """A number, or text with a unit (``"30 deg"``)."""
+    from machdyn.units import parse
+
+    if isinstance(value, bool):
+        return False
+    if isinstance(value, int | float):
+        return True
+    try:
+        return isinstance(value, str) and bool(parse(value)[1])
+    except ValueError:
+        return False
+
+
+QUANTITIES = [
+    (name, path)
+    for name, doc in DOCS.items()
+    for path, value in _leaves(doc)
+    if path != ("machdyn",) and _quantity_like(value)
+]
+
+
+@pytest.mark.parametrize("bad", ["3 A", "3 furlongz"], ids=["wrong dimension", "unknown unit"])
+def test_every_quantity_of_every_example_names_its_key_when_wrong(bad):
+    """A current where a length (mass, speed, count...) is due, or a unit pint does not know:
+    refused, naming the file, the key's line and the key, for every number of every example."""
+    from machdyn.spec import loads
+
+    assert len(QUANTITIES) > 150
+    for name, path in QUANTITIES:
+        text = dumps(_set(DOCS[name], path, bad))
+        with pytest.raises(SpecError) as info:
+            loads(text, name)
+        message = str(info.value)
+        key = [k for k in path if isinstance(k, str)][-1]
+        assert message.startswith(f"{name}:") and "\n" not in message, message
+        assert message.split(":")[1].isdigit(), f"no line: {message}"
+        assert key in message and ("'3 A'" in message or "furlongz" in message), (path, message)

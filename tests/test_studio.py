@@ -120,6 +120,21 @@ def test_save_writes_only_the_file_given_and_session_reads_it_back(server):
         bare.calls["save"][0]({"doc": doc})
 
 
+def test_an_analysis_answer_carries_server_timing(server):
+    """Server-Timing: the analysis' wall time and its worker thread's CPU time (benchmark)."""
+    body = json.dumps({"doc": template("four-bar"), "samples": 36}).encode()
+    req = urllib.request.Request(
+        f"http://127.0.0.1:{server.port}/api/analyse",
+        data=body,
+        headers={"Content-Type": "application/json", "Host": f"127.0.0.1:{server.port}"},
+        method="POST",
+    )
+    with urllib.request.urlopen(req, timeout=60) as r:
+        timing = r.headers["Server-Timing"]
+    wall, cpu = (float(t.split("dur=")[1]) for t in timing.split(", "))
+    assert timing.startswith("app;dur=") and ", cpu;dur=" in timing and wall > 0 and cpu >= 0
+
+
 # ------------------------------------------------------------------ answers
 def test_templates_read_and_close_and_move():
     for name in TEMPLATES:

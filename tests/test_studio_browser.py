@@ -744,3 +744,23 @@ def test_three_position_synthesis_with_fixed_pivots_picked_on_the_canvas(page):
     assert shown == pytest.approx([80, 40, 70, 60], rel=0.02)  # HW 6 back
     assert "No circuit, branch or order defect" in p.page.locator("#tab-synthesis").inner_text()
     no_errors(p)
+
+
+def test_a_sliders_guide_is_edited_in_the_side_panel(page):
+    p = page
+    template(p, "slider-crank")
+    p.page.click("button[data-tab=design]")
+    p.page.click("#tab-design .lists a:text-is('cylinder')")
+    before = analysed(p)
+    p.page.fill("input[aria-label='guide direction']", "10")
+    p.page.keyboard.press("Enter")
+    settle(p, before)
+    pt = part(p)
+    assert pt["sliders"]["cylinder"]["direction"] == 10
+    r = scene(p)
+    assert all(r["ok"])
+    assert_rigid_and_on_guides(pt, r)  # the piston now runs along 10°, by hand
+    b = positions(r, "B")
+    assert np.ptp(np.angle((b - b[0])[np.abs(b - b[0]) > 1]) % np.pi) < 3e-3  # (3 decimals)
+    p.shot("studio-20-guide-edited")
+    no_errors(p)

@@ -6,20 +6,28 @@ tested against (every linkage test runs on both).
 
 The program is data: each step is a row of integers and floats
 (:func:`machdyn.linkage.kernel.encode`), so one compiled kernel serves every
-linkage and a changed linkage compiles nothing. The samples are taken in
-blocks of :data:`BLOCK`; within a block each step is one loop over the
-samples, written in **real** arithmetic (numba's complex numbers call helper
-functions and defeat vectorisation; the elementary functions are the
-polynomial ones of :mod:`machdyn._kernels`), so LLVM can vectorise it. The
-arithmetic is the NumPy path's: a driver places its link; a dyad's pin is a
-circle–circle (RRR), circle–line (RRP) or line–line (PRP) meet with the drawn
-assembly sign, an RPR's line a tangent, an RPP a line–line meet; every
-derivative order is the same 2 × 2 system solved by Cramer's rule.
+linkage and a changed linkage compiles nothing. The kernel takes the samples
+one by one and runs every step on a small state (one row per link, in the
+first level of cache), in **real** arithmetic (numba's complex numbers call
+helper functions; the elementary functions are the polynomial ones of
+:mod:`machdyn._kernels`). The arithmetic is the NumPy path's: a driver places
+its link; a dyad's pin is a circle–circle (RRR), circle–line (RRP) or
+line–line (PRP) meet with the drawn assembly sign, an RPR's line a tangent, an
+RPP a line–line meet; every derivative order is the same 2 × 2 system solved
+by Cramer's rule.
 
-State of link ``i`` in a block (row 0 is the ground: zeros, ``E = 1``): origin
-``(ox, oy)``, rotation ``E = (ex, ey) = e^{jΔ}``, its angle ``an`` (Δ, wrapped
-where it comes from an ``atan2``), rates of the origin ``(vx, vy)[k·nl + i]``
-and of the angle ``w[k·nl + i]`` (k = 0, 1, 2: velocity, acceleration, jerk).
+The angles of links placed through an ``atan2`` (dyad arms and what turns
+with them) are taken once per block of :data:`BLOCK` samples, in a loop LLVM
+vectorises; along a sweep they are then unwrapped by :func:`follow`, which
+also runs the program (positions only) along the path from the drawn pose to
+the first sample and between samples further apart than the path's step, as
+:mod:`machdyn.linkage.sweep` does in NumPy.
+
+State of link ``i`` (row 0 is the ground: zeros, ``E = 1``): ``st[i, :]`` =
+origin ``(ox, oy)``, rotation ``E = (ex, ey) = e^{jΔ}``, its angle Δ (exact
+for links placed by a driver; not kept for those from an ``atan2``), then for
+k = 1, 2, 3 the origin's rate ``(vx, vy)`` and the angle's rate ``w`` at
+columns ``5 + 3 (k − 1)`` …
 """
 
 from __future__ import annotations
@@ -33,28 +41,20 @@ from ._kernels import angle as _angle_2pi
 from ._kernels import sincos
 from .linkage._scalar import CRANK, DYAD, MOTOR, NF, NI, RPR, SINGULAR_SINE, SLIDE
 
-_jit = njit(cache=True, nogil=True, error_model="numpy")
-_inline = njit(inline="always", error_model="numpy")
+# "contract" lets LLVM fuse a * b + c; "arcp" turns a division by a value used
+# several times into one reciprocal. Neither assumes finite values (NaN marks
+# samples that do not assemble).
+_FAST = {"contract", "arcp"}
+_jit = njit(cache=True, nogil=True, error_model="numpy", fastmath=_FAST)
+_inline = njit(inline="always", error_model="numpy", fastmath=_FAST)
 
-#: Samples per block (the state of every link for a block stays in cache).
+#: Samples per block (the angles from atan2 are taken per block, vectorised).
 BLOCK = 256
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
-# A link's rows (1-D views over a block): origin, rotation, angle, and per order the
-# origin's rate and the angle's rate. Views taken before a loop let LLVM see through the
-# runtime row numbers (2-D indexing by a link number kept every loop scalar).
 OX, OY, EX, EY, AN = 0, 1, 2, 3, 4  # then VX, VY, W of order k at 5 + 3 (k - 1)
-
-
-@_inline
-def _rows(S, nl, i):  # pragma: no cover - compiled
-    ox, oy, ex, ey, an, vx, vy, w = S
-    i = max(i, 0)  # a virtual link (-1) gets the ground's rows, never written
-    return (
-        ox[i], oy[i], ex[i], ey[i], an[i],
-        vx[i], vy[i], w[i], vx[nl + i], vy[nl + i], w[nl + i],
-        vx[2 * nl + i], vy[2 * nl + i], w[2 * nl + i],
-    )  # fmt: skip
+#: Columns of a link's state.
+NS = 14
 
 
 @_inline
@@ -64,59 +64,59 @@ def _atan2(y, x):  # pragma: no cover - compiled
 
 
 @_inline
-def _pt(R, rx, ry, j, order):  # pragma: no cover - compiled
-    """The material point drawn at offset (rx, ry) on the link of rows R: 8 floats."""
-    cx, cy = R[EX][j], R[EY][j]
+def _pt(st, i, rx, ry, order):  # pragma: no cover - compiled
+    """The material point drawn at offset (rx, ry) on link i: 8 floats."""
+    cx, cy = st[i, EX], st[i, EY]
     qx = rx * cx - ry * cy
     qy = rx * cy + ry * cx
     p1x = p1y = p2x = p2y = p3x = p3y = 0.0
     if order >= 1:
-        w1 = R[7][j]
-        p1x = R[5][j] - w1 * qy
-        p1y = R[6][j] + w1 * qx
+        w1 = st[i, 7]
+        p1x = st[i, 5] - w1 * qy
+        p1y = st[i, 6] + w1 * qx
         if order >= 2:
-            w2 = R[10][j]
-            p2x = R[8][j] - w2 * qy - w1 * w1 * qx
-            p2y = R[9][j] + w2 * qx - w1 * w1 * qy
+            w2 = st[i, 10]
+            p2x = st[i, 8] - w2 * qy - w1 * w1 * qx
+            p2y = st[i, 9] + w2 * qx - w1 * w1 * qy
             if order >= 3:
-                c = R[13][j] - w1 * w1 * w1
+                c = st[i, 13] - w1 * w1 * w1
                 d = 3.0 * w1 * w2
-                p3x = R[11][j] - c * qy - d * qx
-                p3y = R[12][j] + c * qx - d * qy
-    return R[OX][j] + qx, R[OY][j] + qy, p1x, p1y, p2x, p2y, p3x, p3y
+                p3x = st[i, 11] - c * qy - d * qx
+                p3y = st[i, 12] + c * qx - d * qy
+    return st[i, OX] + qx, st[i, OY] + qy, p1x, p1y, p2x, p2y, p3x, p3y
 
 
 @_inline
-def _put(R, j, order, P, rx, ry, cx, cy, a, w1, w2, w3):  # pragma: no cover - compiled
-    """Place the link of rows R from its point drawn at (rx, ry), at P, turned by E = c."""
-    R[EX][j] = cx
-    R[EY][j] = cy
-    R[AN][j] = a
+def _put(st, i, order, P, rx, ry, cx, cy, a, w1, w2, w3):  # pragma: no cover - compiled
+    """Place link i from its point drawn at (rx, ry), at P, turned by E = c."""
+    st[i, EX] = cx
+    st[i, EY] = cy
+    st[i, AN] = a
     qx = -(rx * cx - ry * cy)
     qy = -(rx * cy + ry * cx)
-    R[OX][j] = P[0] + qx
-    R[OY][j] = P[1] + qy
+    st[i, OX] = P[0] + qx
+    st[i, OY] = P[1] + qy
     if order >= 1:
-        R[7][j] = w1
-        R[5][j] = P[2] - w1 * qy
-        R[6][j] = P[3] + w1 * qx
+        st[i, 7] = w1
+        st[i, 5] = P[2] - w1 * qy
+        st[i, 6] = P[3] + w1 * qx
         if order >= 2:
-            R[10][j] = w2
-            R[8][j] = P[4] - w2 * qy - w1 * w1 * qx
-            R[9][j] = P[5] + w2 * qx - w1 * w1 * qy
+            st[i, 10] = w2
+            st[i, 8] = P[4] - w2 * qy - w1 * w1 * qx
+            st[i, 9] = P[5] + w2 * qx - w1 * w1 * qy
             if order >= 3:
-                R[13][j] = w3
+                st[i, 13] = w3
                 c = w3 - w1 * w1 * w1
                 d = 3.0 * w1 * w2
-                R[11][j] = P[6] - c * qy - d * qx
-                R[12][j] = P[7] + c * qx - d * qy
+                st[i, 11] = P[6] - c * qy - d * qx
+                st[i, 12] = P[7] + c * qx - d * qy
 
 
 @_inline
-def _rates(R, j, order):  # pragma: no cover - compiled
-    w1 = R[7][j] if order >= 1 else 0.0
-    w2 = R[10][j] if order >= 2 else 0.0
-    w3 = R[13][j] if order >= 3 else 0.0
+def _rates(st, i, order):  # pragma: no cover - compiled
+    w1 = st[i, 7] if order >= 1 else 0.0
+    w2 = st[i, 10] if order >= 2 else 0.0
+    w3 = st[i, 13] if order >= 3 else 0.0
     return w1, w2, w3
 
 
@@ -179,30 +179,27 @@ def _length(U, d, i, constant):  # pragma: no cover - compiled
 
 
 @_inline
-def _set_r(R, j, order, P, brx, bry, vx_, vy_, ux, uy, n, x1, x2, x3):  # pragma: no cover
+def _set_r(st, R, order, P, brx, bry, vx_, vy_, ux, uy, n, x1, x2, x3):  # pragma: no cover
     """Place the link of an R arm: its rotation is the arm vector over the drawn one."""
     cx = (vx_ * ux + vy_ * uy) / n
     cy = (vy_ * ux - vx_ * uy) / n
-    _put(R, j, order, P, brx, bry, cx, cy, _atan2(cy, cx), x1, x2, x3)
+    _put(st, R, order, P, brx, bry, cx, cy, 0.0, x1, x2, x3)  # its angle: atan2, later
 
 
 # ---------------------------------------------------------------------- drivers
 @_jit
-def _crank(S, nl, pi, pf, ib, fb, U, lo, b, order):  # pragma: no cover - compiled
+def _crank(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
     L, K, d = pi[ib + 2], pi[ib + 3], pi[ib + 4]
     rkx, rky, rlx, rly, theta0 = pf[fb], pf[fb + 1], pf[fb + 2], pf[fb + 3], pf[fb + 4]
-    RK, RL = _rows(S, nl, K), _rows(S, nl, L)
-    u0, u1, u2, u3 = U[4 * d], U[4 * d + 1], U[4 * d + 2], U[4 * d + 3]
-    for j in range(b):
-        i = lo + j
-        delta = u0[i] - theta0
-        s, c = sincos(delta)
-        P = _pt(RK, rkx, rky, j, order)
-        _put(RL, j, order, P, rlx, rly, c, s, delta, u1[i], u2[i], u3[i])
+    RK, RL = max(K, 0), max(L, 0)
+    delta = U[4 * d, i] - theta0
+    s, c = sincos(delta)
+    P = _pt(st, RK, rkx, rky, order)
+    _put(st, RL, order, P, rlx, rly, c, s, delta, U[4 * d + 1, i], U[4 * d + 2, i], U[4 * d + 3, i])
 
 
 @_jit
-def _motor(S, nl, pi, pf, ib, fb, U, lo, b, order):  # pragma: no cover - compiled
+def _motor(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
     L, K, Sr, d = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
     rkx, rky, rlx, rly, sg, phi0 = (
         pf[fb],
@@ -212,21 +209,19 @@ def _motor(S, nl, pi, pf, ib, fb, U, lo, b, order):  # pragma: no cover - compil
         pf[fb + 4],
         pf[fb + 5],
     )
-    RK, RL, RS = _rows(S, nl, K), _rows(S, nl, L), _rows(S, nl, Sr)
-    u0, u1, u2, u3 = U[4 * d], U[4 * d + 1], U[4 * d + 2], U[4 * d + 3]
-    for j in range(b):
-        i = lo + j
-        delta = sg * (u0[i] - phi0)
-        s, c = sincos(delta)
-        ex, ey = RS[EX][j], RS[EY][j]
-        w1, w2, w3 = _rates(RS, j, order)
-        P = _pt(RK, rkx, rky, j, order)
-        _put(RL, j, order, P, rlx, rly, ex * c - ey * s, ex * s + ey * c, RS[AN][j] + delta,
-             w1 + sg * u1[i], w2 + sg * u2[i], w3 + sg * u3[i])  # fmt: skip
+    RK, RL, RS = max(K, 0), max(L, 0), max(Sr, 0)
+    delta = sg * (U[4 * d, i] - phi0)
+    s, c = sincos(delta)
+    ex, ey = st[RS, EX], st[RS, EY]
+    w1, w2, w3 = _rates(st, RS, order)
+    P = _pt(st, RK, rkx, rky, order)
+    _put(st, RL, order, P, rlx, rly, ex * c - ey * s, ex * s + ey * c, st[RS, AN] + delta,
+         w1 + sg * U[4 * d + 1, i], w2 + sg * U[4 * d + 2, i],
+         w3 + sg * U[4 * d + 3, i])  # fmt: skip
 
 
 @_jit
-def _slide(S, nl, pi, pf, ib, fb, U, lo, b, order):  # pragma: no cover - compiled
+def _slide(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
     L, K, Lf, La, d, block = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5], pi[ib + 6], pi[ib + 7]
     rfx, rfy, rax, ray, u0x, u0y = (
         pf[fb],
@@ -236,29 +231,26 @@ def _slide(S, nl, pi, pf, ib, fb, U, lo, b, order):  # pragma: no cover - compil
         pf[fb + 4],
         pf[fb + 5],
     )
-    RK, RL = _rows(S, nl, K), _rows(S, nl, L)
-    RB = _rows(S, nl, Lf if block == 1 else La)  # the known body's point: foot or block's pin
+    RK, RL = max(K, 0), max(L, 0)
+    RB = max(Lf if block == 1 else La, 0)  # the known body's point: foot or block's pin
     bx, by = (rfx, rfy) if block == 1 else (rax, ray)
     px, py = (rax, ray) if block == 1 else (rfx, rfy)  # the moving link's point
     sg = 1.0 if block == 1 else -1.0
-    u0, u1, u2, u3 = U[4 * d], U[4 * d + 1], U[4 * d + 2], U[4 * d + 3]
-    for j in range(b):
-        i = lo + j
-        cx, cy = RK[EX][j], RK[EY][j]
-        ux, uy = u0x * cx - u0y * cy, u0x * cy + u0y * cx
-        w1, w2, w3 = _rates(RK, j, order)
-        Q = _pt(RB, bx, by, j, order)
-        d0, d1, d2, d3 = u0[i], u1[i], u2[i], u3[i]
-        t1x, t1y = _p_term(1, d0, d1, d2, ux, uy, w1, w2, w3)
-        t2x, t2y = _p_term(2, d0, d1, d2, ux, uy, w1, w2, w3)
-        t3x, t3y = _p_term(3, d0, d1, d2, ux, uy, w1, w2, w3)
-        P = (
-            Q[0] + sg * d0 * ux, Q[1] + sg * d0 * uy,
-            Q[2] + sg * (t1x + d1 * ux), Q[3] + sg * (t1y + d1 * uy),
-            Q[4] + sg * (t2x + d2 * ux), Q[5] + sg * (t2y + d2 * uy),
-            Q[6] + sg * (t3x + d3 * ux), Q[7] + sg * (t3y + d3 * uy),
-        )  # fmt: skip
-        _put(RL, j, order, P, px, py, cx, cy, RK[AN][j], w1, w2, w3)
+    cx, cy = st[RK, EX], st[RK, EY]
+    ux, uy = u0x * cx - u0y * cy, u0x * cy + u0y * cx
+    w1, w2, w3 = _rates(st, RK, order)
+    Q = _pt(st, RB, bx, by, order)
+    d0, d1, d2, d3 = U[4 * d, i], U[4 * d + 1, i], U[4 * d + 2, i], U[4 * d + 3, i]
+    t1x, t1y = _p_term(1, d0, d1, d2, ux, uy, w1, w2, w3)
+    t2x, t2y = _p_term(2, d0, d1, d2, ux, uy, w1, w2, w3)
+    t3x, t3y = _p_term(3, d0, d1, d2, ux, uy, w1, w2, w3)
+    P = (
+        Q[0] + sg * d0 * ux, Q[1] + sg * d0 * uy,
+        Q[2] + sg * (t1x + d1 * ux), Q[3] + sg * (t1y + d1 * uy),
+        Q[4] + sg * (t2x + d2 * ux), Q[5] + sg * (t2y + d2 * uy),
+        Q[6] + sg * (t3x + d3 * ux), Q[7] + sg * (t3y + d3 * uy),
+    )  # fmt: skip
+    _put(st, RL, order, P, px, py, cx, cy, st[RK, AN], w1, w2, w3)
 
 
 # ---------------------------------------------------------------------- dyads
@@ -275,50 +267,50 @@ def _rr_order(k, A, C, a_, c_, v, xa1, xa2, xb1, xb2):  # pragma: no cover - com
 
 
 @_jit
-def _dyad_rr(S, nl, pi, pf, ib, fb, U, lo, b, order, codes, g):  # pragma: no cover
+def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     """RRR (an arm may be an actuator's bar: a driven length)."""
     K1, L1, d1, K2, L2, d2 = pi[ib + 3], pi[ib + 4], pi[ib + 5], pi[ib + 7], pi[ib + 8], pi[ib + 9]
-    r1x, r1y, b1x, b1y, u1x, u1y, len1 = pf[fb : fb + 7]
-    r2x, r2y, b2x, b2y, u2x, u2y, len2 = pf[fb + 7 : fb + 14]
+    r1x, r1y, b1x = pf[fb], pf[fb + 1], pf[fb + 2]
+    b1y, u1x, u1y = pf[fb + 3], pf[fb + 4], pf[fb + 5]
+    len1 = pf[fb + 6]
+    r2x, r2y, b2x = pf[fb + 7], pf[fb + 8], pf[fb + 9]
+    b2y, u2x, u2y = pf[fb + 10], pf[fb + 11], pf[fb + 12]
+    len2 = pf[fb + 13]
     sign = pf[fb + 14]
     n1, n2 = u1x * u1x + u1y * u1y, u2x * u2x + u2y * u2y
-    RK1, RK2, RL1, RL2 = _rows(S, nl, K1), _rows(S, nl, K2), _rows(S, nl, L1), _rows(S, nl, L2)
-    cg = codes[g]
-    for j in range(b):
-        i = lo + j
-        A = _pt(RK1, r1x, r1y, j, order)
-        C = _pt(RK2, r2x, r2y, j, order)
-        a0, a1, a2, a3 = _length(U, d1, i, len1)
-        c0, c1, c2, c3 = _length(U, d2, i, len2)
-        acx, acy = C[0] - A[0], C[1] - A[1]
-        dd2 = acx * acx + acy * acy
-        dd = math.sqrt(dd2)
-        x = (a0 * a0 - c0 * c0 + dd2) / (2.0 * dd)
-        h2 = (a0 - x) * (a0 + x)
-        ok = h2 >= -1e-14 * a0 * a0 and dd > 0.0
-        h = sign * math.sqrt(max(h2, 0.0))
-        bx = A[0] + (x * acx - h * acy) / dd if ok else math.nan
-        by = A[1] + (x * acy + h * acx) / dd if ok else math.nan
-        vax, vay, vbx, vby = bx - A[0], by - A[1], bx - C[0], by - C[1]
-        cg[i] = _code(ok, vax * vby - vay * vbx, a0 * c0)
-        eax, eay, ebx, eby = vax / a0, vay / a0, vbx / c0, vby / c0
-        # unknowns: the arms' angles; columns j·va and −j·vb (orders unrolled: the loop over
-        # the samples stays the innermost, which LLVM vectorises)
-        xa1 = xa2 = xa3 = xb1 = xb2 = xb3 = 0.0
-        B1x = B1y = B2x = B2y = B3x = B3y = 0.0
-        a_, c_ = (a0, a1, a2, a3), (c0, c1, c2, c3)
-        v = (vax, vay, vbx, vby, eax, eay, ebx, eby)
-        if order >= 1:
-            xa1, xb1, B1x, B1y = _rr_order(1, A, C, a_, c_, v, 0.0, 0.0, 0.0, 0.0)
-            if order >= 2:
-                xa2, xb2, B2x, B2y = _rr_order(2, A, C, a_, c_, v, xa1, 0.0, xb1, 0.0)
-                if order >= 3:
-                    xa3, xb3, B3x, B3y = _rr_order(3, A, C, a_, c_, v, xa1, xa2, xb1, xb2)
-        P = (bx, by, B1x, B1y, B2x, B2y, B3x, B3y)
-        if L1 >= 0:
-            _set_r(RL1, j, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3)
-        if L2 >= 0:
-            _set_r(RL2, j, order, P, b2x, b2y, vbx, vby, u2x, u2y, n2, xb1, xb2, xb3)
+    RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
+    A = _pt(st, RK1, r1x, r1y, order)
+    C = _pt(st, RK2, r2x, r2y, order)
+    a0, a1, a2, a3 = _length(U, d1, i, len1)
+    c0, c1, c2, c3 = _length(U, d2, i, len2)
+    acx, acy = C[0] - A[0], C[1] - A[1]
+    dd2 = acx * acx + acy * acy
+    dd = math.sqrt(dd2)
+    x = (a0 * a0 - c0 * c0 + dd2) / (2.0 * dd)
+    h2 = (a0 - x) * (a0 + x)
+    ok = h2 >= -1e-14 * a0 * a0 and dd > 0.0
+    h = sign * math.sqrt(max(h2, 0.0))
+    bx = A[0] + (x * acx - h * acy) / dd if ok else math.nan
+    by = A[1] + (x * acy + h * acx) / dd if ok else math.nan
+    vax, vay, vbx, vby = bx - A[0], by - A[1], bx - C[0], by - C[1]
+    codes[g, i] = _code(ok, vax * vby - vay * vbx, a0 * c0)
+    eax, eay, ebx, eby = vax / a0, vay / a0, vbx / c0, vby / c0
+    # unknowns: the arms' angles; columns j·va and −j·vb
+    xa1 = xa2 = xa3 = xb1 = xb2 = xb3 = 0.0
+    B1x = B1y = B2x = B2y = B3x = B3y = 0.0
+    a_, c_ = (a0, a1, a2, a3), (c0, c1, c2, c3)
+    v = (vax, vay, vbx, vby, eax, eay, ebx, eby)
+    if order >= 1:
+        xa1, xb1, B1x, B1y = _rr_order(1, A, C, a_, c_, v, 0.0, 0.0, 0.0, 0.0)
+        if order >= 2:
+            xa2, xb2, B2x, B2y = _rr_order(2, A, C, a_, c_, v, xa1, 0.0, xb1, 0.0)
+            if order >= 3:
+                xa3, xb3, B3x, B3y = _rr_order(3, A, C, a_, c_, v, xa1, xa2, xb1, xb2)
+    P = (bx, by, B1x, B1y, B2x, B2y, B3x, B3y)
+    if L1 >= 0:
+        _set_r(st, RL1, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3)
+    if L2 >= 0:
+        _set_r(st, RL2, order, P, b2x, b2y, vbx, vby, u2x, u2y, n2, xb1, xb2, xb3)
 
 
 @_inline
@@ -334,48 +326,48 @@ def _rp_order(k, A, G, a_, wk, v, xa1, xa2, s1, s2):  # pragma: no cover - compi
 
 
 @_jit
-def _dyad_rp(S, nl, pi, pf, ia, fa, ip, fp, U, lo, b, order, sign, codes, g):  # pragma: no cover
+def _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, i, order, sign, codes, g):  # pragma: no cover
     """RRP / PRR: the R arm's row at (ia, fa), the P arm's at (ip, fp)."""
     K1, L1, d1, K2, L2 = pi[ia + 1], pi[ia + 2], pi[ia + 3], pi[ip + 1], pi[ip + 2]
-    r1x, r1y, b1x, b1y, u1x, u1y, len1 = pf[fa : fa + 7]
-    gx, gy, b2x, b2y, u2x, u2y = pf[fp : fp + 6]
+    r1x, r1y, b1x = pf[fa], pf[fa + 1], pf[fa + 2]
+    b1y, u1x, u1y = pf[fa + 3], pf[fa + 4], pf[fa + 5]
+    len1 = pf[fa + 6]
+    gx, gy, b2x = pf[fp], pf[fp + 1], pf[fp + 2]
+    b2y, u2x, u2y = pf[fp + 3], pf[fp + 4], pf[fp + 5]
     n1 = u1x * u1x + u1y * u1y
-    RK1, RK2, RL1, RL2 = _rows(S, nl, K1), _rows(S, nl, K2), _rows(S, nl, L1), _rows(S, nl, L2)
-    cg = codes[g]
-    for j in range(b):
-        i = lo + j
-        A = _pt(RK1, r1x, r1y, j, order)
-        G = _pt(RK2, gx, gy, j, order)
-        cx, cy = RK2[EX][j], RK2[EY][j]
-        ux, uy = u2x * cx - u2y * cy, u2x * cy + u2y * cx
-        w1, w2, w3 = _rates(RK2, j, order)
-        a0, a1, a2, a3 = _length(U, d1, i, len1)
-        dx, dy = G[0] - A[0], G[1] - A[1]
-        pp = dx * ux + dy * uy
-        ee = dy * ux - dx * uy
-        disc = (a0 - ee) * (a0 + ee)
-        ok = disc >= -1e-14 * a0 * a0
-        s0 = -pp + sign * math.sqrt(max(disc, 0.0))
-        bx = G[0] + s0 * ux if ok else math.nan
-        by = G[1] + s0 * uy if ok else math.nan
-        vax, vay = bx - A[0], by - A[1]
-        cg[i] = _code(ok, -vay * uy - vax * ux, a0)
-        eax, eay = vax / a0, vay / a0
-        xa1 = xa2 = xa3 = s1 = s2 = 0.0
-        B1x = B1y = B2x = B2y = B3x = B3y = 0.0
-        a_, wk = (a0, a1, a2, a3), (w1, w2, w3)
-        v = (vax, vay, eax, eay, ux, uy, s0)
-        if order >= 1:
-            xa1, s1, B1x, B1y = _rp_order(1, A, G, a_, wk, v, 0.0, 0.0, 0.0, 0.0)
-            if order >= 2:
-                xa2, s2, B2x, B2y = _rp_order(2, A, G, a_, wk, v, xa1, 0.0, s1, 0.0)
-                if order >= 3:
-                    xa3, _, B3x, B3y = _rp_order(3, A, G, a_, wk, v, xa1, xa2, s1, s2)
-        P = (bx, by, B1x, B1y, B2x, B2y, B3x, B3y)
-        if L1 >= 0:
-            _set_r(RL1, j, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3)
-        if L2 >= 0:
-            _put(RL2, j, order, P, b2x, b2y, cx, cy, RK2[AN][j], w1, w2, w3)
+    RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
+    A = _pt(st, RK1, r1x, r1y, order)
+    G = _pt(st, RK2, gx, gy, order)
+    cx, cy = st[RK2, EX], st[RK2, EY]
+    ux, uy = u2x * cx - u2y * cy, u2x * cy + u2y * cx
+    w1, w2, w3 = _rates(st, RK2, order)
+    a0, a1, a2, a3 = _length(U, d1, i, len1)
+    dx, dy = G[0] - A[0], G[1] - A[1]
+    pp = dx * ux + dy * uy
+    ee = dy * ux - dx * uy
+    disc = (a0 - ee) * (a0 + ee)
+    ok = disc >= -1e-14 * a0 * a0
+    s0 = -pp + sign * math.sqrt(max(disc, 0.0))
+    bx = G[0] + s0 * ux if ok else math.nan
+    by = G[1] + s0 * uy if ok else math.nan
+    vax, vay = bx - A[0], by - A[1]
+    codes[g, i] = _code(ok, -vay * uy - vax * ux, a0)
+    eax, eay = vax / a0, vay / a0
+    xa1 = xa2 = xa3 = s1 = s2 = 0.0
+    B1x = B1y = B2x = B2y = B3x = B3y = 0.0
+    a_, wk = (a0, a1, a2, a3), (w1, w2, w3)
+    v = (vax, vay, eax, eay, ux, uy, s0)
+    if order >= 1:
+        xa1, s1, B1x, B1y = _rp_order(1, A, G, a_, wk, v, 0.0, 0.0, 0.0, 0.0)
+        if order >= 2:
+            xa2, s2, B2x, B2y = _rp_order(2, A, G, a_, wk, v, xa1, 0.0, s1, 0.0)
+            if order >= 3:
+                xa3, _, B3x, B3y = _rp_order(3, A, G, a_, wk, v, xa1, xa2, s1, s2)
+    P = (bx, by, B1x, B1y, B2x, B2y, B3x, B3y)
+    if L1 >= 0:
+        _set_r(st, RL1, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3)
+    if L2 >= 0:
+        _put(st, RL2, order, P, b2x, b2y, cx, cy, st[RK2, AN], w1, w2, w3)
 
 
 @_inline
@@ -391,77 +383,77 @@ def _pp_order(k, G1, G2, v, s1, s2, t1, t2):  # pragma: no cover - compiled
 
 
 @_jit
-def _dyad_pp(S, nl, pi, pf, ib, fb, U, lo, b, order, codes, g):  # pragma: no cover
+def _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     """PRP: two sliders pinned at B, each on a line of a known body."""
     K1, L1, K2, L2 = pi[ib + 3], pi[ib + 4], pi[ib + 7], pi[ib + 8]
-    g1x, g1y, b1x, b1y, v1x, v1y = pf[fb : fb + 6]
-    g2x, g2y, b2x, b2y, v2x, v2y = pf[fb + 7 : fb + 13]
-    RK1, RK2, RL1, RL2 = _rows(S, nl, K1), _rows(S, nl, K2), _rows(S, nl, L1), _rows(S, nl, L2)
-    cg = codes[g]
-    for j in range(b):
-        G1 = _pt(RK1, g1x, g1y, j, order)
-        G2 = _pt(RK2, g2x, g2y, j, order)
-        c1x, c1y, c2x, c2y = RK1[EX][j], RK1[EY][j], RK2[EX][j], RK2[EY][j]
-        ux, uy = v1x * c1x - v1y * c1y, v1x * c1y + v1y * c1x
-        vx_, vy_ = v2x * c2x - v2y * c2y, v2x * c2y + v2y * c2x
-        p1, p2, p3 = _rates(RK1, j, order)
-        q1, q2, q3 = _rates(RK2, j, order)
-        s0, t0 = _solve2(ux, uy, -vx_, -vy_, G2[0] - G1[0], G2[1] - G1[1])
-        cr = ux * vy_ - uy * vx_
-        cg[lo + j] = _code(cr != 0.0, cr, 1.0)
-        s1 = s2 = t1 = t2 = 0.0
-        B1x = B1y = B2x = B2y = B3x = B3y = 0.0
-        v = (ux, uy, vx_, vy_, s0, t0, p1, p2, p3, q1, q2, q3)
-        if order >= 1:
-            s1, t1, B1x, B1y = _pp_order(1, G1, G2, v, 0.0, 0.0, 0.0, 0.0)
-            if order >= 2:
-                s2, t2, B2x, B2y = _pp_order(2, G1, G2, v, s1, 0.0, t1, 0.0)
-                if order >= 3:
-                    _, _, B3x, B3y = _pp_order(3, G1, G2, v, s1, s2, t1, t2)
-        P = (G1[0] + s0 * ux, G1[1] + s0 * uy, B1x, B1y, B2x, B2y, B3x, B3y)
-        if L1 >= 0:
-            _put(RL1, j, order, P, b1x, b1y, c1x, c1y, RK1[AN][j], p1, p2, p3)
-        if L2 >= 0:
-            _put(RL2, j, order, P, b2x, b2y, c2x, c2y, RK2[AN][j], q1, q2, q3)
+    g1x, g1y, b1x = pf[fb], pf[fb + 1], pf[fb + 2]
+    b1y, v1x, v1y = pf[fb + 3], pf[fb + 4], pf[fb + 5]
+    g2x, g2y, b2x = pf[fb + 7], pf[fb + 8], pf[fb + 9]
+    b2y, v2x, v2y = pf[fb + 10], pf[fb + 11], pf[fb + 12]
+    RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
+    G1 = _pt(st, RK1, g1x, g1y, order)
+    G2 = _pt(st, RK2, g2x, g2y, order)
+    c1x, c1y, c2x, c2y = st[RK1, EX], st[RK1, EY], st[RK2, EX], st[RK2, EY]
+    ux, uy = v1x * c1x - v1y * c1y, v1x * c1y + v1y * c1x
+    vx_, vy_ = v2x * c2x - v2y * c2y, v2x * c2y + v2y * c2x
+    p1, p2, p3 = _rates(st, RK1, order)
+    q1, q2, q3 = _rates(st, RK2, order)
+    s0, t0 = _solve2(ux, uy, -vx_, -vy_, G2[0] - G1[0], G2[1] - G1[1])
+    cr = ux * vy_ - uy * vx_
+    codes[g, i] = _code(cr != 0.0, cr, 1.0)
+    s1 = s2 = t1 = t2 = 0.0
+    B1x = B1y = B2x = B2y = B3x = B3y = 0.0
+    v = (ux, uy, vx_, vy_, s0, t0, p1, p2, p3, q1, q2, q3)
+    if order >= 1:
+        s1, t1, B1x, B1y = _pp_order(1, G1, G2, v, 0.0, 0.0, 0.0, 0.0)
+        if order >= 2:
+            s2, t2, B2x, B2y = _pp_order(2, G1, G2, v, s1, 0.0, t1, 0.0)
+            if order >= 3:
+                _, _, B3x, B3y = _pp_order(3, G1, G2, v, s1, s2, t1, t2)
+    P = (G1[0] + s0 * ux, G1[1] + s0 * uy, B1x, B1y, B2x, B2y, B3x, B3y)
+    if L1 >= 0:
+        _put(st, RL1, order, P, b1x, b1y, c1x, c1y, st[RK1, AN], p1, p2, p3)
+    if L2 >= 0:
+        _put(st, RL2, order, P, b2x, b2y, c2x, c2y, st[RK2, AN], q1, q2, q3)
 
 
 @_jit
-def _rpr(S, nl, pi, pf, ib, fb, U, lo, b, order, codes, g):  # pragma: no cover - compiled
+def _rpr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     """Two links pivoted at known A and C, sliding on each other along a line through C."""
     L1, KA, KC, L2 = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
-    rax, ray, r1x, r1y, rcx, rcy, r2x, r2y, e, u0x, u0y, sign = pf[fb : fb + 12]
-    RA, RC, RL1, RL2 = _rows(S, nl, KA), _rows(S, nl, KC), _rows(S, nl, L1), _rows(S, nl, L2)
-    cg = codes[g]
-    for j in range(b):
-        A = _pt(RA, rax, ray, j, order)
-        C = _pt(RC, rcx, rcy, j, order)
-        wx, wy = C[0] - A[0], C[1] - A[1]
-        r2 = wx * wx + wy * wy
-        disc = r2 - e * e
-        ok = disc >= -1e-14 * r2 and r2 > 0.0
-        t = sign * math.sqrt(max(disc, 0.0))
-        den = t * t + e * e
-        ux = (wx * t + wy * e) / den if ok else math.nan  # w / (t + j e)
-        uy = (wy * t - wx * e) / den if ok else math.nan
-        cg[lo + j] = _code(ok, -wy * uy - wx * ux, math.sqrt(r2))
-        om1 = om2 = om3 = t1 = t2 = 0.0
-        if order >= 1:
-            om1, t1 = _solve2(-wy, wx, ux, uy, C[2] - A[2], C[3] - A[3])
-            if order >= 2:
-                mx, my = _comb(0.0, 2.0 * t1 * om1, ux, uy)
-                kx = C[4] - A[4] - mx + om1 * om1 * wx
-                ky = C[5] - A[5] - my + om1 * om1 * wy
-                om2, t2 = _solve2(-wy, wx, ux, uy, kx, ky)
-                if order >= 3:
-                    mx, my = _comb(-3.0 * t1 * om1 * om1, 3.0 * t2 * om1 + 3.0 * t1 * om2, ux, uy)
-                    ax_, ay_ = _comb(3.0 * om1 * om2, om1 * om1 * om1, wx, wy)
-                    kx, ky = C[6] - A[6] - mx + ax_, C[7] - A[7] - my + ay_
-                    om3, _ = _solve2(-wy, wx, ux, uy, kx, ky)
-        cx, cy = ux * u0x + uy * u0y, uy * u0x - ux * u0y  # E = û / û0 (û0 a unit vector)
-        a = _atan2(cy, cx)
-        _put(RL1, j, order, A, r1x, r1y, cx, cy, a, om1, om2, om3)
-        if L2 >= 0:
-            _put(RL2, j, order, C, r2x, r2y, cx, cy, a, om1, om2, om3)
+    rax, ray, r1x = pf[fb], pf[fb + 1], pf[fb + 2]
+    r1y, rcx, rcy = pf[fb + 3], pf[fb + 4], pf[fb + 5]
+    r2x, r2y, e = pf[fb + 6], pf[fb + 7], pf[fb + 8]
+    u0x, u0y, sign = pf[fb + 9], pf[fb + 10], pf[fb + 11]
+    RA, RC, RL1, RL2 = max(KA, 0), max(KC, 0), max(L1, 0), max(L2, 0)
+    A = _pt(st, RA, rax, ray, order)
+    C = _pt(st, RC, rcx, rcy, order)
+    wx, wy = C[0] - A[0], C[1] - A[1]
+    r2 = wx * wx + wy * wy
+    disc = r2 - e * e
+    ok = disc >= -1e-14 * r2 and r2 > 0.0
+    t = sign * math.sqrt(max(disc, 0.0))
+    den = t * t + e * e
+    ux = (wx * t + wy * e) / den if ok else math.nan  # w / (t + j e)
+    uy = (wy * t - wx * e) / den if ok else math.nan
+    codes[g, i] = _code(ok, -wy * uy - wx * ux, math.sqrt(r2))
+    om1 = om2 = om3 = t1 = t2 = 0.0
+    if order >= 1:
+        om1, t1 = _solve2(-wy, wx, ux, uy, C[2] - A[2], C[3] - A[3])
+        if order >= 2:
+            mx, my = _comb(0.0, 2.0 * t1 * om1, ux, uy)
+            kx = C[4] - A[4] - mx + om1 * om1 * wx
+            ky = C[5] - A[5] - my + om1 * om1 * wy
+            om2, t2 = _solve2(-wy, wx, ux, uy, kx, ky)
+            if order >= 3:
+                mx, my = _comb(-3.0 * t1 * om1 * om1, 3.0 * t2 * om1 + 3.0 * t1 * om2, ux, uy)
+                ax_, ay_ = _comb(3.0 * om1 * om2, om1 * om1 * om1, wx, wy)
+                kx, ky = C[6] - A[6] - mx + ax_, C[7] - A[7] - my + ay_
+                om3, _ = _solve2(-wy, wx, ux, uy, kx, ky)
+    cx, cy = ux * u0x + uy * u0y, uy * u0x - ux * u0y  # E = û / û0 (û0 a unit vector)
+    _put(st, RL1, order, A, r1x, r1y, cx, cy, 0.0, om1, om2, om3)  # angle: atan2 later
+    if L2 >= 0:
+        _put(st, RL2, order, C, r2x, r2y, cx, cy, 0.0, om1, om2, om3)
 
 
 @_inline
@@ -477,168 +469,237 @@ def _rpp_order(k, A, G, v, s1, s2, t1, t2):  # pragma: no cover - compiled
 
 
 @_jit
-def _rpp(S, nl, pi, pf, ib, fb, U, lo, b, order, codes, g):  # pragma: no cover - compiled
+def _rpp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     """A link pivoted at known A slides on a second link that slides on a known body."""
     L1, KA, K, L2 = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
-    rax, ray, r1x, r1y, rgx, rgy, v1x, v1y, v2x, v2y, r2x, r2y = pf[fb : fb + 12]
-    RA, RK, RL1, RL2 = _rows(S, nl, KA), _rows(S, nl, K), _rows(S, nl, L1), _rows(S, nl, L2)
-    cg = codes[g]
-    for j in range(b):
-        A = _pt(RA, rax, ray, j, order)
-        G = _pt(RK, rgx, rgy, j, order)
-        cx, cy = RK[EX][j], RK[EY][j]
-        ux, uy = v1x * cx - v1y * cy, v1x * cy + v1y * cx
-        vx_, vy_ = v2x * cx - v2y * cy, v2x * cy + v2y * cx
-        w1, w2, w3 = _rates(RK, j, order)
-        s0, t0 = _solve2(ux, uy, vx_, vy_, A[0] - G[0], A[1] - G[1])
-        cr = ux * vy_ - uy * vx_
-        cg[lo + j] = _code(cr != 0.0, cr, 1.0)
-        s1 = s2 = t1 = t2 = 0.0
-        X1x = X1y = X2x = X2y = X3x = X3y = 0.0
-        v = (ux, uy, vx_, vy_, s0, t0, w1, w2, w3)
-        if order >= 1:
-            s1, t1, X1x, X1y = _rpp_order(1, A, G, v, 0.0, 0.0, 0.0, 0.0)
-            if order >= 2:
-                s2, t2, X2x, X2y = _rpp_order(2, A, G, v, s1, 0.0, t1, 0.0)
-                if order >= 3:
-                    _, _, X3x, X3y = _rpp_order(3, A, G, v, s1, s2, t1, t2)
-        X = (G[0] + t0 * vx_, G[1] + t0 * vy_, X1x, X1y, X2x, X2y, X3x, X3y)
-        _put(RL2, j, order, X, r2x, r2y, cx, cy, RK[AN][j], w1, w2, w3)
-        if L1 >= 0:
-            _put(RL1, j, order, A, r1x, r1y, cx, cy, RK[AN][j], w1, w2, w3)
+    rax, ray, r1x = pf[fb], pf[fb + 1], pf[fb + 2]
+    r1y, rgx, rgy = pf[fb + 3], pf[fb + 4], pf[fb + 5]
+    v1x, v1y, v2x = pf[fb + 6], pf[fb + 7], pf[fb + 8]
+    v2y, r2x, r2y = pf[fb + 9], pf[fb + 10], pf[fb + 11]
+    RA, RK, RL1, RL2 = max(KA, 0), max(K, 0), max(L1, 0), max(L2, 0)
+    A = _pt(st, RA, rax, ray, order)
+    G = _pt(st, RK, rgx, rgy, order)
+    cx, cy = st[RK, EX], st[RK, EY]
+    ux, uy = v1x * cx - v1y * cy, v1x * cy + v1y * cx
+    vx_, vy_ = v2x * cx - v2y * cy, v2x * cy + v2y * cx
+    w1, w2, w3 = _rates(st, RK, order)
+    s0, t0 = _solve2(ux, uy, vx_, vy_, A[0] - G[0], A[1] - G[1])
+    cr = ux * vy_ - uy * vx_
+    codes[g, i] = _code(cr != 0.0, cr, 1.0)
+    s1 = s2 = t1 = t2 = 0.0
+    X1x = X1y = X2x = X2y = X3x = X3y = 0.0
+    v = (ux, uy, vx_, vy_, s0, t0, w1, w2, w3)
+    if order >= 1:
+        s1, t1, X1x, X1y = _rpp_order(1, A, G, v, 0.0, 0.0, 0.0, 0.0)
+        if order >= 2:
+            s2, t2, X2x, X2y = _rpp_order(2, A, G, v, s1, 0.0, t1, 0.0)
+            if order >= 3:
+                _, _, X3x, X3y = _rpp_order(3, A, G, v, s1, s2, t1, t2)
+    X = (G[0] + t0 * vx_, G[1] + t0 * vy_, X1x, X1y, X2x, X2y, X3x, X3y)
+    _put(st, RL2, order, X, r2x, r2y, cx, cy, st[RK, AN], w1, w2, w3)
+    if L1 >= 0:
+        _put(st, RL1, order, A, r1x, r1y, cx, cy, st[RK, AN], w1, w2, w3)
 
 
 # ---------------------------------------------------------------------- the program
 @_jit
-def _outputs(S, nl, lo, b, order, links, pts_i, pts_f, lens_i, lens_f,
-             ang_out, rot_out, pts_re, pts_im, len_out):  # fmt: skip  # pragma: no cover
-    """Write a block: angles and rates of ``links``, points (and centres), lengths."""
-    nlk = len(links)
-    for q in range(nlk):
-        R = _rows(S, nl, links[q])
-        ang_out[q, lo : lo + b] = R[AN][:b]
-        for k in range(order):
-            rot_out[k * nlk + q, lo : lo + b] = R[7 + 3 * k][:b]
-    npt = len(pts_i)
-    for p in range(npt):
-        R = _rows(S, nl, pts_i[p])
-        rx, ry = pts_f[2 * p], pts_f[2 * p + 1]
-        x0, y0 = pts_re[p], pts_im[p]
-        x1, y1 = pts_re[npt + p], pts_im[npt + p]
-        x2, y2 = pts_re[min(2, order) * npt + p], pts_im[min(2, order) * npt + p]
-        x3, y3 = pts_re[min(3, order) * npt + p], pts_im[min(3, order) * npt + p]
-        for j in range(b):
-            P = _pt(R, rx, ry, j, order)
-            x0[lo + j], y0[lo + j] = P[0], P[1]
-            if order >= 1:
-                x1[lo + j], y1[lo + j] = P[2], P[3]
-            if order >= 2:
-                x2[lo + j], y2[lo + j] = P[4], P[5]
-            if order >= 3:
-                x3[lo + j], y3[lo + j] = P[6], P[7]
-    nln = len(lens_i) // 4
-    for q in range(nln):
-        kind = lens_i[4 * q]
-        RS = _rows(S, nl, lens_i[4 * q + 1])
-        RT = _rows(S, nl, lens_i[4 * q + 2])
-        RG = _rows(S, nl, lens_i[4 * q + 3])
-        f = 6 * q
-        for j in range(b):
-            Sp = _pt(RS, lens_f[f], lens_f[f + 1], j, order)
-            T = _pt(RT, lens_f[f + 2], lens_f[f + 3], j, order)
-            if kind == 0:  # a slider or slot: displacement along the guide's line
-                cx, cy = RG[EX][j], RG[EY][j]
-                ux = lens_f[f + 4] * cx - lens_f[f + 5] * cy
-                uy = lens_f[f + 4] * cy + lens_f[f + 5] * cx
-                w1, w2, _ = _rates(RG, j, order)
-                d0 = (T[0] - Sp[0]) * ux + (T[1] - Sp[1]) * uy
-                d1 = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
-                d2 = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy + d0 * w1 * w1
-                d3 = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
-                d3 += 3.0 * d1 * w1 * w1 + 3.0 * d0 * w1 * w2
-            else:  # an actuator: its length
-                rx_, ry_ = T[0] - Sp[0], T[1] - Sp[1]
-                d0 = math.sqrt(rx_ * rx_ + ry_ * ry_)
-                ux, uy = rx_ / d0, ry_ / d0
-                c1x = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
-                c1y = (T[3] - Sp[3]) * ux - (T[2] - Sp[2]) * uy
-                c2x = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy
-                c2y = (T[5] - Sp[5]) * ux - (T[4] - Sp[4]) * uy
-                c3x = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
-                p1 = c1y / d0
-                d1 = c1x
-                p2 = (c2y - 2.0 * d1 * p1) / d0
-                d2 = c2x + d0 * p1 * p1
-                d3 = c3x + 3.0 * d1 * p1 * p1 + 3.0 * d0 * p1 * p2
-            len_out[q, lo + j] = d0
-            if order >= 1:
-                len_out[nln + q, lo + j] = d1
-            if order >= 2:
-                len_out[2 * nln + q, lo + j] = d2
-            if order >= 3:
-                len_out[3 * nln + q, lo + j] = d3
+def _sample(st, pi, pf, ns, U, i, order, codes):  # pragma: no cover - compiled
+    """Every step of the program at column i of U (status codes to column i)."""
+    for s in range(ns):
+        ib, fb = s * NI, s * NF
+        op, g = pi[ib], pi[ib + 1]
+        if op == CRANK:
+            _crank(st, pi, pf, ib, fb, U, i, order)
+            codes[g, i] = 0
+        elif op == MOTOR:
+            _motor(st, pi, pf, ib, fb, U, i, order)
+            codes[g, i] = 0
+        elif op == SLIDE:
+            _slide(st, pi, pf, ib, fb, U, i, order)
+            codes[g, i] = 0
+        elif op == DYAD:
+            k1, k2 = pi[ib + 2], pi[ib + 6]
+            if k1 == 0 and k2 == 0:
+                _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g)
+            elif k1 == 0:
+                _dyad_rp(st, pi, pf, ib + 2, fb, ib + 6, fb + 7, U, i, order, pf[fb + 14],
+                         codes, g)  # fmt: skip
+            elif k2 == 0:
+                _dyad_rp(st, pi, pf, ib + 6, fb + 7, ib + 2, fb, U, i, order, pf[fb + 14],
+                         codes, g)  # fmt: skip
+            else:
+                _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g)
+        elif op == RPR:
+            _rpr(st, pi, pf, ib, fb, U, i, order, codes, g)
+        else:
+            _rpp(st, pi, pf, ib, fb, U, i, order, codes, g)
+
+
+@_inline
+def _new_state(nl):  # pragma: no cover - compiled
+    st = np.zeros((nl, NS))
+    st[:, EX] = 1.0
+    return st
 
 
 @_jit
-def run(lo, hi, pi, pf, ns, U, order, nl, links, pts_i, pts_f, lens_i, lens_f,
-        ang_out, rot_out, pts_re, pts_im, len_out, codes):  # fmt: skip  # pragma: no cover
-    """Samples ``lo`` to ``hi`` (a slice, for threads), block by block, step by step."""
-    S = (
-        np.zeros((nl, BLOCK)), np.zeros((nl, BLOCK)), np.ones((nl, BLOCK)),
-        np.zeros((nl, BLOCK)), np.zeros((nl, BLOCK)), np.zeros((3 * nl, BLOCK)),
-        np.zeros((3 * nl, BLOCK)), np.zeros((3 * nl, BLOCK)),
-    )  # fmt: skip
+def _outputs(st, i, order, nq, links, exact, theta0, pts_i, pts_f, lens_i, lens_f,
+             ang_out, rot_out, pts_re, pts_im, len_out):  # fmt: skip  # pragma: no cover
+    """Write sample i: angles (exact ones) and rates of the links, points, lengths."""
+    for q in range(nq):
+        L = links[q]
+        if exact[q]:
+            ang_out[q, i] = st[L, AN] + theta0[q]
+        for k in range(order):
+            rot_out[k * nq + q, i] = st[L, 7 + 3 * k]
+    npt = len(pts_i)
+    for p in range(npt):
+        P = _pt(st, pts_i[p], pts_f[2 * p], pts_f[2 * p + 1], order)
+        pts_re[p, i], pts_im[p, i] = P[0], P[1]
+        if order >= 1:
+            pts_re[npt + p, i], pts_im[npt + p, i] = P[2], P[3]
+            if order >= 2:
+                pts_re[2 * npt + p, i], pts_im[2 * npt + p, i] = P[4], P[5]
+                if order >= 3:
+                    pts_re[3 * npt + p, i], pts_im[3 * npt + p, i] = P[6], P[7]
+    nln = len(lens_i) // 4
+    for q in range(nln):
+        kind, f = lens_i[4 * q], 6 * q
+        Sp = _pt(st, lens_i[4 * q + 1], lens_f[f], lens_f[f + 1], order)
+        T = _pt(st, lens_i[4 * q + 2], lens_f[f + 2], lens_f[f + 3], order)
+        if kind == 0:  # a slider or slot: displacement along the guide's line
+            G = lens_i[4 * q + 3]
+            cx, cy = st[G, EX], st[G, EY]
+            ux = lens_f[f + 4] * cx - lens_f[f + 5] * cy
+            uy = lens_f[f + 4] * cy + lens_f[f + 5] * cx
+            w1, w2, _ = _rates(st, G, order)
+            d0 = (T[0] - Sp[0]) * ux + (T[1] - Sp[1]) * uy
+            d1 = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
+            d2 = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy + d0 * w1 * w1
+            d3 = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
+            d3 += 3.0 * d1 * w1 * w1 + 3.0 * d0 * w1 * w2
+        else:  # an actuator: its length
+            rx_, ry_ = T[0] - Sp[0], T[1] - Sp[1]
+            d0 = math.sqrt(rx_ * rx_ + ry_ * ry_)
+            ux, uy = rx_ / d0, ry_ / d0
+            c1x = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
+            c1y = (T[3] - Sp[3]) * ux - (T[2] - Sp[2]) * uy
+            c2x = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy
+            c2y = (T[5] - Sp[5]) * ux - (T[4] - Sp[4]) * uy
+            c3x = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
+            p1 = c1y / d0
+            d1 = c1x
+            p2 = (c2y - 2.0 * d1 * p1) / d0
+            d2 = c2x + d0 * p1 * p1
+            d3 = c3x + 3.0 * d1 * p1 * p1 + 3.0 * d0 * p1 * p2
+        len_out[q, i] = d0
+        if order >= 1:
+            len_out[nln + q, i] = d1
+            if order >= 2:
+                len_out[2 * nln + q, i] = d2
+                if order >= 3:
+                    len_out[3 * nln + q, i] = d3
+
+
+@_jit
+def run(lo, hi, pi, pf, ns, U, order, nl, links, exact, theta0, pts_i, pts_f, lens_i,
+        lens_f, ang_out, rot_out, pts_re, pts_im, len_out, codes):  # fmt: skip  # pragma: no cover
+    """Samples ``lo`` to ``hi`` (a slice, for threads): every step, then the outputs."""
+    st = _new_state(nl)
+    nq = len(links)
+    wrap = np.flatnonzero(exact == 0)
+    nw = len(wrap)
+    ex = np.empty((nw, BLOCK))
+    ey = np.empty((nw, BLOCK))
     for start in range(lo, hi, BLOCK):
         b = min(BLOCK, hi - start)
-        for s in range(ns):
-            ib, fb = s * NI, s * NF
-            op, g = pi[ib], pi[ib + 1]
-            if op == CRANK:
-                _crank(S, nl, pi, pf, ib, fb, U, start, b, order)
-            elif op == MOTOR:
-                _motor(S, nl, pi, pf, ib, fb, U, start, b, order)
-            elif op == SLIDE:
-                _slide(S, nl, pi, pf, ib, fb, U, start, b, order)
-            elif op == DYAD:
-                k1, k2 = pi[ib + 2], pi[ib + 6]
-                if k1 == 0 and k2 == 0:
-                    _dyad_rr(S, nl, pi, pf, ib, fb, U, start, b, order, codes, g)
-                elif k1 == 0 or k2 == 0:
-                    ia, fa, ip, fp = (
-                        (ib + 2, fb, ib + 6, fb + 7) if k1 == 0 else (ib + 6, fb + 7, ib + 2, fb)
-                    )
-                    _dyad_rp(
-                        S, nl, pi, pf, ia, fa, ip, fp, U, start, b, order, pf[fb + 14], codes, g
-                    )
-                else:
-                    _dyad_pp(S, nl, pi, pf, ib, fb, U, start, b, order, codes, g)
-            elif op == RPR:
-                _rpr(S, nl, pi, pf, ib, fb, U, start, b, order, codes, g)
-            else:
-                _rpp(S, nl, pi, pf, ib, fb, U, start, b, order, codes, g)
-            if op in (CRANK, MOTOR, SLIDE):
-                codes[g, start : start + b] = 0
-        _outputs(S, nl, start, b, order, links, pts_i, pts_f, lens_i, lens_f,
-                 ang_out, rot_out, pts_re, pts_im, len_out)  # fmt: skip
+        for j in range(b):
+            i = start + j
+            _sample(st, pi, pf, ns, U, i, order, codes)
+            for w in range(nw):
+                L = links[wrap[w]]
+                ex[w, j] = st[L, EX]
+                ey[w, j] = st[L, EY]
+            _outputs(st, i, order, nq, links, exact, theta0, pts_i, pts_f, lens_i, lens_f,
+                     ang_out, rot_out, pts_re, pts_im, len_out)  # fmt: skip
+        for w in range(nw):  # the angles from atan2 (a loop LLVM vectorises)
+            q = wrap[w]
+            row, xs, ys, t0 = ang_out[q, start : start + b], ex[w], ey[w], theta0[q]
+            for j in range(b):
+                row[j] = _atan2(ys[j], xs[j]) + t0
+    return 0
+
+
+@_inline
+def _turn(prev, raw):  # pragma: no cover - compiled
+    """``raw`` moved by whole turns to within π of ``prev``."""
+    return raw + _TWO_PI * math.floor((prev - raw) / _TWO_PI + 0.5)
+
+
+@_jit
+def follow(pi, pf, ns, U, nl, links, exact, theta0, start, scale, step, ang_out,
+           ngroups):  # fmt: skip  # pragma: no cover - compiled
+    """Unwrap the atan2 angles of a sweep along its path from the drawn pose (in place).
+
+    The path runs from the drawn driver values ``start`` to the first sample and
+    on through the samples; wherever two consecutive path points are further
+    apart than ``step`` (each driver in units of its ``scale``) the program is
+    run, positions only, at evenly spaced points in between. Every angle is
+    moved by whole turns to within π of its last finite value on the path.
+    """
+    n = U.shape[1]
+    nd = U.shape[0] // 4
+    wrap = np.flatnonzero(exact == 0)
+    nw = len(wrap)
+    if nw == 0:
+        return 0
+    st = _new_state(nl)
+    V = np.zeros((4 * nd, 1))
+    c2 = np.zeros((ngroups, 1), np.int8)
+    prev = np.empty(nw)
+    for w in range(nw):
+        prev[w] = theta0[wrap[w]]  # the drawn pose: Δ = 0
+    cur = start.copy()
+    for i in range(n):
+        span = 0.0
+        for d in range(nd):
+            span = max(span, abs(U[4 * d, i] - cur[d]) / scale[d])
+        if span > step or (i == 0 and span > 1e-12):
+            k = math.ceil(span / step)
+            for m in range(1, k):
+                f = m / k
+                for d in range(nd):
+                    V[4 * d, 0] = cur[d] + f * (U[4 * d, i] - cur[d])
+                _sample(st, pi, pf, ns, V, 0, 0, c2)
+                for w in range(nw):
+                    L = links[wrap[w]]
+                    raw = _atan2(st[L, EY], st[L, EX]) + theta0[wrap[w]]
+                    if math.isfinite(raw):
+                        prev[w] = _turn(prev[w], raw)
+        for w in range(nw):
+            raw = ang_out[wrap[w], i]
+            if math.isfinite(raw):
+                prev[w] = _turn(prev[w], raw)
+                ang_out[wrap[w], i] = prev[w]
+        for d in range(nd):
+            cur[d] = U[4 * d, i]
     return 0
 
 
 def warm_up() -> None:
     """Compile (or load from numba's cache) the kernel."""
     from .linkage import Linkage
-    from .linkage.kernel import Tables, encode
+    from .linkage.kernel import run_compiled
+    from .linkage.sweep import _info
 
     lk = Linkage({"O": 0, "A": 1j, "B": 3 + 1j, "Q": 4 + 0j})
     lk.ground("O", "Q").link("c", "O", "A").link("r", "A", "B").link("k", "Q", "B")
-    program = lk.drive("c")._compile().program
-    enc = encode(program)
-    n = 2
-    U = np.zeros((4, n))
-    tables = Tables(*(np.zeros(0, t) for t in (np.int64, np.int64, float, np.int64, float)))
-    z = np.zeros((0, n))
-    pts = np.zeros((0, n), complex)
-    codes = np.zeros((len(program.deps), n), np.int8)
+    lk.drive("c")
+    model = lk._compile()
+    info = _info(lk, model)
+    U = np.zeros((4, 2))
+    import sys
+
+    module = sys.modules[__name__]
     for order in (0, 2, 3):
-        run(0, n, enc.pi, enc.pf, enc.ns, U, order, program.n_links, tables.links,
-            tables.pts_i, tables.pts_f, tables.lens_i, tables.lens_f, z, z, pts.real,
-            pts.imag, z, codes)  # fmt: skip
+        run_compiled(module, model.program, info.tables, U, order, True)

@@ -693,6 +693,8 @@ def input_motion(
     >>> shape, w.tolist()
     ((2,), [2.0, 2.0])
     """
+    if bytes_per_sample:  # before any conversion: a broadcast view of 10^8 poses costs nothing yet
+        _budget("theta2", bytes_per_sample + 32, theta2, omega2, alpha2, jerk2)
     theta2 = finite_array("theta2", theta2, "radian")
     warn_if_degrees("theta2", theta2, stacklevel=4)  # the caller of solve() is warned
     omega2 = finite_array("omega2", omega2, "radian / second")
@@ -704,6 +706,21 @@ def input_motion(
         n = int(np.prod(shape))
         require_memory("theta2", n * (bytes_per_sample + 32), f"{n:,} poses")
     return shape, [np.broadcast_to(x, shape).astype(float) for x in (theta2, omega2, alpha2, jerk2)]
+
+
+def _budget(field: str, bytes_each: float, *values: Any) -> None:
+    """Check the memory budget from the shapes of arrays (and quantities) not yet converted.
+
+    Values without a ``shape`` (lists, numbers) are already in memory at their
+    full size and are checked after conversion; shapes that do not broadcast
+    are left to :func:`broadcast`, which names the field.
+    """
+    shapes = [np.shape(v) for v in values if hasattr(v, "shape")]
+    try:
+        n = int(np.prod(np.broadcast_shapes(*shapes), dtype=float))
+    except (ValueError, TypeError):
+        return
+    require_memory(field, n * bytes_each, f"{n:,} poses")
 
 
 def _rates_within(length: float, **rates: np.ndarray) -> None:

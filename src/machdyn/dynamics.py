@@ -68,7 +68,6 @@ from ._validate import (
 )
 from .errors import InputError
 from .fourbar import OK, STATUS_REASONS, TOGGLE, FourBar, FourBarMotion
-from .linkage import newton_euler
 from .slidercrank import SliderCrank, SliderCrankMotion
 
 __all__ = [
@@ -463,6 +462,8 @@ def _fourbar_newton_euler(
     al4: np.ndarray,
 ) -> dict[str, np.ndarray]:
     """Norton eq. 11.10 eliminated in closed form, for flat arrays of samples."""
+    from .linkage import newton_euler  # on first use: machdyn.linkage is heavy to import
+
     m2, m3, m4 = props.mass
     I2, I3, I4 = props.inertia
     c2, c3, c4 = props.cg
@@ -961,6 +962,8 @@ def slidercrank_forces(
     >>> bool(f.ok.all())
     True
     """
+    from .linkage import newton_euler  # on first use: machdyn.linkage is heavy to import
+
     instance("slidercrank", slidercrank, SliderCrank)
     instance("motion", motion, SliderCrankMotion, "a SliderCrankMotion (from SliderCrank.solve)")
     friction = choice("friction", friction, _FRICTION_MODELS)

@@ -174,6 +174,45 @@ def load_program_file(path: Path) -> tuple[list[dict[str, Any]], dict[str, Any],
     return segments, follower, data
 
 
+def _machine_cam(path: Path) -> tuple[Any, dict[str, Any], dict[str, Any]] | None:
+    """The cam part of a machine file (``machdyn = 1``): program, follower keys, rpm, unit.
+
+    None for an old ``--program`` cam file. The numbers are the file's own
+    (lengths in its ``[units]``); options given on the command line override them.
+    """
+    import dataclasses
+
+    try:
+        if "machdyn" not in tomllib.loads(Path(path).read_text(encoding="utf-8")):
+            return None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return None  # load_program_file says what is wrong with it
+    from ..spec import Cam, load_machine
+
+    machine = load_machine(path)
+    parts = [p for p in machine.parts.values() if p.kind == "cam"]
+    if len(parts) != 1 or not isinstance(parts[0].model, Cam):
+        names = ", ".join(p.name for p in parts) or "none"
+        raise InputError(
+            "--program",
+            f"{path} needs exactly one cam part with segments and a follower (cams: {names}); "
+            "machdyn run analyses every part",
+        )
+    part, model = parts[0], parts[0].model
+    kind = {
+        cams.TranslatingRoller: "roller",
+        cams.TranslatingFlatFace: "flat",
+        cams.OscillatingRoller: "oscillating",
+    }[type(model.follower)]
+    follower = {"type": kind, **dataclasses.asdict(model.follower)}
+    top: dict[str, Any] = {}
+    if "speed" in part.values:
+        top["rpm"] = abs(part.values["speed"]) * 60.0 / (2.0 * np.pi)
+    if not machine.units.is_unit_free:
+        top["unit"] = machine.units.length
+    return model.program, follower, top
+
+
 def _segment_from_table(table: Any, index: int, oscillating: bool) -> cams.Segment:
     field = f"segments[{index}]"
     if not isinstance(table, dict):
@@ -292,7 +331,10 @@ def cam(
         ),
     ] = None,
     program: Annotated[
-        Path | None, typer.Option("--program", help="TOML cam file instead of --segment")
+        Path | None,
+        typer.Option(
+            "--program", help="TOML cam file, or a machine file with one cam part (docs/spec.md)"
+        ),
     ] = None,
     table: Annotated[
         Path | None,
@@ -359,7 +401,11 @@ def cam(
     if program is not None:
         if segment:
             raise InputError("--segment", "give segments either with --segment or --program")
-        file_segments, file_follower, file_top = load_program_file(program)
+        from_machine = _machine_cam(program)
+        if from_machine is None:
+            file_segments, file_follower, file_top = load_program_file(program)
+        else:
+            machine_program, file_follower, file_top = from_machine
     elif not segment and table is None:
         raise InputError(
             "--segment", "give the program as --segment options, --program FILE or --table FILE"
@@ -389,6 +435,8 @@ def cam(
         names = {"degree": "--degree", "smoothing": "--smoothing"}
         with _renamed({"theta": "--table", "s": "--table"}, f"{table}: "), _renamed(names):
             prog = cams.CriticalPathMotion.from_degrees(theta_deg, values, degree, smoothing)
+    elif program is not None and from_machine is not None:
+        prog = machine_program
     elif program is not None:
         segs = [_segment_from_table(t, i, oscillating) for i, t in enumerate(file_segments)]
         prog = _build_program(segs, oscillating, "--program", f"{program}: ")
@@ -446,7 +494,7 @@ def cam(
         if cannot_be_cut(profile) and not allow_undercut:
             raise ModelError(undercut_refusal(profile, "pass --allow-undercut", see="--size"))
         with _renamed({"path": "--dxf", "unit": "--unit"}):
-            profile.to_dxf(dxf, allow_undercut=allow_undercut, unit=unit)
+            profile.to_dxf(dxf, allow_undercut=allow_undercut, unit=unit or file_top.get("unit"))
     if svaj_plot is not None or profile_plot is not None:
         _save_plots(motion, profile, svaj_plot, profile_plot)
     if strict and (not continuity.ok or not all(c.passed for c in checks)):

@@ -84,20 +84,43 @@ def _axes(ax: Any, figsize: tuple[float, float]) -> Axes:
 # Transmission angle
 
 
-def transmission_chart(theta2: Any, mu: Any, *, ok: Any = None, limit_deg: float = 40.0) -> Chart:
+def transmission_chart(
+    theta2: Any,
+    mu: Any,
+    *,
+    ok: Any = None,
+    limit_deg: float = 40.0,
+    x: Any = None,
+    xlabel: str = "θ2 (deg)",
+    where: str = "θ2",
+    title: str = "transmission angle over the cycle",
+) -> Chart:
     """μ (deg) over the cycle, the design limit, and the minimum marked.
+
+    ``theta2`` are the input angles (radians); ``x`` the input as shown when
+    it is not an angle in degrees (a slider's travel), labelled ``xlabel`` and
+    named ``where`` in the note of the minimum.
 
     Examples
     --------
     >>> c = transmission_chart(np.radians([0, 90, 180]), np.radians([50, 30, 60]))
     >>> c.ylabel, c.notes[0][2]
     ('transmission angle μ (deg)', 'μ min = 30.00° at θ2 = 90.0°')
+    >>> transmission_chart(None, np.radians([50, 30]), x=[1.0, 2.0], xlabel="s (mm)",
+    ...                    where="s").notes[0][2]
+    'μ min = 30.00° at s = 2 mm'
     """
-    x = np.degrees(np.ravel(theta2).astype(float))
+    if x is None:
+        x = np.degrees(np.ravel(theta2).astype(float))
+        at = "{:.1f}°"
+    else:
+        x = np.ravel(np.asarray(x, float))
+        at = "{:.4g} " + xlabel.rsplit("(", 1)[-1].rstrip(")") if "(" in xlabel else "{:.4g}"
+        at = "{:.1f}°" if xlabel.endswith("(deg)") else at
     y = np.degrees(_gaps(mu, ok).astype(float))
     chart = Chart(
-        "transmission angle over the cycle",
-        "θ2 (deg)",
+        title,
+        xlabel,
         "transmission angle μ (deg)",
         [Series(x, y, "μ")],
         hlines=[(limit_deg, f"limit {limit_deg:g}°", "#d62728")],
@@ -106,7 +129,8 @@ def transmission_chart(theta2: Any, mu: Any, *, ok: Any = None, limit_deg: float
     if np.isfinite(y).any():
         k = int(np.nanargmin(y))
         chart.series.append(Series(x[k : k + 1], y[k : k + 1], colour="#d62728", marker=True))
-        chart.notes.append((x[k], max(y[k] - 8.0, 4.0), f"μ min = {y[k]:.2f}° at θ2 = {x[k]:.1f}°"))
+        note = f"μ min = {y[k]:.2f}° at {where} = " + at.format(x[k])
+        chart.notes.append((x[k], max(y[k] - 8.0, 4.0), note))
     chart.bands.append((x, np.zeros_like(x), np.full_like(x, limit_deg), "#ff9896"))
     return chart
 

@@ -39,20 +39,31 @@ method (Norton §11.4–11.8): three equations per moving link, the unknown join
 forces ``F_ap`` (force on link *p* from link *a*), prismatic normal forces and
 couples, and the driver torque or force, solved for every sample at once.
 
-The package, one room per concept:
+The package, one room per concept (``docs/linkage.md``, "The package"):
 
 * :mod:`~machdyn.linkage.builder` -- the :class:`Linkage` builder (points,
   links, ground, drivers), its validation and its read-only topology view;
 * :mod:`~machdyn.linkage.joints` -- sliders, slots, actuators, rolling
   contacts and motors (the builder methods that add them);
 * :mod:`~machdyn.linkage.elements` -- springs and dampers (known loads);
-* :mod:`~machdyn.linkage.topology` -- the link graph and its compilation into
-  vector loops;
-* :mod:`~machdyn.linkage.kinematics` -- solving, and :class:`LinkageMotion`;
-* :mod:`~machdyn.linkage.forces` -- the Newton–Euler assembler and
-  :class:`LinkageForces`;
 * :mod:`~machdyn.linkage.view` -- the read-only topology view (:class:`Link`,
-  :class:`Joint`, :class:`Spring`, :class:`TorsionSpring`).
+  :class:`Joint`, :class:`Spring`, :class:`TorsionSpring`);
+* :mod:`~machdyn.linkage.topology` -- the link graph, spanning tree and loops;
+* :mod:`~machdyn.linkage.groups` -- the Assur-group decomposition
+  (:class:`Group`, :attr:`Linkage.groups`), transmission angles, ``flipped``;
+* :mod:`~machdyn.linkage.dyads` -- the closed-form dyads, vectorised;
+* :mod:`~machdyn.linkage.program`, :mod:`~machdyn.linkage.sweep`,
+  :mod:`~machdyn.linkage.kernel` -- the linkage as a program of closed-form
+  steps, its solve along a sweep, and the engines that run it (NumPy, the
+  compiled kernel :mod:`machdyn._linkage_kernels`, a one-pose twin);
+* :mod:`~machdyn.linkage.loopcompile`, :mod:`~machdyn.linkage.loopsolve` --
+  vector-loop compilation for groups the closed forms do not cover, and the
+  whole-linkage loop solve (``LinkageMotion.loop_motion``);
+* :mod:`~machdyn.linkage.kinematics` -- :meth:`Linkage.solve`'s body and
+  :class:`LinkageMotion`;
+* :mod:`~machdyn.linkage.forces`, :mod:`~machdyn.linkage.newton_euler` -- the
+  Newton–Euler assembler and :class:`LinkageForces`, and its closed-form blocks
+  (shared with ``FourBar`` and ``SliderCrank`` dynamics).
 """
 
 from .builder import Linkage

@@ -731,8 +731,10 @@ class Linkage(_JointMethods, _ElementMethods):
 
 def _warn_degrees(lk: Linkage, values: Any) -> None:
     """Warn when an angle driver's values look like degrees (``machdyn.units.warn_if_degrees``)."""
-    from ..units import warn_if_degrees
+    from ..units import DEGREE_TURNS, warn_if_degrees
 
+    if (type(values) is float or type(values) is int) and abs(values) <= DEGREE_TURNS * 6.28:
+        return  # a plain number well within ten turns (the common one-pose call)
     angles = {d for d in lk.drivers if d in lk._links or d in lk._motors}
     if isinstance(values, Mapping):
         items = list(values.items())

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import ModuleType
 
 import numpy as np
@@ -31,6 +31,9 @@ from .program import RPP, RPR, Crank, Dyad, General, Motor, PArm, Program, RArm,
 
 #: Batches of at most this many poses go to the plain-Python twin (when not compiled).
 SCALAR_MAX = 2
+#: Largest step of a driver (radians; lengths in units of the typical link length)
+#: between two points of the path along which a sweep's angles are unwrapped.
+STEP = 0.2
 
 _compiled: ModuleType | None = None
 _failed = ""
@@ -40,29 +43,36 @@ _failed = ""
 class Outputs:
     """Stacked results of a run over ``n`` samples (rows as described in the module)."""
 
-    ang: np.ndarray  # (n_moving, n): rotation since the drawing (wrapped where from atan2)
+    ang: np.ndarray  # (n_moving, n): angles (wrapped where from atan2, unless unwrapped)
     rot: np.ndarray  # (order * n_moving, n): angular velocity, acceleration, jerk
     pts: np.ndarray  # ((order + 1) * n_points, n) complex: points then centres of mass
     lens: np.ndarray  # ((order + 1) * n_lengths, n)
     codes: np.ndarray  # (n_groups, n) int8
     reasons: dict[int, np.ndarray]  # a general group's reasons (the loop core's words)
+    unwrapped: bool = False  # the angles already follow the sweep's path (compiled kernel)
 
 
 @dataclass
 class Tables:
-    """What a run reports: moving links, points (and centres of mass), lengths."""
+    """What a run reports (moving links, points and centres of mass, lengths) and how."""
 
     links: np.ndarray  # link indices
     pts_i: np.ndarray  # link of each point
     pts_f: np.ndarray  # drawn offsets, re/im interleaved
     lens_i: np.ndarray  # per length: kind (0 slide, 1 actuator), link a, link b, guide
     lens_f: np.ndarray  # per length: offset on a, offset on b, direction (re/im)
+    exact: np.ndarray  # per link row: 1 if its angle is exact (a driver's), 0 if from atan2
+    theta0: np.ndarray  # per link row: its drawn angle
+    start: np.ndarray  # drawn value of every driver
+    scale: np.ndarray  # per driver: 1 (an angle) or the typical length
     lists: tuple[list, ...] = ()  # the same as Python lists, for the plain-Python twin
+    wrapped: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # rows from atan2
 
     def __post_init__(self) -> None:
         self.lists = tuple(
             a.tolist() for a in (self.links, self.pts_i, self.pts_f, self.lens_i, self.lens_f)
         )
+        self.wrapped = np.flatnonzero(self.exact == 0)
 
 
 @dataclass
@@ -132,6 +142,13 @@ def scalar_kernel() -> ModuleType:
     return _scalar
 
 
+def _kernel_failure(exc: Exception) -> bool:
+    """Whether ``exc`` is the compiled kernel failing (not, say, a signal's timeout)."""
+    own = (ArithmeticError, LookupError, RuntimeError, TypeError, ValueError, MemoryError,
+           AssertionError, ImportError, OSError)  # fmt: skip
+    return isinstance(exc, own) or type(exc).__module__.startswith("numba")
+
+
 def compiled_kernel(n: int) -> ModuleType | None:
     """The compiled kernels if the jit rule serves a call of ``n`` poses with them."""
     global _compiled, _failed
@@ -143,6 +160,8 @@ def compiled_kernel(n: int) -> ModuleType | None:
 
             module.warm_up()
         except Exception as exc:  # an optional accelerator: NumPy serves
+            if not _kernel_failure(exc):
+                raise
             _failed = f"{type(exc).__name__}: {exc}"
             return None
         _compiled = module
@@ -150,13 +169,18 @@ def compiled_kernel(n: int) -> ModuleType | None:
 
 
 def run(program: Program, tables: Tables, U: np.ndarray, order: int, follow: bool) -> Outputs:
-    """Run ``program`` at the samples ``U`` (rows: each driver's value and three rates)."""
+    """Run ``program`` at the samples ``U`` (rows: each driver's value and three rates).
+
+    ``follow``: the samples are a path (NumPy: general groups are continued
+    along it); the compiled kernel then also unwraps the angles along the
+    sweep's path from the drawn pose (``Outputs.unwrapped``).
+    """
     n = U.shape[1]
     enc = program.encoded
     if enc is not None:
         kern = compiled_kernel(n)
         if kern is not None:
-            out = _run_compiled(kern, program, enc, tables, U, order)
+            out = run_compiled(kern, program, tables, U, order, follow)
             if out is not None:
                 return out
         elif n <= SCALAR_MAX:
@@ -179,28 +203,41 @@ def _empty(program: Program, tables: Tables, n: int, order: int) -> Outputs:
     )
 
 
-def _run_compiled(kern, program, enc, tables, U, order) -> Outputs | None:
+#: Batches of at least this many poses are split over threads (:func:`machdyn.jit.run`).
+THREADED = 20_000
+
+
+def run_compiled(kern, program, tables, U, order, follow) -> Outputs | None:
+    """The compiled kernel over ``U`` (None, and NumPy serves from then on, if it fails)."""
     global _failed
     n = U.shape[1]
+    enc = program.encoded
     out = _empty(program, tables, n, order)
-    t = tables
-    args = (enc.pi, enc.pf, enc.ns, U, order, program.n_links, t.links, t.pts_i, t.pts_f,
-            t.lens_i, t.lens_f, out.ang, out.rot, out.pts.real, out.pts.imag, out.lens,
-            out.codes)  # fmt: skip
-    if n < 20_000:
-        try:
-            kern.run(0, n, *args)
-        except Exception as exc:  # NumPy is the reference: it serves from now on
-            _failed = f"{type(exc).__name__}: {exc}"
-            warnings.warn(
-                f"the compiled linkage kernel failed ({_failed}); NumPy serves",
-                RuntimeWarning,
-                stacklevel=4,
-            )
-            return None
+    if n == 0:  # nothing to do (and empty arrays would make numba compile another signature)
+        out.unwrapped = True
         return out
-    if not jit.run(lambda sl: kern.run(sl.start, sl.stop, *args), n):
-        _failed = jit.reason() or "the compiled linkage kernel failed"
+    t = tables
+    args = (enc.pi, enc.pf, enc.ns, U, order, program.n_links, t.links, t.exact, t.theta0,
+            t.pts_i, t.pts_f, t.lens_i, t.lens_f, out.ang, out.rot, out.pts.real,
+            out.pts.imag, out.lens, out.codes)  # fmt: skip
+    try:
+        if n < THREADED:
+            kern.run(0, n, *args)
+        elif not jit.run(lambda sl: kern.run(sl.start, sl.stop, *args), n):
+            raise RuntimeError(jit.reason() or "the compiled linkage kernel failed")
+        if follow and n:
+            kern.follow(enc.pi, enc.pf, enc.ns, U, program.n_links, t.links, t.exact,
+                        t.theta0, t.start, t.scale, STEP, out.ang, len(program.deps))  # fmt: skip
+            out.unwrapped = True
+    except Exception as exc:  # NumPy is the reference: it serves from now on
+        if not _kernel_failure(exc):
+            raise
+        _failed = f"{type(exc).__name__}: {exc}"
+        warnings.warn(
+            f"the compiled linkage kernel failed ({_failed}); NumPy serves",
+            RuntimeWarning,
+            stacklevel=4,
+        )
         return None
     return out
 
@@ -220,6 +257,7 @@ def _run_scalar(program, enc, tables, U, order) -> Outputs:
         out.codes[:, i] = codes
         k.outputs(i, Og, E, A, V, W, nl, order, links, pts_i, pts_f, lens_i, lens_f,
                   out.ang, out.rot, out.pts, out.lens)  # fmt: skip
+    out.ang += tables.theta0[:, None]
     return out
 
 
@@ -232,7 +270,7 @@ def _run_numpy(
     out = _empty(program, tables, n, order)
     nm = len(tables.links)
     for j, i in enumerate(tables.links):
-        out.ang[j] = st.ang[i]
+        out.ang[j] = st.ang[i] + tables.theta0[j]
         for k in range(order):
             out.rot[k * nm + j] = st.rot[k + 1][i]
     npt = len(tables.pts_i)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -9,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._summary import Summarized
-from .._validate import finite_array
+from .._validate import LIMIT, finite_array
 from ..errors import InputError, ModelError
 from ..loops.result import Motion
 from ._common import _is_zero, _ref_angle
@@ -42,14 +43,15 @@ def solve(
     jrk = None if jerk is None else _per_driver("jerk", jerk, drivers, False)
     if vel is None and jrk is not None:
         raise ModelError("jerk needs the driver velocity too (velocity=...)")
+    shapes = {v.shape for v in vals.values()}
     try:
-        shape = np.broadcast_shapes(*(np.shape(v) for v in vals.values()))
+        shape = shapes.pop() if len(shapes) == 1 else np.broadcast_shapes(*shapes)
     except ValueError:
         raise InputError(
             "values",
             f"driver arrays of shapes {[np.shape(v) for v in vals.values()]} do not broadcast",
         ) from None
-    n = int(np.prod(shape))
+    n = math.prod(shape)
     cont = continuation if continuation is not None else (len(shape) <= 1 and n > 1)
     from .sweep import solve_closed
 
@@ -68,14 +70,21 @@ def _per_driver(field: str, value: Any, drivers: tuple[str, ...], required: bool
         missing = [d for d in drivers if d not in value]
         if missing and required:
             raise ModelError(f"{field}: no value for driver(s) {', '.join(missing)}")
-        return {d: finite_array(f"{field}[{d}]", value.get(d, 0.0)) for d in drivers}
+        return {d: _driver_array(f"{field}[{d}]", value.get(d, 0.0)) for d in drivers}
     if len(drivers) != 1 and not required and np.ndim(value) == 0:
-        return {d: finite_array(f"{field}[{d}]", value) for d in drivers}
+        return {d: _driver_array(f"{field}[{d}]", value) for d in drivers}
     if len(drivers) != 1:
         raise ModelError(
             f"{field}: give a mapping {{driver: values}} for the drivers {', '.join(drivers)}"
         )
-    return {drivers[0]: finite_array(field, value)}
+    return {drivers[0]: _driver_array(field, value)}
+
+
+def _driver_array(field: str, value: Any) -> np.ndarray:
+    """``finite_array``, with a shortcut for a plain number (an editor's one-pose call)."""
+    if type(value) in (float, int) and -LIMIT <= value <= LIMIT:  # False for NaN
+        return np.array(float(value))
+    return finite_array(field, value)
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ the angle within π of the drawn one.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -20,8 +21,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import ModelError
+from . import kernel
 from ._common import GROUND, _frozen, _ref_angle, _typical_length
-from .kernel import Outputs, Tables, has_general, run
+from .kernel import STEP, Outputs, Tables, has_general, run
 from .kinematics import LinkageMotion, _cg_drawn
 from .program import NO_ASSEMBLY, OK, SINGULAR, Program, unwrap
 
@@ -29,9 +31,6 @@ if TYPE_CHECKING:
     from .builder import Linkage
     from .topology import _Model
 
-#: Largest step of a driver (radians; lengths in units of the typical link length)
-#: between two samples of the path along which angles are unwrapped.
-STEP = 0.2
 
 Ref = tuple[int, complex]
 
@@ -122,6 +121,10 @@ def _info(lk: Linkage, model: _Model) -> _Info:
         np.array([x for _, r in refs for x in (r.real, r.imag)], float),
         np.array(lens_i, np.int64),
         np.array(lens_f, float),
+        np.array([0 if index[n] in model.program.unwrap else 1 for n in lk._links], np.int8),
+        np.array([_ref_angle(lk, n) for n in lk._links], float),
+        np.array(start, float),
+        np.array(scale, float),
     )
     group_of = {GROUND: -1}
     for g, grp in enumerate(groups):
@@ -239,20 +242,24 @@ def solve_closed(
     info = _info(lk, model)
     program = model.program
     drivers = tuple(lk._drivers)
-    n = int(np.prod(shape))
+    n = math.prod(shape)
     order = 0 if vel is None else 3 if jrk is not None else 2
     U = np.zeros((4 * len(drivers), n))
     for d, name in enumerate(drivers):
-        U[4 * d] = _flat(vals[name], shape)
-        for k, table in enumerate((vel, acc, jrk), start=1):
+        for k, table in enumerate((vals, vel, acc, jrk)):
             if table is not None and k <= order:
-                U[4 * d + k] = _flat(table[name], shape)
+                a = table[name]
+                U[4 * d + k] = a if a.ndim == 0 else _flat(a, shape)
     if follow and n:
         out = _follow(program, info, U, order)
     else:
         out = run(program, info.tables, U, order, False)
-    ok, reason = _flags(out, model, info, n)
-    for g in np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
+    clean = not out.codes.any()  # the usual case: every group assembled, away from toggles
+    if clean:
+        ok, reason = np.ones(n, bool), np.full(n, "", dtype=object)
+    else:
+        ok, reason = _flags(out, model, info, n)
+    for g in () if clean else np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
         where = _reach(lk, model, info, int(g))
         if where:
             mine = reason == info.texts[g][0]
@@ -261,44 +268,39 @@ def solve_closed(
 
 
 def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs:
-    """Run a 1-D sweep with its angles unwrapped along a path from the drawn pose."""
-    vals = U[0::4]
-    unwrapped = [j for j, i in enumerate(info.tables.links) if int(i) in program.unwrap]
-    n = vals.shape[1]
-    coarse = n > 1 and np.abs(np.diff(vals, axis=1)).max() > STEP * info.scale.min()
-    if has_general(program) or coarse:  # the whole path in one run
-        path, tags = _path(info.start, info.scale, vals)
-        take = np.flatnonzero(tags < 0)
-        src = np.where(tags < 0, -1 - tags, tags)
-        P = U[:, src]
-        P[0::4] = path
-        out = run(program, info.tables, P, order, True)
+    """Run a 1-D sweep with its angles unwrapped along a path from the drawn pose.
+
+    The compiled kernel does it all (:func:`machdyn._linkage_kernels.follow`);
+    otherwise the program is run along the path (:func:`_path`: the drawn pose,
+    the samples, and points in between where two are further apart than
+    :data:`STEP`), each angle unwrapped along it, and the samples taken.
+    """
+    tables = info.tables
+    unwrapped = tables.wrapped
+    if not unwrapped.size and not has_general(program):
+        return run(program, tables, U, order, True)
+    kern = kernel.compiled_kernel(U.shape[1]) if program.encoded is not None else None
+    if kern is not None:
+        out = kernel.run_compiled(kern, program, tables, U, order, True)
+        if out is not None and out.unwrapped:
+            return out
+    path, tags = _path(info.start, info.scale, U[0::4])
+    take = np.flatnonzero(tags < 0)
+    if take.size == tags.size:  # the path is the samples
+        out = run(program, tables, U, order, True)
         for j in unwrapped:
             out.ang[j] = unwrap(out.ang[j])
-        return Outputs(
-            out.ang[:, take], out.rot[:, take], out.pts[:, take], out.lens[:, take],
-            out.codes[:, take], {g: r[take] for g, r in out.reasons.items()},
-        )  # fmt: skip
-    out = run(program, info.tables, U, order, True)
-    if unwrapped:
-        span = float(np.max(np.abs(vals[:, 0] - info.start) / info.scale))
-        first = np.zeros(len(unwrapped))
-        if span > 1e-12:  # the drawn pose ... the first sample, positions only
-            k = int(np.ceil(span / STEP))
-            M = np.zeros((U.shape[0], k + 1))
-            M[0::4] = info.start[:, None] + np.linspace(0.0, 1.0, k + 1) * (
-                vals[:, :1] - info.start[:, None]
-            )
-            ref = run(program, info.tables, M, 0, True)
-            first = np.array([unwrap(ref.ang[j])[-1] for j in unwrapped])
-        for j, a0 in zip(unwrapped, first, strict=True):
-            a = unwrap(out.ang[j])
-            if np.isfinite(a0) and np.isfinite(a[0]):
-                turns = np.round((a0 - a[0]) / (2 * np.pi))
-                if turns:
-                    a = a + 2 * np.pi * turns
-            out.ang[j] = a
-    return out
+        return out
+    src = np.where(tags < 0, -1 - tags, tags)
+    P = U[:, src]
+    P[0::4] = path
+    out = run(program, tables, P, order, True)
+    for j in unwrapped:
+        out.ang[j] = unwrap(out.ang[j])
+    return Outputs(
+        out.ang[:, take], out.rot[:, take], out.pts[:, take], out.lens[:, take],
+        out.codes[:, take], {g: r[take] for g, r in out.reasons.items()},
+    )  # fmt: skip
 
 
 def _pos_ok(model: _Model, codes: np.ndarray, g: int) -> np.ndarray:
@@ -423,21 +425,24 @@ def _motion(
     rows = info.rows
     nm, npt, nln = len(rows["links"]), len(rows["points"]), len(rows["lengths"])
     size = len(info.tables.pts_i)
-
-    def block(a: np.ndarray, start: int, count: int) -> np.ndarray:
-        part = a[start : start + count]
-        return part.reshape(part.shape[0], *shape)
-
-    theta = _Rows(rows["links"], block(out.ang + info.theta0, 0, nm))
-    rot = [_Rows(rows["links"], block(out.rot, k * nm, nm)) for k in range(order)]
-    pts = [_Rows(rows["points"], block(out.pts, k * size, npt)) for k in range(order + 1)]
-    cgs = [_Rows(rows["cgs"], block(out.pts, k * size + npt, nm)) for k in range(order + 1)]
-    lens = [_Rows(rows["lengths"], block(out.lens, k * nln, nln)) for k in range(order + 1)]
+    for a in (out.ang, out.rot, out.pts, out.lens):
+        a.flags.writeable = False  # every view below inherits it
+    ang = out.ang.reshape(nm, *shape)
+    R = out.rot.reshape(order, nm, *shape)
+    P = out.pts.reshape(order + 1, size, *shape)
+    L = out.lens.reshape(order + 1, nln, *shape)
+    theta = _Rows(rows["links"], ang)
+    rot = [_Rows(rows["links"], R[k]) for k in range(order)]
+    pts = [_Rows(rows["points"], P[k, :npt]) for k in range(order + 1)]
+    cgs = [_Rows(rows["cgs"], P[k, npt:]) for k in range(order + 1)]
+    lens = [_Rows(rows["lengths"], L[k]) for k in range(order + 1)]
 
     def at(seq: list, k: int) -> Any:
         return seq[k] if k < len(seq) else None
 
-    inputs = {k: np.array(np.broadcast_to(v, shape)) for k, v in vals.items()}
+    inputs = {
+        k: np.array(v if v.shape == shape else np.broadcast_to(v, shape)) for k, v in vals.items()
+    }
     return LinkageMotion(
         inputs=_frozen(inputs),
         theta=theta,
@@ -469,7 +474,8 @@ class _Rows(Mapping):
     __slots__ = ("_data", "_index", "_names")
 
     def __init__(self, names: tuple[str, ...], data: np.ndarray) -> None:
-        data.flags.writeable = False
+        if data.flags.writeable:
+            data.flags.writeable = False
         self._names, self._data = names, data
         self._index: dict[str, int] | None = None
 

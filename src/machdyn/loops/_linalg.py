@@ -14,8 +14,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
+
+from ..errors import InputError
 
 __all__ = ["BlockFactor", "Factor", "block_factor", "lu_factor", "lu_solve", "lu_structure"]
 
@@ -89,8 +92,31 @@ def lu_factor(
     2.0
     >>> lu_solve(f, np.array([[3.0], [7.0]]))[:, 0].tolist()
     [1.0, 1.0]
+
+    Non-finite entries (a sample already marked unsolved) give non-finite
+    factors of that sample only (its ``det`` and ``rcond`` are NaN).
     """
-    return _factor(a, row_scale, col_scale)
+    from .._validate import as_array
+
+    a = as_array("a", a)
+    if a.ndim != 3 or a.shape[0] != a.shape[1] or 0 in a.shape:
+        raise InputError("a", f"must be a batch of square matrices, shape (n, n, N), got {a.shape}")
+    scales = [
+        _scales(f, v, a.shape[0]) for f, v in (("row_scale", row_scale), ("col_scale", col_scale))
+    ]
+    return _factor(a, *scales)
+
+
+def _scales(field: str, value: Any, n: int) -> np.ndarray | None:
+    """Static row or column multipliers of :func:`lu_factor`: None or (n,) positive, finite."""
+    if value is None:
+        return None
+    from .._validate import finite_array
+
+    s = finite_array(field, value)
+    if s.shape != (n,) or not np.all(s > 0.0):
+        raise InputError(field, f"must be {n} positive multipliers, got shape {s.shape}")
+    return s
 
 
 def _factor(
@@ -271,8 +297,14 @@ def lu_solve(f: Factor, b: np.ndarray) -> np.ndarray:
     >>> lu_solve(lu_factor(a), np.array([[2.0, 2.0], [3.0, 4.0]])).T.tolist()
     [[1.0, 2.0], [1.0, 1.0]]
     """
+    if not isinstance(f, Factor):
+        raise InputError("f", f"must be the Factor lu_factor returns, got {type(f).__name__}")
     lu = f.lu
     n = lu.shape[0]
+    if not isinstance(b, np.ndarray) or b.dtype.kind != "f" or b.ndim not in (2, 3):
+        raise InputError("b", "must be a float array of shape (n, N) or (n, m, N)")
+    if b.shape[0] != n or b.shape[-1] not in (lu.shape[-1], 1):
+        raise InputError("b", f"shape {b.shape} does not fit the factors' {lu.shape}")
     x = b * (f.row_mul if b.ndim == 2 else f.row_mul[:, None, :])
     extra = () if b.ndim == 2 else (None,)
     if f.inv is not None:  # 2x2: a product with the inverse

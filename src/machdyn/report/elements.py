@@ -9,6 +9,7 @@ import numpy as np
 from ..draw.elements import cam_scene, gear_scene
 from ..draw.engineering import cam_charts
 from ..draw.html import widget
+from ..draw.units import Units
 from .page import Page, esc, fmt
 
 __all__ = ["cam_report", "gear_report"]
@@ -21,10 +22,26 @@ def cam_report(
     n: int = 120,
     length_unit: str | None = None,
     title: str | None = None,
+    units: Any = None,
 ) -> Page:
-    """The report page of a cam (see :func:`machdyn.report.report`)."""
+    """The report page of a cam (see :func:`machdyn.report.report`).
+
+    ``units`` (a machine file's unit system) labels the lengths and the SVAJ
+    axes; else ``length_unit`` names the unit of a unit-free profile.
+    """
     checks = profile.checks(max_pressure_angle=np.radians(max_pressure_angle_deg))
     failed = [c for c in checks if not c.passed]
+    if units is not None and not Units.of(units).free:
+        u = Units.of(units)
+        length_unit = length_unit or u.system.internal("length")
+
+        def length(v: float, digits: int = 4) -> str:
+            return esc(u.text("length", v, digits))
+    else:
+
+        def length(v: float, digits: int = 4) -> str:
+            return fmt(v, digits) + (f" {esc(length_unit)}" if length_unit else "")
+
     title = title or f"cam with a {profile.follower} follower"
     state = (
         "passes every design check"
@@ -33,16 +50,22 @@ def cam_report(
     )
     page = Page(
         title,
-        f"{title}: base radius {fmt(profile.base_radius)}, prime radius "
-        f"{fmt(profile.prime_radius)}; {state}.",
+        f"{title}: base radius {length(profile.base_radius)}, prime radius "
+        f"{length(profile.prime_radius)}; {state}.",
     )
     page.failed = bool(failed)
     rows = [
         ("follower", esc(profile.follower), "follower"),
-        ("base radius", fmt(profile.base_radius, 6), "base_radius"),
-        ("prime radius", fmt(profile.prime_radius, 6), "prime_radius"),
-        ("roller radius", fmt(profile.roller_radius, 6), "roller_radius"),
-        ("lift", fmt(float(np.ptp(profile.s)), 6), "lift"),
+        ("base radius", length(profile.base_radius, 6), "base_radius"),
+        ("prime radius", length(profile.prime_radius, 6), "prime_radius"),
+        ("roller radius", length(profile.roller_radius, 6), "roller_radius"),
+        (
+            "lift",
+            f"{np.degrees(np.ptp(profile.s)):.6g}° (arm swing)"
+            if profile.follower == "oscillating roller"
+            else length(float(np.ptp(profile.s)), 6),
+            "lift",
+        ),
     ]
     page.section(
         "model",
@@ -52,7 +75,10 @@ def cam_report(
     crow = [[esc(c.name), "pass" if c.passed else "<b>FAIL</b>", esc(c.detail)] for c in checks]
     page.section("checks", "Cam checks", page.grid(("check", "result", "detail"), crow))
     charts = cam_charts(
-        profile, max_pressure_angle_deg=max_pressure_angle_deg, length_unit=length_unit
+        profile,
+        max_pressure_angle_deg=max_pressure_angle_deg,
+        length_unit=length_unit,
+        units=units,
     )
     page.section(
         "svaj",

@@ -10,7 +10,12 @@ from typing import Any
 import numpy as np
 
 from ..draw.chart import Chart, Series
-from ..draw.engineering import pin_force_charts, shaking_charts, torque_chart
+from ..draw.engineering import (
+    pin_force_charts,
+    shaking_charts,
+    torque_chart,
+    transmission_chart,
+)
 from ..draw.html import widget
 from ..draw.linkage import default_values, linkage_scene
 from ..draw.scene import Scene
@@ -143,6 +148,7 @@ def linkage_report(
     title: str | None = None,
     length_unit: str | None = None,
     units: Any = None,
+    mu_limit_deg: float = 40.0,
 ) -> Page:
     """Build the report page of a linkage (see :func:`machdyn.report.report`)."""
     title = title or _title(lk)
@@ -224,6 +230,7 @@ def linkage_report(
     )
     xlabel = f"θ {driver} ({xunit})" if driver in lk.links else f"{driver} ({xunit})"
     charts = _kinematics_charts(lk, m, xs, xlabel, driver, assembled, u)
+    _transmission_section(page, lk, m, (x, xs), xlabel, is_angle, mu_limit_deg)
     page.section("kinematics", "Kinematics", "".join(c.to_svg(height=240) for c in charts))
     forces = None
     if any(link.mass > 0 or link.inertia > 0 for link in lk.links.values()):
@@ -248,6 +255,54 @@ def linkage_report(
     if page.failed:
         page.headline = "SELF-CHECK FAILED — " + page.headline
     return page
+
+
+def _transmission_section(
+    page: Page,
+    lk: Any,
+    m: Any,
+    x: tuple[np.ndarray, np.ndarray],
+    xlabel: str,
+    is_angle: bool,
+    limit_deg: float,
+) -> None:
+    """μ of every dyad with two assemblies over the sweep (``Linkage.transmission_angles``)."""
+    raw, xs = x
+    where = xlabel.split(" (")[0]
+    mus = lk.transmission_angles(m)
+    if not mus:
+        return
+    rows, charts = [], []
+    for k, (group, mu) in enumerate(mus.items()):
+        deg = np.degrees(np.ravel(mu))
+        if np.isfinite(deg).any():
+            j = int(np.nanargmin(deg))
+            at = f"{xs[j]:.1f}°" if is_angle else f"{xs[j]:.4g} {xlabel.rsplit('(', 1)[-1][:-1]}"
+            met = "met" if deg[j] >= limit_deg else "NOT met"
+            rows.append(
+                (
+                    f"smallest μ of {group}",
+                    f"{deg[j]:.3f}° at {esc(where)} = {esc(at)} (limit {limit_deg:g}°: {met})",
+                    f"mu_min_{k}",
+                )
+            )
+        charts.append(
+            transmission_chart(
+                raw,
+                mu,
+                x=None if is_angle else xs,
+                xlabel=xlabel,
+                where=where,
+                title=f"transmission angle of the {group}",
+            ).to_svg(height=220)
+        )
+    page.section(
+        "angles",
+        "Transmission angles",
+        page.table(rows) + "".join(charts) + '<p class="remark">μ of every dyad with two '
+        "assemblies (RRR: the angle at its middle pin; RRP: the rod against the slide's "
+        "normal), 90° best, with the design limit (mu_limit_deg).</p>",
+    )
 
 
 def _kinematics_charts(
@@ -344,7 +399,9 @@ def _force_sections(
     xunit = xlabel.rsplit("(", 1)[-1].rstrip(")")
 
     def at(j: int) -> str:
-        return f"{esc(where)} = {xs[j]:.4g}{'°' if xunit == 'deg' else ' ' + esc(xunit)}"
+        if xunit == "deg":  # an angle is named within the turn
+            return f"{esc(where)} = {xs[j] % 360.0:.4g}°"
+        return f"{esc(where)} = {xs[j]:.4g} {esc(xunit)}"
 
     for (a, b), F in f.pins.items():
         mag = np.where(ok, np.abs(np.ravel(F)), np.nan)

@@ -109,7 +109,7 @@ def _page_of(part: Any, machine: Any, results: dict[str, Any], **common: Any) ->
         from .elements import cam_report
 
         profile = results[part.name].objects.get("profile")
-        return None if profile is None else cam_report(profile, title=title)
+        return None if profile is None else cam_report(profile, title=title, units=machine.units)
     if kind == "gear_pair":
         from .elements import gear_report
 

@@ -14,7 +14,12 @@ from typing import Any
 import numpy as np
 
 from ..draw.build import inverted_scene, slidercrank_scene
-from ..draw.engineering import pin_force_charts, shaking_charts, torque_chart
+from ..draw.engineering import (
+    pin_force_charts,
+    shaking_charts,
+    torque_chart,
+    transmission_chart,
+)
 from ..draw.html import widget
 from ..draw.kinematics import slider_charts
 from ..slidercrank import InvertedSliderCrank, SliderCrank
@@ -188,6 +193,7 @@ def slidercrank_sections(
     mu: float = 0.0,
     beta: float = 0.0,
     k: float | None = None,
+    mu_limit_deg: float = 40.0,
     units: Any = None,
     length_unit: str | None = None,
 ) -> str:
@@ -243,7 +249,14 @@ def slidercrank_sections(
     if np.isfinite(mag).any():
         j = int(np.nanargmin(mag))
         facts.append(("|MA| smallest (r_in = 1)", f"{fmt(mag[j])} at {_at(th, j)}", "ma_min"))
-    page.section("class", "Mobility, range and transmission", page.table(facts))
+    chart = transmission_chart(th, mu_rod, ok=good, limit_deg=mu_limit_deg)
+    page.section(
+        "class",
+        "Mobility, range and transmission",
+        page.table(facts)
+        + '<p class="remark">μ: the acute angle between the rod and the normal to the slide '
+        "(90° best; the design limit is drawn).</p>" + chart.to_svg(),
+    )
     krows = [
         _peak_row(
             "peak |ω3|",

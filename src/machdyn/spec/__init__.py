@@ -6,7 +6,8 @@ A machine file (TOML, or the same structure as JSON) starts with ``machdyn =
 flywheels, rotors and synthesis tasks, which may refer to each other by name.
 
 * :func:`load` reads a file: the model when it holds one part, else a
-  :class:`Machine`; :func:`load_machine` always gives the :class:`Machine`.
+  :class:`Machine`; :func:`load_machine` always gives the :class:`Machine`,
+  and :func:`loads` the same from text.
 * :func:`from_spec` builds the same from a plain dict; every model's
   ``to_spec()`` gives such a dict back.
 * :func:`dumps` writes a spec dict as TOML; :func:`schema` is the format's
@@ -28,7 +29,7 @@ from __future__ import annotations
 from typing import Any
 
 from ._context import SpecError
-from ._machine import VERSION, Machine, Part, from_spec, load, load_machine, read
+from ._machine import VERSION, Machine, Part, from_spec, load, load_machine, loads, read
 from ._toml import dumps
 
 __all__ = [
@@ -46,6 +47,7 @@ __all__ = [
     "from_spec",
     "load",
     "load_machine",
+    "loads",
     "read",
     "read_torque_csv",
     "schema",

@@ -174,6 +174,8 @@ SLIDER = Table(
         at=required(Name()),
         direction=optional(DIRECTION),
         through=optional(Name()),
+        centre=optional(Name(), "a curved guide: the point of `on` at its centre of curvature"),
+        radius=optional(Quantity("length", positive=True), "a curved guide's radius (checked)"),
     )
 )
 SLOT = Table(
@@ -183,6 +185,8 @@ SLOT = Table(
         on=required(Name()),
         direction=optional(DIRECTION),
         through=optional(Name()),
+        centre=optional(Name(), "a curved guide: the point of `on` at its centre of curvature"),
+        radius=optional(Quantity("length", positive=True), "a curved guide's radius (checked)"),
     )
 )
 ACTUATOR = Table(fields(start=required(Name()), end=required(Name()), links=optional(Names(2))))
@@ -318,6 +322,7 @@ def _build(ctx: Context, path: tuple, v: dict) -> Any:
                 e.get("direction", 0.0),
                 through=e.get("through"),
                 name=name,
+                **_curve(ctx, (*path, "sliders", name), e),
             )
     for name, e in v.get("slots", {}).items():
         with ctx.at((*path, "slots", name)):
@@ -328,6 +333,7 @@ def _build(ctx: Context, path: tuple, v: dict) -> Any:
                 e.get("direction", 0.0),
                 through=e.get("through"),
                 name=name,
+                **_curve(ctx, (*path, "slots", name), e),
             )
     for name, e in v.get("actuators", {}).items():
         with ctx.at((*path, "actuators", name)):
@@ -372,9 +378,14 @@ def _build(ctx: Context, path: tuple, v: dict) -> Any:
                 preload=e.get("preload", 0.0),
                 links=tuple(e["links"]) if "links" in e else None,
             )
+    on_links = {q for ln in lk.links.values() for q in ln.points} | set(lk.ground_points)
     for i, p in enumerate(v.get("report", []), start=1):
         with ctx.at((*path, "report", i)):
             lk.position(p)
+        if p not in on_links:  # a loose point moves with nothing: no motion to report
+            raise ctx.error(
+                (*path, "report", i), f"point {p!r} is on no link: add it to a link's points"
+            )
     _check_loads(ctx, path, v, lk)
     v["motion"] = _motions(ctx, path, v.get("motion", {}), lk)
     lk.units = None if ctx.system.is_unit_free else ctx.system
@@ -442,6 +453,18 @@ def _motions(ctx: Context, path: tuple, raw: dict, lk: Any) -> dict[str, DriverS
     return out
 
 
+def _curve(ctx: Context, path: tuple, e: dict) -> dict[str, Any]:
+    """``centre``/``radius`` of a curved slider or slot (neither: a straight one)."""
+    if "centre" not in e:
+        if "radius" in e:
+            raise ctx.error((*path, "radius"), "a curved guide needs centre = a point name")
+        return {}
+    for key in ("direction", "through"):
+        if key in e:
+            raise ctx.error((*path, key), "a curved guide (centre) takes no direction/through")
+    return {"centre": e["centre"], "radius": e.get("radius")}
+
+
 def _values_of(lk: Any) -> dict[str, Any]:
     out: dict[str, Any] = {
         "points": dict(lk.points),
@@ -483,6 +506,9 @@ def _values_of(lk: Any) -> dict[str, Any]:
             e = {"at": j.points[0], "links": list(j.links)}
         else:
             continue
+        if j.kind in ("slider", "slot") and j.centre is not None:  # a curved guide
+            del e["direction"]
+            e |= {"centre": j.centre, "radius": j.radius}
         if j.kind in ("slider", "slot") and j.through is not None:
             e["through"] = j.through
         by_kind.setdefault(j.kind + "s", {})[j.name] = e

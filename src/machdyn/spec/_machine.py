@@ -31,6 +31,7 @@ __all__ = [
     "PartKind",
     "from_spec",
     "load",
+    "loads",
     "read",
     "read_doc",
 ]
@@ -181,9 +182,12 @@ class Machine(Mapping[str, Any]):
 
 
 def _write_gravity(w: Writer, g: float) -> Any:
-    if not w.system.is_unit_free and g == u.standard_gravity(w.system):
+    if w.system.is_unit_free:
+        return g
+    if g == u.standard_gravity(w.system):
         return True
-    return w.quantity(g, "acceleration")
+    # with its unit: a bare gravity far from standard gravity is refused on reading
+    return f"{g!r} {w.system.internal('acceleration')}"
 
 
 # ------------------------------------------------------------------- reading
@@ -211,7 +215,12 @@ def _prescan(doc: Any, found: dict[str, str]) -> None:
                 continue
             found[key] = unit
             return
-        found.setdefault("any", unit)
+        try:  # '3 A', '3 furlongz': refused at their key, not as the file's units
+            mechanical = not u.describe(unit).startswith("not a mechanical")
+        except ValueError:
+            return
+        if mechanical:
+            found.setdefault("any", unit)
 
 
 def _is_angle(unit: str) -> bool:
@@ -473,6 +482,46 @@ def parse_text(text: str, source: str, folder: Path | None = None) -> Machine:
     machine = read_doc(doc, ctx)
     machine.legacy = legacy
     return machine
+
+
+def loads(text: str, source: str = "<text>.toml") -> Machine:
+    r"""Read machine-file text (TOML, or JSON when ``source`` ends in ``.json``) into a Machine.
+
+    What :func:`load_machine` does for a file, for text held in memory (a file
+    dropped on a web page, an editor's buffer): errors start with
+    ``source:line:`` and name the key; old linkage files are upgraded.
+    ``source`` names the text in messages and picks the syntax; file names in
+    the text (a torque CSV) are found relative to the working directory.
+
+    Parameters
+    ----------
+    text : str
+        The whole file.
+    source : str
+        A name for messages, ending in ``.toml`` or ``.json``.
+
+    Returns
+    -------
+    Machine
+
+    Examples
+    --------
+    >>> m = loads('machdyn = 1\n[units]\nlength = "mm"\n[fourbar.a]\nr1 = 80\nr2 = 40\n'
+    ...           'r3 = 70\nr4 = 60\n', "a.toml")
+    >>> m["a"].lengths, m.units.length
+    ((80.0, 40.0, 70.0, 60.0), 'mm')
+    >>> loads('{"machdyn": 1,\n "fourbar": }', "a.json")
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.InputError: a.json:2: JSON syntax error: Expecting value (column 13)
+    """
+    if not isinstance(text, str):
+        raise InputError("text", f"expected the file's text (a str), got {type(text).__name__}")
+    if not isinstance(source, str) or not source.strip():
+        raise InputError("source", f"expected a name like 'press.toml', got {source!r}")
+    if not source.lower().endswith((".toml", ".json")):
+        raise InputError("source", f"expected a name ending in .toml or .json, got {source!r}")
+    return parse_text(text, source)
 
 
 def load_machine(path: str | Path) -> Machine:

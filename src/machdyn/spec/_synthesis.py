@@ -28,6 +28,7 @@ from ._context import Context, check_units
 from ._machine import Machine, Part, PartKind
 from ._run import PartResult, ResultTable, Summary
 from ._types import (
+    Boolean,
     Choice,
     Integer,
     Position,
@@ -255,6 +256,7 @@ PATH = Table(
         seed=optional(Integer(0)),
         maxiter=optional(Integer(1, 100_000)),
         popsize=optional(Integer(4, 10_000)),
+        polish=optional(Boolean(), "refine the best candidate locally (default true)"),
         notes=optional(Text()),
     ),
     doc="path generation by search",
@@ -326,6 +328,7 @@ def _build_path(ctx: Context, path: tuple, v: dict) -> PathTask:
         v.get("seed", 0),
         v.get("maxiter", 400),
         v.get("popsize", 30),
+        v.get("polish", True),
         units=_units(ctx),
     )
 
@@ -350,7 +353,8 @@ def _path_values(t: PathTask) -> dict:
         out["timing"] = np.array(t.timing)
     if t.tolerance is not None:
         out["tolerance"] = t.tolerance
-    return out | {"seed": t.seed, "maxiter": t.maxiter, "popsize": t.popsize}
+    out |= {"seed": t.seed, "maxiter": t.maxiter, "popsize": t.popsize}
+    return out if t.polish else out | {"polish": False}
 
 
 def _fourbar_summary(out: PartResult, result: Any) -> None:

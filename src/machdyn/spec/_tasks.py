@@ -544,7 +544,7 @@ def _build_rotor(ctx: Context, path: tuple, v: dict) -> RotorBalance:
 def _rotor_values(task: RotorBalance) -> dict[str, Any]:
     out: dict[str, Any] = {
         "mass": [
-            {"mass": m, "radius": r, "angle": a, **({"z": z} if task.planes else {})}
+            {"mass": m, "radius": r, "angle": a, **({"z": z} if task.planes or z else {})}
             for m, r, a, z in task.masses
         ]
     }

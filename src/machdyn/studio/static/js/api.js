@@ -59,9 +59,11 @@ export class Analyst {
       const response = await fetch("/api/analyse", {
         method: "POST", headers: { "Content-Type": "application/json" }, body: job.body,
       });
-      const server = /dur=([\d.]+)/.exec(response.headers.get("Server-Timing") || "");
+      const timing = response.headers.get("Server-Timing") || "";
+      const server = /app;dur=([\d.]+)/.exec(timing), cpu = /cpu;dur=([\d.]+)/.exec(timing);
       data = await response.json().catch(() => ({ error: `HTTP ${response.status}` }));
       job.tag.server = server ? Number(server[1]) : null;
+      job.tag.cpu = cpu ? Number(cpu[1]) : null;
       job.tag.received = performance.now();
       if (!response.ok) error = new ApiError(data.error || `HTTP ${response.status}`, response.status, data.key);
       else if (data.refused) error = new ApiError(data.refused, 200, data.key);

@@ -93,7 +93,7 @@ class App {
     const now = performance.now();
     this.lastLatency = now - tag.t;
     // where a drag step's time goes: the server's analysis, the rest of the round trip, drawing
-    this.timing = { total: now - tag.t, server: tag.server, trip: tag.received - tag.t - (tag.server || 0), draw: now - tag.received };
+    this.timing = { total: now - tag.t, server: tag.server, cpu: tag.cpu, trip: tag.received - tag.t - (tag.server || 0), draw: now - tag.received };
     document.body.dataset.analysed = String(this.stats.drawn);
     const s = r.summary;
     v.svg.setAttribute("aria-label", `drawing of ${s.part}: mobility ${s.mobility}, driven by ${s.drivers.join(", ")}; ${r.ok.filter(Boolean).length} of ${r.ok.length} poses assembled`);

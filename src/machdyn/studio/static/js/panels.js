@@ -99,12 +99,31 @@ export class Panels {
       const isDriver = (part.drive || []).includes(sel.name);
       box.append(h("h3", {}, `Joint ${sel.name}`),
         h("p", { class: "muted" }, Object.entries(joint).map(([k, v]) => `${k}: ${Array.isArray(v) ? v.map((x) => fmt(x)).join(", ") : v}`).join(" · ")),
+        part.sliders && part.sliders[sel.name] ? this.guideBox(part, sel.name) : null,
         h("div", { class: "buttons" },
           h("button", { disabled: isDriver, onclick: () => store.commit((d, pt) => setDriver(pt, sel.name)) }, isDriver ? "the driver" : "Drive this joint"),
           h("button", { class: "danger", onclick: () => { store.commit((d, pt) => deleteJoint(pt, sel.name)); app.select(null); } }, "Delete joint")));
       return box;
     }
     return box;
+  }
+
+  // A slider's guide: the link it is on (or the ground) and its direction — an angle in the
+  // file's angle unit, a vector "dx, dy", or the name of a point the guide runs towards.
+  guideBox(part, name) {
+    const store = this.app.store, s = part.sliders[name];
+    const links = Object.keys(part.links || {}).filter((n) => n !== s.block);
+    const on = h("select", { "aria-label": "guide on" }, ...["ground", ...links].map((n) => {
+      const o = h("option", { value: n }, n); if (n === s.on) o.selected = true; return o; }));
+    on.addEventListener("change", () => store.commit((d, pt) => { pt.sliders[name].on = on.value; }));
+    const shown = s.direction === undefined ? "" : Array.isArray(s.direction) ? s.direction.join(", ") : String(s.direction);
+    const dir = h("input", { type: "text", value: shown, "aria-label": "guide direction", title: `an angle (${this.units().angle}), a vector dx, dy, or a point's name` });
+    dir.addEventListener("change", () => store.commit((d, pt) => {
+      const t = dir.value.trim(), nums = t.split(",").map((v) => Number(v.trim()));
+      if (!t) delete pt.sliders[name].direction;
+      else pt.sliders[name].direction = nums.every((v) => isFinite(v) && t !== "") ? (nums.length === 1 ? nums[0] : nums.slice(0, 2)) : t;
+    }));
+    return h("div", { class: "grid2" }, h("label", {}, "guide on", on), h("label", {}, `direction (${this.units().angle}, dx, dy or a point)`, dir));
   }
 
   check(on, fn, label) {
