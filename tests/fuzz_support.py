@@ -160,8 +160,9 @@ def allowed(call: Call, name: str, p: inspect.Parameter | None) -> set[str]:
     return out
 
 
-class CallTimeout(Exception):
-    """A fuzzed call ran past its time limit."""
+class CallTimeout(BaseException):
+    """A fuzzed call ran past its time limit (a BaseException, so that no ``except
+    Exception`` in machdyn, such as the jit's fallback, takes it for its own failure)."""
 
 
 def _alarm(signum, frame):  # pragma: no cover - signal handler

@@ -50,9 +50,10 @@ def from_text(text: str, name: str) -> dict[str, Any]:
         tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(source, f"TOML syntax error: {exc}") from None
-    from ..spec import _machine  # the reader with line numbers and the old-format upgrade
+    from ..spec import loads  # the reader with line numbers and the old-format upgrade
 
-    return _machine.parse_text(text, source).to_spec()
+    named = source if source.lower().endswith(".toml") else f"{source}.toml"
+    return loads(text, named).to_spec()
 
 
 def session(file: Path | None, templates: Mapping[str, str]) -> dict[str, Any]:
