@@ -30,15 +30,17 @@ from fuzz_support import BAD, parameters, public_callables, run_case
 CATALOGUE = catalogue()
 
 
-@pytest.fixture(autouse=True, scope="module")
+@pytest.fixture(autouse=True)
 def _numpy_path():
-    """Fuzz the validation on the NumPy path: a first compile of the kernels (a minute on a
-    loaded machine) would run past a call's time limit. Both paths share the validation."""
+    """Fuzz the validation on the NumPy path, as conftest sets it, before and after every
+    test: fuzzing ``jit.set_mode`` itself (``None`` is a valid value: "read MACHDYN_JIT")
+    would otherwise leave ``auto`` on, and a first kernel compile (a minute on a loaded
+    machine) would run past a call's time limit. Both paths share the validation."""
     from machdyn import jit
 
     jit.set_mode("off")
     yield
-    jit.set_mode(None)
+    jit.set_mode("off")
 
 
 #: Callables whose bad-input cases are not all clean yet (issue #17 in progress).
