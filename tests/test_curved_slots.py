@@ -203,3 +203,13 @@ def test_bad_curved_slots_are_refused(kwargs, error, field):
         lk.slot("A", "crank", "arm", name="s", **kwargs)
     if field is not None:
         assert err.value.field == field
+
+
+def test_friction_and_a_driver_on_a_curved_slide_are_refused_by_name():
+    """Not supported yet (the arc length is not a joint variable): refused, never ignored."""
+    lk = curved_guide()
+    with pytest.raises(ModelError, match="curved slider or slot cannot be driven"):
+        curved_guide().drive("guide")
+    motion = lk.solve(np.radians([30.0, 40.0]), velocity=1.0)
+    with pytest.raises(ModelError, match="friction on a curved slide is not supported"):
+        lk.forces(motion, coulomb={"guide": 0.1})

@@ -254,6 +254,11 @@ class Linkage(_JointMethods, _ElementMethods):
             if not isinstance(n, str):
                 raise InputError("drive", f"name the drivers by their names (str), got {n!r}")
             known = (self._links, self._sliders, self._slots, self._actuators, self._motors)
+            if n in self._curved:
+                raise ModelError(
+                    f"driver {n!r}: a curved slider or slot cannot be driven yet (its arc length "
+                    "is not a joint variable); drive a link, a straight slider or a motor"
+                )
             if all(n not in table for table in known):
                 joints = [*self._sliders, *self._slots, *self._actuators, *self._motors]
                 hint = ""

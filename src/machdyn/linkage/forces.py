@@ -538,6 +538,11 @@ def _forces(
     slipping = {}
     for name, mu in mapping("coulomb", coulomb, "friction coefficients μ").items():
         edge = next((e for e in edges if e.name == name and e.kind in ("P", "slot")), None)
+        if edge is None and name in lk._curved:
+            raise ModelError(
+                f"Coulomb friction at {name!r}: friction on a curved slide is not supported yet "
+                "(only straight sliders and slots); leave it out or use a straight guide"
+            )
         if edge is None:
             raise ModelError(
                 f"Coulomb friction at {name!r}: no such slider or slot; joints: "
