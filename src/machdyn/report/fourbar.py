@@ -202,9 +202,7 @@ def fourbar_report(fb: FourBar, *, title: str | None = None, **options: Any) -> 
     """Build the report page of a four-bar (see :func:`machdyn.report.report`)."""
     page = Page(title or describe(fb), "")
     page.headline = fourbar_sections(page, fb, **options)
-    if page.failed:
-        page.headline = "SELF-CHECK FAILED — " + page.headline
-    return page
+    return page.finished()
 
 
 def fourbar_sections(

@@ -212,6 +212,4 @@ def machine_report(
         lead = f'<p class="part-headline" data-key="{esc(p.name)}:headline">{esc(sub.headline)}</p>'
         page.sections.append((f"part{i}", head, lead, 2))
         _absorb(page, i, p.name, sub)
-    if page.failed:
-        page.headline = "SELF-CHECK FAILED — " + page.headline
-    return page
+    return page.finished()

@@ -59,6 +59,12 @@ class Page:
     sections: list[tuple[str, str, str, int]] = field(default_factory=list)
     failed: bool = False
 
+    def finished(self) -> Page:
+        """The page, its first line marked when a self-check failed (the end of every report)."""
+        if self.failed:
+            self.headline = "SELF-CHECK FAILED — " + self.headline
+        return self
+
     def key(self, name: str) -> str:
         """A data key of the part being written."""
         return name

@@ -162,9 +162,7 @@ def slidercrank_report(sc: SliderCrank, *, title: str | None = None, **options: 
     """Build the report page of a slider-crank (see :func:`machdyn.report.report`)."""
     page = Page(title or _name(sc), "")
     page.headline = slidercrank_sections(page, sc, **options)
-    if page.failed:
-        page.headline = "SELF-CHECK FAILED — " + page.headline
-    return page
+    return page.finished()
 
 
 def _name(model: Any, u: Any = None) -> str:
@@ -451,9 +449,7 @@ def inverted_report(isc: InvertedSliderCrank, *, title: str | None = None, **opt
     """Build the report page of an inverted slider-crank (see :func:`machdyn.report.report`)."""
     page = Page(title or _name(isc), "")
     page.headline = inverted_sections(page, isc, **options)
-    if page.failed:
-        page.headline = "SELF-CHECK FAILED — " + page.headline
-    return page
+    return page.finished()
 
 
 def inverted_sections(
