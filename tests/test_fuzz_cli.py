@@ -159,7 +159,30 @@ TEMPLATES: dict[str, list[str]] = {
     "spec check": [str(EXAMPLES / "fourbar.toml")],
     "spec upgrade": [OLD_LINKAGE],
     "spec schema": [],
+    # a second template of a command after "#": here the sub-commands' --spec FILE (#11)
+    "gear pair #spec": ["--spec", str(EXAMPLES / "gears.toml"), "--json"],
+    "gear train #spec": ["--spec", str(EXAMPLES / "gears.toml"), "--csv"],
+    "gear planetary #spec": ["--spec", str(EXAMPLES / "gears.toml"), "--part", "epicyclic"],
+    "gear profile #spec": [
+        "--spec",
+        str(EXAMPLES / "gears.toml"),
+        "-o",
+        "OUT.csv",
+        "--points",
+        "8",
+    ],
+    "flywheel #spec": ["--spec", str(EXAMPLES / "flywheel.toml"), "--json"],
+    "balance rotor #spec": ["--spec", str(EXAMPLES / "rotor.toml"), "--json"],
+    "balance static #spec": ["--spec", str(EXAMPLES / "rotor.toml"), "--part", "disc", "--csv"],
+    "synth three-position #spec": ["--spec", str(EXAMPLES / "synthesis.toml"), "--json"],
+    "synth function #spec": ["--spec", str(EXAMPLES / "synthesis.toml"), "--part", "log"],
 }
+
+
+def command(name: str) -> list[str]:
+    """The command words of a TEMPLATES key (``"gear pair #spec"`` -> gear, pair)."""
+    return name.split("#")[0].split()
+
 
 #: Values a mutation puts in place of a number, a name or a range.
 VALUES = [
@@ -277,7 +300,7 @@ def _mutate(name: str, rng: random.Random) -> list[str]:
             i = rng.randrange(len(args))
             args.insert(i, args[i])
         else:  # an option of the command with a random value
-            options = _known_options(name.split())
+            options = _known_options(command(name))
             if options:
                 args += [rng.choice(options), rng.choice(VALUES)]
     return args
@@ -360,12 +383,13 @@ def test_every_command_has_a_template():
             yield from leaves(sub, [*path, name])
 
     commands = {c for c in leaves(typer.main.get_command(app), []) if c} - SERVES
-    assert not commands - set(TEMPLATES), f"add a template to tests/test_fuzz_cli.py: {commands}"
+    templated = {" ".join(command(name)) for name in TEMPLATES}
+    assert not commands - templated, f"add a template to tests/test_fuzz_cli.py: {commands}"
 
 
 @pytest.mark.parametrize("name", sorted(TEMPLATES))
 def test_templates_run(name):
-    argv = [*name.split(), *TEMPLATES[name]]
+    argv = [*command(name), *TEMPLATES[name]]
     argv = [a.replace("OUT", str(WORK / f"template_{name.replace(' ', '_')}")) for a in argv]
     _build_atlas()
     status, out, err = run(argv)
@@ -381,7 +405,7 @@ SLOW = {"animate", "report", "gear plot", "atlas build", "synth path"}
 @given(st.sampled_from(sorted(set(TEMPLATES) - SLOW)), st.randoms(use_true_random=False))
 def test_random_command_lines(name, rng):
     _build_atlas()
-    argv = [*name.split(), *_mutate(name, rng)]
+    argv = [*command(name), *_mutate(name, rng)]
     check(argv, *run(argv))
 
 
@@ -390,7 +414,7 @@ def test_random_command_lines(name, rng):
 @given(st.sampled_from(sorted(SLOW)), st.randoms(use_true_random=False))
 def test_random_command_lines_of_slow_commands(name, rng):
     _build_atlas()
-    argv = [*name.split(), *_mutate(name, rng)]
+    argv = [*command(name), *_mutate(name, rng)]
     check(argv, *run(argv))
 
 

@@ -64,6 +64,7 @@ def test_examples_cover_every_kind():
         "rotor",
         "motion_synthesis",
         "function_synthesis",
+        "path_synthesis",
     }
 
 

@@ -8,7 +8,8 @@ printing happen here; the physics is :mod:`machdyn.balancing`.
 from __future__ import annotations
 
 import math
-from typing import Annotated
+from pathlib import Path
+from typing import Annotated, Any
 
 import typer
 
@@ -64,6 +65,46 @@ def _radius(field: str, value: float | None) -> float | None:
     return value
 
 
+SpecOpt = Annotated[
+    Path | None,
+    typer.Option(
+        "--spec", help="A machine file (docs/spec.md): balance its rotor part, in the file's units."
+    ),
+]
+PartOpt = Annotated[
+    str | None, typer.Option("--part", help="With --spec: the part, when the file has several.")
+]
+CsvOpt = Annotated[
+    bool, typer.Option("--csv", help="With --spec: print the corrections as CSV (with units).")
+]
+
+
+def _from_spec(
+    spec: Path | None,
+    part: str | None,
+    csv: bool,
+    given: dict[str, bool],
+    as_json: bool,
+    two_plane: bool,
+) -> bool:
+    """Run ``--spec FILE``'s rotor part as ``machdyn run`` does; False without --spec."""
+    if spec is None:
+        for option, value in (("--part", part is not None), ("--csv", csv)):
+            if value:
+                raise InputError(option, "goes with --spec FILE (a machine file)")
+        return False
+    from .run import run_spec_part
+
+    def fits(p: Any) -> str | None:
+        if (p.model.planes is not None) == two_plane:
+            return None
+        has, other = ("no correction planes", "static") if two_plane else ("planes", "rotor")
+        return f"has {has}: use `machdyn balance {other} --spec`"
+
+    run_spec_part(spec, ("rotor",), part, given=given, json=as_json, csv_out=csv, fits=fits)
+    return True
+
+
 def _phasor(magnitude: float, angle_deg: float) -> complex:
     return magnitude * complex(math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
 
@@ -87,14 +128,27 @@ def _report(result: TwoPlaneBalance, radius_a: float | None, radius_b: float | N
 @balance_app.command("static")
 def static(
     mass: Annotated[
-        list[str], typer.Option("--mass", help="A rotating mass as m,R,angle_deg (repeat).")
-    ],
+        list[str] | None,
+        typer.Option("--mass", help="A rotating mass as m,R,angle_deg (repeat)."),
+    ] = None,
     radius: Annotated[
         float | None, typer.Option("--radius", help="Radius of the balance mass.")
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+    spec: SpecOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
-    """Single-plane balance: m_b R_b = -sum(m_i R_i)."""
+    """Single-plane balance: m_b R_b = -sum(m_i R_i).
+
+    With ``--spec FILE`` the masses are the file's ``rotor`` part (one without
+    correction planes), reported as ``machdyn run FILE --part NAME`` does.
+    """
+    given = {"--mass": bool(mass), "--radius": radius is not None}
+    if _from_spec(spec, part, csv, given, as_json, two_plane=False):
+        return
+    if not mass:
+        raise InputError("--mass", "missing: give --mass m,R,angle_deg (repeat), or --spec FILE")
     unbalance = []
     for text in mass:
         m, r, angle = parse_numbers("--mass", text, 3, "m,R,angle_deg")
@@ -114,10 +168,15 @@ def static(
 @balance_app.command("rotor")
 def rotor(
     mass: Annotated[
-        list[str], typer.Option("--mass", help="A rotating mass as m,R,angle_deg,z (repeat).")
-    ],
-    plane_a: Annotated[float, typer.Option("--plane-a", help="Axial position of plane A.")],
-    plane_b: Annotated[float, typer.Option("--plane-b", help="Axial position of plane B.")],
+        list[str] | None,
+        typer.Option("--mass", help="A rotating mass as m,R,angle_deg,z (repeat)."),
+    ] = None,
+    plane_a: Annotated[
+        float | None, typer.Option("--plane-a", help="Axial position of plane A.")
+    ] = None,
+    plane_b: Annotated[
+        float | None, typer.Option("--plane-b", help="Axial position of plane B.")
+    ] = None,
     radius_a: Annotated[
         float | None, typer.Option("--radius-a", help="Radius of the mass in plane A.")
     ] = None,
@@ -132,8 +191,27 @@ def rotor(
         float | None, typer.Option("--omega", help="Speed, rad/s, for the bearing loads.")
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+    spec: SpecOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
-    """Two-plane dynamic balance of masses at axial positions z (and bearing loads)."""
+    """Two-plane dynamic balance of masses at axial positions z (and bearing loads).
+
+    With ``--spec FILE`` the masses and planes are the file's ``rotor`` part,
+    reported as ``machdyn run FILE --part NAME`` does.
+    """
+    given = {"--mass": bool(mass), "--plane-a": plane_a is not None}
+    given |= {"--plane-b": plane_b is not None, "--radius-a": radius_a is not None}
+    given |= {"--radius-b": radius_b is not None, "--bearings": bearings is not None}
+    given["--omega"] = omega is not None
+    if _from_spec(spec, part, csv, given, as_json, two_plane=True):
+        return
+    if not mass:
+        raise InputError("--mass", "missing: give --mass m,R,angle_deg,z (repeat), or --spec FILE")
+    for option, value in (("--plane-a", plane_a), ("--plane-b", plane_b)):
+        if value is None:
+            raise InputError(option, "missing: give --plane-a and --plane-b, or --spec FILE")
+    assert plane_a is not None and plane_b is not None
     unbalance, z, masses, radii = [], [], [], []
     for text in mass:
         m, r, angle, zi = parse_numbers("--mass", text, 4, "m,R,angle_deg,z")

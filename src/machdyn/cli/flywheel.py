@@ -53,12 +53,15 @@ def read_curve(path: Path) -> tuple[np.ndarray, np.ndarray]:
 @flywheel_app.command()
 def flywheel(
     curve: Annotated[
-        Path, typer.Argument(help="CSV with columns theta (deg), T12 over one cycle.")
-    ],
+        Path | None, typer.Argument(help="CSV with columns theta (deg), T12 over one cycle.")
+    ] = None,
     omega_avg: Annotated[
-        float, typer.Option("--omega-avg", help="Average shaft speed, rad/s (rpm with --rpm).")
-    ],
-    k: Annotated[float, typer.Option("--k", help="Coefficient of fluctuation, e.g. 0.02.")],
+        float | None,
+        typer.Option("--omega-avg", help="Average shaft speed, rad/s (rpm with --rpm)."),
+    ] = None,
+    k: Annotated[
+        float | None, typer.Option("--k", help="Coefficient of fluctuation, e.g. 0.02.")
+    ] = None,
     rpm: Annotated[bool, typer.Option("--rpm", help="--omega-avg is in rev/min.")] = False,
     period_deg: Annotated[
         float, typer.Option("--period-deg", help="Angle of one cycle, degrees.")
@@ -70,8 +73,45 @@ def flywheel(
         float | None, typer.Option("--thickness", help="Disc thickness, to size a disc.")
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+    spec: Annotated[
+        Path | None,
+        typer.Option(
+            "--spec",
+            help="A machine file (docs/spec.md): size its flywheel part, in the file's units.",
+        ),
+    ] = None,
+    part: Annotated[
+        str | None, typer.Option("--part", help="With --spec: the part, when the file has several.")
+    ] = None,
+    csv: Annotated[
+        bool, typer.Option("--csv", help="With --spec: print the lobe table as CSV (with units).")
+    ] = False,
 ) -> None:
-    """Size a flywheel: lobe table (Table 11-1), ΔE, I = ΔE/(k ω²) and the achieved k."""
+    """Size a flywheel: lobe table (Table 11-1), ΔE, I = ΔE/(k ω²) and the achieved k.
+
+    With ``--spec FILE`` the torque curve, speed and k come from the file's
+    ``flywheel`` part (its torque may be another part's, e.g. a four-bar's),
+    reported as ``machdyn run FILE --part NAME`` does.
+    """
+    if spec is not None:
+        from .run import run_spec_part
+
+        given = {
+            "CURVE": curve is not None,
+            "--omega-avg": omega_avg is not None,
+            "--k": k is not None,
+        }
+        given |= {"--rpm": rpm, "--period-deg": period_deg != 360.0}
+        given |= {"--density": density is not None, "--thickness": thickness is not None}
+        run_spec_part(spec, ("flywheel",), part, given=given, json=as_json, csv_out=csv)
+        return
+    for option, value in (("--part", part is not None), ("--csv", csv)):
+        if value:
+            raise InputError(option, "goes with --spec FILE (a machine file)")
+    for option, value in (("CURVE", curve), ("--omega-avg", omega_avg), ("--k", k)):
+        if value is None:
+            raise InputError(option, "missing: give CURVE --omega-avg W --k K, or --spec FILE")
+    assert curve is not None and omega_avg is not None and k is not None
     if (density is None) != (thickness is None):
         raise InputError("--thickness", "give both --density and --thickness to size a disc")
     theta, torque = read_curve(curve)

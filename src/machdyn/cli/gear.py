@@ -42,6 +42,22 @@ PhiOpt = Annotated[
 ]
 SystemOpt = Annotated[str, typer.Option("--system", help="Tooth system: full_depth or stub.")]
 
+
+def _spec_opt(kind: str) -> Any:
+    help_ = f"A machine file (docs/spec.md): analyse its {kind} part, in the file's units."
+    return Annotated[Path | None, typer.Option("--spec", help=help_)]
+
+
+SpecPairOpt = _spec_opt("gear_pair")
+SpecTrainOpt = _spec_opt("gear_train")
+SpecPlanetaryOpt = _spec_opt("planetary")
+PartOpt = Annotated[
+    str | None, typer.Option("--part", help="With --spec: the part, when the file holds several.")
+]
+CsvOpt = Annotated[
+    bool, typer.Option("--csv", help="With --spec: print the main table as CSV (units in header).")
+]
+
 #: Pressure angles the CLI accepts, in degrees: from below the oldest standard
 #: (14.5°) to the library's upper limit. A value under 10 is most likely radians.
 PHI_RANGE_DEG = (10.0, 45.0)
@@ -161,8 +177,18 @@ def _pair(
         return GearPair(pinion, gear, center_distance, driver=driver)
 
 
-PinionOpt = Annotated[int, typer.Option("--np", help="Pinion teeth N_p.")]
-GearOpt = Annotated[int, typer.Option("--ng", help="Gear teeth N_g.")]
+PinionOpt = Annotated[int | None, typer.Option("--np", help="Pinion teeth N_p.")]
+GearOpt = Annotated[int | None, typer.Option("--ng", help="Gear teeth N_g.")]
+
+
+def _teeth(np_: int | None, ng: int | None) -> tuple[int, int]:
+    """Both tooth numbers, required when the pair does not come from --spec."""
+    for option, value in (("--np", np_), ("--ng", ng)):
+        if value is None:
+            raise InputError(option, "missing: give --np N_p and --ng N_g, or --spec FILE")
+    return np_, ng  # type: ignore[return-value]
+
+
 XpOpt = Annotated[float, typer.Option("--xp", help="Pinion profile-shift coefficient.")]
 XgOpt = Annotated[float, typer.Option("--xg", help="Gear profile-shift coefficient.")]
 InternalOpt = Annotated[bool, typer.Option("--internal", help="The gear is an internal (ring).")]
@@ -191,8 +217,8 @@ DriverOpt = Annotated[
 
 @gear_app.command("pair")
 def pair_cmd(
-    np_: PinionOpt,
-    ng: GearOpt,
+    np_: PinionOpt = None,
+    ng: GearOpt = None,
     module: ModuleOpt = None,
     pd: PitchOpt = None,
     phi: PhiOpt = 20.0,
@@ -205,10 +231,22 @@ def pair_cmd(
     thin_g: ThinGOpt = 0.0,
     driver: DriverOpt = "pinion",
     json: JsonOpt = False,
+    spec: SpecPairOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
-    """Geometry, contact ratio and interference check of a pinion and gear."""
+    """Geometry, contact ratio and interference check of a pinion and gear.
+
+    With ``--spec FILE`` the pair is the file's ``gear_pair`` part, reported
+    as ``machdyn run FILE --part NAME`` does (every number in the file's units).
+    """
     from ..gears import undercut
 
+    given = _pair_given(np_, ng, module, pd, phi, system, xp, xg, internal, center_distance)
+    given |= {"--thin-p": thin_p != 0.0, "--thin-g": thin_g != 0.0, "--driver": driver != "pinion"}
+    if _from_spec(spec, ("gear_pair",), part, csv, given, json):
+        return
+    np_, ng = _teeth(np_, ng)
     pair = _pair(
         np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, thin_p, thin_g,
         driver,
@@ -257,6 +295,75 @@ def pair_cmd(
     print_table("Mesh", ["", "value"], [[k, _show(summary[k])] for k in mesh_keys])
 
 
+def _from_spec(
+    spec: Path | None,
+    kinds: tuple[str, ...],
+    part: str | None,
+    csv: bool,
+    given: dict[str, bool],
+    json: bool,
+) -> bool:
+    """Run ``--spec FILE``'s part as ``machdyn run`` does; False when no --spec was given."""
+    if spec is None:
+        for option, value in (("--part", part is not None), ("--csv", csv)):
+            if value:
+                raise InputError(option, "goes with --spec FILE (a machine file)")
+        return False
+    from .run import run_spec_part
+
+    run_spec_part(spec, kinds, part, given=given, json=json, csv_out=csv)
+    return True
+
+
+def _pair_given(
+    np_: int | None,
+    ng: int | None,
+    module: float | None,
+    pd: float | None,
+    phi: float,
+    system: str,
+    xp: float,
+    xg: float,
+    internal: bool,
+    center_distance: float | None,
+) -> dict[str, bool]:
+    """Which of a pair's model options were given (refused with --spec)."""
+    return {
+        "--np": np_ is not None, "--ng": ng is not None, "--module": module is not None,
+        "--pd": pd is not None, "--phi": phi != 20.0, "--system": system != "full_depth",
+        "--xp": xp != 0.0, "--xg": xg != 0.0, "--internal": internal,
+        "--center-distance": center_distance is not None,
+    }  # fmt: skip
+
+
+def _spec_pair(spec: Path, part: str | None, given: dict[str, bool]) -> Any:
+    """The ``GearPair`` of ``--spec FILE``'s gear_pair part (refusing model options)."""
+    from .run import load_part
+
+    for option, was_given in given.items():
+        if was_given:
+            raise InputError(
+                option, "the pair comes from --spec FILE; give it by options or by the file"
+            )
+    machine, name = load_part(spec, ("gear_pair",), part)
+    return machine.parts[name].model
+
+
+def _spec_internal(spec: Path, part: str | None) -> bool:
+    """Whether ``--spec FILE``'s pair has an internal gear (a shaper cutter then fits)."""
+    return bool(_spec_pair(spec, part, {}).gear.internal)
+
+
+def _spec_unit(spec: Path, pair: Any) -> str:
+    """The length unit of a pair read from a machine file (the file's, else mm / in)."""
+    from ..spec import load_machine
+
+    system = load_machine(spec).units
+    if not system.is_unit_free:
+        return system.length
+    return "in" if pair.pinion.diametral_pitch is not None else "mm"
+
+
 def _show(value: Any) -> Any:
     return ("yes" if value else "no") if isinstance(value, bool) else value
 
@@ -298,8 +405,8 @@ def min_teeth_cmd(
 
 @gear_app.command("profile")
 def profile_cmd(
-    teeth: Annotated[int, typer.Option("--teeth", "-N", help="Number of teeth.")],
     output: Annotated[Path, typer.Option("--output", "-o", help="File: .svg, .dxf, .csv, .png")],
+    teeth: Annotated[int | None, typer.Option("--teeth", "-N", help="Number of teeth.")] = None,
     module: ModuleOpt = None,
     pd: PitchOpt = None,
     phi: PhiOpt = 20.0,
@@ -308,16 +415,44 @@ def profile_cmd(
     internal: InternalOpt = False,
     points: Annotated[int, typer.Option("--points", help="Points per flank.")] = 60,
     cutter_teeth: CutterOpt = None,
+    spec: SpecPairOpt = None,
+    part: PartOpt = None,
+    member: Annotated[
+        str, typer.Option("--member", help="With --spec: the pair's pinion or gear.")
+    ] = "pinion",
 ) -> None:
-    """Write a gear's outline (involute flanks, tip, trochoid fillet) to a file."""
+    """Write a gear's outline (involute flanks, tip, trochoid fillet) to a file.
+
+    With ``--spec FILE`` the gear is the pinion (or ``--member gear``) of the
+    file's ``gear_pair`` part, written in the file's length unit.
+    """
     from ..gears import gear_outline
 
-    _check_cutter(cutter_teeth, internal)
-    gear = _gear(teeth, module, pd, phi, system, shift, internal)
+    if member not in ("pinion", "gear"):
+        raise InputError("--member", f"pinion or gear, got {member!r}")
+    if spec is not None:
+        given = {
+            "--teeth": teeth is not None, "--module": module is not None, "--pd": pd is not None,
+            "--phi": phi != 20.0, "--system": system != "full_depth", "--shift": shift != 0.0,
+            "--internal": internal,
+        }  # fmt: skip
+        pair = _spec_pair(spec, part, given)
+        gear = pair.pinion if member == "pinion" else pair.gear
+        unit = _spec_unit(spec, pair)
+    else:
+        for option, value in (("--part", part is not None), ("--member", member != "pinion")):
+            if value:
+                raise InputError(option, "goes with --spec FILE (a machine file)")
+        if teeth is None:
+            raise InputError(
+                "--teeth", "missing: give --teeth N (with --module or --pd), or --spec"
+            )
+        gear = _gear(teeth, module, pd, phi, system, shift, internal)
+        unit = "mm" if module is not None else "in"  # --module is in mm, --pd per inch
+    _check_cutter(cutter_teeth, gear.internal)
     with _options(points="--points", teeth="--teeth", cutter_teeth="--cutter-teeth"):
         out = gear_outline(gear, points, cutter_teeth=cutter_teeth)
     suffix = output.suffix.lower()
-    unit = "mm" if module is not None else "in"  # --module is in mm, --pd per inch
     if suffix == ".svg":
         out.to_svg(output, unit=unit)
     elif suffix == ".dxf":
@@ -343,9 +478,9 @@ def profile_cmd(
 
 @gear_app.command("plot")
 def plot_cmd(
-    np_: PinionOpt,
-    ng: GearOpt,
     output: Annotated[Path, typer.Option("--output", "-o", help="Image file (.png, .svg).")],
+    np_: PinionOpt = None,
+    ng: GearOpt = None,
     module: ModuleOpt = None,
     pd: PitchOpt = None,
     phi: PhiOpt = 20.0,
@@ -357,8 +492,13 @@ def plot_cmd(
     angle: Annotated[float, typer.Option("--angle", help="Pinion angle in degrees.")] = 0.0,
     driver: DriverOpt = "pinion",
     cutter_teeth: CutterOpt = None,
+    spec: SpecPairOpt = None,
+    part: PartOpt = None,
 ) -> None:
-    """Draw a meshing pair with its pitch and base circles and path of contact."""
+    """Draw a meshing pair with its pitch and base circles and path of contact.
+
+    With ``--spec FILE`` the pair is the file's ``gear_pair`` part.
+    """
     import matplotlib.pyplot as plt
 
     from ..gears import plot_mesh
@@ -367,10 +507,18 @@ def plot_cmd(
         raise InputError("--angle", f"must be a finite angle in degrees, got {angle:g}")
     if output.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise InputError("--output", f"use a .png, .svg or .pdf file, got {output.name!r}")
-    _check_cutter(cutter_teeth, internal)
-    pair = _pair(
-        np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, 0.0, 0.0, driver
-    )
+    _check_cutter(cutter_teeth, internal or (spec is not None and _spec_internal(spec, part)))
+    if spec is not None:
+        given = _pair_given(np_, ng, module, pd, phi, system, xp, xg, internal, center_distance)
+        given["--driver"] = driver != "pinion"
+        pair = _spec_pair(spec, part, given)
+    else:
+        if part is not None:
+            raise InputError("--part", "goes with --spec FILE (a machine file)")
+        np_, ng = _teeth(np_, ng)
+        pair = _pair(
+            np_, ng, module, pd, phi, system, xp, xg, internal, center_distance, 0.0, 0.0, driver
+        )
     with _options(cutter_teeth="--cutter-teeth", teeth="--ng"):  # no cutter fits the ring
         ax = plot_mesh(pair, math.radians(angle), cutter_teeth=cutter_teeth)
     ax.figure.savefig(output, dpi=150)
@@ -381,16 +529,27 @@ def plot_cmd(
 @gear_app.command("train")
 def train_cmd(
     stages: Annotated[
-        str,
+        str | None,
         typer.Argument(
             help="Stages DRIVER:DRIVEN[:KIND], comma-separated; KIND is external (default),"
             " internal, open_belt, crossed_belt or chain. Example: 14:54,14:56"
         ),
-    ],
+    ] = None,
     json: JsonOpt = False,
+    spec: SpecTrainOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
-    """Train value (signed ω_out/ω_in) of a simple or compound train."""
+    """Train value (signed ω_out/ω_in) of a simple or compound train.
+
+    With ``--spec FILE`` the train is the file's ``gear_train`` part.
+    """
     from ..gears import stage_ratio, train_value
+
+    if _from_spec(spec, ("gear_train",), part, csv, {"STAGES": stages is not None}, json):
+        return
+    if stages is None:
+        raise InputError("STAGES", "missing: give the stages, e.g. 14:54,14:56, or --spec FILE")
 
     parsed: list[tuple[Any, ...]] = []
     for i, text in enumerate(stages.split(",")):
@@ -445,21 +604,38 @@ def reverted_cmd(
 
 @gear_app.command("planetary")
 def planetary_cmd(
-    sun: Annotated[int, typer.Option("--sun", help="Sun teeth.")],
-    planet: Annotated[int, typer.Option("--planet", help="Planet teeth.")],
-    ring: Annotated[int, typer.Option("--ring", help="Ring teeth (= sun + 2 planet).")],
+    sun: Annotated[int | None, typer.Option("--sun", help="Sun teeth.")] = None,
+    planet: Annotated[int | None, typer.Option("--planet", help="Planet teeth.")] = None,
+    ring: Annotated[
+        int | None, typer.Option("--ring", help="Ring teeth (= sun + 2 planet).")
+    ] = None,
     speed: Annotated[
-        list[str],
+        list[str] | None,
         typer.Option(
             "--speed",
             help="Known speed MEMBER=VALUE (member: sun, planet, ring, arm); give two."
             " A fixed member is MEMBER=0.",
         ),
-    ],
+    ] = None,
     json: JsonOpt = False,
+    spec: SpecPlanetaryOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
-    """Speeds of a sun-planet-ring train by the tabular method (checked by Willis)."""
+    """Speeds of a sun-planet-ring train by the tabular method (checked by Willis).
+
+    With ``--spec FILE`` the train is the file's ``planetary`` part.
+    """
     from ..gears import PlanetaryTrain, willis
+
+    given = {"--sun": sun is not None, "--planet": planet is not None}
+    given |= {"--ring": ring is not None, "--speed": bool(speed)}
+    if _from_spec(spec, ("planetary",), part, csv, given, json):
+        return
+    for option, value in (("--sun", sun), ("--planet", planet), ("--ring", ring)):
+        if value is None:
+            raise InputError(option, "missing: give --sun, --planet, --ring and --speed, or --spec")
+    speed = speed or []
 
     known: dict[str, float] = {}
     for text in speed:

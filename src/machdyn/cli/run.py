@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -20,7 +21,16 @@ import typer
 from ..errors import InputError
 from ._common import dumps, print_table
 
-__all__ = ["payload", "run", "table_rows", "write_csv"]
+__all__ = [
+    "emit",
+    "load_part",
+    "payload",
+    "pick_part",
+    "run",
+    "run_spec_part",
+    "table_rows",
+    "write_csv",
+]
 
 
 def _cell(value: Any) -> Any:
@@ -115,6 +125,7 @@ def _print_part(machine: Any, r: Any) -> None:
         if "ok" in cols:
             cols["ok"] = np.where(np.asarray(cols["ok"], dtype=bool), "yes", "NO")
         cols.pop("reason", None)
+        cols = {k: _small(v) for k, v in cols.items()}
         print()
         # plain text: rich's import and layout would cost a third of the 0.6 s budget
         print_table(table.title, list(cols), table_rows(cols), plain=True)
@@ -123,6 +134,17 @@ def _print_part(machine: Any, r: Any) -> None:
         for line in r.flagged:
             print(f"  {line}")
     print()
+
+
+def _small(values: Any) -> Any:
+    """A column of small numbers (all below 0.01) as ``1.234e-04`` text, not ``0.0000``."""
+    a = np.asarray(values)
+    if a.dtype.kind != "f":
+        return values
+    finite = np.abs(a[np.isfinite(a)])
+    if not finite.size or finite.max() == 0.0 or finite.max() >= 0.01:
+        return values
+    return np.array([f"{v:.3e}" if math.isfinite(v) else "-" for v in a], dtype=object)
 
 
 def _units_line(system: Any) -> str:
@@ -147,7 +169,6 @@ def run(
     ] = None,
 ) -> None:
     """Analyse a machine file and print every part's results, each column with its unit."""
-    from ..spec import dumps as spec_dumps
     from ..spec import load_machine
 
     if json and csv_out:
@@ -166,6 +187,21 @@ def run(
     results = machine.run([part] if part else None)
     if part is not None:
         results = {part: results[part]}
+    emit(machine, results, file, json=json, csv_out=csv_out, out=out)
+
+
+def emit(
+    machine: Any,
+    results: dict[str, Any],
+    file: Path,
+    *,
+    json: bool = False,
+    csv_out: bool = False,
+    out: Path | None = None,
+) -> None:
+    """Print (and with ``out`` write) analysed parts as ``machdyn run`` does."""
+    from ..spec import dumps as spec_dumps
+
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         for name, r in results.items():
@@ -195,6 +231,95 @@ def run(
             _print_part(machine, r)
         if out is not None:
             print(f"wrote {out}/ (CSV per table, result.json, machine.toml)")
+
+
+def pick_part(
+    machine: Any,
+    kinds: tuple[str, ...],
+    part: str | None,
+    file: Path,
+    fits: Callable[[Any], str | None] | None = None,
+) -> str:
+    """The name of the part of one of ``kinds`` that a sub-command's ``--spec`` analyses.
+
+    ``part`` (``--part NAME``) chooses among several; errors name the file's parts.
+    ``fits(part)`` (optional) says why a part of the right kind does not fit
+    this command (None: it fits).
+    """
+    wanted = " or ".join(kinds)
+    fits = fits or (lambda p: None)
+    present = ", ".join(f"{p.kind} {p.name}" for p in machine.parts.values()) or "no parts"
+    if part is not None:
+        if part not in machine.parts:
+            raise InputError("--part", f"{part!r} is not a part of {file}; its parts: {present}")
+        if machine.parts[part].kind not in kinds:
+            kind = machine.parts[part].kind
+            raise InputError("--part", f"{part!r} is a {kind} part of {file}, not a {wanted}")
+        why = fits(machine.parts[part])
+        if why:
+            raise InputError("--part", f"{part!r} of {file} {why}")
+        return part
+    of_kind = [p for p in machine.parts.values() if p.kind in kinds]
+    fitting = [p.name for p in of_kind if not fits(p)]
+    if of_kind and not fitting:
+        raise InputError(
+            "--spec", f"{of_kind[0].kind} part {of_kind[0].name!r} of {file} {fits(of_kind[0])}"
+        )
+    if not fitting:
+        raise InputError(
+            "--spec",
+            f"{file} has no {wanted} part (it holds {present}); `machdyn run {file}` "
+            "analyses those",
+        )
+    if len(fitting) > 1:
+        raise InputError(
+            "--part",
+            f"{file} has {len(fitting)} {wanted} parts ({', '.join(fitting)}): pick one with "
+            "--part NAME",
+        )
+    return fitting[0]
+
+
+def load_part(
+    file: Path,
+    kinds: tuple[str, ...],
+    part: str | None,
+    fits: Callable[[Any], str | None] | None = None,
+) -> tuple[Any, str]:
+    """Read a machine file for a sub-command's ``--spec``: ``(machine, part name)``."""
+    from ..spec import load_machine
+
+    if part is not None and (not isinstance(part, str) or not part.strip()):
+        raise InputError("--part", f"a part's name, got {part!r}")
+    machine = load_machine(file)
+    return machine, pick_part(machine, kinds, part, file, fits)
+
+
+def run_spec_part(
+    file: Path,
+    kinds: tuple[str, ...],
+    part: str | None,
+    *,
+    given: dict[str, bool] | None = None,
+    json: bool = False,
+    csv_out: bool = False,
+    fits: Callable[[Any], str | None] | None = None,
+) -> None:
+    """A sub-command's ``--spec FILE``: analyse the file's part as ``machdyn run --part`` does.
+
+    ``given`` maps the command's model options to whether they were given:
+    the model comes from the file, so any of them is refused.
+    """
+    for option, was_given in (given or {}).items():
+        if was_given:
+            raise InputError(
+                option, "the model comes from --spec FILE; give it by options or by the file"
+            )
+    if json and csv_out:
+        raise InputError("--csv", "choose one of --json and --csv")
+    machine, name = load_part(file, kinds, part, fits)
+    results = machine.run([name])
+    emit(machine, {name: results[name]}, file, json=json, csv_out=csv_out)
 
 
 spec_app = typer.Typer(

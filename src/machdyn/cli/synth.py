@@ -35,6 +35,43 @@ synth_app = typer.Typer(
 )
 
 
+SpecOpt = Annotated[
+    Path | None,
+    typer.Option("--spec", help="A machine file (docs/spec.md): solve its task of this kind."),
+]
+PartOpt = Annotated[
+    str | None, typer.Option("--part", help="With --spec: the part, when the file has several.")
+]
+CsvOpt = Annotated[
+    bool, typer.Option("--csv", help="With --spec: print the main table as CSV (with units).")
+]
+
+
+def _from_spec(
+    spec: Path | None,
+    kind: str,
+    part: str | None,
+    csv: bool,
+    given: dict[str, bool],
+    json: bool,
+) -> bool:
+    """Run ``--spec FILE``'s ``kind`` part as ``machdyn run`` does; False without --spec."""
+    if spec is None:
+        for option, value in (("--part", part is not None), ("--csv", csv)):
+            if value:
+                raise InputError(option, "goes with --spec FILE (a machine file)")
+        return False
+    from .run import run_spec_part
+
+    run_spec_part(spec, (kind,), part, given=given, json=json, csv_out=csv)
+    return True
+
+
+def _missing(option: str, value: object, what: str) -> None:
+    if value is None:
+        raise InputError(option, f"missing: give {what}, or --spec FILE")
+
+
 def parse_points(text: str, field: str, count: int) -> list[complex]:
     """Parse ``"x,y; x,y; ..."`` into complex points.
 
@@ -71,22 +108,33 @@ def _point(z: complex) -> str:
 
 @synth_app.command("three-position")
 def three_position_cmd(
-    c: Annotated[str, typer.Option("--c", help="C1..C3 as 'x,y; x,y; x,y'.")],
-    d: Annotated[str, typer.Option("--d", help="D1..D3 as 'x,y; x,y; x,y'.")],
+    c: Annotated[str | None, typer.Option("--c", help="C1..C3 as 'x,y; x,y; x,y'.")] = None,
+    d: Annotated[str | None, typer.Option("--d", help="D1..D3 as 'x,y; x,y; x,y'.")] = None,
     o2: Annotated[
         str | None, typer.Option("--o2", help="Fixed pivot O2 'x,y' (inverted problem).")
     ] = None,
     o4: Annotated[str | None, typer.Option("--o4", help="Fixed pivot O4 'x,y'.")] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+    spec: SpecOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
     """Four-bar through three positions of a coupler line CD (pivots by bisectors).
 
     With --o2 and --o4 the fixed pivots are given and the moving pivots are
     found by inversion. Exits with status 1 if the linkage has a circuit,
-    branch or order defect (reported on stderr).
+    branch or order defect (reported on stderr). With ``--spec FILE`` the task
+    is the file's ``motion_synthesis`` part, reported as ``machdyn run`` does.
     """
     from ..synthesis import three_position, three_position_fixed_pivots
 
+    given = {"--c": c is not None, "--d": d is not None}
+    given |= {"--o2": o2 is not None, "--o4": o4 is not None}
+    if _from_spec(spec, "motion_synthesis", part, csv, given, json):
+        return
+    _missing("--c", c, "--c and --d (three points each)")
+    _missing("--d", d, "--c and --d (three points each)")
+    assert c is not None and d is not None
     cs = parse_points(c, "--c", 3)
     ds = parse_points(d, "--d", 3)
     if (o2 is None) != (o4 is None):
@@ -155,19 +203,41 @@ def three_position_cmd(
 
 @synth_app.command("function")
 def function_cmd(
-    f: Annotated[str, typer.Option("--f", help="y = f(x), e.g. 'log10(x)' or 'x**1.5'.")],
-    x: Annotated[str, typer.Option("--x", help="Range of x, START:END.")],
-    theta2: Annotated[str, typer.Option("--theta2", help="Input angles, START:END (deg).")],
-    theta4: Annotated[str, typer.Option("--theta4", help="Output angles, START:END (deg).")],
+    f: Annotated[
+        str | None, typer.Option("--f", help="y = f(x), e.g. 'log10(x)' or 'x**1.5'.")
+    ] = None,
+    x: Annotated[str | None, typer.Option("--x", help="Range of x, START:END.")] = None,
+    theta2: Annotated[
+        str | None, typer.Option("--theta2", help="Input angles, START:END (deg).")
+    ] = None,
+    theta4: Annotated[
+        str | None, typer.Option("--theta4", help="Output angles, START:END (deg).")
+    ] = None,
     n: Annotated[int, typer.Option("--n", help="Precision points (3 exact, more LSQ).")] = 3,
     spacing: Annotated[str, typer.Option("--spacing", help="chebyshev or uniform.")] = "chebyshev",
     r1: Annotated[float, typer.Option("--r1", help="Ground length (scale).")] = 1.0,
     samples: Annotated[int, typer.Option("--samples", help="Structural-error samples.")] = 11,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+    spec: SpecOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
-    """Four-bar function generator by Freudenstein's equation, with its structural error."""
+    """Four-bar function generator by Freudenstein's equation, with its structural error.
+
+    With ``--spec FILE`` the task is the file's ``function_synthesis`` part,
+    reported as ``machdyn run FILE --part NAME`` does.
+    """
     from ..synthesis import function_generator
 
+    given = {"--f": f is not None, "--x": x is not None, "--theta2": theta2 is not None}
+    given |= {"--theta4": theta4 is not None, "--n": n != 3, "--spacing": spacing != "chebyshev"}
+    given |= {"--r1": r1 != 1.0, "--samples": samples != 11}
+    if _from_spec(spec, "function_synthesis", part, csv, given, json):
+        return
+    what = "--f, --x, --theta2 and --theta4"
+    for option, value in (("--f", f), ("--x", x), ("--theta2", theta2), ("--theta4", theta4)):
+        _missing(option, value, what)
+    assert f is not None and x is not None and theta2 is not None and theta4 is not None
     for option, value, most in (("--n", n, 10_000), ("--samples", samples, 100_000)):
         if not 1 <= value <= most:
             raise InputError(option, f"must be between 1 and {most:,}, got {value:,}")
@@ -280,8 +350,9 @@ def _is_number(text: str) -> bool:
 @synth_app.command("path")
 def path_cmd(
     points: Annotated[
-        Path, typer.Argument(help="CSV of target points 'x,y' (with --timing 'x,y,theta2_deg').")
-    ],
+        Path | None,
+        typer.Argument(help="CSV of target points 'x,y' (with --timing 'x,y,theta2_deg')."),
+    ] = None,
     open_path: Annotated[
         bool, typer.Option("--open", help="An open path (or part of a closed one).")
     ] = False,
@@ -312,16 +383,27 @@ def path_cmd(
         bool, typer.Option("--verify/--no-verify", help="Check the atlas's CRCs first (~1 s/GB).")
     ] = True,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
+    spec: SpecOpt = None,
+    part: PartOpt = None,
+    csv: CsvOpt = False,
 ) -> None:
     """Four-bars whose coupler point passes through the target points, from an atlas.
 
     Prints the candidates with their errors and writes each one's spec
     (machdyn = 1 TOML, with the placement in the plane) into --out.
-    Exits with status 1 when no candidate is free of defects.
+    Exits with status 1 when no candidate is free of defects. With ``--spec
+    FILE`` the task is the file's ``path_synthesis`` part, solved as
+    ``machdyn run FILE --part NAME`` does.
     """
     from ..synthesis import open_atlas, path_from_atlas
     from .atlas import default_atlas
 
+    given = {"POINTS": points is not None, "--open": open_path, "--timing": timing}
+    given |= {"--atlas": atlas is not None, "--scheduler": scheduler is not None}
+    if _from_spec(spec, "path_synthesis", part, csv, given, json):
+        return
+    _missing("POINTS", points, "a CSV of target points")
+    assert points is not None
     if not 1 <= n <= 100:
         raise InputError("-n", f"must be between 1 and 100, got {n}")
     if not 0.0 <= mu_min < 90.0:

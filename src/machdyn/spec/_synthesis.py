@@ -26,7 +26,7 @@ from .._validate import (
 from ..errors import InputError
 from ._context import Context, check_units
 from ._machine import Machine, Part, PartKind
-from ._run import PartResult, ResultTable, Summary
+from ._run import PartResult, ResultTable, Summary, flagged_rows
 from ._types import (
     Boolean,
     Choice,
@@ -363,9 +363,15 @@ def _fourbar_summary(out: PartResult, result: Any) -> None:
         Summary("r1, r2, r3, r4", list(fb.lengths), "length"),
         Summary("class", fb.barker_class),
     ]
-    if hasattr(result, "O2"):
-        out.summary.append(Summary("O2", [result.O2.real, result.O2.imag], "length"))
-        out.summary.append(Summary("O4", [result.O4.real, result.O4.imag], "length"))
+    if fb.coupler is not None:
+        out.summary.append(Summary("coupler point p", float(fb.coupler[0]), "length"))
+        out.summary.append(Summary("coupler point delta", float(fb.coupler[1]), "angle"))
+    placed = getattr(result, "linkage", result)  # path synthesis: a PlacedFourBar
+    if hasattr(placed, "O2"):
+        out.summary.append(Summary("O2", [placed.O2.real, placed.O2.imag], "length"))
+        out.summary.append(Summary("O4", [placed.O4.real, placed.O4.imag], "length"))
+    if hasattr(placed, "theta1"):
+        out.summary.append(Summary("theta1 (ground line)", float(placed.theta1), "angle"))
     out.summary.append(Summary("defects", "; ".join(result.defects) or "none"))
 
 
@@ -386,10 +392,34 @@ def _run_motion(part: Part, machine: Machine, results: dict) -> PartResult:
     return out
 
 
+#: Samples of a function generator's structural error (``machdyn synth function``'s default).
+ERROR_SAMPLES = 11
+
+
 def _run_function(part: Part, machine: Machine, results: dict) -> PartResult:
     result = part.model.solve()
-    out = PartResult(part, objects={"synthesis": result})
+    se = result.structural_error(n=ERROR_SAMPLES)
+    out = PartResult(part, objects={"synthesis": result, "structural_error": se})
     _fourbar_summary(out, result)
+    out.summary += [
+        Summary("K1, K2, K3", [float(k) for k in result.k]),
+        Summary("input, output link offsets", [result.input_offset, result.output_offset], "angle"),
+        Summary("precision points x", [float(v) for v in result.x_precision]),
+        Summary("max |structural error|", float(se.max_abs)),
+    ]
+    cols = {
+        "x": np.asarray(se.x, dtype=float),
+        "f(x)": np.asarray(se.y_desired, dtype=float),
+        "generated": np.asarray(se.y_generated, dtype=float),
+        "error": np.asarray(se.error, dtype=float),
+        "ok": np.asarray(se.ok, dtype=bool),
+        "reason": np.asarray(se.reason, dtype=object),
+    }
+    kinds: dict[str, str | None] = dict.fromkeys(cols, "dimensionless")
+    kinds |= {"ok": None, "reason": None}
+    title = f"Structural error of {part.name} (y = {part.model.function})"
+    out.tables.append(ResultTable("structural_error", title, cols, kinds))
+    out.flagged += flagged_rows("x", cols["x"], cols["ok"], cols["reason"])
     return out
 
 

@@ -567,14 +567,14 @@ def _run_rotor(part: Part, machine: Machine, results: dict) -> PartResult:
         out.summary.append(Summary("shaking force before", abs(total) * task.speed**2, "force"))
     if task.planes is None:
         cols = {"plane": np.array(["static"], dtype=object), "mR": np.array([abs(fix.mR)])}
-        cols["angle"] = np.array([float(fix.theta)])
+        cols["angle"] = np.array([float(fix.theta)]) % (2 * math.pi)  # as `balance static`
         mrs = [abs(fix.mR)]
     else:
         cols = {"plane": np.array(["A", "B"], dtype=object)}
         cols["z"] = np.array(task.planes)
         mrs = [abs(fix.mR_a), abs(fix.mR_b)]
         cols["mR"] = np.array(mrs)
-        cols["angle"] = np.array([float(fix.theta_a), float(fix.theta_b)])
+        cols["angle"] = np.array([float(fix.theta_a), float(fix.theta_b)]) % (2 * math.pi)
     kinds: dict[str, str | None] = {"plane": None, "z": "length", "mR": "unbalance"}
     kinds["angle"] = "angle"
     if task.radii is not None:
