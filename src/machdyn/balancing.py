@@ -218,6 +218,8 @@ class TwoPlaneBalance:
         """One row per plane: z, m·R (magnitude), angle (deg) and, given radii, the mass."""
         import pandas as pd
 
+        from .units import columns, units_of
+
         data: dict[str, Any] = {
             "z": [self.plane_a, self.plane_b],
             "mR": [np.abs(self.mR_a), np.abs(self.mR_b)],
@@ -225,6 +227,13 @@ class TwoPlaneBalance:
         }
         if radius_a is not None:
             data["mass"] = list(self.masses(radius_a, radius_b))
+        system = units_of(self)  # a machine file's rotor: "z [mm]", "mR [kg*mm]", ...
+        if system is not None:
+            kinds = {"z": "length", "mR": "unbalance", "mass": "mass"}
+            angles = np.radians(data.pop("angle_deg"))
+            spec = [(k, kinds[k], v) for k, v in data.items()]
+            spec.insert(2, ("angle", "angle", angles))
+            data = columns(system, spec, degrees=True)
         return pd.DataFrame(data, index=pd.Index(["A", "B"], name="plane"))
 
 

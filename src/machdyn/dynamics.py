@@ -428,7 +428,7 @@ class FourBarForces(Flagged):
         columns["shaking_moment"] = np.ravel(self.shaking_moment)
         columns["ok"] = np.ravel(self.ok)
         columns["reason"] = np.ravel(self.reason)
-        return pd.DataFrame(columns)
+        return pd.DataFrame(_labelled(columns, self.motion))
 
     def plot(self, ax: Any = None, degrees: bool = True):
         """Plot ``T12`` and the joint-force magnitudes against θ2 (matplotlib, lazily)."""
@@ -928,10 +928,30 @@ class SliderCrankForces(Flagged):
         columns["shaking_moment"] = np.ravel(self.shaking_moment)
         columns["ok"] = np.ravel(self.ok)
         columns["reason"] = np.ravel(self.reason)
-        return pd.DataFrame(columns)
+        return pd.DataFrame(_labelled(columns, self.motion))
 
     def __len__(self) -> int:
         return int(np.size(self.T12))
+
+
+def _labelled(columns: dict[str, np.ndarray], motion: Any) -> dict[str, np.ndarray]:
+    """A forces table's columns named with units when the model has units (``T12 [N*m]``)."""
+    from .units import columns as labelled
+
+    system = getattr(motion, "units", None)
+    if system is None or system.is_unit_free:
+        return columns
+
+    def kind(name: str) -> str | None:
+        if name in ("ok", "reason"):
+            return None
+        if name.startswith("theta"):
+            return "angle"
+        if name in ("T12", "shaking_moment") or name.startswith("T"):
+            return "torque"
+        return "force"
+
+    return labelled(system, [(k, kind(k), v) for k, v in columns.items()])
 
 
 def slidercrank_forces(

@@ -111,9 +111,24 @@ class LobeTable:
         return marks
 
     def to_pandas(self) -> Any:
-        """Return the table as a :class:`pandas.DataFrame` (angles in degrees)."""
+        """Return the table as a :class:`pandas.DataFrame` (angles in degrees).
+
+        Sized from a machine file with units, the columns say them
+        (``theta_from [deg]``, ``delta_E [N*m]``).
+        """
         import pandas as pd
 
+        from .units import columns, units_of
+
+        system = units_of(self)
+        if system is not None:
+            spec = [("theta_from", "angle", self.theta_from), ("theta_to", "angle", self.theta_to)]
+            spec += [("delta_E", "energy", self.area), ("E", "energy", self.energy)]
+            spec += [("omega_at_end", None, self.omega_at_end)]
+            return pd.DataFrame(
+                columns(system, spec, degrees=True),
+                index=pd.RangeIndex(1, len(self) + 1, name="lobe"),
+            )
         return pd.DataFrame(
             {
                 "theta_from_deg": np.degrees(self.theta_from),
@@ -251,9 +266,21 @@ class FlywheelResult(Summarized):
         )
 
     def to_pandas(self) -> Any:
-        """Per-sample table: θ (deg), T12, T12 − T_avg and ω."""
+        """Per-sample table: θ (deg), T12, T12 − T_avg and ω.
+
+        Sized from a machine file with units, the columns say them
+        (``theta [deg]``, ``T12 [N*m]``, ``omega [rpm]``).
+        """
         import pandas as pd
 
+        from .units import columns, units_of
+
+        system = units_of(self)
+        if system is not None:
+            spec = [("theta", "angle", self.theta), ("T12", "torque", self.torque)]
+            spec += [("T12_minus_T_avg", "torque", self.torque - self.torque_avg)]
+            spec += [("omega", "angular_velocity", self.omega)]
+            return pd.DataFrame(columns(system, spec, degrees=True))
         return pd.DataFrame(
             {
                 "theta_deg": np.degrees(self.theta),

@@ -556,7 +556,17 @@ def columns(
     out: dict[str, Any] = {}
     for name, kind, values in spec:
         values = np.ravel(values)
-        if kind == "angle":
+        base, per, over = (kind or "").partition("/")
+        if per and system is not None:  # a derivative per radian of cam angle: "length/rad"
+            shown = "deg" if base == "angle" and degrees else system.display(base)
+            if base == "angle":
+                values = np.degrees(values) if degrees else values
+            else:
+                values = system.show(base, values)
+            out[f"{name} [{shown}/{over}]"] = values
+        elif per:
+            out[name] = values
+        elif kind == "angle":
             if degrees:
                 values = np.degrees(values)
             if system is None:
@@ -568,6 +578,29 @@ def columns(
         else:
             out[system.label(name, kind)] = system.show(kind, values)
     return out
+
+
+def with_units(result: Any, system: UnitSystem | None) -> Any:
+    """``result`` with ``result.units = system`` (a frozen result too); unit-free: as is.
+
+    A result's ``to_pandas()`` then names its columns with units (``s [mm]``).
+
+    Examples
+    --------
+    >>> from machdyn.cams import CamProgram
+    >>> m = with_units(CamProgram.double_dwell(25.0, 1.0, 1.0).sample(4), UnitSystem(length="mm"))
+    >>> list(m.to_pandas())[:3]
+    ['theta [deg]', 's [mm]', 'v [mm/rad]']
+    """
+    if system is not None and not system.is_unit_free:
+        object.__setattr__(result, "units", system)
+    return result
+
+
+def units_of(result: Any) -> UnitSystem | None:
+    """The unit system a result was given (:func:`with_units`), or None."""
+    system = getattr(result, "units", None)
+    return system if isinstance(system, UnitSystem) and not system.is_unit_free else None
 
 
 def from_quantity_unit(length: str | None) -> UnitSystem | None:

@@ -653,11 +653,31 @@ class CamProfile(Summarized):
         """
         import pandas as pd
 
+        from ..units import units_of
+
+        if units_of(self) is not None:  # a machine file's cam: "theta [deg]", "s [mm]", ...
+            return pd.DataFrame(self._columns())
         return pd.DataFrame({"theta": self.theta, **self._columns()})
 
     def _columns(self) -> dict[str, np.ndarray]:
+        from ..units import columns, units_of
+
         nan = np.full_like(self.theta, np.nan)
         pitch = self.pitch if self.pitch is not None else nan + 0j
+        system = units_of(self)
+        if system is not None:
+            lift = "angle" if "oscillating" in self.follower else "length"
+            spec: list[tuple[str, str | None, Any]] = [("theta", "angle", self.theta)]
+            spec += [("s", lift, self.s), ("v", f"{lift}/rad", self.v)]
+            spec += [("a", f"{lift}/rad^2", self.a), ("j", f"{lift}/rad^3", self.j)]
+            spec += [("pitch_x", "length", pitch.real), ("pitch_y", "length", pitch.imag)]
+            spec += [("surface_x", "length", self.surface.real)]
+            spec += [("surface_y", "length", self.surface.imag)]
+            spec += [("pressure_angle", "angle", self.pressure_angle)]
+            rho = self.rho_pitch if self.rho_pitch is not None else nan
+            spec += [("rho_pitch", "length", rho), ("rho_surface", "length", self.rho_surface)]
+            spec += [("undercut", None, self.undercut), ("surface_loop", None, self.surface_loop)]
+            return columns(system, spec, degrees=True)
         return {
             "theta_deg": np.degrees(self.theta),
             "s": self.s,

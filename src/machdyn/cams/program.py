@@ -149,8 +149,10 @@ class Motion(Summarized):
         >>> float(m.V.max()) == 2.0 * float(program.sample(8).v.max())
         True
         """
+        from ..units import units_of, with_units
+
         omega = positive("omega", omega, "radian / second")
-        return TimeMotion(
+        timed = TimeMotion(
             t=self.theta / omega,
             theta=self.theta,
             s=self.s,
@@ -159,15 +161,30 @@ class Motion(Summarized):
             J=omega**3 * self.j,
             omega=omega,
         )
+        object.__setattr__(timed, "lift", getattr(self, "lift", "length"))
+        return with_units(timed, units_of(self))
 
     def peaks(self) -> dict[str, float]:
         """Largest absolute s, v, a, j."""
         return {k: float(np.max(np.abs(getattr(self, k)))) for k in ("s", "v", "a", "j")}
 
     def to_pandas(self) -> Any:
-        """Return a DataFrame with theta (rad), theta_deg, s, v, a, j."""
+        """Return a DataFrame with theta (rad), theta_deg, s, v, a, j.
+
+        When the cam was given units (a machine file's cam) the columns say
+        them instead: ``theta [deg]``, ``s [mm]``, ``v [mm/rad]``, ...
+        """
         import pandas as pd
 
+        from ..units import columns, units_of
+
+        system = units_of(self)
+        if system is not None:
+            lift = getattr(self, "lift", "length")
+            spec = [("theta", "angle", self.theta), ("s", lift, self.s)]
+            spec += [("v", f"{lift}/rad", self.v), ("a", f"{lift}/rad^2", self.a)]
+            spec += [("j", f"{lift}/rad^3", self.j)]
+            return pd.DataFrame(columns(system, spec, degrees=True))
         return pd.DataFrame(
             {
                 "theta": self.theta,
@@ -203,9 +220,24 @@ class TimeMotion(Summarized):
         return {k: float(np.max(np.abs(getattr(self, k)))) for k in ("s", "V", "A", "J")}
 
     def to_pandas(self) -> Any:
-        """Return a DataFrame with t, theta (rad), theta_deg, s, V, A, J."""
+        """Return a DataFrame with t, theta (rad), theta_deg, s, V, A, J.
+
+        When the cam was given units the columns say them instead:
+        ``t [s]``, ``theta [deg]``, ``s [mm]``, ``V [mm/s]``, ...
+        """
         import pandas as pd
 
+        from ..units import columns, units_of
+
+        system = units_of(self)
+        if system is not None:
+            lift = getattr(self, "lift", "length")
+            rates = ("velocity", "acceleration", "jerk")
+            if lift == "angle":
+                rates = ("angular_velocity", "angular_acceleration", "angular_jerk")
+            spec = [("t", "time", self.t), ("theta", "angle", self.theta), ("s", lift, self.s)]
+            spec += [(n, k, getattr(self, n)) for n, k in zip("VAJ", rates, strict=True)]
+            return pd.DataFrame(columns(system, spec, degrees=True))
         return pd.DataFrame(
             {
                 "t": self.t,

@@ -210,6 +210,7 @@ def _machine_cam(path: Path) -> tuple[Any, dict[str, Any], dict[str, Any]] | Non
         top["rpm"] = abs(part.values["speed"]) * 60.0 / (2.0 * np.pi)
     if not machine.units.is_unit_free:
         top["unit"] = machine.units.length
+        top["units"] = machine.units
     return model.program, follower, top
 
 
@@ -464,10 +465,10 @@ def cam(
     speed = _pick(rpm, file_top, "rpm")
 
     with _renamed({"n": "--points"}):
-        motion = prog.sample(points)
+        motion = _labelled(prog.sample(points), file_top.get("units"), oscillating)
     source = "--table" if table is not None else "--program" if program else "--segment"
     with _renamed({"s": source}):
-        profile = fol.profile(motion)
+        profile = _labelled(fol.profile(motion), file_top.get("units"), oscillating)
     continuity = prog.continuity()
     with _renamed({"face_width": "--face-width"}):
         checks = profile.checks(max_pressure_angle=limit, face_width=face_width)
@@ -482,10 +483,13 @@ def cam(
         omega = 2.0 * np.pi * _positive(rpm_field, speed) / 60.0
 
     payload = _payload(prog, motion, profile, continuity, checks, sizing, omega, kind)
+    length = unit or file_top.get("unit")
+    if length and kind != "oscillating":
+        payload["length_unit"] = length  # of s, radii, rho; v, a, j per rad; V, A, J per s
     if json:
         print(dumps(payload))
     else:
-        _print_report(prog, motion, profile, continuity, checks, sizing, omega, kind)
+        _print_report(prog, motion, profile, continuity, checks, sizing, omega, kind, length)
 
     if csv is not None:
         with _renamed({"path": "--csv"}):
@@ -499,6 +503,17 @@ def cam(
         _save_plots(motion, profile, svaj_plot, profile_plot)
     if strict and (not continuity.ok or not all(c.passed for c in checks)):
         raise typer.Exit(1)
+
+
+def _labelled(result: Any, system: Any, oscillating: bool) -> Any:
+    """A motion or profile of a machine file's cam, with the file's units attached.
+
+    Its table (``--csv``, ``to_pandas()``) then names every column with its unit.
+    """
+    from ..units import with_units
+
+    object.__setattr__(result, "lift", "angle" if oscillating else "length")
+    return with_units(result, system)
 
 
 def _positive(field: str, value: Any) -> float:
@@ -571,9 +586,10 @@ def _print_report(
     sizing: Any,
     omega: float | None,
     kind: str,
+    length: str | None = None,
 ) -> None:
     deg = np.degrees
-    unit = "rad" if kind == "oscillating" else "length"
+    unit = "rad" if kind == "oscillating" else (length or "length")
     print("cam program (angles in degrees):")
     for line in _segments_text(prog, kind):
         print(line)

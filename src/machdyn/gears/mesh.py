@@ -307,6 +307,25 @@ def _half_angle(gear: Gear, thinned: bool) -> float:
     return width / (2.0 * gear.pitch_radius) + float(involute(gear.pressure_angle))
 
 
+#: Summary keys of a gear pair that are not lengths (the rest of the numbers are).
+_NOT_LENGTHS = ("teeth", "profile_shift", "velocity_ratio", "gear_ratio", "contact_ratio")
+
+
+def _kind_of_key(key: str, value: Any) -> str | None:
+    """The kind of a gear-pair summary entry (None: a count, flag, text or ratio)."""
+    name = key.rpartition(".")[2]
+    if isinstance(value, bool | str) or not isinstance(value, int | float) or name in _NOT_LENGTHS:
+        return None
+    if name.endswith("_deg"):
+        return None  # already labelled
+    return "inverse_length" if name == "diametral_pitch" else "length"
+
+
+def _shown(system: Any, key: str, value: Any) -> Any:
+    kind = _kind_of_key(key, value)
+    return value if kind is None or value is None else system.show(kind, float(value))
+
+
 @dataclass(frozen=True, init=False)
 class GearPair:
     """A pinion meshing with a gear (external pair, or pinion inside a ring gear).
@@ -798,12 +817,22 @@ class GearPair:
         """
         import pandas as pd
 
+        from ..units import units_of
+
         flat: dict[str, Any] = {}
         for key, value in self.summary().items():
             if isinstance(value, dict):
                 flat |= {f"{key}.{k}": v for k, v in value.items()}
             else:
                 flat[key] = value
+        system = units_of(self)  # a machine file's pair: "pinion.pitch_radius [in]", ...
+        if system is not None:
+            flat = {
+                (k if _kind_of_key(k, v) is None else system.label(k, _kind_of_key(k, v))): (
+                    _shown(system, k, v)
+                )
+                for k, v in flat.items()
+            }
         return pd.Series(flat, dtype=object)
 
     def to_spec(self, name: str = "gear_pair") -> dict[str, Any]:

@@ -443,10 +443,13 @@ class PlanetaryTable:
         """
         import pandas as pd
 
-        return pd.DataFrame(
-            {"with_arm": self.with_arm, "relative_to_arm": self.relative, "total": self.total},
-            index=pd.Index(self.members, name="member"),
-        )
+        from ..units import columns, units_of
+
+        data = {"with_arm": self.with_arm, "relative_to_arm": self.relative, "total": self.total}
+        system = units_of(self)  # a machine file's train: "total [rpm]"
+        if system is not None:
+            data = columns(system, [(k, "angular_velocity", v) for k, v in data.items()])
+        return pd.DataFrame(data, index=pd.Index(self.members, name="member"))
 
 
 class PlanetaryTrain:
@@ -555,7 +558,10 @@ class PlanetaryTrain:
         a, b = np.linalg.solve(np.array([[1.0, r1], [1.0, r2]]), np.array([w1, w2]))
         ratios = np.array([self.ratios[m] for m in self.members])
         relative = ratios * b
-        return PlanetaryTable(self.members, np.full(ratios.size, a), relative, a + relative)
+        from ..units import with_units
+
+        table = PlanetaryTable(self.members, np.full(ratios.size, a), relative, a + relative)
+        return with_units(table, getattr(self, "units", None))  # a machine file's: [rpm]
 
     def speeds(self, **known: float) -> dict[str, float]:
         """Return all member speeds (the arm included) from two known ones.

@@ -271,8 +271,11 @@ def simulate(
         stop_on=stop_set,
         breakpoints=breaks,
     )
-    return _result(Simulation, runner, plant, coef, status, message, opts["samples"], q0, w0,
-                   setup.added)  # fmt: skip
+    from ..units import with_units
+
+    result = _result(Simulation, runner, plant, coef, status, message, opts["samples"], q0, w0,
+                     setup.added)  # fmt: skip
+    return with_units(result, getattr(model, "units", None))  # to_pandas(): "t [s]", ...
 
 
 def _push(motor: Any, q0: float) -> float:

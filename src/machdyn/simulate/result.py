@@ -189,7 +189,20 @@ class Simulation(Summarized):
         """One row per sample: ``t``, θ, ω, α, motor torque, energies (pandas lazily)."""
         import pandas as pd
 
+        from ..units import columns, units_of
+
         name = self.coordinate
+        system = units_of(self)  # a model with units: "t [s]", "theta2_dot [rpm]", ...
+        if system is not None:
+            kinds = ("angle", "angular_velocity", "angular_acceleration", "torque")
+            if not self.angular:
+                kinds = ("length", "velocity", "acceleration", "force")
+            spec = [("t", "time", self.t), (name, kinds[0], self.theta)]
+            spec += [(f"{name}_dot", kinds[1], self.omega), (f"{name}_ddot", kinds[2], self.alpha)]
+            spec += [("motor", kinds[3], self.motor_torque)]
+            spec += [("kinetic_energy", "energy", self.energy.kinetic)]
+            spec += [("motor_work", "energy", self.energy.motor)]
+            return pd.DataFrame(columns(system, spec))
         return pd.DataFrame(
             {
                 "t": self.t,

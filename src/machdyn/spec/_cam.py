@@ -122,16 +122,48 @@ class Cam:
             raise InputError("follower", f"must be a machdyn.cams follower, got {self.follower!r}")
 
     def profile(self, n: int = 3600) -> Any:
-        """The cam's :class:`~machdyn.cams.CamProfile` at ``n`` angles."""
+        """The cam's :class:`~machdyn.cams.CamProfile` at ``n`` angles.
+
+        With the cam's ``units`` (a machine file's) its ``to_pandas()`` says them.
+        """
         from .._validate import integer
 
-        return self.follower.profile(self.program, integer("n", n, minimum=4, maximum=10**7))
+        profile = self.follower.profile(self.program, integer("n", n, minimum=4, maximum=10**7))
+        return cam_units(profile, self)
+
+    def motion(self, n: int = 360) -> Any:
+        """The follower's :class:`~machdyn.cams.Motion` at ``n`` angles (per radian).
+
+        ``motion(n).in_time(omega)`` gives it in time. With the cam's ``units``
+        their ``to_pandas()`` columns say them (``s [mm]``, ``V [mm/s]``).
+
+        Examples
+        --------
+        >>> import machdyn
+        >>> cam = machdyn.load("docs/examples/cam.toml")  # doctest: +SKIP
+        >>> list(cam.motion(4).in_time(10.0).to_pandas())[:4]  # doctest: +SKIP
+        ['t [s]', 'theta [deg]', 's [mm]', 'V [mm/s]']
+        """
+        from .._validate import integer
+
+        motion = self.program.sample(integer("n", n, minimum=4, maximum=10**7))
+        return cam_units(motion, self)
 
     def to_spec(self, name: str = "cam") -> dict[str, Any]:
         """The cam as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
         from . import model_spec
 
         return model_spec(self, "cam", name)
+
+
+def cam_units(result: Any, cam: Any) -> Any:
+    """A cam's motion or profile with the cam's units (and its lift's kind) attached."""
+    from .. import cams
+    from ..units import with_units
+
+    lift = "angle" if isinstance(cam.follower, cams.OscillatingRoller) else "length"
+    object.__setattr__(result, "lift", lift)
+    return with_units(result, getattr(cam, "units", None))
 
 
 def _oscillating(v: dict) -> bool:

@@ -92,12 +92,15 @@ class MotionTask:
     def solve(self) -> Any:
         """The :class:`~machdyn.synthesis.MotionSynthesis`."""
         from .. import synthesis as sy
+        from ..units import with_units
 
         if len(self.c) == 2:
-            return sy.two_position(self.c, self.d, s2=self.s2, s4=self.s4, A=self.a, B=self.b)
-        if self.o2 is not None:
-            return sy.three_position_fixed_pivots(self.c, self.d, self.o2, self.o4)
-        return sy.three_position(self.c, self.d, A=self.a, B=self.b)
+            result = sy.two_position(self.c, self.d, s2=self.s2, s4=self.s4, A=self.a, B=self.b)
+        elif self.o2 is not None:
+            result = sy.three_position_fixed_pivots(self.c, self.d, self.o2, self.o4)
+        else:
+            result = sy.three_position(self.c, self.d, A=self.a, B=self.b)
+        return with_units(result, self.units)  # to_pandas(): "A_x [mm]"
 
     def to_spec(self, name: str = "motion_synthesis") -> dict[str, Any]:
         """The task as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""
@@ -144,11 +147,13 @@ class FunctionTask:
         """The :class:`~machdyn.synthesis.FunctionGenerator`."""
         from .._expression import parse_function
         from ..synthesis import function_generator
+        from ..units import with_units
 
         func = parse_function(self.function)
-        return function_generator(
+        result = function_generator(
             func, self.x, self.theta2, self.theta4, n=self.points, spacing=self.spacing, r1=self.r1
         )
+        return with_units(result, self.units)  # its structural error says its angles' unit
 
     def to_spec(self, name: str = "function_synthesis") -> dict[str, Any]:
         """The task as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""

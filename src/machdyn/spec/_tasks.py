@@ -216,7 +216,11 @@ class FlywheelSizing:
         omega = self.omega_avg if self.omega_avg is not None else omega_avg
         if theta is None or omega is None:
             raise InputError("flywheel", "needs its torque curve and omega_avg")
-        return size_flywheel(theta, torque, abs(omega), self.k, period=self.period)
+        from ..units import with_units
+
+        result = size_flywheel(theta, torque, abs(omega), self.k, period=self.period)
+        with_units(result.lobes, self.units)
+        return with_units(result, self.units)  # to_pandas() columns with units
 
     def disc(self, inertia: float) -> Any:
         """The disc of ``inertia`` (:func:`~machdyn.flywheel.disc_flywheel`), if sized."""
@@ -480,11 +484,12 @@ class RotorBalance:
     def solve(self) -> Any:
         """The correction: a :class:`~machdyn.balancing.StaticBalance` or ``TwoPlaneBalance``."""
         from ..balancing import static_balance, two_plane
+        from ..units import with_units
 
         if self.planes is None:
-            return static_balance(self.unbalance)
+            return with_units(static_balance(self.unbalance), self.units)
         z = np.array([m[3] for m in self.masses])
-        return two_plane(self.unbalance, z, *self.planes)
+        return with_units(two_plane(self.unbalance, z, *self.planes), self.units)
 
     def to_spec(self, name: str = "rotor") -> dict[str, Any]:
         """The task as a machine-file dict (``docs/spec.md``; :func:`machdyn.from_spec`)."""

@@ -174,6 +174,15 @@ class StructuralError:
         """A :class:`pandas.DataFrame`, one row per sample (pandas imported lazily)."""
         import pandas as pd
 
+        from ..units import columns, units_of
+
+        system = units_of(self)
+        if system is not None:  # x and y are pure numbers; the angles say their unit
+            spec = [(k, None, getattr(self, k)) for k in ("x", "y_desired", "y_generated")]
+            spec += [("error", None, self.error), ("theta2", "angle", self.theta2)]
+            spec += [("theta4", "angle", self.theta4)]
+            spec += [("ok", None, self.ok), ("reason", None, self.reason)]
+            return pd.DataFrame(columns(system, spec, degrees=True))
         return pd.DataFrame(
             {
                 "x": self.x,
@@ -291,9 +300,12 @@ class FunctionGenerator:
         reason = np.where(defined, reason, "the function is not finite here")
         ok = ok & defined
         error = np.where(ok, y_gen - y_desired, np.nan)
-        return StructuralError(
+        from ..units import units_of, with_units
+
+        result = StructuralError(
             x, y_desired, np.where(ok, y_gen, np.nan), error, theta2, theta4, ok, reason
         )
+        return with_units(result, units_of(self))  # a machine file's task: "theta2 [deg]"
 
 
 def _evaluate(func: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.ndarray:

@@ -153,7 +153,15 @@ class MotionSynthesis:
         """One row per precision position (pandas imported lazily)."""
         import pandas as pd
 
+        from ..units import columns, units_of
+
         theta2 = np.degrees(self.theta2) if boolean("degrees", degrees) else self.theta2
+        system = units_of(self)
+        if system is not None:  # a machine file's task: "A_x [mm]", "theta2 [deg]"
+            spec = [(f"{p}_{c}", "length", getattr(getattr(self, p), a)) for p in "AB"
+                    for c, a in (("x", "real"), ("y", "imag"))]  # fmt: skip
+            spec += [("theta2", "angle", self.theta2), ("branch", None, self.branch)]
+            return pd.DataFrame(columns(system, spec, degrees=degrees))
         return pd.DataFrame(
             {
                 "A_x": self.A.real,
