@@ -256,3 +256,11 @@ def test_a_file_with_several_parts_of_the_kind_asks_for_part(tmp_path, capsys):
     assert "--part" in err and "2 gear_train parts (a, b)" in err
     got = cli_json(["gear", "train", "--spec", str(two), "--part", "b"], capsys)
     assert _summary(got, "b")["train value (output/input)"] == pytest.approx(-20 / 60)
+
+
+def test_round_off_is_not_printed_as_a_value(capsys):
+    """A tight standard mesh has no backlash; a crank's mean torque over a cycle is zero
+    when the only load is on a rocker (it returns: no net work) and gravity (a closed path)."""
+    got = cli_json(["run", str(EXAMPLES / "press.toml")], capsys)
+    assert _summary(got, "reducer")["backlash [mm]"] == 0.0
+    assert _summary(got, "crank")["T_avg [N*m]"] == 0.0

@@ -7,6 +7,7 @@ import math
 import re
 import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -80,6 +81,31 @@ def test_degrees_where_radians_are_due_warn_with_a_hint():
         warnings.simplefilter("error")
         fb.solve(np.radians(np.arange(0, 360)), 1.0)  # radians: no warning
         fb.solve(np.linspace(0, 20 * np.pi, 50), 1.0)  # ten turns are fine
+
+
+def test_every_angle_array_taken_warns_on_degrees():
+    """Function-generator ranges, path-synthesis timing and a simulation's start angle too."""
+    from machdyn.synthesis import function_generator, synthesize_path
+
+    with pytest.warns(UserWarning, match="theta2_range reaches 105 rad"):
+        function_generator(np.log10, (1, 2), (45.0, 105.0), (135.0, 225.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        function_generator(np.log10, (1, 2), np.radians((45, 105)), np.radians((135, 225)))
+    targets = np.array([0, 2 + 1j, 4 + 1.2j, 6 + 1j, 8])
+    with pytest.warns(UserWarning, match="timing reaches 120 rad"):
+        synthesize_path(targets, timing=[0, 30, 60, 90, 120], maxiter=1, popsize=5, polish=False)
+    fb = machdyn.FourBar(8, 4, 7, 6)
+    load = {"mass": (1, 1, 1), "inertia": (1, 1, 1), "cg": (2, 3, 3)}
+    with pytest.warns(UserWarning, match="theta0 reaches 90 rad"):
+        machdyn.simulate(fb, None, theta0=90.0, omega0=1.0, t_end=0.01, samples=3, **load)
+
+
+def test_a_cam_with_units_writes_its_dxf_in_them(tmp_path):
+    cam = machdyn.load(Path(__file__).resolve().parents[1] / "docs" / "examples" / "cam.toml")
+    cam.profile(360).to_dxf(tmp_path / "cam.dxf")
+    lines = (tmp_path / "cam.dxf").read_text().splitlines()
+    assert lines[lines.index("$INSUNITS") + 2].strip() == "4"  # the file's mm
 
 
 def test_reprs_are_short_and_say_what_was_solved():

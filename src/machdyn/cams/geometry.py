@@ -702,9 +702,16 @@ class CamProfile(Summarized):
         write_csv(self, path)
 
     def to_dxf(self, path: Any, allow_undercut: bool = False, unit: str | None = None) -> None:
-        """Write the cam outline as DXF in ``unit`` (see :func:`machdyn.cams.write_dxf`)."""
+        """Write the cam outline as DXF in ``unit`` (see :func:`machdyn.cams.write_dxf`).
+
+        ``unit`` defaults to the length unit of a cam given units (a machine file's).
+        """
+        from ..units import units_of
         from .io import write_dxf
 
+        system = units_of(self)
+        if unit is None and system is not None:
+            unit = system.length
         write_dxf(self, path, allow_undercut=allow_undercut, unit=unit)
 
     def plot(self, **kwargs: Any) -> Any:

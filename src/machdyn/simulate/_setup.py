@@ -58,6 +58,10 @@ def prepare(
         plant.check(load)
     unit = "radian" if plant.angular else None
     q0 = plant.default_q0() if theta0 is None else finite_scalar("theta0", theta0, unit)
+    if theta0 is not None and plant.angular:
+        from ..units import warn_if_degrees
+
+        warn_if_degrees("theta0", q0, stacklevel=4)  # theta0=90 meant in degrees
     added = nonnegative("flywheel", flywheel) + (motor.reflected_inertia if motor else 0.0)
     return Setup(plant, motor, loads, q0, added)
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from ._context import Context, _show
 from ._machine import Machine, Part, PartKind
-from ._run import PartResult, ResultTable, Summary
+from ._run import PartResult, ResultTable, Summary, rounded
 from ._types import (
     Boolean,
     Choice,
@@ -311,7 +311,7 @@ def _run_pair(part: Part, machine: Machine, results: dict) -> PartResult:
         Summary("angles of approach (pinion, gear)", [app_p, app_g], "angle"),
         Summary("angles of recess (pinion, gear)", [rec_p, rec_g], "angle"),
         Summary("base pitch", pair.base_pitch, "length"),
-        Summary("backlash", pair.backlash, "length"),
+        Summary("backlash", rounded(pair.backlash, pair.center_distance), "length"),
         Summary(
             "interference",
             "none"

@@ -19,7 +19,7 @@ from .. import units as u
 if TYPE_CHECKING:
     from ._machine import Machine, Part
 
-__all__ = ["PartResult", "ResultTable", "Summary", "run_machine"]
+__all__ = ["PartResult", "ResultTable", "Summary", "rounded", "run_machine"]
 
 
 @dataclass
@@ -135,6 +135,17 @@ def _closure(machine: Machine, names: Sequence[str]) -> set[str]:
         part = machine.parts[name]
         todo.extend(kind(part.kind).refs(part.values).values())
     return out
+
+
+def rounded(value: float, scale: float) -> float:
+    """``value``, or 0.0 when it is round-off next to ``scale`` (a backlash of 1e-16 mm).
+
+    Examples
+    --------
+    >>> rounded(-8.9e-16, 135.0), rounded(0.02, 135.0)
+    (0.0, 0.02)
+    """
+    return 0.0 if abs(value) <= 1e-12 * abs(scale) else float(value)
 
 
 def flagged_rows(label: str, inputs: np.ndarray, ok: np.ndarray, reason: np.ndarray) -> list[str]:

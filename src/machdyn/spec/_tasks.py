@@ -25,7 +25,7 @@ from .._validate import finite_array, finite_scalar, nonnegative, positive, text
 from ..errors import InputError
 from ._context import Context, _show, check_units
 from ._machine import Machine, Part, PartKind
-from ._run import PartResult, ResultTable, Summary
+from ._run import PartResult, ResultTable, Summary, rounded
 from ._types import (
     ListOf,
     Number,
@@ -369,7 +369,7 @@ def _run_flywheel(part: Part, machine: Machine, results: dict) -> PartResult:
         raise machine._error((*part.path, "torque"), where + str(exc)) from None
     out = PartResult(part, objects={"flywheel": result})
     out.summary += [
-        Summary("T_avg", result.torque_avg, "torque"),
+        Summary("T_avg", rounded(result.torque_avg, np.abs(result.torque).max()), "torque"),
         Summary("delta_E", result.delta_e, "energy"),
         Summary("omega_avg", result.omega_avg, "angular_velocity"),
         Summary("k (asked, achieved)", [result.k, result.k_achieved]),

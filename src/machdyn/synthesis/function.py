@@ -390,6 +390,10 @@ def function_generator(
     )
     if t20 == t2f or t40 == t4f:
         raise InputError("theta2_range", "the input and output ranges must be non-zero")
+    from ..units import warn_if_degrees
+
+    warn_if_degrees("theta2_range", (t20, t2f))  # (45, 105) meant in degrees: say so
+    warn_if_degrees("theta4_range", (t40, t4f))
     y0, yf = (float(v) for v in _evaluate(func, np.array([x0, xf])))
     if not (np.isfinite(y0) and np.isfinite(yf)) or y0 == yf:
         raise InputError(

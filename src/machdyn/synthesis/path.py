@@ -261,6 +261,9 @@ def path_objective(
     targets = as_points("targets", targets)
     if timing is not None:
         timing = np.ravel(finite_array("timing", timing, "radian"))
+        from ..units import warn_if_degrees
+
+        warn_if_degrees("timing", timing - timing[:1], stacklevel=3)  # degrees meant
         if timing.size != targets.size:
             raise InputError("timing", f"needs one angle per target ({targets.size})")
     mu_min = in_range("mu_min", mu_min, 0.0, 0.5 * np.pi, unit="radian")
