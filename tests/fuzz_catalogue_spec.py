@@ -172,6 +172,7 @@ def add_spec(c: dict, fn, meth) -> None:
     )
     fn("machdyn.gears:GearTrain", stages=[(18, 54), (20, 60, "internal")])
     meth("machdyn.spec:Cam.profile", _cam, n=90)
+    meth("machdyn.spec:Cam.motion", _cam, n=90)
     fn("machdyn.spec:Cam", program=_program(), follower=_cam().follower)
     theta = np.linspace(0.0, 2 * np.pi, 37)
     fn(
