@@ -259,3 +259,22 @@ def test_toggles_are_collinear_poses_and_all_found(rng):
         found = sum(1 for t in toggles if t.links == (2, 3))
         if fb.form_rule == "phi12" and fb.input_range().full_turn:
             assert found == sign_changes, (fb, toggles)
+
+
+@pytest.mark.parametrize(
+    "lengths",
+    [(2, 6, 4, 4), (6, 2, 5, 3), (3, 5, 3, 5), (3, 3, 5, 5), (5, 3, 3, 5), (4, 4, 4, 4)],
+)
+def test_change_point_input_range_agrees_with_cranks(lengths):
+    """A change-point input that turns fully (it just reaches the flat pose at one
+    angle, cos θ2 = ±1 exactly) has a full-turn input range, as `cranks` says; before
+    the fix round-off made e.g. the parallelogram's input a 'rocker' over (2e-8, 2π − 2e-8)."""
+    fb = FourBar(*lengths)
+    assert 2 in fb.cranks
+    assert fb.input_range(1).full_turn and fb.input_range(2).full_turn
+    # every θ2 of a full sweep assembles in some form, or is flagged as the
+    # indeterminate pose where A lands on O4 (kite, rhombus: B is then anywhere)
+    t2 = np.linspace(0, 2 * np.pi, 3601)
+    m1, m2 = fb.solve(t2, form=1), fb.solve(t2, form=2)
+    flagged = np.char.startswith(m1.reason.astype(str), "indeterminate")
+    assert (m1.assembled | m2.assembled | flagged).all()

@@ -935,6 +935,10 @@ class FourBar:
         False 31.5863 92.1226
         """
         choice("form", form, (1, 2))
+        if 2 in self.cranks:
+            # Decided with the classification's tolerance: a change point whose input
+            # just reaches the toggle (cos θ2 = ±1 up to round-off) still turns fully.
+            return InputRange(0.0, TWO_PI, True)
         a, b, c, d = (x / max(self.lengths) for x in (self.r2, self.r3, self.r4, self.r1))
         c_lo = (a * a + d * d - (b + c) ** 2) / (2.0 * a * d)
         c_hi = (a * a + d * d - (b - c) ** 2) / (2.0 * a * d)
