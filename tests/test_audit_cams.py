@@ -246,3 +246,41 @@ def test_sizing_is_the_smallest_circle_meeting_the_rules():
     flat = cams.size_flat_face(program, min_radius_of_curvature=0.5)
     m = program.sample(3600)
     assert flat.base_radius + np.min(m.s + m.a) == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_oscillating_roller_geometry_from_the_curves(side):
+    """Oscillating roller (Norton sec. 8.6 effective four-bar): the roller centre is
+    pivot + L e^{jγ} with γ = γ0 ± s, |pivot| = C and |roller − O| = Rp at s = 0;
+    the pressure angle is the angle between the pitch curve's normal and the roller
+    centre's direction of travel (⟂ to the arm), measured here on the polyline; ρ by
+    three-point circles; the surface lies Rf inside the pitch curve."""
+    deg = np.radians
+    program = cams.CamProgram(
+        [
+            cams.Segment("rise", deg(100), deg(15), "cycloidal"),
+            cams.Segment("dwell", deg(80)),
+            cams.Segment("fall", deg(100), deg(15), "poly345"),
+            cams.Segment("dwell", deg(80)),
+        ]
+    )
+    rp, rf, c, arm = 2.5, 0.4, 4.0, 3.2
+    follower = cams.OscillatingRoller(rp, rf, pivot_distance=c, arm_length=arm, pivot_side=side)
+    cam = follower.profile(program, n=7200)
+    theta = cam.theta
+    pivot = follower.pivot
+    assert abs(pivot) == pytest.approx(c)
+    fixed = cam.pitch * np.exp(1j * theta)  # roller centre in the fixed frame
+    np.testing.assert_allclose(np.abs(fixed - pivot), arm, rtol=1e-12)
+    assert abs(fixed[cam.s == 0][0]) == pytest.approx(rp)
+    swing = np.unwrap(np.angle(fixed - pivot))
+    np.testing.assert_allclose(np.abs(swing - swing[0]), cam.s, atol=1e-12)
+    tangent = (np.roll(cam.pitch, -1) - np.roll(cam.pitch, 1)) * np.exp(1j * theta)
+    normal = 1j * tangent / np.abs(tangent)
+    travel = 1j * (fixed - pivot) / arm  # ⟂ to the arm
+    cos_phi = np.abs((normal * np.conj(travel)).real)
+    np.testing.assert_allclose(np.abs(np.cos(cam.pressure_angle)), cos_phi, atol=1e-5)
+    rho = -_three_point_radius(cam.pitch)
+    finite = np.abs(cam.rho_pitch) < 50
+    np.testing.assert_allclose(cam.rho_pitch[finite], rho[finite], rtol=1e-3)
+    np.testing.assert_allclose(np.abs(cam.surface - cam.pitch), rf, rtol=1e-12)

@@ -154,3 +154,33 @@ def test_train_values_and_planetary_by_superposition(rng):
     # arrays broadcast and agree element-wise with the scalar formula
     w = np.linspace(-100, 100, 7)
     np.testing.assert_allclose(willis(-0.5, first=w, arm=-200.0), -200 + (-0.5) * (w + 200))
+
+
+def test_generated_outline_thickness_matches_the_involute_relation():
+    """The rack-generated outline (gear_outline) measured here: the share of a circle of
+    radius r inside the outline × 2πr / N is the tooth thickness there, which must equal
+    s_r = 2r(s/(2r_p) + inv φ − inv φ_r) (Norton sec. 9.4) with s = m(π/2 + 2x tan φ)
+    (ISO 21771 profile shift) — two routes that share no code."""
+    from matplotlib.path import Path
+
+    from machdyn.gears import gear_outline
+
+    phi = math.radians(20)
+    for n, m, x in ((30, 2.0, 0.3), (18, 1.0, -0.2)):
+        gear = Gear(n, module=m, profile_shift=x)
+        out = gear_outline(gear)
+        path = Path(np.column_stack([out.x, out.y]))
+        rp = n * m / 2
+        s = m * (math.pi / 2 + 2 * x * math.tan(phi))
+        ra = rp + (1 + x) * m
+        assert gear.addendum_radius == pytest.approx(ra)
+        lo = out.form_radius
+        for r in np.linspace(lo + 0.05 * (ra - lo), ra - 0.05 * (ra - lo), 3):
+            # the outline repeats every angular pitch: one pitch of the circle suffices
+            t = np.linspace(0, 2 * np.pi / n, 20000, endpoint=False)
+            inside = path.contains_points(np.column_stack([r * np.cos(t), r * np.sin(t)]))
+            measured = inside.mean() * 2 * np.pi * r / n
+            phi_r = math.acos(rp * math.cos(phi) / r)
+            expected = 2 * r * (s / (2 * rp) + inv(phi) - inv(phi_r))
+            assert measured == pytest.approx(expected, rel=5e-4), (n, x, r)
+            assert float(gear.thickness_at(r)) == pytest.approx(expected, rel=1e-12)
