@@ -96,8 +96,11 @@ NOT_CALLED = {
     "machdyn.flywheel:LobeTable",
     "machdyn.fourbar:FourBarMotion",
     "machdyn.gears:GearOutline",
+    "machdyn.gears:MeshForces",
+    "machdyn.gears:PlanetaryPower",
     "machdyn.gears:PlanetaryTable",
     "machdyn.gears:RevertedTrain",
+    "machdyn.gears:TrainPower",
     "machdyn.linkage:LinkageForces",
     "machdyn.linkage:LinkageMotion",
     "machdyn.loops:Motion",
@@ -919,6 +922,19 @@ def _add_gears(c, fn, meth) -> None:
     meth("machdyn.gears:PlanetaryTrain.speeds", train, arm=-200.0, sun=100.0)
     meth("machdyn.gears:PlanetaryTrain.ratio", train, driver="sun", driven="arm", fixed="ring")
     meth("machdyn.gears:PlanetaryTable.to_pandas", lambda: train().table(arm=1.0, sun=2.0))
+    fn("machdyn.gears:mesh_forces", pair=_pair(), torque=300.0, member="pinion")
+    fn(
+        "machdyn.gears:train_power",
+        train=gears.GearTrain([(18, 54), (20, 60)]),
+        omega_in=10.0,
+        torque_in=2.0,
+    )
+    fn(
+        "machdyn.gears:planetary_power",
+        train=train(),
+        speeds={"arm": -200.0, "sun": 100.0},
+        torque={"sun": 10.0},
+    )
     rev = lambda: gears.reverted_compound(18.0)  # noqa: E731
     meth("machdyn.gears:RevertedTrain.to_pandas", rev)
     meth("machdyn.gears:RevertedTrain.center_distance", rev, module=2.0)
