@@ -91,6 +91,7 @@ NOT_CALLED = {
     "machdyn.dynamics:LinkEquations",
     "machdyn.dynamics:LinkProperties",
     "machdyn.dynamics:SliderCrankForces",
+    "machdyn.dynamics_inverted:InvertedSliderCrankForces",
     "machdyn.flywheel:DiscFlywheel",
     "machdyn.flywheel:FlywheelResult",
     "machdyn.flywheel:LobeTable",
@@ -567,6 +568,21 @@ def _add_analyses(c, fn, meth) -> None:
         **SC_MASS,
     )
     fn("machdyn.dynamics:slidercrank_forces", slidercrank=sc(), motion=sc_motion(), **SC_MASS)
+    isc = lambda: __import__("machdyn").InvertedSliderCrank(2.0, 4.0, 0.3)  # noqa: E731
+    fn(
+        "machdyn.dynamics_inverted:inverted_slidercrank_dynamics",
+        isc=isc(),
+        theta2=THETA,
+        omega2=10.0,
+        **MASS,
+    )
+    fn(
+        "machdyn.dynamics_inverted:inverted_slidercrank_forces",
+        isc=isc(),
+        motion=isc().solve(THETA, 10.0, 1.0),
+        **MASS,
+    )
+    meth("machdyn.slidercrank:InvertedSliderCrank.dynamics", isc, theta2=THETA, omega2=10.0, **MASS)
     fn(
         "machdyn.dynamics:link_equations",
         mass=8.0,
@@ -606,6 +622,10 @@ def _add_analyses(c, fn, meth) -> None:
     for result, factory in (
         ("machdyn.dynamics:FourBarForces", lambda: _fb().dynamics(THETA, 10.0, **MASS)),
         ("machdyn.dynamics:SliderCrankForces", lambda: _sc().dynamics(THETA, 10.0, **SC_MASS)),
+        (
+            "machdyn.dynamics_inverted:InvertedSliderCrankForces",
+            lambda: isc().dynamics(THETA, 10.0, **MASS),
+        ),
         ("machdyn.fourbar:FourBarMotion", motion),
         ("machdyn.slidercrank:SliderCrankMotion", sc_motion),
     ):
