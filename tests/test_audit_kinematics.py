@@ -357,3 +357,42 @@ def test_inverted_slidercrank_random_matches_geometry_and_finite_differences(rng
         if abs(I24 - d) > 1e-6 and abs(w2) > 1e-3:
             assert float(m.omega4) == pytest.approx(w2 * (I24 - 0).real / (I24 - d).real, rel=1e-6)
         n += 1
+
+
+def test_quick_return_crank_rocker_by_its_limit_positions(rng):
+    """Norton sec. 3.5: the synthesized crank-rocker's rocker swings the requested angle
+    between the limit positions (crank and coupler extended, |O2B| = a + b, and folded,
+    |O2B| = b − a), and the crank turns 180° + δ one way and 180° − δ the other, with
+    TR = (180 + δ)/(180 − δ) — limit positions found here by the law of cosines."""
+    from machdyn.synthesis import quick_return
+
+    for swing_deg, tr in ((45, 1.25), (30, 1.1), (60, 1.4), (80, 1.0)):
+        fb = quick_return(np.radians(swing_deg), tr, r4=float(rng.uniform(1, 3))).fourbar
+        d, a, b, c = fb.lengths
+        assert fb.barker_class == "GCRR"
+        psi = [np.arccos((d * d + c * c - e * e) / (2 * d * c)) for e in (a + b, b - a)]
+        B = [d - c * np.exp(-1j * p) for p in psi]  # B above the ground line, seen from O4
+        assert abs(psi[0] - psi[1]) == pytest.approx(np.radians(swing_deg), abs=1e-9)
+        beta = abs(wrap(np.angle(B[0]) - np.angle(B[1])))
+        assert (np.pi + beta) / (np.pi - beta) == pytest.approx(tr, rel=1e-9)
+
+
+def test_mechanical_advantage_between_any_input_and_output():
+    """Power identity (notes review lecture 2: MA = F_out/F_in = v_in*/v_out*) for a
+    torque on link 2 against a force at a coupler point along a fixed direction, and for
+    a force on link 4 against a torque on link 2; velocities from this file's solves."""
+    from machdyn.virtual_work import fourbar_mechanical_advantage
+
+    fb = FourBar(8, 4, 7, 6)
+    for t2 in np.radians([10.0, 75.0, 140.0, 230.0, 320.0]):
+        t3, t4 = fourbar_reference(8, 4, 7, 6, t2, 1.0)
+        rates = fourbar_rates(8, 4, 7, 6, t2, t3, t4, 1.0, 0.0, 0.0)
+        w3, w4 = rates["omega3"], rates["omega4"]
+        point, direction = 3.5 + 0.7j, np.exp(0.4j)
+        v = 1j * 4 * np.exp(1j * t2) + 1j * w3 * point * np.exp(1j * t3)
+        v_out = (v * np.conj(direction)).real
+        ma = fourbar_mechanical_advantage(fb, t2, 2, (3, point, direction))
+        assert float(ma) == pytest.approx(1.0 / v_out, rel=1e-9)
+        v_in = (1j * w4 * (2 + 0.5j) * np.exp(1j * t4) * np.conj(1j)).real
+        ma = fourbar_mechanical_advantage(fb, t2, (4, 2 + 0.5j, 1j), 2)
+        assert float(ma) == pytest.approx(v_in, rel=1e-9)
