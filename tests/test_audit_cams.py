@@ -284,3 +284,23 @@ def test_oscillating_roller_geometry_from_the_curves(side):
     finite = np.abs(cam.rho_pitch) < 50
     np.testing.assert_allclose(cam.rho_pitch[finite], rho[finite], rtol=1e-3)
     np.testing.assert_allclose(np.abs(cam.surface - cam.pitch), rf, rtol=1e-12)
+
+
+def test_single_dwell_polynomial_from_boundary_conditions():
+    """Norton sec. 8.5 single-dwell rise-fall: s = v = a = 0 at both ends and s(½) = h
+    give the 3-4-5-6 polynomial s = h(64x³ − 192x⁴ + 192x⁵ − 64x⁶) (Norton eq. 8.26);
+    as a 'rise' of net lift 0 it closes a program with finite jerk."""
+    h, beta = 1.3, np.radians(180)
+    law = cams.polynomial_law(start={"v": 0, "a": 0}, end={"v": 0, "a": 0}, points=[(0.5, "s", h)])
+    x = np.linspace(0, 1, 101)
+    s, v, a, _ = law(x, 0.0, beta)
+    np.testing.assert_allclose(s, h * (64 * x**3 - 192 * x**4 + 192 * x**5 - 64 * x**6), atol=1e-12)
+    np.testing.assert_allclose(
+        v, h / beta * (192 * x**2 - 768 * x**3 + 960 * x**4 - 384 * x**5), atol=1e-11
+    )
+    np.testing.assert_allclose(
+        a, h / beta**2 * (384 * x - 2304 * x**2 + 3840 * x**3 - 1920 * x**4), atol=1e-10
+    )
+    program = cams.CamProgram([cams.Segment("rise", beta, 0.0, law), cams.Segment("dwell", beta)])
+    assert program.continuity().finite_jerk
+    assert program.svaj(np.radians(90.0)).s == pytest.approx(h)
