@@ -396,3 +396,22 @@ def test_mechanical_advantage_between_any_input_and_output():
         v_in = (1j * w4 * (2 + 0.5j) * np.exp(1j * t4) * np.conj(1j)).real
         ma = fourbar_mechanical_advantage(fb, t2, (4, 2 + 0.5j, 1j), 2)
         assert float(ma) == pytest.approx(v_in, rel=1e-9)
+
+
+def test_slidercrank_input_range_by_brute_force(rng):
+    """The rod reaches the slide while |a sin θ2 − c| ≤ b (the notes' loop, Im part):
+    input_range and its mirror (π − hi, π − lo) together are exactly that set."""
+    t = np.linspace(0, TWO_PI, 20001)
+    for _ in range(300):
+        a, b = rng.uniform(0.5, 5, 2)
+        c = rng.uniform(-1, 1) * (a + b) * 0.95
+        sc = SliderCrank(a, b, c)
+        reach = np.abs(a * np.sin(t) - c) <= b
+        r = sc.input_range()
+        assert sc.crank_rotates == (a + abs(c) < b)
+        if reach.all():
+            assert r is None
+            continue
+        lo, hi = r
+        inside = ((t - lo) % TWO_PI <= hi - lo) | ((t - (np.pi - hi)) % TWO_PI <= hi - lo)
+        assert np.count_nonzero(inside != reach) <= 4  # grid points at the very limits
