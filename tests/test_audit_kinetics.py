@@ -202,3 +202,36 @@ def test_input_torque_by_power_balance(rng):
     np.testing.assert_allclose(f.T12 * w2, dke, rtol=1e-6, atol=1e-6 * np.max(np.abs(dke)))
     vw = fourbar_input_torque(fb, t2, w2, mass=mass, inertia=inertia, cg=cg)
     np.testing.assert_allclose(vw.T12, f.T12, rtol=1e-9, atol=1e-9)
+
+
+def test_mass_properties_by_numerical_integration(rng):
+    """I_G = ∫(x² + y²) dm (notes 10-27, Norton sec. 10.4) of each shape integrated
+    numerically here on a fine grid; the notes' lollipop I_O = ML²/3 + ½M_dR² + M_d(l+R)²
+    by the parallel-axis theorem."""
+    from machdyn.massprops import annulus, disc, plate, ring, rod
+
+    n = 1201
+    u = (np.arange(n) + 0.5) / n  # midpoints
+
+    # rod of length L along angle φ from `start`
+    m, L, phi, start = 2.0, 3.0, 0.7, 1 + 2j
+    r = rod(m, L, start=start, angle=phi)
+    pts = start + u * L * np.exp(1j * phi)
+    assert r.cg == pytest.approx(pts.mean())
+    assert r.inertia == pytest.approx(m * np.mean(np.abs(pts - pts.mean()) ** 2), rel=1e-5)
+    # plate w × h
+    w, h = 0.4, 0.2
+    X, Y = np.meshgrid((u - 0.5) * w, (u - 0.5) * h)
+    assert plate(m, w, h).inertia == pytest.approx(m * np.mean(X**2 + Y**2), rel=1e-5)
+    # disc, annulus, ring by radial integration (area element 2πr dr)
+    R, Ri = 0.3, 0.1
+    rr = u * R
+    assert disc(m, R).inertia == pytest.approx(m * np.sum(rr**3) / np.sum(rr), rel=1e-5)
+    ra = Ri + u * (R - Ri)
+    assert annulus(m, R, Ri).inertia == pytest.approx(m * np.sum(ra**3) / np.sum(ra), rel=1e-5)
+    assert ring(m, R).inertia == pytest.approx(m * R * R)
+    # the notes' lollipop: rod (M_R, l) from O plus a disc (M_d, R) centred at l + R
+    MR, l_, Md, Rd = 1.2, 0.9, 3.0, 0.15
+    lolli = rod(MR, l_) + disc(Md, Rd, centre=l_ + Rd)
+    expected = MR * l_**2 / 3 + 0.5 * Md * Rd**2 + Md * (l_ + Rd) ** 2
+    assert lolli.inertia_about(0) == pytest.approx(expected, rel=1e-12)
