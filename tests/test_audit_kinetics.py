@@ -159,6 +159,17 @@ def test_shaking_force_is_minus_sum_of_m_aG_and_berkof_lowen_balances_it(rng):
     expected = -(mass[0] * aG2 + mass[1] * aG3 + mass[2] * aG4)
     f = fourbar_dynamics(fb, t2, w2, a2, mass=mass, inertia=inertia, cg=cg)
     np.testing.assert_allclose(f.shaking_force, expected, rtol=1e-10, atol=1e-9)
+    # shaking moment about O2 = −dH_O2/dt = −Σ(I_G α + r_G × m a_G) (Norton eq. 11.15)
+    G = (
+        cg[0] * np.exp(1j * t2),
+        A + cg[1] * np.exp(1j * t3),
+        fb.r1 + cg[2] * np.exp(1j * t4),
+    )
+    dH = sum(
+        inertia[i] * alpha + (np.conj(G[i]) * mass[i] * aG).imag
+        for i, (alpha, aG) in enumerate(((a2, aG2), (al3, aG3), (al4, aG4)))
+    )
+    np.testing.assert_allclose(f.shaking_moment, -dH, rtol=1e-9, atol=1e-9 * np.max(np.abs(dH)))
     # balanced linkage
     cw = fourbar_counterweights(fb, mass=mass, cg=cg)
     m_b, i_b, cg_b = cw.apply(mass, inertia, cg, counterweight_mass=(1.5, 2.5))
