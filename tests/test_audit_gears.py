@@ -234,3 +234,23 @@ def test_min_pinion_teeth_never_exceeds_the_gear():
     for n_g in (13, 16, 20):
         n_p = min_pinion_teeth(n_g, phi)
         assert n_p <= n_g and not interferes_by_geometry(n_p, n_g, phi)
+
+
+def test_internal_pair_length_of_action_and_interference():
+    """Pinion inside a ring (Norton Fig. 9-4b): both base-circle tangent points lie on the
+    same side of the pitch point, so Z = √(r_ap² − r_bp²) − √(r_ag² − r_bg²) + C sin φ with
+    C = r_g − r_p and the ring's tip radius r_g − a; the ring's tip interferes when it lies
+    inside the pinion's interference point, r_ag² < r_bg² + (C sin φ)²."""
+    phi, m = math.radians(20), 2.0
+    for n_p, n_g in ((20, 60), (18, 80), (30, 100), (24, 50)):
+        pair = GearPair(Gear(n_p, module=m), Gear(n_g, module=m, internal=True))
+        rp, rg = n_p * m / 2, n_g * m / 2
+        c = rg - rp
+        rbp, rbg = rp * math.cos(phi), rg * math.cos(phi)
+        rap, rag = rp + m, rg - m
+        z = math.sqrt(rap**2 - rbp**2) - math.sqrt(rag**2 - rbg**2) + c * math.sin(phi)
+        assert pair.center_distance == pytest.approx(c)
+        assert pair.length_of_action == pytest.approx(z, rel=1e-12)
+        assert pair.contact_ratio == pytest.approx(z / (2 * math.pi * rbp / n_p), rel=1e-12)
+        assert pair.velocity_ratio == pytest.approx(n_p / n_g)  # same sense
+        assert pair.interferes == (rag**2 < rbg**2 + (c * math.sin(phi)) ** 2)
