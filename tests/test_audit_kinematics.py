@@ -415,3 +415,25 @@ def test_slidercrank_input_range_by_brute_force(rng):
         lo, hi = r
         inside = ((t - lo) % TWO_PI <= hi - lo) | ((t - (np.pi - hi)) % TWO_PI <= hi - lo)
         assert np.count_nonzero(inside != reach) <= 4  # grid points at the very limits
+
+
+def test_mechanical_advantage_at_exact_toggles():
+    """Notes review lecture 2: "M.A. large near toggle" — at a toggle of crank and coupler
+    (output at rest) MA = ∞ by both routes; at the input's dead point (coupler and output
+    collinear, the GRCR's input limits) MA = 0; a slider-crank at its dead centres
+    (crank and rod collinear, θ2 = asin(c/(a + b)) and π + asin(c/(b − a))) gives ∞."""
+    grcr = FourBar(6, 9, 3, 8)
+    r = grcr.input_range(1)
+    ma = grcr.mechanical_advantage(np.array([r.lo, r.hi]))
+    np.testing.assert_array_equal(ma, [0.0, 0.0])
+    crank_rocker = FourBar(8, 4, 7, 6)
+    for t in crank_rocker.toggles():
+        form = 1 if t.branch > 0 else 2
+        for method in ("power", "instant_centres"):
+            assert crank_rocker.mechanical_advantage(t.theta2, form=form, method=method) == np.inf
+    a, b, c = 2.0, 6.0, 0.5
+    sc = SliderCrank(a, b, c)
+    dead = np.array([np.arcsin(c / (a + b)), np.pi + np.arcsin(c / (b - a))])
+    np.testing.assert_allclose(sc.solve(dead, 1.0).d_dot, 0.0, atol=1e-12)
+    for method in ("power", "instant_centres"):
+        np.testing.assert_array_equal(sc.mechanical_advantage(dead, method=method), np.inf)
