@@ -48,6 +48,8 @@ def fourbar_reference(r1, r2, r3, r4, t2, sign12):
         t3, t4 = np.angle(B - A), np.angle(B - d)
         if np.sign(wrap(t4 - t3)) == sign12:
             return t3, t4
+    if h < 1e-6 * b:  # a toggle of links 3 and 4: the two assemblies coincide
+        return t3, t4
     raise AssertionError("no pose of that sign")
 
 
@@ -437,3 +439,18 @@ def test_mechanical_advantage_at_exact_toggles():
     np.testing.assert_allclose(sc.solve(dead, 1.0).d_dot, 0.0, atol=1e-12)
     for method in ("power", "instant_centres"):
         np.testing.assert_array_equal(sc.mechanical_advantage(dead, method=method), np.inf)
+
+
+@pytest.mark.parametrize(
+    ("lengths", "form"), [((8, 4, 7, 6), 1), ((8, 4, 7, 6), 2), ((6, 9, 3, 8), 1)]
+)
+def test_coupler_curve_points_lie_on_this_files_solution(lengths, form):
+    """Every point of FourBar.coupler_curve is A + p e^{j(θ3 + δ)} of a pose found here by
+    intersecting circles, on the branch the curve reports (Norton sec. 3.6 coupler curves)."""
+    fb = FourBar(*lengths, coupler=(3.0, np.radians(35)))
+    cc = fb.coupler_curve(form, n=181)
+    for t2, br, point in zip(cc.theta2, cc.branch, cc.points, strict=True):
+        sign = br if fb.form_rule == "phi34" else (1 if form == 1 else -1)
+        t3, _ = fourbar_reference(*lengths, t2, sign)
+        expected = fb.r2 * np.exp(1j * t2) + 3.0 * np.exp(1j * (t3 + np.radians(35)))
+        assert abs(point - expected) < 1e-6 * max(lengths)
