@@ -278,3 +278,21 @@ def test_change_point_input_range_agrees_with_cranks(lengths):
     m1, m2 = fb.solve(t2, form=1), fb.solve(t2, form=2)
     flagged = np.char.startswith(m1.reason.astype(str), "indeterminate")
     assert (m1.assembled | m2.assembled | flagged).all()
+
+
+@pytest.mark.parametrize(
+    ("lengths", "expected"),
+    [
+        ((3, 5, 3, 5), [(0.0, "folded"), (180.0, "extended")]),  # parallelogram
+        ((4, 4, 4, 4), [(0.0, "folded"), (180.0, "extended")]),  # rhombus
+        ((2, 6, 4, 4), [(180.0, "extended")]),  # CPCCC: |A − O4| = 8 = R3 + R4 at θ2 = π
+        ((3, 3, 5, 5), [(0.0, "folded")]),  # kite: A on O4 at θ2 = 0, |R3 − R4| = 0
+    ],
+)
+def test_change_point_toggles_of_links_3_and_4_listed_once(lengths, expected):
+    """At a change point links 3 and 4 fall in line at θ2 = 0 or π only; the law of cosines
+    (|A − O4|² = R2² + R1² − 2R1R2 cos θ2 = (R3 ± R4)², notes 8-30) gives cos θ2 = ±1, one
+    angle — before the fix it was listed twice, as 0° and 360° (or π ± 1e-8)."""
+    toggles = [t for t in FourBar(*lengths).toggles() if t.links == (3, 4)]
+    got = [(round(float(np.degrees(t.theta2)), 6) % 360, t.kind) for t in toggles]
+    assert got == expected
