@@ -296,3 +296,31 @@ def test_change_point_toggles_of_links_3_and_4_listed_once(lengths, expected):
     toggles = [t for t in FourBar(*lengths).toggles() if t.links == (3, 4)]
     got = [(round(float(np.degrees(t.theta2)), 6) % 360, t.kind) for t in toggles]
     assert got == expected
+
+
+def test_notes_toggle_theorems_for_phi12_of_crank_input_linkages(rng):
+    """Review lecture 1: "if two adjacent links are toggled [extended] the internal angle
+    between the other two links has its maximum; if they overlap, its minimum" — links 1
+    and 2 extended at θ2 = π, overlapped at θ2 = 0, so over form 1 of any linkage whose
+    input turns fully, cos φ12 ranges between (R3² + R4² − (R1 ∓ R2)²)/(2 R3 R4)
+    (final exam 2: {8, 4, 9, 6} → min φ12 = 20.74°)."""
+    cases = [(8, 4, 9, 6)]
+    while len(cases) < 12:
+        r = tuple(rng.uniform(0.5, 10, 4))
+        try:
+            fb = FourBar(*r)
+        except machdyn.AssemblyError:
+            continue
+        if fb.classification.code in ("GCRR", "GCCC"):
+            cases.append(r)
+    for r1, r2, r3, r4 in cases:
+        ex = FourBar(r1, r2, r3, r4).extrema(form=1)["phi12"]
+        lo = np.arccos((r3**2 + r4**2 - (r1 - r2) ** 2) / (2 * r3 * r4))
+        hi = np.arccos((r3**2 + r4**2 - (r1 + r2) ** 2) / (2 * r3 * r4))
+        assert ex.min == pytest.approx(lo, abs=1e-9)
+        assert ex.max == pytest.approx(hi, abs=1e-9)
+        assert np.cos(ex.theta2_at_min) == pytest.approx(1.0)
+        assert np.cos(ex.theta2_at_max) == pytest.approx(-1.0)
+    assert np.degrees(FourBar(8, 4, 9, 6).extrema(1)["phi12"].min) == pytest.approx(
+        20.7419, abs=1e-4
+    )
