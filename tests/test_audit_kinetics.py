@@ -246,3 +246,25 @@ def test_mass_properties_by_numerical_integration(rng):
     lolli = rod(MR, l_) + disc(Md, Rd, centre=l_ + Rd)
     expected = MR * l_**2 / 3 + 0.5 * Md * Rd**2 + Md * (l_ + Rd) ** 2
     assert lolli.inertia_about(0) == pytest.approx(expected, rel=1e-12)
+
+
+def test_flywheel_four_stroke_period_and_uneven_samples(rng):
+    """A four-stroke engine cycle of 4π (flywheel by the Table 11-1 method, `period=4π`),
+    sampled unevenly from θ0 = 1 rad: ΔE from this file's integration of the piecewise
+    linear curve closed over the period."""
+    period = 4 * np.pi
+    theta = 1.0 + np.sort(rng.uniform(0, period, 500))
+    theta[0] = 1.0
+    torque = 50 + 400 * np.sin(theta / 2) ** 8 - 30 * np.cos(theta)
+    fw = size_flywheel(theta, torque, omega_avg=150.0, k=0.03, period=period)
+    t_closed = np.append(theta, 1.0 + period)
+    y_closed = np.append(torque, torque[0])
+    fine = np.linspace(1.0, 1.0 + period, 400001)
+    y = np.interp(fine, t_closed, y_closed)
+    t_avg = np.trapezoid(y, fine) / period
+    e = np.concatenate([[0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(fine))]) - t_avg * (
+        fine - 1.0
+    )
+    assert fw.torque_avg == pytest.approx(t_avg, rel=1e-9)
+    assert fw.delta_e == pytest.approx(e.max() - e.min(), rel=1e-6)
+    assert fw.inertia == pytest.approx((e.max() - e.min()) / (0.03 * 150.0**2), rel=1e-6)
