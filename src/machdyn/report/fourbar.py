@@ -29,6 +29,7 @@ from .checks import (
     kennedy,
     loop_closure,
     momentum,
+    momentum_differences,
     power_balance,
     power_of_loads,
 )
@@ -171,6 +172,11 @@ def fourbar_checks(
     checks.append(power_balance(power, dke, good, scale=scale))
     checks.append(equilibrium(list(bodies.values()), good, size))
     checks.append(momentum(list(bodies.values()), f.shaking_force, f.shaking_moment, good, size))
+    checks.append(
+        momentum_differences(
+            list(bodies.values()), f.shaking_force, f.shaking_moment, th2, omega2, good, size
+        )
+    )
     return checks
 
 

@@ -35,6 +35,7 @@ from .checks import (
     kennedy,
     loop_closure,
     momentum,
+    momentum_differences,
     power_balance,
     power_of_loads,
 )
@@ -154,6 +155,11 @@ def slidercrank_checks(
     checks.append(equilibrium(list(bodies.values()), good, rigid.size))
     checks.append(
         momentum(list(bodies.values()), f.shaking_force, f.shaking_moment, good, rigid.size)
+    )
+    checks.append(
+        momentum_differences(
+            list(bodies.values()), f.shaking_force, f.shaking_moment, th2, omega2, good, rigid.size
+        )
     )
     return checks
 
