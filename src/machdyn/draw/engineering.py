@@ -358,11 +358,13 @@ def shaking_charts(
     torque_unit: str = "torque units",
     units: Any = None,
     xlabel: str = "θ2 (deg)",
+    about: str = "O2",
 ) -> list[Chart]:
     """The shaking force as a polar chart before/after balancing, and the shaking moment.
 
     ``units`` converts forces and moments to a model's units (else they are
-    labelled ``force_unit`` and ``torque_unit``).
+    labelled ``force_unit`` and ``torque_unit``); ``about`` names the point the
+    moment is taken about (in the moment chart's title).
     """
     force, force_unit = _shown(units, "force", force_unit)
     torque, torque_unit = _shown(units, "torque", torque_unit)
@@ -394,7 +396,7 @@ def shaking_charts(
             after_m = torque(np.ravel(moment_after).astype(float))
             ms.append(Series(x, after_m, "after", colour="#2ca02c", dashed=True))
         charts.append(
-            Chart("shaking moment about O2", xlabel, f"shaking moment Ms ({torque_unit})", ms)
+            Chart(f"shaking moment about {about}", xlabel, f"shaking moment Ms ({torque_unit})", ms)
         )
     return charts
 

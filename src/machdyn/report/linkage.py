@@ -323,6 +323,7 @@ def linkage_report(
     if any(link.mass > 0 or link.inertia > 0 for link in lk.links.values()):
         forces = lk.forces(m, gravity=gravity)
         _force_sections(page, lk, m, forces, (x, xs), xlabel, driver, u, full, velocity, k)
+        _balancing_section(page, lk, forces, (values, rates, gravity), (x, xs), xlabel, u)
     else:
         page.section(
             "forces",
@@ -582,13 +583,88 @@ def _force_sections(
             hlines=[(0.0, "", "#999")],
         )
     page.section("flywheel", "Driver effort and flywheel", body + chart.to_svg())
-    angle = kind == "torque"
+
+
+def _balancing_section(
+    page: Page,
+    lk: Any,
+    f: Any,
+    run: tuple[Any, Any, float],
+    x: tuple[np.ndarray, np.ndarray],
+    xlabel: str,
+    u: Units,
+) -> None:
+    """Shaking force and moment before and after counterweights (:func:`linkage_counterweights`).
+
+    The balanced linkage (point-mass counterweights at each link's reach) is
+    solved and its forces found by the same solver, at the same driver values.
+    """
+    from ..shaking import linkage_counterweights
+
+    raw, xs = x
+    values, rates, gravity = run
+    bal = linkage_counterweights(lk)
+    after = m_after = None
+    ok = np.ravel(f.ok)
+    rows = [
+        ("method", esc(bal.method), "balance_method"),
+        ("what it does", esc(bal.what), "balance_what"),
+    ]
+    if bal.counterweights:
+        balanced = bal.apply(lk)
+        with np.errstate(all="ignore"):
+            fb = balanced.forces(balanced.solve(values, velocity=rates), gravity=gravity)
+        ok = ok & np.ravel(fb.ok)
+        after = np.where(ok, np.ravel(fb.shaking_force), np.nan)
+        m_after = np.where(ok, np.ravel(fb.shaking_moment), np.nan)
+        for c in bal.counterweights:
+            link = balanced.links[c.link]
+            added = link.mass - lk.links[c.link].mass
+            rows.append(
+                (
+                    f"counterweight on {esc(c.link)} (pivot {esc(c.pivot)})",
+                    f"m·R = {esc(u.text('unbalance', abs(c.mR)))} at {c.angle_deg:.2f}° in the "
+                    f"drawing; {esc(u.text('mass', added))} at R = "
+                    f"{esc(u.text('length', abs(c.mR) / added if added else 0.0))}",
+                    f"cw_{c.link}",
+                )
+            )
+    before = np.where(ok, np.ravel(f.shaking_force), np.nan)
+    m_before = np.where(ok, np.ravel(f.shaking_moment), np.nan)
+    where = xlabel.split(" (")[0]
+    unit = xlabel.rsplit("(", 1)[-1].rstrip(")")
+    for label, values_, kind, key in (
+        ("peak |shaking force| before", before, "force", "shaking_force_before"),
+        ("peak |shaking force| after", after, "force", "shaking_force_after"),
+        ("peak |shaking moment| before", m_before, "torque", "shaking_moment_before"),
+        ("peak |shaking moment| after", m_after, "torque", "shaking_moment_after"),
+    ):
+        if values_ is not None and np.isfinite(values_).any():
+            j = int(np.nanargmax(np.abs(values_)))
+            at = f"{xs[j] % 360.0:.4g}°" if unit == "deg" else f"{xs[j]:.4g} {unit}"
+            text = f"{u.text(kind, abs(values_[j]))} at {where} = {at}"
+            ref = np.nanmax(np.abs(before if kind == "force" else m_before))
+            if abs(values_[j]) <= 1e-9 * ref:  # balanced to rounding: no place to name
+                text = f"0 (to rounding: {abs(values_[j]):.1e})"
+            rows.append((label, esc(text), key))
+    angle = unit == "deg"
     shaking = shaking_charts(
-        np.where(ok, np.ravel(f.shaking_force), np.nan),
-        moment_before=np.where(ok, np.ravel(f.shaking_moment), np.nan) if angle else None,
+        before,
+        after,
+        moment_before=m_before if angle else None,
+        moment_after=m_after if angle else None,
         theta=raw if angle else None,
         units=u,
         xlabel=xlabel,
+        about="the origin",
     )
     svgs = [shaking[0].to_svg(width=380, height=380)] + [c.to_svg() for c in shaking[1:]]
-    page.section("shaking", "Shaking force and moment", "".join(svgs))
+    page.section(
+        "shaking",
+        "Shaking force and balancing",
+        page.table(rows)
+        + '<p class="remark">Counterweights are point masses at each link\'s reach from its '
+        "pivot (the farthest of its points); the balanced linkage is solved again at the same "
+        "driver values. The shaking moment is taken about the drawing's origin.</p>"
+        + f'<div class="charts">{"".join(svgs)}</div>',
+    )
