@@ -106,6 +106,19 @@ def test_slider_crank_checks_fail_on_a_wrong_motion(sc):
         "momentum by differences",
     }
     assert {"momentum: shaking force and moment", "equilibrium of each link"} <= acc
+    # a wrong position: the loop and the rod angle
+    moved = failed(replace(m, B=m.B + 1e-5))
+    assert {"loop closure: positions", "link angles"} <= moved
+    # every self-check of the slider-crank report is failed by one of the wrong motions
+    names = {c.name for c in slidercrank_checks(sc, m, 10.0, f, MASS, INERTIA, CG)}
+    every = (
+        acc
+        | consistent
+        | moved
+        | failed(replace(m, omega3=m.omega3 * 1.01))
+        | failed(replace(m, d_dot=m.d_dot * 1.01))
+    )
+    assert every == names
 
 
 def test_inverted_slider_crank_report_and_its_quick_return_ratio():
