@@ -305,13 +305,24 @@ def test_the_linkage_report_shows_every_chart_with_units(tab, tmp_path):
 
 
 def _polar_traces(page, section: str) -> tuple[dict, dict]:
-    """Bounding boxes of the 'before' and 'after' traces of a section's shaking polar chart."""
+    """Bounding boxes of the 'before' and 'after' traces of a section's shaking polar chart.
+
+    A trace is a red (before) or green (after) line; an 'after' balanced to rounding
+    is drawn as green dots (a line of no length shows nothing).
+    """
     polar = page.locator(f"section#{section} svg.chart").first
     legend = polar.locator("text").all_text_contents()
     assert any(t.startswith("before balancing: max") for t in legend), legend
     assert any(t.startswith("after balancing: max") for t in legend), legend
-    lines = polar.locator("polyline")
-    return lines.nth(0).bounding_box(), lines.nth(1).bounding_box()
+    before = polar.locator('polyline[stroke="#d62728"]').bounding_box()
+    line = polar.locator('polyline[stroke="#2ca02c"]')
+    if line.count():
+        return before, line.bounding_box()
+    dots = [polar.locator('circle[fill="#2ca02c"]').nth(k).bounding_box() for k in range(3)]
+    x0, y0 = min(d["x"] for d in dots), min(d["y"] for d in dots)
+    x1 = max(d["x"] + d["width"] for d in dots)
+    y1 = max(d["y"] + d["height"] for d in dots)
+    return before, {"x": x0, "y": y0, "width": x1 - x0, "height": y1 - y0}
 
 
 def test_the_slider_crank_report_shows_the_balanced_shaking_force(tab, tmp_path):
@@ -354,7 +365,10 @@ def test_the_linkage_report_shows_counterweights_before_and_after(tab, tmp_path)
     before, after = _polar_traces(page, "shaking")
     # Berkof–Lowen: the balanced four-bar's shaking force is a dot at the origin
     assert before["width"] > 50 and before["height"] > 50
-    assert after["width"] < 8 and after["height"] < 8, after  # (its stroke's width)
+    assert after["width"] < 8 and after["height"] < 8, after  # (a dot's size)
+    origin = page.locator("section#shaking svg.chart").first.locator('circle[fill="#000"]')
+    box = origin.bounding_box()
+    assert abs(after["x"] - box["x"]) < 1 and abs(after["y"] - box["y"]) < 1
     table = page.locator("section#shaking table").inner_text()
     assert "four-bar" in table and "counterweight on crank" in table
     assert "counterweight on rocker" in table

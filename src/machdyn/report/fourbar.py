@@ -597,6 +597,7 @@ def _balancing_section(page: Page, c: _Case, f: Any) -> None:
         moment_after=fb_bal.shaking_moment,
         theta=c.th,
         units=u,
+        closed=bool(c.fb.input_range(c.form).full_turn),
     )
     after = np.nanmax(np.abs(fb_bal.shaking_force))
     body = page.table(

@@ -323,7 +323,7 @@ def linkage_report(
     if any(link.mass > 0 or link.inertia > 0 for link in lk.links.values()):
         forces = lk.forces(m, gravity=gravity)
         _force_sections(page, lk, m, forces, (x, xs), xlabel, driver, u, full, velocity, k)
-        _balancing_section(page, lk, forces, (values, rates, gravity), (x, xs), xlabel, u)
+        _balancing_section(page, lk, forces, (values, rates, gravity), (x, xs), xlabel, u, full)
     else:
         page.section(
             "forces",
@@ -593,6 +593,7 @@ def _balancing_section(
     x: tuple[np.ndarray, np.ndarray],
     xlabel: str,
     u: Units,
+    full: bool,
 ) -> None:
     """Shaking force and moment before and after counterweights (:func:`linkage_counterweights`).
 
@@ -657,6 +658,7 @@ def _balancing_section(
         units=u,
         xlabel=xlabel,
         about="the origin",
+        closed=full,
     )
     svgs = [shaking[0].to_svg(width=380, height=380)] + [c.to_svg() for c in shaking[1:]]
     page.section(

@@ -426,7 +426,13 @@ def _slider_balancing(
     before, after = (np.where(ok, x.shaking_force, np.nan) for x in (f, fb))
     m_before, m_after = (np.where(ok, x.shaking_moment, np.nan) for x in (f, fb))
     shaking = shaking_charts(
-        before, after, moment_before=m_before, moment_after=m_after, theta=th, units=u
+        before,
+        after,
+        moment_before=m_before,
+        moment_after=m_after,
+        theta=th,
+        units=u,
+        closed=sc.crank_rotates,
     )
     w2 = abs(props["omega2"])
     m_b = abs(bal.reciprocating)
