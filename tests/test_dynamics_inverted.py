@@ -400,3 +400,34 @@ def test_a_machine_file_prints_the_forces_in_its_units(tmp_path, capsys):
     np.testing.assert_allclose(cols["C43 [N*m]"], si.couple, rtol=1e-9, atol=1e-12)
     assert main(["run", str(path)]) == 0
     assert "Forces on shaper" in capsys.readouterr().out
+
+
+def test_the_report_of_a_machine_file_shows_the_forces_in_its_units(tmp_path, capsys):
+    """`machdyn report` of the same file: peak crank torque in N·m as computed here in SI."""
+    import re
+
+    from machdyn.cli import main
+    from machdyn.report.slidercrank import slidercrank_sweep
+
+    path, out = tmp_path / "shaper.toml", tmp_path / "shaper.html"
+    path.write_text(SHAPER, encoding="utf-8")
+    assert main(["report", str(path), "-o", str(out)]) == 0
+    page = out.read_text(encoding="utf-8")
+    isc = InvertedSliderCrank(0.1, 0.3, 0.02)
+    th = slidercrank_sweep(isc, 360)
+    si = isc.dynamics(
+        th,
+        2 * np.pi,
+        mass=(2.0, 0.5, 6.0),
+        inertia=(0.01, 0.001, 0.2),
+        cg=(0.05, 0.0, 0.25 + 0.01j),
+        gravity=9.80665,
+        load_torque4=-40.0,
+        friction="coulomb",
+        mu=0.1,
+    )
+    j = int(np.argmax(si.T12))
+    shown = re.search(r'data-key="T12_max"[^>]*>(.*?)</td>', page).group(1)
+    assert shown.startswith(f"{si.T12[j]:.4g} N·m at θ2 = {np.degrees(th[j]):.1f}°"), shown
+    states = re.findall(r'data-check="[\w:]+".*?class="state">([\w ]+)<', page, re.S)
+    assert len(states) == 11 and set(states) == {"pass"}  # no k: no flywheel check

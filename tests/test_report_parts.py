@@ -18,6 +18,7 @@ import pytest
 
 from machdyn import InvertedSliderCrank, SliderCrank
 from machdyn.dynamics import slidercrank_forces
+from machdyn.dynamics_inverted import inverted_slidercrank_forces
 from machdyn.report import report
 from machdyn.report.slidercrank import inverted_checks, slidercrank_checks, slidercrank_sweep
 
@@ -301,7 +302,7 @@ def test_inverted_slider_crank_report_shows_its_forces_as_the_api_gives_them():
         np.abs(f.shaking_force).max(), rel=5e-4
     )
     states = checks_of(page)
-    assert set(states.values()) == {"pass"} and len(states) == 11, states
+    assert set(states.values()) == {"pass"} and len(states) == 12, states
     for key in ("power_balance", "equilibrium_of_each_link", "momentum_shaking_force_and_moment"):
         assert key in states
     for section in ("forces", "flywheel", "shaking", "selfcheck"):
@@ -331,6 +332,10 @@ def test_inverted_force_checks_fail_on_a_wrong_motion_or_force(friction):
     } <= acc
     assert {"power balance", "equilibrium of each link"} <= failed(m, replace(f, T12=f.T12 * 1.01))
     assert {"equilibrium of each link"} <= failed(m, replace(f, couple=f.couple * 1.01 + 1e-3))
-    assert {"momentum: shaking force and moment"} <= failed(
+    assert {"momentum: shaking force and moment", "momentum by differences"} <= failed(
         m, replace(f, shaking_moment=f.shaking_moment * 1.01)
     )
+    # forces solved consistently from the wrong motion: only the rates of positions catch them
+    wrong = replace(m, alpha4=m.alpha4 * 1.01, b_ddot=m.b_ddot * 1.01)
+    f_wrong = inverted_slidercrank_forces(isc, wrong, **ISC_KW, **friction)
+    assert {"momentum by differences", "finite differences: acceleration"} <= failed(wrong, f_wrong)

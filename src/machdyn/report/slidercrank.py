@@ -567,8 +567,30 @@ def inverted_checks(
     power, dke, scale = power_of_loads(bodies)
     checks.append(power_balance(power, dke, good, scale=scale))
     checks.append(equilibrium(bodies, good, rigid.size))
-    checks.append(momentum(bodies, forces.shaking_force, forces.shaking_moment, good, rigid.size))
+    Fs, Ms = forces.shaking_force, forces.shaking_moment
+    checks.append(momentum(bodies, Fs, Ms, good, rigid.size))
+    checks.append(momentum_differences(bodies, Fs, Ms, th2, omega2, good, rigid.size))
     return checks
+
+
+def _inverted_shaking(page: Page, th: np.ndarray, f: Any, u: Any, full: bool) -> None:
+    """The shaking force (polar) and moment about O2 of an inverted slider-crank."""
+    ok = np.ravel(f.ok)
+    shaking = shaking_charts(
+        np.where(ok, f.shaking_force, np.nan),
+        moment_before=np.where(ok, f.shaking_moment, np.nan),
+        theta=th,
+        units=u,
+        closed=full,
+    )
+    charts = shaking[0].to_svg(width=380, height=380) + "".join(c.to_svg() for c in shaking[1:])
+    page.section(
+        "shaking",
+        "Shaking force and moment",
+        '<p class="remark">The force and moment of the moving links on the frame (Norton '
+        "§11.8): Fs = F21 + F41, Ms = T21 + R1 × F41 about O2; their peaks are under Pin "
+        f'forces.</p><div class="charts">{charts}</div>',
+    )
 
 
 def _inverted_bodies(
@@ -703,6 +725,7 @@ def inverted_sections(
             beta=beta,
         )
         fly = _slider_forces(page, isc, th, forces, u, omega2, k, assembled.all())
+        _inverted_shaking(page, th, forces, u, bool(assembled.all()))
     else:
         page.section(
             "forces",
