@@ -41,10 +41,17 @@ def isc():
     return InvertedSliderCrank(A_, D_, C_)
 
 
-def drawn_linkage(isc: InvertedSliderCrank, theta2: float = np.radians(40.0)) -> Linkage:
+def drawn_linkage(
+    isc: InvertedSliderCrank,
+    theta2: float = np.radians(40.0),
+    form: int = 1,
+    mass=MASS,
+    inertia=INERTIA,
+    cg=CG,
+) -> Linkage:
     """The same machine drawn as a Linkage: the block is link A→K (K one unit along the slot),
     the rocker O4→Q (Q one unit along the slot from O4), so the link frames are the model's."""
-    m0 = isc.solve(theta2)
+    m0 = isc.solve(theta2, form=form)
     A0, e4 = complex(m0.A), np.exp(1j * float(m0.theta4))
     lk = Linkage({"O2": 0j, "A": A0, "O4": isc.d + 0j, "K": A0 + e4, "Q": isc.d + e4})
     lk.ground("O2", "O4")
@@ -53,7 +60,7 @@ def drawn_linkage(isc: InvertedSliderCrank, theta2: float = np.radians(40.0)) ->
         ("block", ("A", "K"), 1),
         ("rocker", ("O4", "Q"), 2),
     ):
-        lk.link(name, *pts, mass=MASS[k], inertia=INERTIA[k], cg=CG[k])
+        lk.link(name, *pts, mass=mass[k], inertia=inertia[k], cg=cg[k])
     return lk.slider("block", "rocker", "A", float(m0.theta4), name="slot").drive("crank")
 
 
@@ -91,6 +98,41 @@ def test_every_force_equals_an_equivalent_linkages(isc):
     for name, (ours, theirs) in pairs.items():
         scale = max(np.abs(theirs).max(), 1.0)
         assert np.abs(ours - theirs).max() <= 1e-9 * scale, name
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_machines_equal_the_linkage_both_forms(seed):
+    """Random dimensions (offset of either sign, crank longer or shorter than the ground),
+    masses, centres off the lines, either form: T12 and every joint force agree."""
+    rng = np.random.default_rng(seed)
+    a, d = rng.uniform(0.5, 3.0, 2)
+    c = rng.uniform(-0.4, 0.4) * min(a, d)
+    isc = InvertedSliderCrank(a, d, c)
+    form = 1 + seed % 2
+    mass = tuple(rng.uniform(0.2, 3.0, 3))
+    inertia = tuple(rng.uniform(0.01, 1.0, 3))
+    cg = tuple(rng.uniform(-1, 1, 3) + 1j * rng.uniform(-0.3, 0.3, 3))
+    th = np.linspace(0.0, 2 * np.pi, 37)[:-1] + rng.uniform(0, 0.1)
+    drawn = th[isc.solve(th, 1.0, form=form).ok][0]
+    lk = drawn_linkage(isc, drawn, form, mass, inertia, cg)
+    m = lk.solve(th, velocity=-6.0, acceleration=1.5)
+    T4 = rng.uniform(-5, 5)
+    ref = lk.forces(m, gravity=G, external_torques={"rocker": T4})
+    f = isc.dynamics(
+        th, -6.0, 1.5, form=form, mass=mass, inertia=inertia, cg=cg, gravity=G, load_torque4=T4
+    )
+    both = f.ok & ref.ok
+    assert both.sum() >= 0.8 * f.ok.sum() > 0  # the Linkage keeps the drawn circuit
+    for ours, theirs in (
+        (f.T12, ref.driver["crank"]),
+        (f.F12, ref.F("ground", "crank")),
+        (f.F32, ref.F("block", "crank")),
+        (f.F43, ref.sliders["slot"]),
+        (f.F14, ref.F("ground", "rocker")),
+        (f.couple, ref.couple["slot"]),
+    ):
+        scale = max(np.abs(theirs[both]).max(), 1.0)
+        assert np.abs(ours[both] - theirs[both]).max() <= 1e-8 * scale
 
 
 @pytest.mark.parametrize(

@@ -26,8 +26,9 @@ about ``A`` gives ``C43``, the sum of link 3's moment about ``A`` and link 4's
 about ``O4`` gives ``N``, whose coefficient ``(A − O4) × (j û + κ û) = b − κ c``
 vanishes only where the block passes the foot of the perpendicular from
 ``O4`` (``b = 0``, the crank's limit: flagged) — then the crank by
-:func:`~machdyn.linkage.newton_euler.crank`; the same closed forms as
-``FourBar.dynamics``, ``SliderCrank.dynamics`` and ``Linkage.forces``.
+:func:`~machdyn.linkage.newton_euler.crank`, from the one module of closed
+forms ``FourBar.dynamics``, ``SliderCrank.dynamics`` and ``Linkage.forces`` use
+(``Linkage.forces`` solves an RPR group by its LU; the tests compare the two).
 
 Friction at the slot: Coulomb ``f = −μ |N| sign(ḃ)`` (the net normal force;
 the pair of contact forces that makes the couple ``C43`` is not resolved, as
