@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from ._dual import Dual, expj
 from .errors import InputError
 
 __all__: list[str] = []
@@ -49,6 +50,32 @@ GROUND = "ground"
 def _cross(a: Any, b: Any) -> Any:
     """``Im(conj(a) b)``."""
     return a.real * b.imag - a.imag * b.real
+
+
+# The solver's arithmetic runs on arrays (samples × poses) or on duals (one linkage,
+# derivatives along its drawn coordinates: machdyn.sensitivity's closed-form path).
+def _expj(x: Any) -> Any:
+    return expj(x) if isinstance(x, Dual) else np.exp(1j * x)
+
+
+def _value(x: Any) -> Any:
+    return x.v if isinstance(x, Dual) else x
+
+
+def _sqrt0(x: Any) -> Any:
+    """``√max(x, 0)``."""
+    if isinstance(x, Dual):
+        r = np.sqrt(np.maximum(x.v, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return Dual(r, x.d / (2.0 * r[..., None]))
+    return np.sqrt(np.maximum(x, 0.0))
+
+
+def _arg(z: Any) -> Any:
+    """The angle of ``z`` (``d arg z = Im(dz / z)``)."""
+    if isinstance(z, Dual):
+        return Dual(np.angle(z.v), (z.d / z.v[..., None]).imag)
+    return np.angle(z)
 
 
 @dataclass(frozen=True)
@@ -114,7 +141,7 @@ class State:
 
     def direction(self, link: str) -> Any:
         """``e^{jθ}`` of the link's angle (of its first → second line)."""
-        return np.exp(1j * self.geo.psi[link]) * self.E[link]
+        return _expj(self.geo.psi[link]) * self.E[link]
 
 
 class Family:
@@ -258,6 +285,25 @@ class Family:
                 psi[link] = np.angle(off[pts[1]]) if len(pts) > 1 else np.zeros((n, 1))
         return Geometry(q, psi, bad)
 
+    def seeded(self) -> Geometry:
+        """The nominal shapes as duals along the drawn coordinates ``P.x``, ``P.y`` (in order)."""
+        m = 2 * len(self.points)
+        P = {}
+        for k, (p, z) in enumerate(self.points.items()):
+            d = np.zeros((1, 1, m), dtype=complex)
+            d[..., 2 * k], d[..., 2 * k + 1] = 1.0, 1j
+            P[p] = Dual(np.full((1, 1), z), d)
+        q: dict[str, dict[str, Any]] = {}
+        psi: dict[str, Any] = {}
+        for link, pts in self.carriers.items():
+            if link == GROUND:
+                q[link] = {x: P[x] for x in pts}
+                psi[link] = np.zeros((1, 1))
+                continue
+            q[link] = {x: P[x] - P[pts[0]] for x in pts}
+            psi[link] = _arg(q[link][pts[1]]) if len(pts) > 1 else np.zeros((1, 1))
+        return Geometry(q, psi, np.zeros(1, dtype=bool))
+
     # ------------------------------------------------------------------ solving
     def solve(self, geo: Geometry, u: list[Any], order: int = 0) -> tuple[State, np.ndarray]:
         """Every link's pose over the sweep ``u = [values, rates, ...]`` (each (m,) or scalar).
@@ -272,7 +318,7 @@ class Family:
             kind = step[0]
             if kind == "crank":
                 _, L, K, p = step
-                E = np.exp(1j * np.asarray(u[0])) * np.exp(-1j * geo.psi[L])
+                E = np.exp(1j * np.asarray(u[0])) * _expj(-geo.psi[L])
                 self._crank(st, L, K, p, E, u)
             else:
                 closes[g] = self._rrr(st, step)
@@ -297,8 +343,8 @@ class Family:
         with np.errstate(invalid="ignore", divide="ignore"):
             x = (a2 - b2 + d2) / (2.0 * d2)  # along d, in units of |d|
             y2 = a2 / d2 - x * x
-            closes = np.all(y2 >= 0.0, axis=1) & np.all(d2 > 0.0, axis=1)
-            Bz = A1 + d * (x + 1j * sign * np.sqrt(np.maximum(y2, 0.0)))
+            closes = np.all(_value(y2) >= 0.0, axis=1) & np.all(_value(d2) > 0.0, axis=1)
+            Bz = A1 + d * (x + 1j * sign * _sqrt0(y2))
             r1, r2 = Bz - A1, Bz - A2
             E1, E2 = r1 / arm1, r2 / arm2
             PB = [Bz]
