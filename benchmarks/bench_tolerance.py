@@ -19,6 +19,9 @@ coupler point P and the output angle over 360 poses, 10^5 samples by default;
 its peer is the same analysis done by hand, each sample built as its own
 Linkage and solved by ``Linkage.solve`` (200 samples), interleaved.
 
+``--linkage-dask N [workers]``: the six-bar analysis for N samples on a Dask
+``LocalCluster`` (as ``--dask`` for the four-bar).
+
 ``--dask N``: the same analysis for N samples on a Dask ``LocalCluster``
 (``workers`` processes, one thread each), chunks of 2^15 samples; prints the
 wall time and the client's peak memory (the workers hold one chunk each).
@@ -97,9 +100,10 @@ def main(repeat: int = 3) -> None:
           f"{their.mean():.5f} (pylinkage, 200 samples)")  # fmt: skip
 
 
-def dask(samples: int, workers: int) -> None:
+def dask(samples: int, workers: int, run=None) -> None:
+    run = ours if run is None else run
     print(f"python {platform.python_version()}, numpy {np.__version__}, load {load()}")
-    wall, _, t = timed(lambda: ours(samples, scheduler="local", workers=workers))
+    wall, _, t = timed(lambda: run(samples, scheduler="local", workers=workers))
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     rate = samples * 360 / wall / 1e6
     print(f"machdyn.tolerance on a LocalCluster of {workers} workers, {samples:,} x 360: "
@@ -123,9 +127,11 @@ def watt(points):
     )  # fmt: skip
 
 
-def six_ours(samples: int):
+def six_ours(samples: int, **options):
     tol = {k: 0.01 if not k.endswith("delta") else 0.002 for k in SIX}
-    return machdyn.tolerance(watt(WATT), tol, samples=samples, outputs=["point.P", "theta.output"])
+    return machdyn.tolerance(
+        watt(WATT), tol, samples=samples, outputs=["point.P", "theta.output"], **options
+    )
 
 
 def six_by_hand(samples: int) -> float:
@@ -167,7 +173,9 @@ def linkage(samples: int, repeat: int = 3) -> None:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) > 1 and sys.argv[1] == "--linkage":
+    if len(sys.argv) > 1 and sys.argv[1] == "--linkage-dask":
+        dask(int(float(sys.argv[2])), int(sys.argv[3]) if len(sys.argv) > 3 else 2, six_ours)
+    elif len(sys.argv) > 1 and sys.argv[1] == "--linkage":
         linkage(int(float(sys.argv[2])) if len(sys.argv) > 2 else 100_000)
     elif len(sys.argv) > 1 and sys.argv[1] == "--dask":
         dask(int(float(sys.argv[2])), int(sys.argv[3]) if len(sys.argv) > 3 else 2)

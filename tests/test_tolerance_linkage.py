@@ -239,3 +239,16 @@ def test_bad_requests_name_the_field():
     rocker = watt({**WATT, "A": 4.0 + 0j})  # the crank cannot turn: say where, not NaN
     with pytest.raises(InputError, match="theta2"):
         machdyn.tolerance(rocker, {"O2-A": 0.01}, samples=10)
+
+
+@pytest.mark.slow
+def test_the_same_linkage_run_on_a_dask_local_cluster():
+    tol = {"O2-A": 0.02, "A-B": 0.02, "P.delta": 0.01, "C-D": 0.02}
+    options = dict(samples=3000, chunk=1000, seed=4, outputs=["point.P", "theta.output"])
+    local = machdyn.tolerance(watt(WATT), tol, POSES, **options)
+    dask = machdyn.tolerance(watt(WATT), tol, POSES, scheduler="local", workers=1, **options)
+    for name, spread in local.outputs.items():
+        other = dask.outputs[name]
+        assert np.array_equal(spread.peak, other.peak)
+        assert np.allclose(spread.std, other.std, rtol=1e-12)
+        assert np.array_equal(spread.high, other.high)

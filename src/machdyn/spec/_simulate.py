@@ -165,6 +165,12 @@ class _Dimensions(MapOf):
             for name, item in value.items()
         }
 
+    def write(self, w: Any, value: Any) -> Any:
+        return {
+            name: (self.angle if str(name).endswith(".delta") else self.item).write(w, v)
+            for name, v in value.items()
+        }
+
     def schema(self) -> dict:
         out = super().schema()
         out["additionalProperties"] = {"anyOf": [self.item.schema(), self.angle.schema()]}
