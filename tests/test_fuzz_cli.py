@@ -173,7 +173,7 @@ TEMPLATES: dict[str, list[str]] = {
     ],
     "flywheel #spec": ["--spec", str(EXAMPLES / "flywheel.toml"), "--json"],
     "balance rotor #spec": ["--spec", str(EXAMPLES / "rotor.toml"), "--json"],
-    "balance static #spec": ["--spec", str(EXAMPLES / "rotor.toml"), "--part", "disc", "--csv"],
+    "balance static #spec": ["--spec", str(EXAMPLES / "disc.toml"), "--part", "disc", "--csv"],
     "synth three-position #spec": ["--spec", str(EXAMPLES / "synthesis.toml"), "--json"],
     "synth function #spec": ["--spec", str(EXAMPLES / "synthesis.toml"), "--part", "log"],
 }

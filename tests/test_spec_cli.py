@@ -52,7 +52,7 @@ CASES = [
     (["flywheel"], "flywheel.toml", "shaft"),
     (["flywheel"], "press.toml", "crank"),
     (["balance", "rotor"], "rotor.toml", "shaft"),
-    (["balance", "static"], "rotor.toml", "disc"),
+    (["balance", "static"], "disc.toml", "disc"),
     (["synth", "three-position"], "synthesis.toml", "three"),
     (["synth", "function"], "synthesis.toml", "log"),
 ]
@@ -160,7 +160,7 @@ def test_balance_commands_match_the_balancing_api(capsys):
     assert typed["mR"] == pytest.approx(rows["mR [kg*mm]"], rel=1e-12)
     assert typed["angle_deg"] == pytest.approx(rows["angle [deg]"], rel=1e-12)
 
-    disc = cli_json(["balance", "static", "--spec", path], capsys)
+    disc = cli_json(["balance", "static", "--spec", str(EXAMPLES / "disc.toml")], capsys)
     rows = _table(disc, "disc", "corrections")
     # the notes' two-mass case: mR = sqrt(3^2 + 2^2) at 180 + atan(2/3) deg
     assert rows["mR [kg*mm]"] == pytest.approx([math.hypot(3, 2)], rel=1e-12)
@@ -230,8 +230,8 @@ BAD = [
     (["flywheel", "--spec", "gears.toml"], "--spec", "gear_pair exam, gear_train box"),
     (["flywheel", "--spec", "flywheel.toml", "--k", "0.1"], "--k", "comes from --spec"),
     (["flywheel", "--omega-avg", "50", "--k", "0.02"], "CURVE", "missing"),
-    (["balance", "static", "--spec", "rotor.toml", "--part", "shaft"], "--part", "rotor --spec"),
-    (["balance", "rotor", "--spec", "rotor.toml", "--part", "disc"], "--part", "static --spec"),
+    (["balance", "static", "--spec", "rotor.toml"], "--spec", "rotor --spec"),
+    (["balance", "rotor", "--spec", "disc.toml"], "--spec", "static --spec"),
     (["balance", "rotor", "--mass", "1,1,0,1", "--plane-a", "0"], "--plane-b", "missing"),
     (["synth", "function", "--spec", "gears.toml"], "--spec", "no function_synthesis"),
     (["synth", "three-position", "--c", "0,0; 1,1; 2,0"], "--d", "missing"),
