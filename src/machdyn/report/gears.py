@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from ..draw.gears import planetary_scene, train_scene
+from ..draw.gears import mesh_chart, planetary_scene, train_scene
 from ..draw.html import widget
 from ..draw.units import Units
 from .checks import Check
@@ -323,7 +323,11 @@ def gear_report(
     page.section(
         "model",
         "The pair in mesh, with the line of action",
-        widget(_gear_scene(pair, n)),
+        widget(_gear_scene(pair, n))
+        + f'<div class="charts">{mesh_chart(pair, u).to_svg(width=460)}</div>'
+        + '<p class="remark">The line of action runs between the base-circle tangent points '
+        "T_p and T_g (the interference points); contact runs along it from the first to the "
+        "last contact, where the tip circles cut it.</p>",
     )
     _pair_tables(page, pair, u, deg)
     page.section(

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from ..draw.rotor import unbalance_chart
+from ..draw.rotor import rotor_side_chart, unbalance_chart
 from ..draw.units import Units
 from ..errors import InputError
 from .checks import Check
@@ -284,10 +284,21 @@ def _masses_section(page: Page, b: _Balance, u: Units) -> None:
         ]
     )
     planes = ", ".join(f"z = {L(z)}" for z in b.correction_z)
+    side = ""
+    if b.masses is not None:
+        two = len(b.corrections) == 2
+        side = rotor_side_chart(
+            b.masses,
+            b.correction_z if two else (),
+            b.corrections if two else (),
+            b.radii,
+            b.bearings,
+            units=u,
+        ).to_svg(width=560, height=260)
     page.section(
         "masses",
         "Masses and planes",
-        body + sums + f'<p class="remark">Correction plane(s): {planes}.</p>',
+        side + body + sums + f'<p class="remark">Correction plane(s): {planes}.</p>',
     )
 
 
