@@ -281,3 +281,21 @@ def test_the_line_of_action_drawn_is_the_pairs_contact_geometry(pair):
     assert math.hypot(np.diff(path.x)[0], np.diff(path.y)[0]) == pytest.approx(
         pair.length_of_action, rel=1e-12
     )
+
+
+def test_bad_report_options_are_refused_by_name(exam):
+    from machdyn.errors import InputError
+
+    train = GearTrain([(18, 54), (20, 60)])
+    planetary = PlanetaryTrain.simple(sun=40, planet=20, ring=80)
+    for model, options, field in (
+        (exam, {"input_speed": "fast"}, "input_speed"),
+        (exam, {"torque": float("inf")}, "torque"),
+        (train, {"input_speed": 0.0}, "omega_in"),
+        (train, {"torque": "x"}, "torque"),
+        (planetary, {"speeds": 5.0}, "speeds"),
+        (planetary, {"speeds": {"sun": 1.0}}, "known"),
+        (planetary, {"torque": {"planet": 1.0}}, "torque"),
+    ):
+        with pytest.raises(InputError, match=field):
+            report(model, **options)

@@ -163,3 +163,23 @@ def test_the_side_view_draws_each_mass_at_its_plane_and_height():
         assert stems[f"mass_{i}"].y[1] == pytest.approx(r * np.sin(a))
     notes = {n: x for x, _, n in chart.notes}
     assert notes["plane A"] == 0 and notes["plane B"] == 400 and notes["bearing B"] == 420
+
+
+def test_bad_rotor_report_options_are_refused_by_name():
+    from machdyn.errors import InputError
+
+    task = RotorBalance(((1.0, 0.1, 0.0, 0.2),), planes=(0.0, 1.0))
+    for options, field in (
+        ({"bearings": (0.0,)}, "bearings"),
+        ({"bearings": (0.5, 0.5)}, "bearings"),
+        ({"speed": 0.0}, "speed"),
+        ({"speed": float("nan")}, "speed"),
+        ({"radii": (-1.0,)}, "radii"),
+    ):
+        with pytest.raises(InputError, match=field):
+            report(task, **options)
+    with pytest.raises(InputError, match="planes"):
+        report(Rotor(1.0, (0.01, 0.0, 0.0)), planes=(1.0, 2.0, 3.0))
+    # a rotor balanced already: no correction, nothing on the bearings, every check passes
+    balanced = RotorBalance(((1.0, 0.1, 0.0, 0.2), (1.0, 0.1, np.pi, 0.2)), planes=(0.0, 1.0))
+    assert set(checks_of(report(balanced, speed=10.0)).values()) == {"pass"}
