@@ -62,8 +62,12 @@ def test_the_gears_file_report_renders_and_plays(tab, tmp_path):
         box = drawings.nth(k).bounding_box()
         assert box["width"] > 400 and box["height"] > 250
         first = frame(page, k)
-        page.wait_for_timeout(150)
-        assert frame(page, k) != first, k
+        page.wait_for_function(  # polled: a busy machine may draw a frame late
+            "([k, f]) => document.querySelectorAll('svg.machdyn-drawing')[k]"
+            ".getAttribute('data-frame') !== f",
+            arg=[k, first],
+            timeout=10_000,
+        )
     # the train's wheels on screen: the output (60 T) and the input (18 T) circles
     wheels = page.locator("svg.machdyn-drawing").nth(1).locator("[id$='-wheel_3a']")
     assert wheels.count() == 1 and wheels.bounding_box()["width"] > 100
