@@ -74,6 +74,8 @@ POLISH = 3
 #: Six-bars: starts screened per refined candidate, and steps of each polished one.
 SIXBAR_SCREEN = 4
 SIXBAR_POLISH = 600
+#: A six-bar whose RMS distance is below this share of the size meets the targets.
+SIXBAR_MET = 1e-12
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: A best result farther than this (over the target's size) means no entry came near.
@@ -513,14 +515,21 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
             for x0, th0, fx in starts]  # fmt: skip
     fits.sort(key=lambda f: f[2])
-    fits = fits[:refine_count]
-    for i in range(min(POLISH, len(fits))):
-        x, th, rms, fx = fits[i]
-        more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
-        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
-    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance, mu_min)
-               for x, th, _, fx in fits]  # fmt: skip
-    results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
+    # polished best first until one meets the targets (to rounding) with no defect: the
+    # screen's order is a poor guide among six-bars, whose near-fits abound, and an exact
+    # fit may be a six-bar that cannot turn its crank (the untimed fits form a family)
+    results, met = [], False
+    for i, (x, th, rms, fx) in enumerate(fits):
+        if i < POLISH or not met:
+            more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
+            x, th, rms = more if more[2] <= rms else (x, th, rms)
+        elif i >= refine_count:
+            break
+        res = sixbar_result(x, th, fx, pts, timing, closed, tolerance, mu_min)
+        if res is not None:
+            results.append(res)
+            met = met or (res.ok and rms <= SIXBAR_MET * size)
+    results.sort(key=lambda r: float(np.max(r.distance)))
     t2 = time.perf_counter()
     chosen, rejected = [], []
     for r in results:
