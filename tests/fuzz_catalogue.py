@@ -107,6 +107,9 @@ NOT_CALLED = {
     "machdyn.loops:Motion",
     "machdyn.loops:SystemReport",
     "machdyn.shaking:Counterweights",
+    "machdyn.shaking:LinkageBalance",
+    "machdyn.shaking:LinkageCounterweight",
+    "machdyn.shaking:SliderCrankBalance",
     "machdyn.slidercrank:InvertedSliderCrankMotion",
     "machdyn.slidercrank:SliderCrankMotion",
     "machdyn.synthesis:Atlas",  # opened by open_atlas
@@ -667,6 +670,32 @@ def _add_analyses(c, fn, meth) -> None:
         **MASS,
         counterweight_mass=(0.5, 0.5),
     )
+    sc_bal = lambda: __import__("machdyn.shaking").shaking.slidercrank_counterweight(  # noqa: E731
+        _sc(), (1, 2, 1), (1.0, 3.0)
+    )
+    fn("machdyn.shaking:slidercrank_counterweight", slidercrank=_sc(), mass=(1, 2, 1), cg=(1, 3))
+    meth(
+        "machdyn.shaking:SliderCrankBalance.apply",
+        sc_bal,
+        mass=(1, 2, 1),
+        inertia=(0.1, 0.5),
+        cg=(1.0, 3.0),
+        radius=1.0,
+    )
+    meth("machdyn.shaking:SliderCrankBalance.mass", sc_bal, radius=1.0)
+    meth(
+        "machdyn.shaking:SliderCrankBalance.shaking_force",
+        sc_bal,
+        motion=_sc().solve(THETA, 10.0),
+    )
+    fn("machdyn.shaking:linkage_counterweights", linkage=_linkage())
+    meth(
+        "machdyn.shaking:LinkageBalance.apply",
+        lambda: __import__("machdyn.shaking").shaking.linkage_counterweights(_linkage()),
+        linkage=_linkage(),
+        radius=1.0,
+    )
+    c["machdyn.shaking:LinkageBalance.apply"].accepts["radius"] = {"none"}
     theta = np.radians(np.arange(0.0, 360.0, 10.0))
     fn(
         "machdyn.flywheel:size_flywheel",
