@@ -91,18 +91,25 @@ NOT_CALLED = {
     "machdyn.dynamics:LinkEquations",
     "machdyn.dynamics:LinkProperties",
     "machdyn.dynamics:SliderCrankForces",
+    "machdyn.dynamics_inverted:InvertedSliderCrankForces",
     "machdyn.flywheel:DiscFlywheel",
     "machdyn.flywheel:FlywheelResult",
     "machdyn.flywheel:LobeTable",
     "machdyn.fourbar:FourBarMotion",
     "machdyn.gears:GearOutline",
+    "machdyn.gears:MeshForces",
+    "machdyn.gears:PlanetaryPower",
     "machdyn.gears:PlanetaryTable",
     "machdyn.gears:RevertedTrain",
+    "machdyn.gears:TrainPower",
     "machdyn.linkage:LinkageForces",
     "machdyn.linkage:LinkageMotion",
     "machdyn.loops:Motion",
     "machdyn.loops:SystemReport",
     "machdyn.shaking:Counterweights",
+    "machdyn.shaking:LinkageBalance",
+    "machdyn.shaking:LinkageCounterweight",
+    "machdyn.shaking:SliderCrankBalance",
     "machdyn.slidercrank:InvertedSliderCrankMotion",
     "machdyn.slidercrank:SliderCrankMotion",
     "machdyn.synthesis:Atlas",  # opened by open_atlas
@@ -564,6 +571,21 @@ def _add_analyses(c, fn, meth) -> None:
         **SC_MASS,
     )
     fn("machdyn.dynamics:slidercrank_forces", slidercrank=sc(), motion=sc_motion(), **SC_MASS)
+    isc = lambda: __import__("machdyn").InvertedSliderCrank(2.0, 4.0, 0.3)  # noqa: E731
+    fn(
+        "machdyn.dynamics_inverted:inverted_slidercrank_dynamics",
+        isc=isc(),
+        theta2=THETA,
+        omega2=10.0,
+        **MASS,
+    )
+    fn(
+        "machdyn.dynamics_inverted:inverted_slidercrank_forces",
+        isc=isc(),
+        motion=isc().solve(THETA, 10.0, 1.0),
+        **MASS,
+    )
+    meth("machdyn.slidercrank:InvertedSliderCrank.dynamics", isc, theta2=THETA, omega2=10.0, **MASS)
     fn(
         "machdyn.dynamics:link_equations",
         mass=8.0,
@@ -603,6 +625,10 @@ def _add_analyses(c, fn, meth) -> None:
     for result, factory in (
         ("machdyn.dynamics:FourBarForces", lambda: _fb().dynamics(THETA, 10.0, **MASS)),
         ("machdyn.dynamics:SliderCrankForces", lambda: _sc().dynamics(THETA, 10.0, **SC_MASS)),
+        (
+            "machdyn.dynamics_inverted:InvertedSliderCrankForces",
+            lambda: isc().dynamics(THETA, 10.0, **MASS),
+        ),
         ("machdyn.fourbar:FourBarMotion", motion),
         ("machdyn.slidercrank:SliderCrankMotion", sc_motion),
     ):
@@ -644,6 +670,32 @@ def _add_analyses(c, fn, meth) -> None:
         **MASS,
         counterweight_mass=(0.5, 0.5),
     )
+    sc_bal = lambda: __import__("machdyn.shaking").shaking.slidercrank_counterweight(  # noqa: E731
+        _sc(), (1, 2, 1), (1.0, 3.0)
+    )
+    fn("machdyn.shaking:slidercrank_counterweight", slidercrank=_sc(), mass=(1, 2, 1), cg=(1, 3))
+    meth(
+        "machdyn.shaking:SliderCrankBalance.apply",
+        sc_bal,
+        mass=(1, 2, 1),
+        inertia=(0.1, 0.5),
+        cg=(1.0, 3.0),
+        radius=1.0,
+    )
+    meth("machdyn.shaking:SliderCrankBalance.mass", sc_bal, radius=1.0)
+    meth(
+        "machdyn.shaking:SliderCrankBalance.shaking_force",
+        sc_bal,
+        motion=_sc().solve(THETA, 10.0),
+    )
+    fn("machdyn.shaking:linkage_counterweights", linkage=_linkage())
+    meth(
+        "machdyn.shaking:LinkageBalance.apply",
+        lambda: __import__("machdyn.shaking").shaking.linkage_counterweights(_linkage()),
+        linkage=_linkage(),
+        radius=1.0,
+    )
+    c["machdyn.shaking:LinkageBalance.apply"].accepts["radius"] = {"none"}
     theta = np.radians(np.arange(0.0, 360.0, 10.0))
     fn(
         "machdyn.flywheel:size_flywheel",
@@ -919,6 +971,19 @@ def _add_gears(c, fn, meth) -> None:
     meth("machdyn.gears:PlanetaryTrain.speeds", train, arm=-200.0, sun=100.0)
     meth("machdyn.gears:PlanetaryTrain.ratio", train, driver="sun", driven="arm", fixed="ring")
     meth("machdyn.gears:PlanetaryTable.to_pandas", lambda: train().table(arm=1.0, sun=2.0))
+    fn("machdyn.gears:mesh_forces", pair=_pair(), torque=300.0, member="pinion")
+    fn(
+        "machdyn.gears:train_power",
+        train=gears.GearTrain([(18, 54), (20, 60)]),
+        omega_in=10.0,
+        torque_in=2.0,
+    )
+    fn(
+        "machdyn.gears:planetary_power",
+        train=train(),
+        speeds={"arm": -200.0, "sun": 100.0},
+        torque={"sun": 10.0},
+    )
     rev = lambda: gears.reverted_compound(18.0)  # noqa: E731
     meth("machdyn.gears:RevertedTrain.to_pandas", rev)
     meth("machdyn.gears:RevertedTrain.center_distance", rev, module=2.0)

@@ -14,7 +14,7 @@ import re
 import numpy as np
 import pytest
 
-from browser import Page, chromium
+from browser import Page, chromium, screenshots
 from closed_forms import circle_meet
 from machdyn import FourBar, InvertedSliderCrank, SliderCrank
 from machdyn.draw import scene, to_html
@@ -232,7 +232,7 @@ def test_the_report_renders_and_plays(tab, tmp_path):
         "selfcheck",
     ):
         assert page.locator(f"section#{section}").count() == 1, section
-    assert page.locator("table.checks td.state").all_inner_texts() == ["pass"] * 11
+    assert page.locator("table.checks td.state").all_inner_texts() == ["pass"] * 12
     charts = page.locator("svg.chart")
     assert charts.count() >= 10
     for k in range(charts.count()):  # every chart is laid out with a real size
@@ -276,7 +276,7 @@ def test_a_machine_report_of_several_parts_renders(tab, tmp_path):
     ]
     assert page.locator("svg.machdyn-drawing").count() == 2  # each part drawn, each playing
     states = page.locator("table.checks td.state").all_inner_texts()
-    assert len(states) == 10 + 7 and set(states) == {"pass"}  # no k: no flywheel check
+    assert len(states) == 11 + 7 and set(states) == {"pass"}  # no k: no flywheel check
     for k in range(page.locator("svg.chart").count()):
         box = page.locator("svg.chart").nth(k).bounding_box()
         assert box["width"] > 250 and box["height"] > 150
@@ -302,3 +302,80 @@ def test_the_linkage_report_shows_every_chart_with_units(tab, tmp_path):
         assert len(labels) == 2 and all(re.search(r"\(.+\)$", t) for t in labels), labels
     assert set(page.locator("table.checks td.state").all_inner_texts()) == {"pass"}
     tab.shot("report_linkage_watt")
+
+
+def _polar_traces(page, section: str) -> tuple[dict, dict]:
+    """Bounding boxes of the 'before' and 'after' traces of a section's shaking polar chart.
+
+    A trace is a red (before) or green (after) line; an 'after' balanced to rounding
+    is drawn as green dots (a line of no length shows nothing).
+    """
+    polar = page.locator(f"section#{section} svg.chart").first
+    legend = polar.locator("text").all_text_contents()
+    assert any(t.startswith("before balancing: max") for t in legend), legend
+    assert any(t.startswith("after balancing: max") for t in legend), legend
+    before = polar.locator('polyline[stroke="#d62728"]').bounding_box()
+    line = polar.locator('polyline[stroke="#2ca02c"]')
+    if line.count():
+        return before, line.bounding_box()
+    dots = [polar.locator('circle[fill="#2ca02c"]').nth(k).bounding_box() for k in range(3)]
+    x0, y0 = min(d["x"] for d in dots), min(d["y"] for d in dots)
+    x1 = max(d["x"] + d["width"] for d in dots)
+    y1 = max(d["y"] + d["height"] for d in dots)
+    return before, {"x": x0, "y": y0, "width": x1 - x0, "height": y1 - y0}
+
+
+def test_the_slider_crank_report_shows_the_balanced_shaking_force(tab, tmp_path):
+    from machdyn.report import report
+
+    path = tmp_path / "engine.html"
+    # zero offset, rod centre on AB: after the counterweight only the force along the
+    # slide is left, so the 'after' trace is a horizontal line through the origin
+    report(
+        SliderCrank(2.0, 7.0),
+        path,
+        omega2=30.0,
+        mass=(1.5, 2.0, 3.0),
+        inertia=(0.2, 4.0),
+        cg=(0.6, 2.5),
+        k=0.05,
+    )
+    page = tab.open(path, wait_ms=300)
+    tab.assert_clean(path)
+    before, after = _polar_traces(page, "shaking")
+    assert before["height"] > 50 and after["width"] > 50
+    assert after["height"] < 8, after  # nothing across the slide (the stroke's width)
+    table = page.locator("section#shaking table").inner_text()
+    assert "crank counterweight m·R" in table and "reciprocating mass m_B" in table
+    assert set(page.locator("table.checks td.state").all_inner_texts()) == {"pass"}
+    tab.shot("report_slider_crank_balancing")
+    page.locator("section#shaking").screenshot(
+        path=screenshots() / "report_slider_crank_shaking.png"
+    )
+
+
+def test_the_linkage_report_shows_counterweights_before_and_after(tab, tmp_path):
+    from machdyn.report import report
+    from test_balancing_linkages import fourbar_linkage
+
+    path = tmp_path / "fourbar_linkage.html"
+    report(fourbar_linkage(), path, velocity=10.0, n=180)
+    page = tab.open(path, wait_ms=300)
+    tab.assert_clean(path)
+    before, after = _polar_traces(page, "shaking")
+    # Berkof–Lowen: the balanced four-bar's shaking force is a dot at the origin
+    assert before["width"] > 50 and before["height"] > 50
+    assert after["width"] < 8 and after["height"] < 8, after  # (a dot's size)
+    origin = page.locator("section#shaking svg.chart").first.locator('circle[fill="#000"]')
+    box = origin.bounding_box()
+    assert abs(after["x"] - box["x"]) < 1 and abs(after["y"] - box["y"]) < 1
+    table = page.locator("section#shaking table").inner_text()
+    assert "four-bar" in table and "counterweight on crank" in table
+    assert "counterweight on rocker" in table
+    checks = page.locator("table.checks td.state").all_inner_texts()
+    names = page.locator("table.checks td:first-child").all_inner_texts()
+    assert set(checks) == {"pass"}
+    assert {"equilibrium of each link", "momentum by differences"} <= set(names), names
+    tab.shot("report_linkage_fourbar_balancing")
+    page.locator("section#shaking").screenshot(path=screenshots() / "report_linkage_shaking.png")
+    page.locator("section#selfcheck").screenshot(path=screenshots() / "report_linkage_checks.png")

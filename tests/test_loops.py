@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from machdyn import FourBar, jit
-from machdyn.errors import InputError, ModelError
+from machdyn.errors import InputError, ModelError, UnknownNameError
 from machdyn.loops import LoopSystem, lu_factor, lu_solve
 from machdyn.loops.solve import REASONS, SINGULAR
 
@@ -576,8 +576,9 @@ def test_to_pandas_columns_and_read_only_arrays():
     assert len(df) == 2
     with pytest.raises(ValueError):
         m["theta3"][0] = 1.0
-    with pytest.raises(KeyError, match="neither a variable nor a point"):
+    with pytest.raises(KeyError, match="neither a variable nor a point") as lookup:
         m["theta9"]
+    assert isinstance(lookup.value, UnknownNameError)
     plain = s.solve({"theta2": [0.1]}, guess={"theta3": 0.5, "theta4": 1.5})
     assert plain.velocity is None and plain.point_velocity is None
 

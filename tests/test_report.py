@@ -16,6 +16,7 @@ import pytest
 
 from closed_forms import circle_meet
 from machdyn import FourBar
+from machdyn.dynamics import fourbar_forces
 from machdyn.flywheel import size_flywheel
 from machdyn.linkage import Linkage
 from machdyn.report import report
@@ -87,8 +88,9 @@ def test_report_numbers_equal_the_api(hw6, hw6_page):
 
 def test_every_self_check_passes_on_the_solved_motion(hw6_page):
     states = checks_of(hw6_page)
-    # 6 motion checks, link angles, 3 force checks (power, equilibrium, momentum), flywheel
-    assert len(states) == 11 and set(states.values()) == {"pass"}, states
+    # 6 motion checks, link angles, 4 force checks (power, equilibrium, momentum twice),
+    # flywheel
+    assert len(states) == 12 and set(states.values()) == {"pass"}, states
 
 
 def wrong_motions(fb):
@@ -131,6 +133,18 @@ def test_self_checks_fail_on_a_wrong_motion(hw6):
     assert "finite differences: velocity" in failed["ω4 × 1.01"]
     # a wrong position: the loop itself (and the fields built on it)
     assert {"loop closure: positions", "link angles"} <= failed["B moved by 1e-5"]
+    # forces solved from the wrong accelerations agree with them (equilibrium, power and
+    # the momentum balance written with a_G pass) but not with the momentum's differences
+    bad = wrong["accelerations × 1.01"]
+    f_bad = fourbar_forces(hw6, bad, mass=MASS, inertia=INERTIA, cg=CG)
+    failed["forces from accelerations × 1.01"] = {
+        c.name for c in fourbar_checks(hw6, bad, 10.0, f_bad, MASS, INERTIA, CG) if not c.passed
+    }
+    assert failed["forces from accelerations × 1.01"] == {
+        "loop closure: accelerations",
+        "finite differences: acceleration",
+        "momentum by differences",
+    }
     # every check is failed by one of the wrong motions
     names = {c.name for c in fourbar_checks(hw6, right, 10.0, f, MASS, INERTIA, CG)}
     assert set().union(*failed.values()) == names
@@ -194,18 +208,105 @@ def test_linkage_self_checks_fail_on_a_wrong_motion():
     lk = watt()
     x = np.radians(30.0) + np.linspace(0, 2 * np.pi, 360, endpoint=False)
     m = lk.solve(x, velocity=10.0)
-    f = lk.forces(m)
-    assert all(c.passed for c in linkage_checks(lk, m, x, 10.0, f))
+    f = lk.forces(m, gravity=9.81)
+    right = linkage_checks(lk, m, x, 10.0, f, 9.81)
+    names = {c.name for c in right}
+    assert (
+        all(c.passed for c in right)
+        and {
+            "equilibrium of each link",
+            "momentum: shaking force and moment",
+            "momentum by differences",
+        }
+        <= names
+    )
     bad = replace(
         m,
         alpha={k: v * 1.01 for k, v in m.alpha.items()},
         point_acceleration={k: v * 1.01 for k, v in m.point_acceleration.items()},
+        cg_acceleration={k: v * 1.01 for k, v in m.cg_acceleration.items()},
     )
-    failed = {c.name for c in linkage_checks(lk, bad, x, 10.0, f) if not c.passed}
-    assert {"finite differences: acceleration", "power balance"} <= failed
+    failed = {}
+    # the forces of the right motion checked against a motion with accelerations × 1.01
+    failed["acc"] = {c.name for c in linkage_checks(lk, bad, x, 10.0, f, 9.81) if not c.passed}
+    assert failed["acc"] == {
+        "loop closure: accelerations",
+        "finite differences: acceleration",
+        "power balance",
+        "equilibrium of each link",
+        "momentum: shaking force and moment",
+    }
+    # forces solved from the wrong motion: the momentum's differences (velocities only)
+    # still see it (a_G × 1.01 is not the rigid field of α × 1.01, so more checks fail)
+    f_bad = lk.forces(bad, gravity=9.81)
+    failed["forces"] = {
+        c.name for c in linkage_checks(lk, bad, x, 10.0, f_bad, 9.81) if not c.passed
+    }
+    assert {"finite differences: acceleration", "momentum by differences"} <= failed["forces"]
     bad = replace(m, omega={k: v * (1.01 if k == "3" else 1.0) for k, v in m.omega.items()})
-    failed = {c.name for c in linkage_checks(lk, bad, x, 10.0, f) if not c.passed}
-    assert {"loop closure: velocities", "Kennedy's rule"} <= failed
+    failed["w3"] = {c.name for c in linkage_checks(lk, bad, x, 10.0, f, 9.81) if not c.passed}
+    assert {"loop closure: velocities", "Kennedy's rule", "momentum by differences"} <= failed["w3"]
+    bad = replace(m, points={k: v + (1e-5 if k == "B" else 0.0) for k, v in m.points.items()})
+    failed["B"] = {c.name for c in linkage_checks(lk, bad, x, 10.0, f, 9.81) if not c.passed}
+    assert "loop closure: positions" in failed["B"]
+    bad = replace(
+        m, point_velocity={k: v * (1.01 if k == "D" else 1.0) for k, v in m.point_velocity.items()}
+    )
+    failed["vD"] = {c.name for c in linkage_checks(lk, bad, x, 10.0, f, 9.81) if not c.passed}
+    assert "finite differences: velocity" in failed["vD"]
+    # every self-check of the linkage report is failed by one of the wrong motions
+    assert set().union(*failed.values()) == names
+
+
+def test_linkage_equilibrium_with_sliders_springs_motors_and_actuators():
+    """Free bodies of every load kind: each link's ΣF − m a_G and ΣM_G − I_G α vanish."""
+    slider = (
+        Linkage({"O2": (0, 0), "A": (0, 2), "B": (6, 0), "S": (3, 3)})
+        .ground("O2", "S")
+        .link("crank", "O2", "A", mass=1.0, inertia=0.2, cg=1 + 0.1j)
+        .link("rod", "A", "B", mass=2.0, inertia=3.0, cg=3 + 0.2j)
+        .link("block", "B", mass=2.0, inertia=0.01)
+        .slider("block", "ground", "B", 0.0, name="guide")
+        .spring("k1", "S", "A", stiffness=50.0, free_length=1.0)
+        .drive("crank")
+    )
+    arm = (
+        Linkage({"O": (0, 0), "A": (2, 0.5), "B": (3.5, 2)})
+        .ground("O")
+        .link("upper", "O", "A", mass=2.0, inertia=0.5, cg=1 + 0.1j)
+        .link("fore", "A", "B", mass=1.0, inertia=0.2, cg=0.7 - 0.1j)
+        .motor("elbow", "A")
+        .torsion_spring("ts", "O", stiffness=10.0, free_angle=0.0, links=("ground", "upper"))
+        .drive("upper", "elbow")
+    )
+    boom = (
+        Linkage({"C": (0, 0), "D": (3, 4), "P": (0, 5)})
+        .ground("C", "P")
+        .link("arm", "P", "D", mass=3.0, inertia=1.0, cg=1.5 + 0.2j)
+        .actuator("cyl", "C", "D", links=("ground", "arm"))
+        .drive("cyl")
+    )
+    n = 200
+    t = np.linspace(0.0, 1.0, n)
+    cases = [
+        (slider, 0.3 + 2 * np.pi * t, 5.0, None),
+        (arm, 0.2 + t, 2.0, {"upper": 0.2 + t, "elbow": 0.3 + 0.5 * t}),
+        (boom, 4.5 + t, 0.7, None),
+    ]
+    for lk, x, rate, values in cases:
+        if values is None:
+            m = lk.solve(x, velocity=rate)
+        else:
+            m = lk.solve(values, velocity={"upper": np.full(n, rate), "elbow": np.full(n, 1.0)})
+        f = lk.forces(m, gravity=9.81)
+        checks = {c.name: c for c in linkage_checks(lk, m, x, rate, f, 9.81)}
+        assert checks["equilibrium of each link"].passed, (lk, checks)
+        assert checks["momentum: shaking force and moment"].passed
+        # a wrong driver effort breaks the equilibrium of its link
+        wrong = replace(f, driver={k: v * 1.01 for k, v in f.driver.items()})
+        assert not {c.name: c for c in linkage_checks(lk, m, x, rate, wrong, 9.81)}[
+            "equilibrium of each link"
+        ].passed
 
 
 def test_unreachable_driver_values_give_a_first_line_and_the_drawing_as_given():

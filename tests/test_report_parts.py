@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from machdyn import InvertedSliderCrank, SliderCrank
+from machdyn.dynamics import slidercrank_forces
 from machdyn.report import report
 from machdyn.report.slidercrank import inverted_checks, slidercrank_checks, slidercrank_sweep
 
@@ -60,7 +61,7 @@ def test_slider_crank_report_numbers_are_the_apis(sc):
     lo, hi = sc.stroke(1)
     assert f"{lo:.4g}" in cell(page, "stroke") and f"{hi:.4g}" in cell(page, "stroke")
     states = checks_of(page)
-    assert len(states) == 11 and set(states.values()) == {"pass"}, states
+    assert len(states) == 12 and set(states.values()) == {"pass"}, states
     for section in ("model", "class", "kinematics", "forces", "flywheel", "shaking", "selfcheck"):
         assert f'<section id="{section}"' in page, section
 
@@ -92,6 +93,32 @@ def test_slider_crank_checks_fail_on_a_wrong_motion(sc):
     assert {"finite differences: velocity", "Kennedy's rule"} <= failed(
         replace(m, d_dot=m.d_dot * 1.01)
     )
+    # forces solved from the wrong accelerations: only the momentum's differences
+    # (and the motion checks) see it — F_s = −d/dt Σ m v_G by five-point differences
+    bad = replace(m, alpha3=m.alpha3 * 1.01, d_ddot=m.d_ddot * 1.01)
+    f_bad = slidercrank_forces(sc, bad, mass=MASS, inertia=INERTIA[:2], cg=CG[:2])
+    consistent = {
+        c.name for c in slidercrank_checks(sc, bad, 10.0, f_bad, MASS, INERTIA, CG) if not c.passed
+    }
+    assert consistent == {
+        "loop closure: accelerations",
+        "finite differences: acceleration",
+        "momentum by differences",
+    }
+    assert {"momentum: shaking force and moment", "equilibrium of each link"} <= acc
+    # a wrong position: the loop and the rod angle
+    moved = failed(replace(m, B=m.B + 1e-5))
+    assert {"loop closure: positions", "link angles"} <= moved
+    # every self-check of the slider-crank report is failed by one of the wrong motions
+    names = {c.name for c in slidercrank_checks(sc, m, 10.0, f, MASS, INERTIA, CG)}
+    every = (
+        acc
+        | consistent
+        | moved
+        | failed(replace(m, omega3=m.omega3 * 1.01))
+        | failed(replace(m, d_dot=m.d_dot * 1.01))
+    )
+    assert every == names
 
 
 def test_inverted_slider_crank_report_and_its_quick_return_ratio():

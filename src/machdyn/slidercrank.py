@@ -559,6 +559,25 @@ class InvertedSliderCrank:
 
         return report(self, path, **options)
 
+    def dynamics(self, theta2: Any, omega2: Any, alpha2: Any = 0.0, **options: Any):
+        """Joint forces, the slot's normal force and couple, crank torque (Norton §11.7).
+
+        Keyword options are those of
+        :func:`machdyn.dynamics_inverted.inverted_slidercrank_dynamics` (``mass``,
+        ``inertia``, ``cg``, ``form``, ``gravity``, ``load_torque4``,
+        ``friction``, ``mu``, ``beta``, ...).
+
+        Examples
+        --------
+        >>> f = InvertedSliderCrank(2.0, 4.0).dynamics(
+        ...     np.radians([0, 90]), 10.0, mass=(1, 0.5, 3), inertia=(0.1, 0.01, 2), cg=(1, 0, 2))
+        >>> bool(f.ok.all())
+        True
+        """
+        from .dynamics_inverted import inverted_slidercrank_dynamics
+
+        return inverted_slidercrank_dynamics(self, theta2, omega2, alpha2, **options)
+
     def solve(
         self,
         theta2: Any,

@@ -358,25 +358,35 @@ def shaking_charts(
     torque_unit: str = "torque units",
     units: Any = None,
     xlabel: str = "θ2 (deg)",
+    about: str = "O2",
+    closed: bool = False,
 ) -> list[Chart]:
     """The shaking force as a polar chart before/after balancing, and the shaking moment.
 
     ``units`` converts forces and moments to a model's units (else they are
-    labelled ``force_unit`` and ``torque_unit``).
+    labelled ``force_unit`` and ``torque_unit``); ``about`` names the point the
+    moment is taken about (in the moment chart's title); ``closed``: the samples
+    are one whole cycle, so each polar trace returns to its first point.
     """
     force, force_unit = _shown(units, "force", force_unit)
     torque, torque_unit = _shown(units, "torque", torque_unit)
-    series = []
+    # the origin first, so a balanced trace (a dot there) is drawn over it
+    series = [Series(np.array([0.0]), np.array([0.0]), colour="#000", marker=True)]
+    peak = 0.0
     for z, label, colour in (
         (before, "before balancing", "#d62728"),
         (after, "after balancing", "#2ca02c"),
     ):
         if z is not None:
             z = force(np.ravel(np.asarray(z, complex)))
+            if closed and z.size:
+                z = np.append(z, z[0])
+            top = float(np.nanmax(np.abs(z))) if np.isfinite(z).any() else 0.0
+            dot = top <= 1e-6 * peak  # balanced to rounding: a line of no length shows nothing
             series.append(
-                Series(z.real, z.imag, f"{label}: max {np.nanmax(np.abs(z)):.4g}", colour=colour)
+                Series(z.real, z.imag, f"{label}: max {top:.4g}", colour=colour, marker=dot)
             )
-    series.append(Series(np.array([0.0]), np.array([0.0]), colour="#000", marker=True))
+            peak = max(peak, top)
     charts = [
         Chart(
             f"shaking force (polar), {force_unit}",
@@ -394,7 +404,7 @@ def shaking_charts(
             after_m = torque(np.ravel(moment_after).astype(float))
             ms.append(Series(x, after_m, "after", colour="#2ca02c", dashed=True))
         charts.append(
-            Chart("shaking moment about O2", xlabel, f"shaking moment Ms ({torque_unit})", ms)
+            Chart(f"shaking moment about {about}", xlabel, f"shaking moment Ms ({torque_unit})", ms)
         )
     return charts
 

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["crank", "rrp", "rrp_coulomb", "rrr", "shift"]
+__all__ = ["crank", "rpr", "rpr_coulomb", "rrp", "rrp_coulomb", "rrr", "shift"]
 
 
 def _cross(u: Any, v: Any) -> Any:
@@ -128,11 +128,78 @@ def rrp_coulomb(
     >>> bool(out[-1])
     True
     """
+    return _coulomb(lambda v: rrp(u, x, v, F1, M1_A, F2, M2_B), 2, uhat, slip, mu)
+
+
+def _coulomb(solve: Any, at: int, uhat: Any, slip: Any, mu: float) -> tuple[Any, ...]:
+    """A group with friction ``−μ |N| sign(slip)`` for both signs of ``N``; the one that fits.
+
+    ``solve(v)`` solves the group with the guide's force ``N v``; ``at`` is
+    the index of ``N`` in what it returns.
+    """
     jp = 1j * uhat
-    plus = rrp(u, x, jp - mu * slip * uhat, F1, M1_A, F2, M2_B)  # assuming N ≥ 0
-    minus = rrp(u, x, jp + mu * slip * uhat, F1, M1_A, F2, M2_B)  # assuming N ≤ 0
-    fits_plus, fits_minus = plus[2] >= 0.0, minus[2] <= 0.0
-    wedged = (fits_plus == fits_minus) & ~((plus[2] == 0.0) & (minus[2] == 0.0))
+    plus = solve(jp - mu * slip * uhat)  # assuming N ≥ 0
+    minus = solve(jp + mu * slip * uhat)  # assuming N ≤ 0
+    fits_plus, fits_minus = plus[at] >= 0.0, minus[at] <= 0.0
+    wedged = (fits_plus == fits_minus) & ~((plus[at] == 0.0) & (minus[at] == 0.0))
     kappa = np.where(fits_plus, -mu * slip, mu * slip)
     out = tuple(np.where(fits_plus, p, m) for p, m in zip(plus, minus, strict=True))
     return (*out, kappa, wedged)
+
+
+def rpr(r: Any, v: Any, F1: Any, M1_A: Any, F2: Any, M2_C: Any) -> tuple[Any, ...]:
+    """An RPR dyad: link 1 pinned at ``A``, sliding on link 2; link 2 pinned at ``C``.
+
+    The inverted slider-crank's block (link 1) and slotted link (link 2;
+    Norton §11.7). ``r = A − C``. The slide of link 2 pushes link 1 with
+    ``N v`` at ``A`` (``v = j û + κ û``: the normal to the slide direction
+    ``û`` and, with a Coulomb coefficient ``κ``, its friction) and a couple
+    ``Cp``; link 1 pushes link 2 back with ``−N v`` and ``−Cp``. Link 1's
+    moment about ``A`` gives ``Cp = −M1_A``; the sum of link 1's moment about
+    ``A`` and link 2's about ``C`` gives ``N (r × v) = M1_A + M2_C``; each
+    link's force sum its pin force.
+
+    Returns ``(F_A, N, Cp, F_C, den)``: the force on link 1 at ``A`` (from its
+    other neighbour), the normal force, the couple on link 1, the force on
+    link 2 at ``C`` and ``r × v`` (0 where ``A`` is at the foot of the
+    perpendicular from ``C`` to the slide: a toggle).
+
+    Examples
+    --------
+    A massless block at A = 2 + 0j on a slot along +x through C = 0, with a
+    torque 4 (CCW) on the slotted link: the slot pushes the block up with
+    ``N = 2``; the block pushes the slotted link down at 2 from C (moment −4,
+    balancing the torque), and the crank holds the block with ``−2j``:
+
+    >>> F_A, N, Cp, F_C, den = rpr(2 + 0j, 1j, 0j, 0.0, 0j, 4.0)
+    >>> print(F_A + 0, N, Cp + 0, F_C, den)
+    -2j 2.0 0.0 2j 2.0
+    """
+    den = _cross(r, v)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        N = (M1_A + M2_C) / den
+    Nv = N * v
+    return -Nv - F1, N, -M1_A, Nv - F2, den
+
+
+def rpr_coulomb(
+    r: Any, uhat: Any, slip: Any, mu: float, F1: Any, M1_A: Any, F2: Any, M2_C: Any
+) -> tuple[Any, ...]:
+    """:func:`rpr` with Coulomb friction ``−μ |N| sign(slip)`` along the slide (on link 1).
+
+    ``slip`` is the sign of link 1's sliding velocity relative to link 2 (at
+    rest: of its relative acceleration). Both signs of ``N`` are tried, as
+    in :func:`rrp_coulomb`; ``wedged`` marks samples where both fit, or
+    neither. Returns ``(F_A, N, Cp, F_C, den, kappa, wedged)``.
+
+    Examples
+    --------
+    The block of the :func:`rpr` example sliding along +x with μ = 0.5: the
+    friction −μ|N| = −1 along the slide, the normal force unchanged (the
+    friction's line passes through C):
+
+    >>> out = rpr_coulomb(2 + 0j, 1 + 0j, 1.0, 0.5, 0j, 0.0, 0j, 4.0)
+    >>> complex(out[0]), float(out[1]), bool(out[-1])
+    ((1-2j), 2.0, False)
+    """
+    return _coulomb(lambda v: rpr(r, v, F1, M1_A, F2, M2_C), 1, uhat, slip, mu)

@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import UnknownNameError
+
 __all__ = ["Motion", "SystemReport"]
 
 
@@ -142,7 +144,9 @@ class Motion:
         if name in self.points:
             return self.points[name]
         known = ", ".join([*self.positions, *self.points])
-        raise KeyError(f"{name!r} is neither a variable nor a point; known: {known}")
+        raise UnknownNameError(
+            "name", f"{name!r} is neither a variable nor a point; known: {known}"
+        )
 
     def __len__(self) -> int:
         return int(self.ok.size)

@@ -33,8 +33,10 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
 
     Parameters
     ----------
-    model : FourBar, SliderCrank, InvertedSliderCrank, Linkage, CamProfile, GearPair or Machine
-        A :class:`machdyn.spec.Machine` (``machdyn.spec.load_machine(path)``)
+    model : model or Machine
+        A FourBar, SliderCrank, InvertedSliderCrank, Linkage, CamProfile,
+        GearPair, GearTrain, PlanetaryTrain, Rotor or RotorBalance; a
+        :class:`machdyn.spec.Machine` (``machdyn.spec.load_machine(path)``)
         gives one page with every part (see :mod:`machdyn.report.machine`).
     path : str or Path, optional
         Where to write the page (``.html``); ``.pdf`` prints it with Chromium.
@@ -46,6 +48,11 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
         InvertedSliderCrank: ``form``, ``omega2``, ``n``.
         Machine: ``n``, ``k``, ``speed`` (every mechanism's input speed).
         Linkage: ``values`` (driver sweep), ``velocity``, ``n``, ``gravity``, ``k``.
+        GearPair: ``input_speed`` (the driver's), ``torque`` (the driver's: tooth loads).
+        GearTrain: ``input_speed``, ``torque`` (the input shaft's).
+        PlanetaryTrain: ``speeds`` (two members' speeds), ``torque`` (``{member: T}``).
+        Rotor / RotorBalance: ``speed``, ``bearings`` (z_A, z_B); a Rotor also
+        ``planes`` (z of the correction planes).
 
     Returns
     -------
@@ -54,7 +61,7 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
     """
     from ..cams import CamProfile
     from ..fourbar import FourBar
-    from ..gears import GearPair
+    from ..gears import GearPair, GearTrain, PlanetaryTrain
     from ..linkage import Linkage
     from ..slidercrank import InvertedSliderCrank, SliderCrank
     from ..spec import Machine
@@ -75,10 +82,15 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
         from .elements import cam_report
 
         page = cam_report(model, **options).html()
-    elif isinstance(model, GearPair):
-        from .elements import gear_report
+    elif isinstance(model, GearPair | GearTrain | PlanetaryTrain):
+        from .gears import gear_report, planetary_report, train_report
 
-        page = gear_report(model, **options).html()
+        make = {GearPair: gear_report, GearTrain: train_report, PlanetaryTrain: planetary_report}
+        page = make[type(model)](model, **options).html()
+    elif _is_rotor(model):
+        from .rotor import rotor_report
+
+        page = rotor_report(model, **options).html()
     elif isinstance(model, FourBar):
         from .fourbar import fourbar_report
 
@@ -91,7 +103,8 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
         raise InputError(
             "model",
             f"no report for a {type(model).__name__}; give a FourBar, SliderCrank, "
-            "InvertedSliderCrank, Linkage, cam profile or gear pair",
+            "InvertedSliderCrank, Linkage, cam profile, gear pair, gear train, planetary "
+            "train, Rotor or RotorBalance",
         )
     if path is not None:
         path = Path(path)
@@ -102,6 +115,13 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
         else:
             path.write_text(page, encoding="utf-8")
     return page
+
+
+def _is_rotor(model: Any) -> bool:
+    from ..rotor import Rotor
+    from ..spec import RotorBalance
+
+    return isinstance(model, Rotor | RotorBalance)
 
 
 def to_pdf(html_path: str | Path, pdf_path: str | Path) -> Path:

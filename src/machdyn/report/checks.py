@@ -24,6 +24,10 @@ identity that does not share the solver's code path:
 * **momentum** — the shaking force and moment printed equal the external
   loads less the rate of change of the machine's linear and angular momentum
   (``F_s = ΣF_ext − Σ m a_G``, Norton §11.8), which involves no joint force;
+* **momentum by differences** — the same balance with the rates of momentum
+  taken by five-point differences of ``P = Σ m v_G`` and
+  ``H = Σ(m G × v_G + I_G ω)`` along the sweep (velocities only), so a
+  shaking force solved from wrong accelerations fails it;
 * **flywheel energy** — ΔE is the spread of the running integral of
   ``T − T_avg`` over the cycle, integrated here by the trapezoid rule.
 
@@ -54,6 +58,7 @@ __all__ = [
     "kennedy",
     "loop_closure",
     "momentum",
+    "momentum_differences",
     "power_balance",
     "power_of_loads",
 ]
@@ -470,6 +475,72 @@ def momentum(
         "/ the largest force (no joint force enters)",
         int(good.sum()),
     )
+
+
+def momentum_differences(
+    bodies: Sequence[Body],
+    shaking_force: np.ndarray,
+    shaking_moment: np.ndarray | None,
+    x: np.ndarray,
+    xdot: float,
+    ok: np.ndarray,
+    size: float,
+    tol: float = 1e-5,
+) -> Check:
+    """The shaking force and moment against differences of the momentum along the sweep.
+
+    ``F_s = ΣF_ext − dP/dt`` and ``M_s = ΣM_ext − dH/dt`` (about the origin),
+    with the linear momentum ``P = Σ m v_G`` and the angular momentum
+    ``H = Σ(m G × v_G + I_G ω)`` written from positions and velocities only,
+    differentiated by five-point central differences over the (uniform) input
+    sweep times its rate ``ẋ``. Accelerations do not enter, so a shaking force
+    solved from a wrong acceleration fails it. The tolerance is ``tol`` or ten
+    times Richardson's estimate of the differences' own error.
+    """
+    x = np.ravel(np.asarray(x, float))
+    ok = np.ravel(ok)
+    h = np.diff(x)
+    name = "momentum by differences"
+    what = (
+        "max |F_s − (ΣF_ext − ΔP/Δt)| and |M_s − (ΣM_ext − ΔH/Δt)| / size, / the largest "
+        "force; P = Σ m v_G, H = Σ(m G×v_G + I_G ω) differenced (five points) along the sweep"
+    )
+    if h.size < 8 or np.ptp(h) > 1e-9 * max(abs(h.mean()), 1e-300) or not bodies:
+        return Check(name, float("nan"), tol, "needs a uniform sweep and a moving mass", 0)
+    step = float(h.mean())
+    P = np.zeros(x.shape, complex)
+    H = np.zeros(x.shape)
+    Fe = np.zeros(x.shape, complex)
+    Me = np.zeros(x.shape)
+    terms = np.zeros(x.shape)  # Σ |m Δv_G/Δt|: the scale when the sum nearly cancels
+    for b in bodies:
+        P = P + b.mass * b.vG
+        terms = terms + np.abs(b.mass * _d5(np.asarray(b.vG, complex), step) * xdot)
+        H = H + b.mass * _cross(b.G, b.vG) + b.inertia * b.omega
+        for force, point, source in b.loads:
+            if source == "external":
+                Fe = Fe + force
+                Me = Me + _cross(point, np.broadcast_to(force, np.shape(point)))
+        for torque, source in b.torques:
+            if source == "external":
+                Me = Me + torque
+    near = np.convolve(~ok, np.ones(9), mode="same") == 0
+    dP, dP2 = _d5(P, step) * xdot, _d5(P, step, 2) * xdot
+    dH, dH2 = _d5(H, step) * xdot, _d5(H, step, 2) * xdot
+    Fs = np.ravel(shaking_force)
+    r = np.abs(Fs - (Fe - dP))
+    rich = np.abs(dP - dP2) / 15
+    if shaking_moment is not None:
+        Ms = np.ravel(shaking_moment)
+        s = max(size, 1e-300)
+        r = np.maximum(r, np.abs(Ms - (Me - dH)) / s)
+        rich = np.maximum(rich, np.abs(dH - dH2) / (15 * s))
+    good = near & ok & np.isfinite(r) & np.isfinite(rich)
+    if not good.any():
+        return Check(name, float("nan"), tol, what, 0)
+    scale = max(_peak(Fs, good), _peak(Fe, good), _peak(terms, good), 1e-300)
+    value = float(r[good].max()) / scale
+    return Check(name, value, max(tol, 10 * float(rich[good].max()) / scale), what, int(good.sum()))
 
 
 def power_of_loads(bodies: Sequence[Body]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

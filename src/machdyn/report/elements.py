@@ -1,4 +1,4 @@
-"""Design reports of machine elements: a cam with its checks, a gear pair with its checks."""
+"""Design reports of machine elements: a cam with its checks (gear pairs: :mod:`.gears`)."""
 
 from __future__ import annotations
 
@@ -6,10 +6,11 @@ from typing import Any
 
 import numpy as np
 
-from ..draw.elements import cam_scene, gear_scene
+from ..draw.elements import cam_scene
 from ..draw.engineering import cam_charts
 from ..draw.html import widget
 from ..draw.units import Units
+from .gears import gear_report
 from .page import Page, esc, fmt
 
 __all__ = ["cam_report", "gear_report"]
@@ -85,39 +86,4 @@ def cam_report(
         "SVAJ, pressure angle and radius of curvature",
         "".join(c.to_svg(height=220) for c in charts),
     )
-    return page
-
-
-def gear_report(pair: Any, *, n: int = 120, title: str | None = None) -> Page:
-    """The report page of a gear pair (see :func:`machdyn.report.report`)."""
-    s = pair.summary()
-    title = title or f"gear pair {pair.pinion.teeth}/{pair.gear.teeth}"
-    problems = []
-    if pair.interferes:
-        problems.append("interference")
-    if pair.contact_ratio < 1.2:
-        problems.append(f"contact ratio {pair.contact_ratio:.3f} < 1.2")
-    state = (
-        "no interference, contact ratio " + f"{pair.contact_ratio:.3f}"
-        if not problems
-        else "FAILS: " + ", ".join(problems)
-    )
-    page = Page(title, f"{title}: {state}.")
-    page.failed = bool(problems)
-    page.section("model", "The pair in mesh", widget(gear_scene(pair, n=n)))
-    rows = []
-    for key, value in s.items():
-        if isinstance(value, dict):
-            for k2, v2 in value.items():
-                rows.append(
-                    (
-                        f"{key} {k2}",
-                        esc(fmt(v2, 6)) if not isinstance(v2, str) else esc(v2),
-                        f"{key}_{k2}",
-                    )
-                )
-        else:
-            text = esc(value) if isinstance(value, str | bool) else fmt(value, 6)
-            rows.append((key.replace("_", " "), text, key))
-    page.section("checks", "Gear geometry and checks", page.table(rows))
     return page

@@ -29,6 +29,7 @@ from .checks import (
     kennedy,
     loop_closure,
     momentum,
+    momentum_differences,
     power_balance,
     power_of_loads,
 )
@@ -171,6 +172,11 @@ def fourbar_checks(
     checks.append(power_balance(power, dke, good, scale=scale))
     checks.append(equilibrium(list(bodies.values()), good, size))
     checks.append(momentum(list(bodies.values()), f.shaking_force, f.shaking_moment, good, size))
+    checks.append(
+        momentum_differences(
+            list(bodies.values()), f.shaking_force, f.shaking_moment, th2, omega2, good, size
+        )
+    )
     return checks
 
 
@@ -591,6 +597,7 @@ def _balancing_section(page: Page, c: _Case, f: Any) -> None:
         moment_after=fb_bal.shaking_moment,
         theta=c.th,
         units=u,
+        closed=bool(c.fb.input_range(c.form).full_turn),
     )
     after = np.nanmax(np.abs(fb_bal.shaking_force))
     body = page.table(

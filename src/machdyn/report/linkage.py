@@ -21,18 +21,22 @@ from ..draw.linkage import default_values, linkage_scene
 from ..draw.scene import Scene
 from ..draw.units import Units
 from .checks import (
+    Body,
     Check,
     RigidMotion,
+    equilibrium,
     finite_differences,
     kennedy,
     kinetic_energy_rate,
     loop_closure,
+    momentum,
+    momentum_differences,
     power_balance,
 )
 from .fourbar import _units
 from .page import Page, esc, fmt
 
-__all__ = ["linkage_checks", "linkage_report"]
+__all__ = ["linkage_bodies", "linkage_checks", "linkage_report"]
 
 _GROUND = "ground"
 
@@ -108,10 +112,93 @@ def linkage_checks(
         for e, effort in forces.elements.items():
             term = np.ravel(effort) * np.ravel(forces.element_rate[e])
             p_ext, p_abs = p_ext - term, p_abs + np.abs(term)
-        checks.append(
-            power_balance(p_ext, kinetic_energy_rate(bodies), ok & np.ravel(forces.ok), scale=p_abs)
-        )
+        good = ok & np.ravel(forces.ok)
+        checks.append(power_balance(p_ext, kinetic_energy_rate(bodies), good, scale=p_abs))
+        free = linkage_bodies(lk, points, links, motion, forces, gravity)
+        Fs, Ms = np.ravel(forces.shaking_force), np.ravel(forces.shaking_moment)
+        checks.append(equilibrium(free, good, rigid.size))
+        checks.append(momentum(free, Fs, Ms, good, rigid.size))
+        checks.append(momentum_differences(free, Fs, Ms, x, xdot, good, rigid.size))
     return checks
+
+
+def linkage_bodies(
+    lk: Any,
+    points: Mapping[str, tuple[np.ndarray, np.ndarray, np.ndarray]],
+    links: Mapping[str, tuple[tuple[str, ...], np.ndarray, np.ndarray]],
+    motion: Any,
+    forces: Any,
+    gravity: float = 0.0,
+) -> list[Body]:
+    """Every moving link as a free body with the loads ``forces`` puts on it.
+
+    Pin forces at their pins, slider and slot forces (and couples) at their
+    points, rolling contacts at their contact points, actuator pushes along
+    their lines, spring tensions along theirs, driver and motor torques and
+    gravity: each applied to the link it acts on and, reversed, to the other
+    (``source`` ``"ground"`` when that other is the frame, ``"joint"`` when it
+    moves, ``"external"`` for gravity). ``v_G`` and ``a_G`` are written from the
+    link's first point and its ω, α (``points`` and ``links`` as given to
+    :class:`RigidMotion`).
+    """
+    bodies: dict[str, Body] = {}
+    for name, link in lk.links.items():
+        p0, v0, a0 = points[link.points[0]]
+        w, al = links[name][1], links[name][2]
+        G = np.ravel(motion.cg[name]) if name in motion.cg else p0
+        G = np.where(np.isfinite(G), G, p0)
+        vG, aG = v0 + 1j * w * (G - p0), a0 + (1j * al - w * w) * (G - p0)
+        b = Body(name, link.mass, link.inertia, G, vG, aG, w, al)
+        if gravity and link.mass:
+            b.load(np.full(G.shape, -1j * link.mass * gravity), G, "external")
+        bodies[name] = b
+
+    def pair(on: str, by: str, force: Any, at: Any) -> None:
+        """``force`` on link ``on`` from link ``by`` at ``at``; the reaction on ``by``."""
+        force = np.ravel(force) + 0j
+        for link, other, sign in ((on, by, 1.0), (by, on, -1.0)):
+            if link in bodies:
+                source = "ground" if other not in bodies else "joint"
+                bodies[link].load(sign * force, np.ravel(at), source)
+
+    def couple(on: str, by: str, torque: Any) -> None:
+        torque = np.ravel(torque).astype(float)
+        for link, other, sign in ((on, by, 1.0), (by, on, -1.0)):
+            if link in bodies:
+                bodies[link].torque(sign * torque, "ground" if other not in bodies else "joint")
+
+    joints = {j.name: j for j in lk.joints}
+    for (a, b), F in forces.pins.items():
+        j = next(j for j in joints.values() if j.kind == "pin" and {a, b} <= set(j.links))
+        pair(b, a, F, points[j.points[0]][0])
+    for name, F in forces.sliders.items():
+        j = joints[name]
+        pair(j.links[0], j.links[1], F, points[j.points[0]][0])
+        if name in forces.couple:
+            couple(j.links[0], j.links[1], forces.couple[name])
+    for name, F in forces.rolling.items():
+        j = joints[name]
+        pair(j.links[1], j.links[0], F, forces.contact[name])
+    for d, effort in forces.driver.items():
+        j = joints.get(d)
+        if d in lk.links:  # an angle driver: the ground turns the link
+            couple(d, _GROUND, effort)
+        elif j is not None and j.kind == "motor":  # T on link b, −T on link a
+            couple(j.links[1], j.links[0], effort)
+        elif j is not None and j.kind == "actuator":  # a push along start → end
+            start, end = points[j.points[0]][0], points[j.points[1]][0]
+            u = (end - start) / np.abs(end - start)
+            pair(j.links[1], j.links[0], np.ravel(effort) * u, end)
+    for e in lk.elements:
+        T = np.ravel(forces.elements[e.name])
+        a, b = e.links
+        if len(e.points) == 2:  # a spring's tension pulls its ends together
+            start, end = points[e.points[0]][0], points[e.points[1]][0]
+            u = (end - start) / np.abs(end - start)
+            pair(a, b, T * u, start)  # (on b at start or end alike: the same line)
+        else:  # a torsion spring: +τ on link a, −τ on link b
+            couple(a, b, T)
+    return list(bodies.values())
 
 
 def _drawing_as_given(lk: Any, title: str) -> Scene:
@@ -236,6 +323,7 @@ def linkage_report(
     if any(link.mass > 0 or link.inertia > 0 for link in lk.links.values()):
         forces = lk.forces(m, gravity=gravity)
         _force_sections(page, lk, m, forces, (x, xs), xlabel, driver, u, full, velocity, k)
+        _balancing_section(page, lk, forces, (values, rates, gravity), (x, xs), xlabel, u, full)
     else:
         page.section(
             "forces",
@@ -249,8 +337,10 @@ def linkage_report(
         "Self-check: independent checks on this machine",
         page.checks(checks) + '<p class="remark">Rigid-body fields of every link (the '
         "loops and their derivatives), five-point differences along the sweep, Kennedy's "
-        "rule on centres found from the velocity fields, and the power balance of the "
-        "driver efforts and springs against the kinetic energy.</p>",
+        "rule on centres found from the velocity fields; with forces, the power balance of "
+        "the driver efforts and springs against the kinetic energy, each link's equilibrium "
+        "under the forces printed, and the momentum balance of the whole machine (with a_G, "
+        "and by differences of the momentum along the sweep).</p>",
     )
     return page.finished()
 
@@ -493,13 +583,90 @@ def _force_sections(
             hlines=[(0.0, "", "#999")],
         )
     page.section("flywheel", "Driver effort and flywheel", body + chart.to_svg())
-    angle = kind == "torque"
+
+
+def _balancing_section(
+    page: Page,
+    lk: Any,
+    f: Any,
+    run: tuple[Any, Any, float],
+    x: tuple[np.ndarray, np.ndarray],
+    xlabel: str,
+    u: Units,
+    full: bool,
+) -> None:
+    """Shaking force and moment before and after counterweights (:func:`linkage_counterweights`).
+
+    The balanced linkage (point-mass counterweights at each link's reach) is
+    solved and its forces found by the same solver, at the same driver values.
+    """
+    from ..shaking import linkage_counterweights
+
+    raw, xs = x
+    values, rates, gravity = run
+    bal = linkage_counterweights(lk)
+    after = m_after = None
+    ok = np.ravel(f.ok)
+    rows = [
+        ("method", esc(bal.method), "balance_method"),
+        ("what it does", esc(bal.what), "balance_what"),
+    ]
+    if bal.counterweights:
+        balanced = bal.apply(lk)
+        with np.errstate(all="ignore"):
+            fb = balanced.forces(balanced.solve(values, velocity=rates), gravity=gravity)
+        ok = ok & np.ravel(fb.ok)
+        after = np.where(ok, np.ravel(fb.shaking_force), np.nan)
+        m_after = np.where(ok, np.ravel(fb.shaking_moment), np.nan)
+        for c in bal.counterweights:
+            link = balanced.links[c.link]
+            added = link.mass - lk.links[c.link].mass
+            rows.append(
+                (
+                    f"counterweight on {esc(c.link)} (pivot {esc(c.pivot)})",
+                    f"m·R = {esc(u.text('unbalance', abs(c.mR)))} at {c.angle_deg:.2f}° in the "
+                    f"drawing; {esc(u.text('mass', added))} at R = "
+                    f"{esc(u.text('length', abs(c.mR) / added if added else 0.0))}",
+                    f"cw_{c.link}",
+                )
+            )
+    before = np.where(ok, np.ravel(f.shaking_force), np.nan)
+    m_before = np.where(ok, np.ravel(f.shaking_moment), np.nan)
+    where = xlabel.split(" (")[0]
+    unit = xlabel.rsplit("(", 1)[-1].rstrip(")")
+    for label, values_, kind, key in (
+        ("peak |shaking force| before", before, "force", "shaking_force_before"),
+        ("peak |shaking force| after", after, "force", "shaking_force_after"),
+        ("peak |shaking moment| before", m_before, "torque", "shaking_moment_before"),
+        ("peak |shaking moment| after", m_after, "torque", "shaking_moment_after"),
+    ):
+        if values_ is not None and np.isfinite(values_).any():
+            j = int(np.nanargmax(np.abs(values_)))
+            at = f"{xs[j] % 360.0:.4g}°" if unit == "deg" else f"{xs[j]:.4g} {unit}"
+            text = f"{u.text(kind, abs(values_[j]))} at {where} = {at}"
+            ref = np.nanmax(np.abs(before if kind == "force" else m_before))
+            if abs(values_[j]) <= 1e-9 * ref:  # balanced to rounding: no place to name
+                text = f"0 (to rounding: {abs(values_[j]):.1e})"
+            rows.append((label, esc(text), key))
+    angle = unit == "deg"
     shaking = shaking_charts(
-        np.where(ok, np.ravel(f.shaking_force), np.nan),
-        moment_before=np.where(ok, np.ravel(f.shaking_moment), np.nan) if angle else None,
+        before,
+        after,
+        moment_before=m_before if angle else None,
+        moment_after=m_after if angle else None,
         theta=raw if angle else None,
         units=u,
         xlabel=xlabel,
+        about="the origin",
+        closed=full,
     )
     svgs = [shaking[0].to_svg(width=380, height=380)] + [c.to_svg() for c in shaking[1:]]
-    page.section("shaking", "Shaking force and moment", "".join(svgs))
+    page.section(
+        "shaking",
+        "Shaking force and balancing",
+        page.table(rows)
+        + '<p class="remark">Counterweights are point masses at each link\'s reach from its '
+        "pivot (the farthest of its points); the balanced linkage is solved again at the same "
+        "driver values. The shaking moment is taken about the drawing's origin.</p>"
+        + f'<div class="charts">{"".join(svgs)}</div>',
+    )

@@ -2,10 +2,11 @@
 
 A :class:`machdyn.spec.Machine` is run once (so that ``driven_by`` speeds and
 torques flow between parts as in ``machdyn run``); each part that has a report
-(four-bar, slider-crank, inverted slider-crank, linkage, cam, gear pair) gets
+(four-bar, slider-crank, inverted slider-crank, linkage, cam, gear pair, gear
+train, planetary train, rotor) gets
 its sections, numbered under the part and with data keys prefixed by the part's
-name (``press:peak_F32``); any other part (flywheel, gear train, rotor,
-synthesis task, ...) is reported by the summary its run gives — with the
+name (``press:peak_F32``); any other part (flywheel,
+synthesis task) is reported by the summary its run gives — with the
 flywheel's torque curve and energy lobes, and a synthesised linkage drawn in its
 precision positions over its targets. A machine of one
 reportable part gets that part's page as it is.
@@ -25,7 +26,17 @@ from .page import Page, esc, fmt
 __all__ = ["machine_report", "part_options"]
 
 #: Part kinds with a report of their own.
-REPORTED = ("fourbar", "slider_crank", "inverted_slider_crank", "linkage", "cam", "gear_pair")
+REPORTED = (
+    "fourbar",
+    "slider_crank",
+    "inverted_slider_crank",
+    "linkage",
+    "cam",
+    "gear_pair",
+    "gear_train",
+    "planetary",
+    "rotor",
+)
 
 
 def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None) -> dict[str, Any]:
@@ -110,11 +121,24 @@ def _page_of(part: Any, machine: Any, results: dict[str, Any], **common: Any) ->
 
         profile = results[part.name].objects.get("profile")
         return None if profile is None else cam_report(profile, title=title, units=machine.units)
-    if kind == "gear_pair":
-        from .elements import gear_report
-
-        return gear_report(model, title=title)
+    if kind in ("gear_pair", "gear_train", "planetary", "rotor"):
+        return _element_page(part, machine, title)
     return None
+
+
+def _element_page(part: Any, machine: Any, title: str) -> Page:
+    """The page of a gear pair, a train or a rotor part (its speeds from the file)."""
+    from .gears import gear_report, planetary_report, train_report
+    from .rotor import rotor_report
+
+    v, model, units = part.values, part.model, machine.units
+    if part.kind == "gear_pair":
+        return gear_report(model, title=title, input_speed=v.get("input_speed"), units=units)
+    if part.kind == "gear_train":
+        return train_report(model, title=title, input_speed=v.get("input_speed"), units=units)
+    if part.kind == "planetary":
+        return planetary_report(model, title=title, speeds=v.get("speeds") or None, units=units)
+    return rotor_report(model, title=title, units=units)
 
 
 def _summary(page: Page, result: Any, machine: Any) -> str:

@@ -35,6 +35,7 @@ from .checks import (
     kennedy,
     loop_closure,
     momentum,
+    momentum_differences,
     power_balance,
     power_of_loads,
 )
@@ -155,6 +156,11 @@ def slidercrank_checks(
     checks.append(
         momentum(list(bodies.values()), f.shaking_force, f.shaking_moment, good, rigid.size)
     )
+    checks.append(
+        momentum_differences(
+            list(bodies.values()), f.shaking_force, f.shaking_moment, th2, omega2, good, rigid.size
+        )
+    )
     return checks
 
 
@@ -194,8 +200,13 @@ def slidercrank_sections(
     mu_limit_deg: float = 40.0,
     units: Any = None,
     length_unit: str | None = None,
+    balance_fraction: float = 0.0,
 ) -> str:
-    """Add a slider-crank's sections to ``page``; returns its first line."""
+    """Add a slider-crank's sections to ``page``; returns its first line.
+
+    ``balance_fraction`` is the part of the reciprocating mass the crank
+    counterweight overbalances (0: the rotating masses only).
+    """
     u = _units(sc, units, length_unit)
     th = slidercrank_sweep(sc, n)
     m = sc.solve(th, omega2, form=form)
@@ -295,6 +306,26 @@ def slidercrank_sections(
             beta=beta,
         )
         fly = _slider_forces(page, sc, th, forces, u, omega2, k, rng is None)
+        _slider_balancing(
+            page,
+            sc,
+            th,
+            forces,
+            u,
+            {
+                "omega2": omega2,
+                "mass": mass,
+                "inertia": inertia,
+                "cg": cg,
+                "form": form,
+                "gravity": gravity,
+                "load_force4": load_force4,
+                "friction": friction,
+                "mu": mu,
+                "beta": beta,
+                "balance_fraction": balance_fraction,
+            },
+        )
     else:
         page.section(
             "forces",
@@ -377,15 +408,81 @@ def _slider_forces(
     )
     chart = torque_chart(th, f.T12, flywheel=fly, ok=ok, units=u)
     page.section("flywheel", "Crank torque and flywheel", body + chart.to_svg())
+    return fly
+
+
+def _slider_balancing(
+    page: Page, sc: SliderCrank, th: np.ndarray, f: Any, u: Any, props: dict[str, Any]
+) -> None:
+    """Shaking force before and after the crank counterweight (rotating masses balanced)."""
+    from ..shaking import slidercrank_counterweight
+
+    fraction = props.pop("balance_fraction")
+    mass, inertia, cg = props.pop("mass"), props.pop("inertia"), props.pop("cg")
+    bal = slidercrank_counterweight(sc, mass, cg, fraction=fraction)
+    mass_b, inertia_b, cg_b = bal.apply(mass, inertia, cg, radius=sc.a)
+    fb = sc.dynamics(th, mass=mass_b, inertia=inertia_b, cg=cg_b, **props)
+    ok = np.ravel(f.ok) & np.ravel(fb.ok)
+    before, after = (np.where(ok, x.shaking_force, np.nan) for x in (f, fb))
+    m_before, m_after = (np.where(ok, x.shaking_moment, np.nan) for x in (f, fb))
     shaking = shaking_charts(
-        np.where(ok, f.shaking_force, np.nan),
-        moment_before=np.where(ok, f.shaking_moment, np.nan),
+        before,
+        after,
+        moment_before=m_before,
+        moment_after=m_after,
         theta=th,
         units=u,
+        closed=sc.crank_rotates,
+    )
+    w2 = abs(props["omega2"])
+    m_b = abs(bal.reciprocating)
+    primary = m_b * sc.a * w2**2
+    rows = [
+        (
+            "crank counterweight m·R",
+            f"{esc(u.text('unbalance', abs(bal.mR)))} at {bal.angle_deg:.2f}° from the crank "
+            "line O2→A",
+            "mR_crank",
+        ),
+        (
+            "its mass at R = a",
+            esc(u.text("mass", bal.mass(sc.a))) if abs(bal.mR) else "none needed",
+            "counterweight_mass",
+        ),
+        ("overbalanced fraction f of m_B", fmt(fraction), "balance_fraction"),
+        ("reciprocating mass m_B = m4 + m3·c3/b", esc(u.text("mass", m_b)), "m_B"),
+        _peak_row(
+            "peak |shaking force| after", np.abs(after), th, "shaking_force_after", _t(u, "force")
+        ),
+        _peak_row(
+            "peak |shaking moment| after", m_after, th, "shaking_moment_after", _t(u, "torque")
+        ),
+        (
+            "primary m_B·a·ω2² (f = 0)",
+            esc(u.text("force", primary)),
+            "primary",
+        ),
+        (
+            "secondary ≈ m_B·a·ω2²·(a/b) (Norton)",
+            esc(u.text("force", primary * sc.a / sc.b)),
+            "secondary",
+        ),
+    ]
+    remark = (
+        '<p class="remark">The counterweight (a point mass at R = a opposite the crank pin) '
+        "balances the rotating masses exactly — the crank and the part m3(1 − c3/b) of the rod "
+        "at the crank pin — so without external loads the shaking force after is "
+        "−m_B(B̈ − f·Ä): along the slide, the piston's primary and secondary harmonics "
+        "(f = 0); overbalancing (balance_fraction f) turns a part f of the primary into a "
+        "force across the slide. No crank counterweight removes the reciprocating force "
+        "(Norton, ch. 13, balancing the single-cylinder engine).</p>"
     )
     charts = shaking[0].to_svg(width=380, height=380) + "".join(c.to_svg() for c in shaking[1:])
-    page.section("shaking", "Shaking force and moment", f'<div class="charts">{charts}</div>')
-    return fly
+    page.section(
+        "shaking",
+        "Shaking force and balancing",
+        page.table(rows) + remark + f'<div class="charts">{charts}</div>',
+    )
 
 
 # --------------------------------------------------------------------------------------
