@@ -2,7 +2,7 @@
 
 Every closed-form step of :mod:`machdyn.linkage.program` is encoded as a row of
 integers and a row of floats (:func:`encode`), once per linkage; the kernel of
-:mod:`machdyn._linkage_kernels` interprets the rows sample by sample. Which
+:mod:`machdyn._linkage_kernels` interprets the rows a block of samples at a time. Which
 engine runs a call:
 
 * the **compiled kernel** when :mod:`machdyn.jit` serves compiled code (its

@@ -4,7 +4,7 @@
 steps in solving order — a driver (crank, motor, driven slider), a closed-form
 dyad — each of which finds the pose of its links from bodies already known.
 This module runs them (NumPy, every sample at once); the compiled kernel in
-:mod:`machdyn._linkage_kernels` runs the same steps sample by sample.
+:mod:`machdyn._linkage_kernels` runs the same steps over blocks of samples.
 
 The pose of link ``i`` is its frame origin ``O`` (the drawn position of its
 first point, moved) and its rotation ``E = e^{jΔ}`` since the drawing; a point
