@@ -18,6 +18,7 @@ import pytest
 
 from machdyn import InvertedSliderCrank, SliderCrank
 from machdyn.dynamics import slidercrank_forces
+from machdyn.dynamics_inverted import inverted_slidercrank_forces
 from machdyn.report import report
 from machdyn.report.slidercrank import inverted_checks, slidercrank_checks, slidercrank_sweep
 
@@ -278,3 +279,63 @@ def test_the_flywheel_check_fails_on_a_wrong_energy():
     # the sizing checked against a torque 1 % larger fails, and so does an inertia 1 % off
     assert not flywheel_energy(th, T * 1.01, right).passed
     assert not flywheel_energy(th, T, replace(right, inertia=right.inertia * 1.01)).passed
+
+
+ISC_MASS, ISC_INERTIA, ISC_CG = (2.0, 0.5, 6.0), (0.01, 0.001, 0.2), (0.05, 0.01j, 0.25 + 0.01j)
+ISC_KW = dict(mass=ISC_MASS, inertia=ISC_INERTIA, cg=ISC_CG, gravity=9.81, load_torque4=-40.0)
+
+
+def test_inverted_slider_crank_report_shows_its_forces_as_the_api_gives_them():
+    isc = InvertedSliderCrank(0.1, 0.3, 0.02)
+    page = report(isc, omega2=12.0, k=0.05, **ISC_KW)
+    th = slidercrank_sweep(isc, 360)
+    f = isc.dynamics(th, 12.0, **ISC_KW)
+    for name in ("F12", "F32", "F43", "F14"):
+        j = int(np.argmax(np.abs(getattr(f, name))))
+        text = cell(page, f"peak_{name}")
+        assert number(text) == pytest.approx(abs(getattr(f, name)[j]), rel=5e-4), name
+        assert f"θ2 = {np.degrees(th[j]):.1f}°" in text
+    jmax = int(np.argmax(f.T12))
+    assert number(cell(page, "T12_max")) == pytest.approx(f.T12[jmax], rel=5e-4)
+    assert f"θ2 = {np.degrees(th[jmax]):.1f}°" in cell(page, "T12_max")
+    assert number(cell(page, "shaking_force_max")) == pytest.approx(
+        np.abs(f.shaking_force).max(), rel=5e-4
+    )
+    states = checks_of(page)
+    assert set(states.values()) == {"pass"} and len(states) == 12, states
+    for key in ("power_balance", "equilibrium_of_each_link", "momentum_shaking_force_and_moment"):
+        assert key in states
+    for section in ("forces", "flywheel", "shaking", "selfcheck"):
+        assert f'<section id="{section}"' in page, section
+    assert "No mass properties" in report(isc, omega2=12.0, n=72)
+
+
+@pytest.mark.parametrize("friction", [{}, {"friction": "coulomb", "mu": 0.2}])
+def test_inverted_force_checks_fail_on_a_wrong_motion_or_force(friction):
+    isc = InvertedSliderCrank(0.1, 0.3, 0.02)
+    th = slidercrank_sweep(isc, 360)
+    m = isc.solve(th, 12.0)
+    f = isc.dynamics(th, 12.0, **ISC_KW, **friction)
+    kw = {k: ISC_KW[k] for k in ("mass", "inertia", "cg", "gravity", "load_torque4")}
+
+    def failed(motion, forces=f):
+        return {c.name for c in inverted_checks(isc, motion, 12.0, forces, **kw) if not c.passed}
+
+    assert failed(m) == set()
+    acc = failed(replace(m, alpha4=m.alpha4 * 1.01, b_ddot=m.b_ddot * 1.01))
+    assert {
+        "loop closure: accelerations",
+        "finite differences: acceleration",
+        "power balance",
+        "equilibrium of each link",
+        "momentum: shaking force and moment",
+    } <= acc
+    assert {"power balance", "equilibrium of each link"} <= failed(m, replace(f, T12=f.T12 * 1.01))
+    assert {"equilibrium of each link"} <= failed(m, replace(f, couple=f.couple * 1.01 + 1e-3))
+    assert {"momentum: shaking force and moment", "momentum by differences"} <= failed(
+        m, replace(f, shaking_moment=f.shaking_moment * 1.01)
+    )
+    # forces solved consistently from the wrong motion: only the rates of positions catch them
+    wrong = replace(m, alpha4=m.alpha4 * 1.01, b_ddot=m.b_ddot * 1.01)
+    f_wrong = inverted_slidercrank_forces(isc, wrong, **ISC_KW, **friction)
+    assert {"momentum by differences", "finite differences: acceleration"} <= failed(wrong, f_wrong)

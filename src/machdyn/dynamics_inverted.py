@@ -26,8 +26,9 @@ about ``A`` gives ``C43``, the sum of link 3's moment about ``A`` and link 4's
 about ``O4`` gives ``N``, whose coefficient ``(A − O4) × (j û + κ û) = b − κ c``
 vanishes only where the block passes the foot of the perpendicular from
 ``O4`` (``b = 0``, the crank's limit: flagged) — then the crank by
-:func:`~machdyn.linkage.newton_euler.crank`; the same closed forms as
-``FourBar.dynamics``, ``SliderCrank.dynamics`` and ``Linkage.forces``.
+:func:`~machdyn.linkage.newton_euler.crank`, from the one module of closed
+forms ``FourBar.dynamics``, ``SliderCrank.dynamics`` and ``Linkage.forces`` use
+(``Linkage.forces`` solves an RPR group by its LU; the tests compare the two).
 
 Friction at the slot: Coulomb ``f = −μ |N| sign(ḃ)`` (the net normal force;
 the pair of contact forces that makes the couple ``C43`` is not resolved, as
@@ -80,6 +81,8 @@ INVERTED_REASONS: tuple[str, ...] = (
 )
 _JAM, _STICK = 3, 4
 _FRICTION_MODELS = ("smooth", "coulomb", "viscous")
+#: ḃ below this × (a + d)|ω2| is rest (a dead point of the slide), not a slip direction.
+_REST_TOL = 1e-12
 #: Relative tolerance of the motion's consistency check with the model.
 _SAME_MODEL_TOL = 1e-9
 
@@ -316,8 +319,9 @@ def inverted_slidercrank_forces(
     F4 = F4 - f0
     M4 = M4 - _cross(r, f0)
     if friction == "coulomb" and mu:
-        slip = np.sign(b_dot)
-        slip = np.where(slip == 0.0, np.sign(motion.b_ddot), slip)  # impending slip at rest
+        # the block at rest in the slot (ḃ zero but for rounding): the impending slip, sign(b̈)
+        still = np.abs(b_dot) <= _REST_TOL * (isc.a + isc.d) * np.abs(motion.omega2)
+        slip = np.where(still, np.sign(motion.b_ddot), np.sign(b_dot))
         F23, N, C43, F14, den, kappa, jammed = newton_euler.rpr_coulomb(
             r, e4, slip, mu, F3, M3, F4, M4
         )

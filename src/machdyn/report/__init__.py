@@ -45,7 +45,9 @@ def report(model: Any, path: str | Path | None = None, **options: Any) -> str:
         ``gravity``, ``load_torque4``, ``k`` (flywheel), ``mu_limit_deg``.
         SliderCrank: ``form``, ``omega2``, ``n``, ``mass`` (m2, m3, m4), ``inertia``
         (IG2, IG3), ``cg`` (c2, c3), ``gravity``, ``load_force4``, ``k``.
-        InvertedSliderCrank: ``form``, ``omega2``, ``n``.
+        InvertedSliderCrank: ``form``, ``omega2``, ``n``, ``mass`` (m2, m3, m4),
+        ``inertia`` (IG2, IG3, IG4), ``cg`` (c2, c3, c4), ``gravity``,
+        ``load_torque4``, ``friction``, ``mu``, ``beta``, ``k``.
         Machine: ``n``, ``k``, ``speed`` (every mechanism's input speed).
         Linkage: ``values`` (driver sweep), ``velocity``, ``n``, ``gravity``, ``k``.
         GearPair: ``input_speed`` (the driver's), ``torque`` (the driver's: tooth loads).

@@ -74,6 +74,15 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
             for key in ("friction", "mu", "beta"):
                 if key in loads:
                     options[key] = loads[key]
+    elif kind == "inverted_slider_crank":
+        masses = _masses(v, (2, 3, 4))
+        if masses is not None:
+            loads = v.get("loads", {})
+            options |= masses | {"gravity": gravity}
+            options["load_torque4"] = loads.get("torque4", 0.0)
+            for key in ("friction", "mu", "beta"):
+                if key in loads:
+                    options[key] = loads[key]
     elif kind == "linkage":
         options["gravity"] = gravity
         lk = part.model

@@ -353,7 +353,14 @@ def _t(u: Any, kind: str) -> Any:
 
 
 def _slider_forces(
-    page: Page, sc: SliderCrank, th: np.ndarray, f: Any, u: Any, omega2: float, k: Any, full: bool
+    page: Page,
+    sc: SliderCrank | InvertedSliderCrank,
+    th: np.ndarray,
+    f: Any,
+    u: Any,
+    omega2: float,
+    k: Any,
+    full: bool,
 ) -> Any:
     ok = np.ravel(f.ok)
     pins = {"F12": f.F12, "F32": f.F32, "F43": f.F43, "F14": f.F14}
@@ -489,15 +496,28 @@ def _slider_balancing(
 # inverted slider-crank
 
 
-def inverted_checks(isc: InvertedSliderCrank, motion: Any, omega2: float) -> list[Check]:
-    """Self-checks of an inverted slider-crank motion, computed apart from the solver.
+def inverted_checks(
+    isc: InvertedSliderCrank,
+    motion: Any,
+    omega2: float,
+    forces: Any = None,
+    mass: Any = None,
+    inertia: Any = None,
+    cg: Any = None,
+    gravity: float = 0.0,
+    load_torque4: Any = 0.0,
+) -> list[Check]:
+    """Self-checks of an inverted slider-crank motion (and forces), computed apart from the solver.
 
     The block's pin A is written twice: from the crank (``A = a e^{jθ2}``,
     ``v = jω2 A``) and from the slotted link (``A₄ = O4 + (b + jc) e^{jθ4}``
     with its velocity ``(ḃ + jω4 (b + jc)) e^{jθ4}`` and acceleration — the
     Coriolis term ``2jω4 ḃ`` included — from the solved b, θ4 and their
     rates); the two must coincide (the loop), follow the differences of their
-    positions and satisfy Kennedy's rule.
+    positions and satisfy Kennedy's rule. With forces, each link's
+    equilibrium, the power balance (the slot's friction pair does work on the
+    block's sliding, its normal force and couple none) and the momentum
+    balance test the pin forces, ``T12`` and the shaking force and moment.
     """
     th2 = np.ravel(motion.theta2)
     ok = np.ravel(motion.ok)
@@ -539,7 +559,83 @@ def inverted_checks(isc: InvertedSliderCrank, motion: Any, omega2: float) -> lis
             int(np.isfinite(gap).sum()),
         )
     )
+    if forces is None:
+        return checks
+    w = (w2, a2, w4, a4)
+    bodies = _inverted_bodies(points, w, e, forces, mass, inertia, cg, gravity, load_torque4)
+    good = ok & np.ravel(forces.ok)
+    power, dke, scale = power_of_loads(bodies)
+    checks.append(power_balance(power, dke, good, scale=scale))
+    checks.append(equilibrium(bodies, good, rigid.size))
+    Fs, Ms = forces.shaking_force, forces.shaking_moment
+    checks.append(momentum(bodies, Fs, Ms, good, rigid.size))
+    checks.append(momentum_differences(bodies, Fs, Ms, th2, omega2, good, rigid.size))
     return checks
+
+
+def _inverted_shaking(page: Page, th: np.ndarray, f: Any, u: Any, full: bool) -> None:
+    """The shaking force (polar) and moment about O2 of an inverted slider-crank."""
+    ok = np.ravel(f.ok)
+    shaking = shaking_charts(
+        np.where(ok, f.shaking_force, np.nan),
+        moment_before=np.where(ok, f.shaking_moment, np.nan),
+        theta=th,
+        units=u,
+        closed=full,
+    )
+    charts = shaking[0].to_svg(width=380, height=380) + "".join(c.to_svg() for c in shaking[1:])
+    page.section(
+        "shaking",
+        "Shaking force and moment",
+        '<p class="remark">The force and moment of the moving links on the frame (Norton '
+        "§11.8): Fs = F21 + F41, Ms = T21 + R1 × F41 about O2; their peaks are under Pin "
+        f'forces.</p><div class="charts">{charts}</div>',
+    )
+
+
+def _inverted_bodies(
+    points: dict[str, Any],
+    rates: tuple[Any, ...],
+    e4: Any,
+    f: Any,
+    mass: Any,
+    inertia: Any,
+    cg: Any,
+    gravity: float,
+    load_torque4: Any,
+) -> list[Body]:
+    """Crank, block and slotted link with the printed forces on them (D'Alembert data)."""
+    w2, a2, w4, a4 = rates
+    (O2, _, _), (O4, _, _), (A, vA, aA) = points["O2"], points["O4"], points["A"]
+    c2, c3, c4 = (complex(x) for x in cg)
+    frames = {
+        2: (O2, O2 * 0, O2 * 0, w2, a2, _along(O2, A, c2)),
+        3: (A, vA, aA, w4, a4, A + c3 * e4),
+        4: (O4, O4 * 0, O4 * 0, w4, a4, O4 + c4 * e4),
+    }
+    bodies = {}
+    for k, (p, vp, ap, om, al, G) in frames.items():
+        vG, aG = _rigid(p, vp, ap, om, al, G)
+        b = Body(str(k), float(mass[k - 2]), float(inertia[k - 2]), G, vG, aG, om, al)
+        if gravity and b.mass:
+            b.load(np.full(G.shape, -1j * b.mass * gravity), G, "external")
+        bodies[k] = b
+    F12, F32, F43, F14 = (np.ravel(x) for x in (f.F12, f.F32, f.F43, f.F14))
+    normal = np.ravel(f.normal) * 1j * e4  # the slot's normal force; the rest is friction
+    C43 = np.ravel(f.couple)
+    bodies[2].load(F12, O2, "ground")
+    bodies[2].load(F32, A, "joint")
+    bodies[2].torque(np.ravel(f.T12), "ground")
+    bodies[3].load(-F32, A, "joint")
+    bodies[3].load(normal, A, "joint")
+    bodies[3].load(F43 - normal, A, "friction")  # works on the block's sliding in the slot
+    bodies[3].torque(C43, "joint")
+    bodies[4].load(-normal, A, "joint")
+    bodies[4].load(normal - F43, A, "friction")
+    bodies[4].torque(-C43, "joint")
+    bodies[4].load(F14, O4, "ground")
+    bodies[4].torque(np.ravel(load_torque4) * np.ones(A.shape), "external")
+    return list(bodies.values())
 
 
 def inverted_report(isc: InvertedSliderCrank, *, title: str | None = None, **options: Any) -> Page:
@@ -556,6 +652,15 @@ def inverted_sections(
     form: int = 1,
     omega2: float = 1.0,
     n: int = 360,
+    mass: Any = None,
+    inertia: Any = None,
+    cg: Any = None,
+    gravity: float = 0.0,
+    load_torque4: Any = 0.0,
+    friction: str = "smooth",
+    mu: float = 0.0,
+    beta: float = 0.0,
+    k: float | None = None,
     units: Any = None,
     length_unit: str | None = None,
     **ignored: Any,
@@ -602,18 +707,42 @@ def inverted_sections(
     page.section("class", "Mobility and range", page.table(facts))
     charts = "".join(c.to_svg(height=220) for c in slider_charts(m, rod=True, units=u))
     page.section("kinematics", "Kinematics", charts)
-    page.section(
-        "forces",
-        "Forces",
-        '<p class="remark">The inverted slider-crank has no force solver in the library yet; '
-        "build it as a Linkage with masses for forces.</p>",
-    )
-    checks = inverted_checks(isc, m, omega2)
+    forces = fly = None
+    if mass is not None:
+        inertia = (0.0, 0.0, 0.0) if inertia is None else tuple(inertia)
+        cg = (0.0, 0.0, 0.0) if cg is None else tuple(cg)
+        forces = isc.dynamics(
+            th,
+            omega2,
+            mass=mass,
+            inertia=inertia,
+            cg=cg,
+            form=form,
+            gravity=gravity,
+            load_torque4=load_torque4,
+            friction=friction,
+            mu=mu,
+            beta=beta,
+        )
+        fly = _slider_forces(page, isc, th, forces, u, omega2, k, assembled.all())
+        _inverted_shaking(page, th, forces, u, bool(assembled.all()))
+    else:
+        page.section(
+            "forces",
+            "Forces",
+            '<p class="remark">No mass properties were given: pass mass=(m2, m3, m4), '
+            "inertia=(IG2, IG3, IG4), cg=(c2, c3, c4) (block and slotted link: x along the "
+            "slot) for pin forces, crank torque, shaking and flywheel.</p>",
+        )
+    checks = inverted_checks(isc, m, omega2, forces, mass, inertia, cg, gravity, load_torque4)
+    if fly is not None:
+        checks.append(flywheel_energy(fly.theta, fly.torque, fly))
     page.section(
         "selfcheck",
         "Self-check: independent checks on this machine",
         page.checks(checks) + '<p class="remark">The block\'s pin written from the crank and '
         "from the slotted link must agree at position, velocity and acceleration (Coriolis "
-        "included); five-point differences and Kennedy's rule as for the four-bar.</p>",
+        "included); five-point differences and Kennedy's rule as for the four-bar; with "
+        "forces, each link's equilibrium, the power balance and the momentum balance.</p>",
     )
     return headline

@@ -147,6 +147,17 @@ SLIDER_CRANK = Table(
     doc="an offset slider-crank",
 )
 
+INVERTED_LOADS = Table(
+    fields(
+        torque4=optional(Quantity("torque"), "external torque on the slotted link (CCW +)"),
+        friction=optional(Choice("smooth", "coulomb", "viscous"), "of the slot on the block"),
+        mu=optional(Quantity("dimensionless", minimum=0.0), "Coulomb coefficient"),
+        beta=optional(Quantity("damping", minimum=0.0), "viscous coefficient"),
+        torques=optional(_torques((2, 3, 4)), "external torques on links 2-4"),
+        force=optional(ListOf(FORCE), "point loads: [[...loads.force]]"),
+    )
+)
+
 INVERTED = Table(
     fields(
         crank=required(_length(positive=True), "a = O2A"),
@@ -154,6 +165,10 @@ INVERTED = Table(
         offset=optional(_length(), "slot offset from O4"),
         form=optional(Choice(1, 2)),
         motion=optional(MOTION),
+        link2=optional(MASS, "the crank (frame: O2, x toward A)"),
+        link3=optional(MASS, "the block (frame: A, x along the slot)"),
+        link4=optional(MASS, "the slotted link (frame: O4, x along the slot)"),
+        loads=optional(INVERTED_LOADS),
         notes=optional(Text()),
     ),
     doc="Norton's inverted slider-crank (inversion #3)",
@@ -455,6 +470,30 @@ def _run_inverted(part: Part, machine: Machine, results: dict) -> PartResult:
     }
     title = f"Kinematics of {part.name}, {_rates_title(machine, omega2, alpha2)}"
     out.tables.append(_kin_table("kinematics", title, cols))
+    masses = _masses(v, (2, 3, 4))
+    if masses is not None:
+        loads = v.get("loads", {})
+        f = isc.dynamics(
+            theta2,
+            omega2,
+            alpha2,
+            form=v.get("form", 1),
+            gravity=machine.gravity or 0.0,
+            load_torque4=loads.get("torque4", 0.0),
+            friction=loads.get("friction", "smooth"),
+            mu=loads.get("mu", 0.0),
+            beta=loads.get("beta", 0.0),
+            **masses,
+            **_external(loads, (2, 3, 4)),
+        )
+        out.objects["forces"] = f
+        cols = {"theta2": (m.theta2, "angle"), "T12": (f.T12, "torque")}
+        for name in ("F12", "F32", "F43", "F14"):
+            cols |= _xy(name, getattr(f, name), "force")
+        cols |= {"N": (f.normal, "force"), "C43": (f.couple, "torque")}
+        cols |= {"M_shaking": (f.shaking_moment, "torque"), **_flags(f)}
+        out.tables.append(_kin_table("forces", f"Forces on {part.name}", cols))
+        out.torque = (theta2, np.asarray(f.T12), omega2)
     _flag_lines(out, machine, m.theta2, m.ok, m.reason)
     return out
 
@@ -472,6 +511,12 @@ PART_KINDS = {
         "slider_crank", SLIDER_CRANK, _build_slider, _slider_values, _run_slider, _refs, "torque"
     ),
     "inverted_slider_crank": PartKind(
-        "inverted_slider_crank", INVERTED, _build_inverted, _inverted_values, _run_inverted, _refs
+        "inverted_slider_crank",
+        INVERTED,
+        _build_inverted,
+        _inverted_values,
+        _run_inverted,
+        _refs,
+        "torque",
     ),
 }
