@@ -31,6 +31,7 @@ import numpy as np
 from ..draw.gears import planetary_scene, train_scene
 from ..draw.html import widget
 from ..draw.units import Units
+from ..errors import ModelError
 from .checks import Check
 from .page import Page, esc, fmt
 
@@ -260,12 +261,12 @@ def _interference_rows(pair: Any, deg: Any) -> tuple[list[tuple[str, str, str]],
     ]
     if not g.internal:
         rows.append(("gear undercut by a rack cutter", yes(cut[1]), "undercut_gear"))
+        try:
+            fewest = str(min_pinion_teeth(g.teeth, phi, k))
+        except ModelError:  # the gear is below the equal-gear minimum: no pinion fits
+            fewest = "none: no pinion meshes without interference"
         rows.append(
-            (
-                f"fewest pinion teeth with this {g.teeth}-tooth gear",
-                str(min_pinion_teeth(g.teeth, phi, k)),
-                "min_pinion_teeth",
-            )
+            (f"fewest pinion teeth with this {g.teeth}-tooth gear", fewest, "min_pinion_teeth")
         )
         rows.append(
             (
