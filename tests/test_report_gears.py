@@ -299,3 +299,15 @@ def test_bad_report_options_are_refused_by_name(exam):
     ):
         with pytest.raises(InputError, match=field):
             report(model, **options)
+
+
+def test_trains_draw_through_the_one_scene_path(tmp_path):
+    from machdyn.draw import scene, to_html
+
+    train = GearTrain([(18, 54), (20, 60)])
+    s = scene(train, n=8, omega_in=1800.0)
+    assert [r.values[0] for r in s.readout] == pytest.approx(list(train.speeds(1800.0)))
+    p = scene(PlanetaryTrain.simple(40, 20, 80), n=8, speeds={"ring": 0.0, "sun": 3.0})
+    assert p.readout[-1].values[0] == pytest.approx(1.0)  # the arm: N_s / (N_s + N_r) × 3
+    page = to_html(train, tmp_path / "train.html")
+    assert "wheel_3a" in page and (tmp_path / "train.html").exists()
