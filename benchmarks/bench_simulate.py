@@ -3,7 +3,8 @@
 Run:  python benchmarks/bench_simulate.py [repeats]
 
 Targets: a four-bar start-up to steady state over 20 turns ≤ 0.5 s; the
-sensitivities of all outputs to all dimensions of a six-bar over 360 poses ≤ 20 ms.
+sensitivities of all outputs to all dimensions of a six-bar over 360 poses ≤ 20 ms
+(the closed-form road; the implicit road, which any linkage takes, beside it).
 
 The peer of the tabulated simulation is the same integration solving the
 linkage at every right-hand side (``table=False``, what a direct
@@ -77,15 +78,21 @@ def main(repeat: int = 5) -> None:
         rows["table"].append(timed(lambda: start_up(20.0)))
         rows["exact"].append(timed(lambda: start_up(1.0, table=False)))
     six = watt(WATT)
-    sens, fd = [], []
+    from machdyn._linkage_sensitivity import implicit_sensitivity
+
+    sens, fd, imp = [], [], []
     for _ in range(3 * repeat):
         sens.append(timed(lambda: machdyn.sensitivity(six, POSES, omega2=1.0)))
         fd.append(timed(central_differences))
+        imp.append(timed(lambda: implicit_sensitivity(six, POSES, 1.0, 0.0)))
     s = machdyn.sensitivity(six, POSES, omega2=1.0)
     sw, fw = min(w for w, _ in sens), min(w for w, _ in fd)
     sc, fc = min(c for _, c in sens), min(c for _, c in fd)
     print(f"six-bar sensitivities, {len(s.derivative)} outputs x {len(s.dimensions)} dimensions x "
           f"360 poses: {sw * 1e3:.1f} ms wall, {sc * 1e3:.1f} ms CPU (target 20 ms)")  # fmt: skip
+    iw, ic = min(w for w, _ in imp), min(c for _, c in imp)
+    print(f"  the implicit road (any linkage; this one goes through its closed-form dyads): "
+          f"{iw * 1e3:.1f} ms wall, {ic * 1e3:.1f} ms CPU, ratio {ic / sc:.1f}x CPU")  # fmt: skip
     print(f"  central differences (re-solving 2 x {len(s.dimensions)} drawings): "
           f"{fw * 1e3:.1f} ms wall, {fc * 1e3:.1f} ms CPU, ratio {fw / sw:.1f}x")  # fmt: skip
     run = start_up(20.0)

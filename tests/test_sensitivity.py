@@ -208,3 +208,35 @@ def test_bad_requests():
     )  # fmt: skip
     with pytest.raises(InputError, match="not differentiated"):
         machdyn.sensitivity(rolling, [0.1])
+
+
+def test_closed_form_and_implicit_paths_agree():
+    # a crank + RRR linkage is differentiated through its closed-form dyads (forward duals);
+    # any other by implicit differentiation of its natural-coordinate constraints: two
+    # derivations that share no code but the drawing
+    from machdyn._linkage_sensitivity import implicit_sensitivity, linkage_sensitivity
+
+    lk = watt(WATT)
+    values = np.radians(np.arange(0.0, 360.0, 7.0))
+    closed = linkage_sensitivity(lk, values, 3.0, -2.0)
+    implicit = implicit_sensitivity(lk, values, 3.0, -2.0)
+    assert closed[0] == implicit[0] and set(closed[2]) == set(implicit[2])
+    for name, d in implicit[2].items():
+        scale = max(1.0, float(np.abs(d).max()))
+        assert np.allclose(closed[2][name], d, rtol=0, atol=1e-9 * scale), name
+        assert np.allclose(closed[1][name], implicit[1][name], atol=1e-12), name
+
+
+def test_linkage_at_its_toggle_is_flagged():
+    fb = machdyn.FourBar(6, 9, 3, 8)  # GRCR: the RRR dyad (coupler, rocker) aligns at the limits
+    rng = fb.input_range(1)
+    mid = 0.5 * (rng.lo + rng.hi)
+    m = fb.solve([mid], form=1)
+    A = 9 * np.exp(1j * mid)
+    pts = {"O2": 0j, "O4": 6 + 0j, "A": complex(A), "B": complex(A + 3 * np.exp(1j * m.theta3[0]))}
+    lk = (Linkage(pts).ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+          .link("rocker", "O4", "B").drive("crank"))  # fmt: skip
+    s = machdyn.sensitivity(lk, [rng.lo, mid])
+    assert not s.ok[0] and s.ok[1]
+    assert np.isnan(s.derivative["theta.rocker"][0]).all()
+    assert np.isfinite(s.derivative["theta.rocker"][1]).all()

@@ -156,3 +156,54 @@ def test_machdyn_run_sizes_a_flywheel_honestly(capsys):
     k = summary["k with the linkage's own inertia (simulated)"]
     assert k == pytest.approx(honest, rel=1e-9)
     assert 0.9 * fw.k_achieved < k < fw.k_achieved  # the coupler stores a little energy too
+
+
+def test_tolerance_of_a_linkage_part(capsys):
+    # docs/examples/watt.toml: a Watt six-bar in mm with [linkage.watt.tolerance.dimensions];
+    # the same run made here in Python from the values written in the test (mm, radians)
+    from machdyn.linkage import Linkage
+
+    watt = str(Path(EXAMPLE).parent / "watt.toml")
+    status, out, err = cli(capsys, "tolerance", watt, "--json", "--samples", "2000")
+    assert status == 0, err
+    part = json.loads(out)["parts"]["watt"]
+    pts = {"O2": 0j, "O4": 60 + 0j, "O6": 100 + 30j, "A": 15 + 0j, "B": 47.5 + 37.997j,
+           "C": 93.316 + 13.641j, "D": 75.444 + 54.94j, "P": 31.25 + 28.998j}  # fmt: skip
+    lk = (Linkage(pts).ground("O2", "O4", "O6").link("crank", "O2", "A")
+          .link("coupler", "A", "B", "P").link("rocker", "O4", "B", "C")
+          .link("coupler2", "C", "D").link("output", "O6", "D").drive("crank"))  # fmt: skip
+    angle = math.radians(0.05)
+    tol = {
+        "O2-O4": 0.1,
+        "O6.p": 0.1,
+        "O6.delta": angle,
+        "O2-A": 0.1,
+        "A-B": 0.1,
+        "O4-B": 0.1,
+        "C-D": 0.1,
+        "O6-D": 0.1,
+        "C.p": 0.1,
+        "C.delta": angle,
+        "P.p": 0.1,
+        "P.delta": angle,
+    }
+    t = machdyn.tolerance(lk, tol, np.radians(np.arange(0.0, 360.0, 1.0)), samples=2000,
+                          outputs=["point.P", "theta.output"])  # fmt: skip
+    assert part["summary"]["+/- P.delta (3 sigma) [deg]"] == pytest.approx(0.05)
+    assert part["summary"]["+/- C-D (3 sigma) [mm]"] == pytest.approx(0.1)
+    P = np.array(part["tables"]["point.P"]["rows"], dtype=float)
+    assert part["tables"]["point.P"]["columns"][3] == "rms [mm]"
+    assert np.allclose(P[:, 3], t.outputs["point.P"].std)
+    out_angle = np.array(part["tables"]["theta.output"]["rows"], dtype=float)
+    assert np.allclose(out_angle[:, 2], np.degrees(t.outputs["theta.output"].std))
+    status, out, err = cli(capsys, "tolerance", watt, "--part", "watt", "--samples", "10")
+    assert status == 0 and "point.P: worst-case stack-up" in out
+
+
+def test_a_linkage_tolerance_with_an_unknown_dimension_is_one_line(capsys, tmp_path):
+    text = (Path(EXAMPLE).parent / "watt.toml").read_text(encoding="utf-8")
+    path = tmp_path / "w.toml"
+    path.write_text(text.replace('"C-D" = 0.1', '"C-E" = 0.1'), encoding="utf-8")
+    status, out, err = cli(capsys, "tolerance", str(path), "--samples", "10")
+    assert status == 1 and out == "" and err.count("\n") == 1
+    assert "unknown dimension 'C-E'" in err and "O6-D" in err

@@ -113,3 +113,53 @@ def test_bad_periodic_requests():
         steady_state(FB, **MASS)
     with pytest.raises(ModelError, match="no steady speed"):
         steady_state(FB, ConstantTorque(0.1), **MASS)
+
+
+def test_flywheel_fluctuation_with_the_linkage_inertia_against_solve_ivp():
+    # docs/simulate.md's worked example: a 20 mm crank at 32 rad/s, sized for k = 0.10; the
+    # honest k is checked against Lagrange's equation integrated here with scipy's solve_ivp,
+    #   (I_f + I(θ)) θ̈ + ½ I'(θ) θ̇² + V'(θ) = T,
+    # with I(θ) and V(θ) summed here from the four-bar's kinematics and I', V' by differences.
+    from scipy.integrate import solve_ivp
+
+    fb = machdyn.FourBar(0.08, 0.02, 0.07, 0.06)
+    c2, c3, c4 = MASS["cg"]
+
+    def inertia_and_potential(theta):
+        m = fb.solve(np.atleast_1d(theta), 1.0)
+        e2, e3, e4 = np.exp(1j * m.theta2), np.exp(1j * m.theta3), np.exp(1j * m.theta4)
+        heights = (c2 * e2, m.A + c3 * e3, fb.r1 + c4 * e4)
+        speeds = (1j * c2 * e2, 1j * m.A + 1j * m.omega3 * c3 * e3, 1j * m.omega4 * c4 * e4)
+        rates = (1.0, m.omega3, m.omega4)
+        inertia = potential = 0.0
+        for mk, ik, y, v, w in zip(MASS["mass"], MASS["inertia"], heights, speeds, rates,
+                                   strict=True):  # fmt: skip
+            inertia = inertia + mk * abs(v) ** 2 + ik * w**2
+            potential = potential + mk * G * y.imag
+        return inertia[0], potential[0]
+
+    theta = np.radians(np.arange(0.0, 360.0, 0.5))
+    fw = size_flywheel(theta, fb.dynamics(theta, 32.0, gravity=G, **MASS).T12, 32.0, k=0.10)
+    honest = fw.simulate(fb, gravity=G, **MASS)
+    h = 1e-6
+
+    def rhs(_t, y):
+        (i0, _), (ip, vp), (im, vm) = (inertia_and_potential(y[0] + s) for s in (0, h, -h))
+        di, dv = (ip - im) / (2 * h), (vp - vm) / (2 * h)
+        return [y[1], (honest.torque - 0.5 * di * y[1] ** 2 - dv) / (fw.inertia + i0)]
+
+    def turned(_t, y):
+        return y[0] - (honest.theta[0] + 2 * np.pi)
+
+    turned.terminal = True
+    sol = solve_ivp(rhs, (0.0, 1.0), [honest.theta[0], honest.omega[0]], method="DOP853",
+                    rtol=1e-11, atol=1e-12, events=turned, dense_output=True)  # fmt: skip
+    assert sol.t_events[0][0] == pytest.approx(honest.cycle_time, rel=1e-7)
+    at = sol.sol(honest.t)
+    assert np.allclose(at[0], honest.theta, atol=1e-7)
+    assert np.allclose(at[1], honest.omega, rtol=1e-6)
+    omega = sol.sol(np.linspace(0.0, sol.t_events[0][0], 20_001))[1]
+    k = (omega.max() - omega.min()) / (2 * np.pi / sol.t_events[0][0])
+    assert k == pytest.approx(honest.k, rel=1e-5)
+    # and the docs' numbers: the estimate's own fluctuation vs the full model's
+    assert (round(fw.k_achieved, 4), round(honest.k, 4)) == (0.0997, 0.0914)

@@ -74,9 +74,7 @@ class Dual:
         if isinstance(other, Dual):
             d = self.d * other.v[..., None]
             add = other.d * self.v[..., None]
-            if d.shape == np.broadcast_shapes(d.shape, add.shape) and np.can_cast(
-                add.dtype, d.dtype
-            ):
+            if d.shape == add.shape and (d.dtype == add.dtype or d.dtype.kind == "c"):
                 d += add  # in place: one temporary fewer
             else:
                 d = d + add

@@ -180,7 +180,92 @@ def _jet_const(value: Any, m: int, order: int = 2) -> Jet:
 
 
 def linkage_sensitivity(lk: Any, values: Any, velocity: Any, acceleration: Any) -> dict[str, Any]:
-    """Outputs of ``lk`` over a sweep of its driver, and their derivatives to its drawing."""
+    """Outputs of ``lk`` over a sweep of its driver, and their derivatives to its drawing.
+
+    A linkage of a driven crank and RRR dyads is differentiated through its
+    closed forms (:func:`closed_form_sensitivity`); any other by implicit
+    differentiation of its natural-coordinate constraints (:func:`implicit_sensitivity`).
+    """
+    from ._linkage_family import Family
+
+    try:
+        family = Family(lk)
+    except InputError:
+        return implicit_sensitivity(lk, values, velocity, acceleration)
+    return closed_form_sensitivity(lk, family, values, velocity, acceleration)
+
+
+def closed_form_sensitivity(lk: Any, family: Any, values: Any, velocity: Any,
+                            acceleration: Any) -> tuple:  # fmt: skip
+    """Derivatives by forward differentiation of the closed-form dyads (duals over the drawing).
+
+    The family solver (:mod:`machdyn._linkage_family`) runs once with the drawn
+    points as duals seeded along ``P.x``, ``P.y``: every pose, rate and point
+    carries its exact first derivatives — no Jacobian to invert. A pose where a
+    dyad is singular (its links aligned: a toggle) is left to NaN.
+    """
+    driver = family.driver
+    motion = lk.solve(values, velocity=velocity, acceleration=acceleration)
+    n = int(np.size(motion.ok))
+    u = [np.asarray(motion.inputs[driver], dtype=float).reshape(n)]
+    u += [_rate(velocity, driver, n), _rate(acceleration, driver, n)]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        st, _ = family.solve(family.seeded(), u, 2)
+        singular = _singular(family, st, n)
+        m = 2 * len(family.points)
+        nominal, derivative = {}, {}
+        for link in family.links:
+            D = st.direction(link)
+            turn = Dual(D.v, (D.d / D.v[..., None]).imag)
+            for key, value, jet in (
+                ("theta", motion.theta[link], turn),
+                ("omega", motion.omega[link], st.w[link]),
+                ("alpha", motion.alpha[link], st.al[link]),
+            ):
+                nominal[f"{key}.{link}"] = np.array(value, dtype=float).reshape(n)
+                derivative[f"{key}.{link}"] = _along(jet, n, m, float)
+        for p in family.points:
+            owner = GROUND if p in family.carriers[GROUND] else family.owner(p)
+            rates = (
+                ("point", motion.points[p], st.pos(owner, p)),
+                ("velocity", motion.point_velocity[p], st.vel(owner, p)),
+                ("acceleration", motion.point_acceleration[p], st.acc(owner, p)),
+            )
+            for key, value, jet in rates:
+                nominal[f"{key}.{p}"] = np.array(value, dtype=complex).reshape(n)
+                derivative[f"{key}.{p}"] = _along(jet, n, m, complex)
+    for d in derivative.values():
+        d[singular] = np.nan
+    dims = tuple(f"{p}.{axis}" for p in family.points for axis in ("x", "y"))
+    return dims, nominal, derivative, motion
+
+
+def _along(x: Any, n: int, m: int, dtype: type) -> np.ndarray:
+    """The derivatives of ``x`` as an (n, m) array (zeros for a value that has none)."""
+    if not isinstance(x, Dual):
+        return np.zeros((n, m), dtype=dtype)
+    return np.array(np.broadcast_to(x.d, (1, n, m))[0], dtype=dtype)
+
+
+def _singular(family: Any, st: Any, n: int) -> np.ndarray:
+    """Poses where a dyad's two links are aligned (sine below 1e-10: derivatives undefined)."""
+    out = np.zeros(n, dtype=bool)
+    for step in family.steps:
+        if step[0] == "rrr":
+            _, L1, _, p1, L2, _, p2, B, _ = step
+            r1 = (st.pos(L1, B) - st.pos(L1, p1)).v
+            r2 = (st.pos(L2, B) - st.pos(L2, p2)).v
+            sine = np.abs(_cross_c(r1, r2)) / (np.abs(r1) * np.abs(r2))
+            out |= ~(np.broadcast_to(sine, (1, n))[0] > 1e-10)
+    return out
+
+
+def _cross_c(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a.real * b.imag - a.imag * b.real
+
+
+def implicit_sensitivity(lk: Any, values: Any, velocity: Any, acceleration: Any) -> tuple:
+    """Derivatives by implicit differentiation of the natural-coordinate constraints."""
     model = _Constraints(lk)
     if len(model.drivers) != 1:
         raise InputError("model", f"sensitivity takes one driver; this linkage has {model.drivers}")

@@ -935,6 +935,10 @@ class FourBar:
         False 31.5863 92.1226
         """
         choice("form", form, (1, 2))
+        if 2 in self.cranks:
+            # Decided with the classification's tolerance: a change point whose input
+            # just reaches the toggle (cos θ2 = ±1 up to round-off) still turns fully.
+            return InputRange(0.0, TWO_PI, True)
         a, b, c, d = (x / max(self.lengths) for x in (self.r2, self.r3, self.r4, self.r1))
         c_lo = (a * a + d * d - (b + c) ** 2) / (2.0 * a * d)
         c_hi = (a * a + d * d - (b - c) ** 2) / (2.0 * a * d)
@@ -972,7 +976,11 @@ class FourBar:
             cos2 = (a * a + d * d - diag * diag) / (2.0 * a * d)
             if abs(cos2) <= 1.0 + _CLOSE_TOL:
                 t = float(np.arccos(np.clip(cos2, -1.0, 1.0)))
-                for theta in sorted({t, float(wrap_2pi(-t))}):
+                # cos θ2 = ±1 (change points): one toggle at exactly 0 or π, not two
+                # a round-off apart (arccos turns 1e-16 in cos into 1e-8 rad)
+                at_end = abs(np.sin(t)) < 1e-6
+                t = float(np.pi * round(t / np.pi)) if at_end else t
+                for theta in sorted({t} if at_end else {t, float(wrap_2pi(-t))}):
                     found.append(Toggle(theta, (3, 4), kind, 0))
         # links 2 and 3 collinear: |B − O2| = a + b or |a − b|
         for kind, e in (("extended", a + b), ("folded", abs(a - b))):

@@ -17,6 +17,8 @@ derivatives follow; a whole sweep of input angles is one set of array
 operations. Points (a coupler point, the pins) and the input torque ``T12``
 (by virtual work: ``T12 = Σ (m a_G + j m g)·∂r_G/∂θ2 + Σ I_G α ∂θ/∂θ2 − T_load ∂θ4/∂θ2``,
 the kinematic coefficients of :mod:`machdyn.virtual_work`) follow the same way.
+A drawn Linkage of a crank and RRR dyads is differentiated forward through its
+closed-form dyads instead (:mod:`machdyn._linkage_sensitivity`).
 
 :func:`sensitivity` returns a :class:`Sensitivity`: every output's nominal
 value and its derivatives with respect to every dimension over the sweep, and

@@ -147,6 +147,9 @@ class Tolerance:
         Each output's deviation statistics.
     warnings : tuple of str
         What the numbers do not show on their own (most samples failing, ...).
+    failures : mapping of str to int
+        The unassembled samples by reason (for a Linkage: the first group that
+        does not close, "a length ≤ 0", or a toggle), most frequent first.
     """
 
     theta: np.ndarray
@@ -159,6 +162,7 @@ class Tolerance:
     failed: int
     outputs: Mapping[str, Spread]
     warnings: tuple[str, ...] = ()
+    failures: Mapping[str, int] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def failed_fraction(self) -> float:
@@ -170,6 +174,7 @@ class Tolerance:
             f"Tolerance({self.samples:,} samples x {self.theta.size} poses, "
             f"{self.failed:,} unassembled ({100 * self.failed_fraction:.3g} %))"
         ]
+        lines += [f"  unassembled: {r}: {c:,}" for r, c in self.failures.items()]
         lines += [f"  {s!r}" for s in self.outputs.values()]
         lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
@@ -198,20 +203,28 @@ def tolerance(
     scheduler: str | None = None,
     workers: int | None = None,
 ) -> Tolerance:
-    """Monte Carlo tolerance analysis of a FourBar or SliderCrank over a sweep.
+    """Monte Carlo tolerance analysis of a FourBar, SliderCrank or drawn Linkage over a sweep.
 
     Parameters
     ----------
-    model : FourBar or SliderCrank
-        The nominal linkage.
+    model : FourBar, SliderCrank or Linkage
+        The nominal linkage. A :class:`~machdyn.linkage.Linkage` (one driven
+        crank, RRR dyads: four-bars, Watt and Stephenson six-bars, ...) is
+        solved by the family solver (:mod:`machdyn._linkage_family`).
     tolerances : mapping
         ``{dimension: t}`` (±t) or ``{dimension: (t, "uniform")}``; dimensions
         as in :func:`machdyn.sensitivity` (``r1`` … ``r4``, ``p``, ``delta`` of a
         four-bar; ``crank``, ``coupler``, ``offset``, ``p``, ``delta`` of a
-        slider-crank), in the model's units (``delta`` in radians).
+        slider-crank), in the model's units (``delta`` in radians). Of a
+        Linkage: ``"P.x"``/``"P.y"`` (a drawn point, in every link carrying it),
+        ``"F-S"`` (a link's first two points: its length, the ground's too),
+        ``"Q.p"``/``"Q.delta"`` (a further point's distance from the link's
+        first point and angle from its first → second line: the coupler-point
+        parameters); an unknown name is refused with the list of valid ones.
     theta2 : array_like, optional
         Input angles of the sweep, radians; default 360 poses over a turn (or
-        inside the input's range when it rocks).
+        inside the input's range when it rocks; a Linkage: a turn from its
+        drawn crank angle).
     samples : int
         Number of Monte Carlo linkages.
     distribution : {"normal", "uniform"}
@@ -222,7 +235,10 @@ def tolerance(
     outputs : sequence of str, optional
         Default: ``theta3``, ``theta4`` (four-bar) or ``theta3``, ``d``
         (slider-crank), ``coupler`` when the model has a coupler point, and
-        ``T12`` (four-bar) when ``mass`` is given.
+        ``T12`` (four-bar) when ``mass`` is given. Of a Linkage:
+        ``theta.<link>``, ``point.<P>`` (moving points) and
+        ``torque.<driver>`` (by the power balance, from the links' own masses,
+        at ``omega2``, ``alpha2``, ``gravity``; default when a link has mass).
     form, branch : optional
         The assembly, as in the model's ``solve``.
     omega2, alpha2, mass, inertia, cg, gravity, load : optional
@@ -251,7 +267,31 @@ def tolerance(
     >>> t = tolerance(SliderCrank(50.0, 200.0), {"crank": (0.1, "uniform")}, samples=2000)
     >>> round(float(t.outputs["d"].high.max()), 3)   # ∂d/∂crank ≤ 1 (= 1 at the dead centres)
     0.1
+
+    A drawn four-bar's coupler point P, crank and coupler ±0.01, P's angle ±0.002 rad:
+
+    >>> from machdyn.linkage import Linkage
+    >>> lk = (Linkage({"O2": 0, "O4": 8, "A": 4, "B": 7.625 + 5.7547j, "P": 5 + 3j})
+    ...       .ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B", "P")
+    ...       .link("rocker", "O4", "B").drive("crank"))
+    >>> t = tolerance(lk, {"O2-A": 0.01, "A-B": 0.01, "P.delta": 0.002}, samples=4000)
+    >>> s = t.outputs["point.P"]
+    >>> bool(abs(s.std.max() / s.linear_std.max() - 1.0) < 0.05), t.failed
+    (True, 0)
     """
+    from .linkage import Linkage
+
+    if isinstance(model, Linkage):
+        from . import _linkage_tolerance as family
+
+        if mass is not None or inertia is not None or cg is not None or load or branch:
+            raise InputError(
+                "model", "a Linkage carries its own masses (link(..., mass=, inertia=, cg=)); "
+                "mass/inertia/cg/load/branch are for FourBar and SliderCrank"
+            )  # fmt: skip
+        ljob = family.build(model, tolerances, theta2, samples, distribution, sigmas, seed,
+                            outputs, omega2, alpha2, gravity, chunk)  # fmt: skip
+        return family.finish(ljob, _run(ljob, scheduler, workers, family.chunk))
     job = _Job.build(
         model, tolerances, theta2, samples, distribution, sigmas, seed, outputs,
         form, branch, omega2, alpha2, (mass, inertia, cg, gravity, load), chunk,
@@ -562,22 +602,23 @@ class _Acc:
                     peak=peak, worst=worst, worst_dims=worst_dims)  # fmt: skip
 
 
-def _run(job: _Job, scheduler: str | None, workers: int | None) -> list[dict]:
+def _run(job: Any, scheduler: str | None, workers: int | None, run: Any = None) -> list[dict]:
     from ._validate import integer, text
 
+    run = _chunk if run is None else run
     chunks = range(-(-job.samples // job.chunk))
     if workers is not None:
         workers = integer("workers", workers, minimum=1, maximum=1024)
     if scheduler is None:
-        return [_chunk(job, k) for k in chunks]
+        return [run(job, k) for k in chunks]
     scheduler = text("scheduler", scheduler)
     from .synthesis.atlas_dask import map_chunks
 
-    parts = list(map_chunks(_chunk, [(job, k) for k in chunks], scheduler, workers))
+    parts = list(map_chunks(run, [(job, k) for k in chunks], scheduler, workers))
     return sorted(parts, key=lambda p: p["k"])
 
 
-def _combine(job: _Job, parts: list[dict]) -> Tolerance:
+def _combine(job: Any, parts: list[dict]) -> Tolerance:
     assembled = sum(p["assembled"] for p in parts)
     failed = job.samples - assembled
     outputs = {}
@@ -623,4 +664,5 @@ def _combine(job: _Job, parts: list[dict]) -> Tolerance:
         failed=failed,
         outputs=MappingProxyType(outputs),
         warnings=tuple(warnings),
+        failures=MappingProxyType({"cannot be assembled over the sweep": failed} if failed else {}),
     )

@@ -30,25 +30,23 @@ _PRINTED_ROWS = 41
 _KINDS = ("fourbar", "slider_crank")
 
 
-def _part(machine: Any, name: str | None, key: str) -> Any:
+def _part(machine: Any, name: str | None, key: str, kinds: tuple[str, ...] = _KINDS) -> Any:
     """The part to analyse: ``--part``, else the one part that has a ``[<part>.<key>]`` table."""
+    takes = " or ".join(kinds)
     if name is not None:
         if name not in machine.parts:
             raise InputError("--part", f"{name!r} is not a part; parts: {', '.join(machine.parts)}")
         part = machine.parts[name]
-        if part.kind not in _KINDS:
-            what = f"{name!r} is a {part.kind}; {key} takes a fourbar or slider_crank"
-            raise InputError("--part", what)
+        if part.kind not in kinds:
+            raise InputError("--part", f"{name!r} is a {part.kind}; {key} takes a {takes}")
         return part
-    found = [p for p in machine.parts.values() if p.kind in _KINDS and key in p.values]
+    found = [p for p in machine.parts.values() if p.kind in kinds and key in p.values]
     if len(found) == 1:
         return found[0]
     if found:
         names = ", ".join(p.name for p in found)
         raise InputError("--part", f"several parts have a [{key}] table ({names}): pick one")
-    raise InputError(
-        key, f"no fourbar or slider_crank part has a [<kind>.<name>.{key}] table (docs/spec.md)"
-    )
+    raise InputError(key, f"no {takes} part has a [<kind>.<name>.{key}] table (docs/spec.md)")
 
 
 def _dynamics(part: Any, machine: Any) -> dict[str, Any]:
@@ -211,12 +209,17 @@ def _tolerance_result(part: Any, t: Any) -> Any:
     ]
     for name, tol, dist in zip(t.dimensions, t.tolerances, t.distributions, strict=True):
         how = "3 sigma" if dist == "normal" else "uniform"
-        out.summary.append(Summary(f"+/- {name} ({how})", float(tol), kind_of.get(name, "length")))
+        kind = "angle" if name.endswith(".delta") else kind_of.get(name, "length")
+        out.summary.append(Summary(f"+/- {name} ({how})", float(tol), kind))
     output_kinds = {"theta3": "angle", "theta4": "angle", "d": "length", "coupler": "length",
-                    "T12": "torque"}  # fmt: skip
+                    "T12": "torque", "theta": "angle", "point": "length",
+                    "torque": "torque"}  # fmt: skip
+    for reason, count in t.failures.items():
+        out.summary.append(Summary(f"unassembled: {reason}", f"{count:,}"))
     for name, s in t.outputs.items():
-        kind = output_kinds[name]
-        what = "distance" if name == "coupler" else "deviation"
+        kind = output_kinds[name.split(".", 1)[0]]
+        point = name == "coupler" or name.startswith("point.")
+        what = "distance" if point else "deviation"
         with np.errstate(invalid="ignore"):
             q99 = float(np.quantile(s.peak, 0.99)) if s.peak.size else math.nan
         out.summary += [
@@ -227,26 +230,43 @@ def _tolerance_result(part: Any, t: Any) -> Any:
         ]  # fmt: skip
         columns = {
             "theta2": t.theta,
-            f"{name}_nominal" if name != "coupler" else "P_nominal_x": (
-                s.nominal.real if name == "coupler" else s.nominal
-            ),
+            f"{name}_nominal": s.nominal,
             "std": s.std,
             "std_linear": s.linear_std,
             "low": s.low,
             "high": s.high,
             "stack_up": s.worst_case,
         }
-        if name == "coupler":
+        if point:
             columns = {"theta2": t.theta, "P_nominal_x": s.nominal.real,
                        "P_nominal_y": s.nominal.imag, "rms": s.std, "rms_linear": s.linear_std,
                        "max": s.high, "stack_up": s.worst_case}  # fmt: skip
         kinds = {k: kind for k in columns} | {"theta2": "angle"}
-        if name == "coupler":
+        if point:
             kinds |= {"P_nominal_x": "length", "P_nominal_y": "length"}
         title = f"{name} of {part.name}: spread of the {what} from nominal, {t.samples:,} samples"
         out.tables.append(ResultTable(name, title, columns, kinds))
     out.flagged += [f"warning: {w}" for w in t.warnings]
     return out
+
+
+def _linkage_tolerance(p: Any, machine: Any, samples: int | None, scheduler: str | None,
+                       workers: int | None) -> Any:  # fmt: skip
+    """``machdyn.tolerance`` of a linkage part: its drive's sweep and speed, the file's gravity."""
+    from ..tolerance import tolerance
+
+    spec = dict(p.values["tolerance"])
+    dims = spec.pop("dimensions")
+    if samples is not None:
+        spec["samples"] = samples
+    lk = p.model
+    setting = p.values.get("motion", {}).get(lk.drivers[0]) if len(lk.drivers) == 1 else None
+    theta2 = setting.values.values if setting is not None and setting.values else None
+    omega2 = setting.velocity if setting is not None and setting.velocity else 1.0
+    alpha2 = setting.acceleration if setting is not None and setting.acceleration else 0.0
+    return tolerance(lk, dims, theta2, omega2=omega2, alpha2=alpha2,
+                     gravity=machine.gravity or 0.0, scheduler=scheduler, workers=workers,
+                     **spec)  # fmt: skip
 
 
 def tolerance_command(
@@ -267,12 +287,16 @@ def tolerance_command(
         bool, typer.Option("--csv", help="Print the first output's table as CSV.")
     ] = False,
 ) -> None:
-    """Monte Carlo tolerance analysis of a four-bar or slider-crank, beside the linear stack-up."""
+    """Monte Carlo tolerance analysis of a four-bar, slider-crank or linkage, beside stack-up."""
     from ..spec import load_machine
     from ..tolerance import tolerance
 
     machine = load_machine(file)
-    p = _part(machine, part, "tolerance")
+    p = _part(machine, part, "tolerance", (*_KINDS, "linkage"))
+    if p.kind == "linkage":
+        t = _linkage_tolerance(p, machine, samples, scheduler, workers)
+        _emit(machine, _tolerance_result(p, t), file, json, csv_out)
+        return
     spec = dict(p.values.get("tolerance", {}))
     options = {k: spec.pop(k) for k in ("distribution", "sigmas", "samples", "seed") if k in spec}
     if samples is not None:

@@ -19,6 +19,7 @@ import numpy as np
 from ._context import Context, _show
 from ._machine import Machine, Part, PartKind
 from ._run import PartResult, ResultTable, Summary, flagged_rows
+from ._simulate import LINKAGE_TOLERANCE
 from ._types import (
     Boolean,
     Choice,
@@ -255,6 +256,7 @@ LINKAGE = Table(
         forces=optional(ListOf(FORCE), "external point forces: [[linkage.NAME.forces]]"),
         torques=optional(MapOf(Quantity("torque"), "a table of link = torque")),
         friction=optional(MapOf(FRICTION, "a table of [friction.<slider or slot>] tables")),
+        tolerance=optional(LINKAGE_TOLERANCE, "for `machdyn tolerance`"),
         notes=optional(Text()),
     ),
     doc="a drawn linkage: points, links, joints, drivers, elements and loads",

@@ -10,7 +10,17 @@ from __future__ import annotations
 
 from typing import Any
 
-from ._types import Choice, Integer, Quantity, Table, fields, optional, required
+from ._types import (
+    Choice,
+    Integer,
+    MapOf,
+    Names,
+    Quantity,
+    Table,
+    fields,
+    optional,
+    required,
+)
 
 __all__: list[str] = []
 
@@ -135,4 +145,52 @@ FOURBAR_TOLERANCE = _tolerance_table(
 )  # fmt: skip
 SLIDER_TOLERANCE = _tolerance_table(
     {"crank": "length", "coupler": "length", "offset": "length", "p": "length", "delta": "angle"}
+)
+
+
+class _Dimensions(MapOf):
+    """``"name" = ± tolerance`` of a linkage: ``"….delta"`` an angle, the others lengths."""
+
+    def __init__(self) -> None:
+        super().__init__(Quantity("length", minimum=0.0), "a table of dimension = ± tolerance", 1)
+        self.angle = Quantity("angle", minimum=0.0)
+
+    def read(self, ctx: Any, path: tuple, value: Any) -> dict[str, Any]:
+        if not isinstance(value, dict) or len(value) < 1:
+            raise ctx.error(path, f"expected {self.what} (at least one)")
+        return {
+            name: (self.angle if str(name).endswith(".delta") else self.item).read(
+                ctx, (*path, name), item
+            )
+            for name, item in value.items()
+        }
+
+    def write(self, w: Any, value: Any) -> Any:
+        return {
+            name: (self.angle if str(name).endswith(".delta") else self.item).write(w, v)
+            for name, v in value.items()
+        }
+
+    def schema(self) -> dict:
+        out = super().schema()
+        out["additionalProperties"] = {"anyOf": [self.item.schema(), self.angle.schema()]}
+        return out
+
+
+LINKAGE_TOLERANCE = Table(
+    fields(
+        dimensions=required(
+            _Dimensions(),
+            '"P.x"/"P.y" (a drawn point), "F-S" (a link\'s length), "Q.p"/"Q.delta" '
+            "(a further point's polar parameters): ± tolerance",
+        ),
+        outputs=optional(Names(minimum=1), "theta.<link>, point.<P>, torque.<driver>"),
+        distribution=optional(Choice("normal", "uniform"), "normal (default) or uniform"),
+        sigmas=optional(
+            Quantity("dimensionless", positive=True), "a normal tolerance is this many σ (3)"
+        ),
+        samples=optional(Integer(1, 10**9), "Monte Carlo samples (100000)"),
+        seed=optional(Integer(0, 2**63), "random seed (0)"),
+    ),
+    doc="dimension tolerances of a drawn linkage for `machdyn tolerance`",
 )
