@@ -17,6 +17,7 @@ import math
 import numpy as np
 import pytest
 
+from machdyn.errors import ModelError
 from machdyn.gears import (
     Gear,
     GearPair,
@@ -221,19 +222,21 @@ def test_reverted_compound_is_the_best_train_by_exhaustive_search(target):
     assert n2 + n3 == (N2 + N3)[ties].min()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="min_pinion_teeth(N_g) solves the onset relation without N_p <= N_g: for a gear "
-    "below the equal-gear minimum (23 at 14.5°) it returns a 'pinion' larger than the gear "
-    "(13 → 20, 16 → 21; `machdyn gear min-teeth --phi 14.5 --ng 16` prints 21) although that "
-    "pair interferes; no pinion exists — needs an owner's decision (raise or NaN with a "
-    "reason; report/gears.py and cli/gear.py call it)",
-)
 def test_min_pinion_teeth_never_exceeds_the_gear():
+    """A gear below the equal-gear minimum (23 teeth at 14.5°) meshes with no pinion at all:
+    every N_p ≤ N_g interferes by geometry, and min_pinion_teeth says so (it used to return a
+    'pinion' larger than the gear). Above it, the answer is ≤ N_g and is the least that clears."""
     phi = math.radians(14.5)
-    for n_g in (13, 16, 20):
+    for n_g in (13, 16, 20, 22):
+        assert all(interferes_by_geometry(n_p, n_g, phi) for n_p in range(8, n_g + 1))
+        with pytest.raises(ModelError, match=f"gear of {n_g} teeth.*at least 23"):
+            min_pinion_teeth(n_g, phi)
+    with pytest.raises(ModelError, match="gear of 16 teeth"):
+        min_pinion_teeth([40, 16], phi)
+    for n_g in (23, 30, 60, 200):
         n_p = min_pinion_teeth(n_g, phi)
         assert n_p <= n_g and not interferes_by_geometry(n_p, n_g, phi)
+        assert interferes_by_geometry(n_p - 1, n_g, phi)
 
 
 def test_internal_pair_length_of_action_and_interference():
@@ -254,3 +257,16 @@ def test_internal_pair_length_of_action_and_interference():
         assert pair.contact_ratio == pytest.approx(z / (2 * math.pi * rbp / n_p), rel=1e-12)
         assert pair.velocity_ratio == pytest.approx(n_p / n_g)  # same sense
         assert pair.interferes == (rag**2 < rbg**2 + (c * math.sin(phi)) ** 2)
+
+
+def test_report_of_a_pair_whose_gear_is_below_the_equal_gear_minimum():
+    """The design report of 12:16 teeth at 14.5° says no pinion fits that gear (every pinion
+    up to 16 teeth interferes by geometry, checked above), instead of naming a 'pinion'."""
+    from machdyn.gears import Gear, GearPair
+    from machdyn.report import report
+
+    phi = math.radians(14.5)
+    pair = GearPair(Gear(12, module=2, pressure_angle=phi), Gear(16, module=2, pressure_angle=phi))
+    page = report(pair)
+    row = page[page.index("fewest pinion teeth with this 16-tooth gear") :][:300]
+    assert "none: no pinion meshes without interference" in row

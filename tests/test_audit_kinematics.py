@@ -454,3 +454,42 @@ def test_coupler_curve_points_lie_on_this_files_solution(lengths, form):
         t3, _ = fourbar_reference(*lengths, t2, sign)
         expected = fb.r2 * np.exp(1j * t2) + 3.0 * np.exp(1j * (t3 + np.radians(35)))
         assert abs(point - expected) < 1e-6 * max(lengths)
+
+
+@pytest.mark.parametrize(
+    ("func", "x_range", "t2_range", "t4_range"),
+    [
+        (np.log10, (1.0, 10.0), (45.0, 105.0), (135.0, 225.0)),
+        (np.square, (0.0, 1.0), (30.0, 120.0), (60.0, 150.0)),
+        (np.exp, (0.0, 1.0), (200.0, 290.0), (250.0, 330.0)),
+    ],
+)
+def test_function_generator_passes_its_precision_points(func, x_range, t2_range, t4_range):
+    """Freudenstein function generation (Norton sec. 5.9), checked by geometry only: at
+    each Chebyshev precision point x_j = (x0 + xf)/2 − (xf − x0)/2 · cos((2j − 1)π/(2n))
+    the crank pin A = R2 e^{j(θ2 + offset)} and the rocker pin B = R1 + R4 e^{j(θ4 + offset)}
+    are exactly a coupler length apart, on one assembly (one sign of φ12), or a branch
+    defect is named."""
+    from machdyn.synthesis import function_generator
+
+    g = function_generator(func, x_range, np.radians(t2_range), np.radians(t4_range), n=3)
+    x0, xf = x_range
+    j = np.arange(1, 4)
+    cheb = (x0 + xf) / 2 - (xf - x0) / 2 * np.cos((2 * j - 1) * np.pi / 6)
+    np.testing.assert_allclose(np.sort(g.x_precision), cheb, rtol=1e-12)
+    r1, r2, r3, r4 = g.fourbar.lengths
+    signs = set()
+    for x in cheb:
+        t2 = np.radians(t2_range[0]) + (x - x0) / (xf - x0) * np.radians(t2_range[1] - t2_range[0])
+        y0, yf = func(np.array(x0)), func(np.array(xf))
+        t4 = np.radians(t4_range[0]) + (func(np.array(x)) - y0) / (yf - y0) * np.radians(
+            t4_range[1] - t4_range[0]
+        )
+        A = r2 * np.exp(1j * (t2 + g.input_offset))
+        B = r1 + r4 * np.exp(1j * (t4 + g.output_offset))
+        assert abs(B - A) == pytest.approx(r3, rel=1e-9)
+        signs.add(np.sign(wrap(np.angle(B - r1) - np.angle(B - A))))
+    if len(signs) > 1:  # the points lie on both assemblies: must be reported
+        assert any(d.startswith("branch defect") for d in g.defects)
+    else:
+        assert signs == {g.branch}

@@ -268,3 +268,58 @@ def test_flywheel_four_stroke_period_and_uneven_samples(rng):
     assert fw.torque_avg == pytest.approx(t_avg, rel=1e-9)
     assert fw.delta_e == pytest.approx(e.max() - e.min(), rel=1e-6)
     assert fw.inertia == pytest.approx((e.max() - e.min()) / (0.03 * 150.0**2), rel=1e-6)
+
+
+@pytest.mark.parametrize("friction", ["smooth", "viscous", "coulomb"])
+def test_inverted_slidercrank_forces_by_power_balance(friction, rng):
+    """Norton sec. 10.14 / 11.7: T12 ω2 + T4 ω4 + P_gravity + P_friction = d(KE)/dt, with
+    KE from the links' centre-of-mass velocities (block turning with link 4) and the
+    slot's friction power −μ|N||ḃ| (Coulomb) or −β ḃ² (viscous); d/dt by five-point
+    differences along θ2(t) = θ0 + ω2 t. Random machines of either form and offset sign."""
+    from machdyn import InvertedSliderCrank
+    from machdyn.dynamics_inverted import inverted_slidercrank_dynamics
+
+    h = 1e-4
+    n = 0
+    while n < 6:
+        a, d = rng.uniform(1, 5, 2)
+        c = rng.uniform(-0.5, 0.5) * min(a, d)
+        isc = InvertedSliderCrank(a, d, c)
+        form = int(rng.integers(1, 3))
+        mass = tuple(rng.uniform(0.5, 3, 3))
+        inertia = tuple(rng.uniform(0.1, 2, 3))
+        cg = (a / 2 + 0.2j, 0.1 - 0.05j, complex(rng.uniform(-1, 3), c))
+        w2, g, t4 = float(rng.uniform(2, 8)), 9.81, float(rng.uniform(-5, 5))
+        options = dict(mass=mass, inertia=inertia, cg=cg, form=form, gravity=g)
+        options |= dict(load_torque4=t4, friction=friction, mu=0.2, beta=0.7)
+        t2 = rng.uniform(0, 2 * np.pi, 8)
+        if not isc.solve(t2 + w2 * 2 * h * np.array([[-1], [1]]), form=form).ok.all():
+            continue
+        f = inverted_slidercrank_dynamics(isc, t2, w2, 0.0, **options)
+        if not f.ok.all():
+            continue
+        n += 1
+
+        def energy(t, isc=isc, form=form, w2=w2, mass=mass, inertia=inertia, cg=cg, g=g):
+            m = isc.solve(t, w2, 0.0, form=form)
+            e2, e4 = np.exp(1j * m.theta2), np.exp(1j * m.theta4)
+            vA = 1j * w2 * m.A
+            v = (1j * w2 * cg[0] * e2, vA + 1j * m.omega4 * cg[1] * e4, 1j * m.omega4 * cg[2] * e4)
+            y = ((cg[0] * e2).imag, (m.A + cg[1] * e4).imag, (cg[2] * e4).imag)
+            w = (w2, m.omega4, m.omega4)
+            return sum(
+                0.5 * mass[i] * abs(v[i]) ** 2 + 0.5 * inertia[i] * w[i] ** 2 + mass[i] * g * y[i]
+                for i in range(3)
+            )
+
+        e = [energy(t2 + w2 * k * h) for k in (-2, -1, 1, 2)]
+        de = (e[0] - 8 * e[1] + 8 * e[2] - e[3]) / (12 * h)
+        m = f.motion
+        if friction == "coulomb":
+            loss = -0.2 * np.abs(f.normal) * np.abs(m.b_dot)
+        elif friction == "viscous":
+            loss = -0.7 * m.b_dot**2
+        else:
+            loss = 0.0
+        power = f.T12 * w2 + t4 * m.omega4 + loss
+        np.testing.assert_allclose(power, de, rtol=1e-6, atol=1e-6 * np.max(np.abs(de)))

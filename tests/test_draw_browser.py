@@ -370,7 +370,7 @@ def test_the_linkage_report_shows_counterweights_before_and_after(tab, tmp_path)
     box = origin.bounding_box()
     assert abs(after["x"] - box["x"]) < 1 and abs(after["y"] - box["y"]) < 1
     table = page.locator("section#shaking table").inner_text()
-    assert "four-bar" in table and "counterweight on crank" in table
+    assert "complete force balance" in table and "counterweight on crank" in table
     assert "counterweight on rocker" in table
     checks = page.locator("table.checks td.state").all_inner_texts()
     names = page.locator("table.checks td:first-child").all_inner_texts()

@@ -15,6 +15,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from machdyn import InputError, MachdynError, gears
+from machdyn.errors import ModelError
 from machdyn.gears import (
     Gear,
     GearPair,
@@ -366,9 +367,15 @@ def test_onset_relation_matches_geometric_interference(phi_deg, k):
     k=st.sampled_from([1.0, 0.8]),
 )
 def test_min_pinion_teeth_matches_geometric_search(n_g, phi_deg, k):
+    # a pinion is the smaller gear (n ≤ n_g, where the gear's tip is the one that interferes);
+    # a gear below the equal-gear minimum meshes with none (ModelError, not a larger "pinion")
     phi = phi_deg * DEG
-    brute = next(n for n in range(3, 200) if not _interferes_geometrically(n, n_g, phi, k))
-    assert min_pinion_teeth(n_g, phi, k) == brute
+    fits = [n for n in range(3, min(n_g, 200) + 1) if not _interferes_geometrically(n, n_g, phi, k)]
+    if fits:
+        assert min_pinion_teeth(n_g, phi, k) == fits[0]
+    else:
+        with pytest.raises(ModelError, match="no pinion meshes"):
+            min_pinion_teeth(n_g, phi, k)
 
 
 def test_gear_pair_interference_flag():

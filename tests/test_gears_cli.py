@@ -66,6 +66,10 @@ def test_min_teeth_table():
     assert [(r["rack"], r["equal_gears"]) for r in rows] == [(32, 23), (18, 13), (12, 9)]
     res = _run("min-teeth", "--phi", "20", "--ng", "101")
     assert res.exit_code == 0 and "16" in res.output
+    # a 16-tooth gear is below the equal-gear minimum at 14.5° (23) but not at 20° (13)
+    res = _run("min-teeth", "--phi", "14.5", "--phi", "20", "--ng", "16", "--json")
+    rows = json.loads(res.output)
+    assert [r["gear_16"] for r in rows] == ["none", 13]
 
 
 def test_train_and_reverted():

@@ -102,3 +102,26 @@ def test_coulomb_wedging_is_flagged_as_slidercrank_dynamics_flags_it():
     good = f.ok
     np.testing.assert_allclose(f.driver["crank"][good], ref.T12[good], rtol=1e-9)
     assert np.isnan(f.driver["crank"][~good]).all()
+
+
+def test_coulomb_friction_at_a_dead_centre_opposes_the_impending_slip():
+    """At θ2 = 0, π, 2π the block stops (ḋ is 0 but for rounding) and is about to move with
+    d̈ = ω²(−a cos θ2 − a²/b) (by hand, sin θ2 = 0, in-line): friction along the guide is
+    −μ|N| sign(d̈), never the sign of the rounding noise (as SliderCrank.dynamics)."""
+    a, b, w2, mu = 50.0, 200.0, 314.159, 0.3
+    A = a * np.exp(1j * np.radians(40.0))
+    lk = Linkage({"O2": 0j, "A": A, "B": A.real + np.sqrt(b**2 - A.imag**2)}).ground("O2")
+    lk.link("crank", "O2", "A", body=rod(1.0, a)).link("rod", "A", "B", body=rod(2.0, b))
+    lk.link("block", "B", body=point_mass(1.5))
+    lk.slider("block", "ground", "B", 0.0, name="guide").drive("crank")
+    th = np.radians([0.0, 180.0, 360.0])
+    m = lk.solve(th, velocity=w2)
+    f = lk.forces(
+        m, gravity=9810.0, coulomb={"guide": mu}, external_forces=[("block", "B", -2000.0)]
+    )
+    d_ddot = w2**2 * (-a * np.cos(th) - a * a / b)
+    assert f.ok.all()
+    friction = f.sliders["guide"].real  # the guide is along +x: its force's x part
+    np.testing.assert_allclose(
+        friction, -mu * np.abs(f.normal["guide"]) * np.sign(d_ddot), rtol=1e-12
+    )

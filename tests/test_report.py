@@ -258,8 +258,8 @@ def test_linkage_self_checks_fail_on_a_wrong_motion():
     assert set().union(*failed.values()) == names
 
 
-def test_linkage_equilibrium_with_sliders_springs_motors_and_actuators():
-    """Free bodies of every load kind: each link's ΣF − m a_G and ΣM_G − I_G α vanish."""
+def test_linkage_equilibrium_with_every_kind_of_load():
+    """Free bodies with sliders, springs, motors, actuators, rolling: ΣF = m a_G, ΣM_G = I_G α."""
     slider = (
         Linkage({"O2": (0, 0), "A": (0, 2), "B": (6, 0), "S": (3, 3)})
         .ground("O2", "S")
@@ -286,12 +286,23 @@ def test_linkage_equilibrium_with_sliders_springs_motors_and_actuators():
         .actuator("cyl", "C", "D", links=("ground", "arm"))
         .drive("cyl")
     )
+    from test_linkage_rolling import planetary, wheel_on_ground
+
+    def mp(m, i, c):
+        return {"mass": m, "inertia": i, "cg": c}
+
+    wheel = wheel_on_ground(
+        wheel=mp(2.0, 0.5, 0.1 + 0.05j), rod=mp(1.0, 0.4, 1.0), block=mp(1.5, 0.01, 0)
+    )
+    gears, _ = planetary(sun=mp(1, 0.3, 0.1), arm=mp(0.5, 0.2, 1.0), planet=mp(0.7, 0.1, 0.05j))
     n = 200
     t = np.linspace(0.0, 1.0, n)
     cases = [
         (slider, 0.3 + 2 * np.pi * t, 5.0, None),
         (arm, 0.2 + t, 2.0, {"upper": 0.2 + t, "elbow": 0.3 + 0.5 * t}),
         (boom, 4.5 + t, 0.7, None),
+        (wheel, 2 * t - 1, 2.0, None),  # rolling on the ground
+        (gears, 2 * np.pi * t, 3.0, None),  # rolling contacts carried by one link
     ]
     for lk, x, rate, values in cases:
         if values is None:

@@ -245,3 +245,69 @@ def test_train_drawing_is_the_trains_geometry_and_speeds():
     arm = p.angles["arm"]
     assert np.angle(p.point("planet")) == pytest.approx(np.angle(np.exp(1j * arm)))
     assert (p.angles["g3"][1] - p.angles["g3"][0]) / (arm[1] - arm[0]) == pytest.approx(-350 / -200)
+
+
+@pytest.mark.parametrize(
+    "pair",
+    [
+        GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8)),
+        GearPair(Gear(20, module=2.0), Gear(40, module=2.0), driver="gear"),
+        GearPair(Gear(20, module=2.0), Gear(80, module=2.0, internal=True)),
+    ],
+    ids=["exam", "gear-driving", "internal"],
+)
+def test_the_line_of_action_drawn_is_the_pairs_contact_geometry(pair):
+    from machdyn.draw.gears import mesh_chart
+
+    chart = mesh_chart(pair)
+    gid = {s.gid: s for s in chart.series if s.gid}
+    pts = {n: complex(x, y) for x, y, n in chart.notes}
+    c = -pair.center_distance if pair.internal else pair.center_distance
+    # the tangent points on the base circles, C' sin φ' apart (Norton Fig. 9-6)
+    assert abs(pts["T_p"]) == pytest.approx(pair.pinion.base_radius, rel=1e-12)
+    assert abs(pts["T_g"] - c) == pytest.approx(pair.gear.base_radius, rel=1e-12)
+    assert abs(pts["T_g"] - pts["T_p"]) == pytest.approx(
+        pair.center_distance * math.sin(pair.operating_pressure_angle), rel=1e-12
+    )
+    # contact begins and ends where the tip circles cut the line: the driven member's
+    # tip starts it (the pinion driving: the gear's tip), the driver's tip ends it
+    first, last = pts["first contact"], pts["last contact"]
+    tip_p, tip_g = pair.pinion.addendum_radius, pair.gear.addendum_radius
+    starts, ends = (tip_g, tip_p) if pair.driver == "pinion" else (tip_p, tip_g)
+    centre_of = {tip_p: 0j, tip_g: complex(c)}
+    assert abs(first - centre_of[starts]) == pytest.approx(starts, rel=1e-12)
+    assert abs(last - centre_of[ends]) == pytest.approx(ends, rel=1e-12)
+    path = gid["path_of_contact"]
+    assert math.hypot(np.diff(path.x)[0], np.diff(path.y)[0]) == pytest.approx(
+        pair.length_of_action, rel=1e-12
+    )
+
+
+def test_bad_report_options_are_refused_by_name(exam):
+    from machdyn.errors import InputError
+
+    train = GearTrain([(18, 54), (20, 60)])
+    planetary = PlanetaryTrain.simple(sun=40, planet=20, ring=80)
+    for model, options, field in (
+        (exam, {"input_speed": "fast"}, "input_speed"),
+        (exam, {"torque": float("inf")}, "torque"),
+        (train, {"input_speed": 0.0}, "omega_in"),
+        (train, {"torque": "x"}, "torque"),
+        (planetary, {"speeds": 5.0}, "speeds"),
+        (planetary, {"speeds": {"sun": 1.0}}, "known"),
+        (planetary, {"torque": {"planet": 1.0}}, "torque"),
+    ):
+        with pytest.raises(InputError, match=field):
+            report(model, **options)
+
+
+def test_trains_draw_through_the_one_scene_path(tmp_path):
+    from machdyn.draw import scene, to_html
+
+    train = GearTrain([(18, 54), (20, 60)])
+    s = scene(train, n=8, omega_in=1800.0)
+    assert [r.values[0] for r in s.readout] == pytest.approx(list(train.speeds(1800.0)))
+    p = scene(PlanetaryTrain.simple(40, 20, 80), n=8, speeds={"ring": 0.0, "sun": 3.0})
+    assert p.readout[-1].values[0] == pytest.approx(1.0)  # the arm: N_s / (N_s + N_r) × 3
+    page = to_html(train, tmp_path / "train.html")
+    assert "wheel_3a" in page and (tmp_path / "train.html").exists()

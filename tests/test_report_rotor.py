@@ -76,7 +76,7 @@ def test_rotor_file_report_is_the_notes_two_plane_balance():
     assert len(states) == 4 and set(states.values()) == {"pass"}, states
     for section in ("masses", "balance", "bearings", "selfcheck"):
         assert f'<section id="{section}"' in page
-    assert page.count('<svg class="chart"') == 2  # the unbalance and moment polar plots
+    assert page.count('<svg class="chart"') == 3  # side view, unbalance and moment polars
 
 
 def test_bearings_apart_from_the_correction_planes():
@@ -150,3 +150,36 @@ def test_rotor_checks_fail_on_wrong_numbers():
         "moment sum with the corrections",
     }
     assert names([a, b], (before[0] * 1.01, before[1])) == {"bearing forces by statics"}
+
+
+def test_the_side_view_draws_each_mass_at_its_plane_and_height():
+    from machdyn.draw.rotor import rotor_side_chart
+
+    masses = ((0.2, 60, np.radians(30), 100), (0.3, 50, np.radians(150), 220))
+    chart = rotor_side_chart(masses, (0, 400), bearings=(-20, 420))
+    stems = {s.gid: s for s in chart.series if s.gid.startswith("mass_")}
+    for i, (_, r, a, z) in enumerate(masses, start=1):
+        assert stems[f"mass_{i}"].x.tolist() == [z, z]
+        assert stems[f"mass_{i}"].y[1] == pytest.approx(r * np.sin(a))
+    notes = {n: x for x, _, n in chart.notes}
+    assert notes["plane A"] == 0 and notes["plane B"] == 400 and notes["bearing B"] == 420
+
+
+def test_bad_rotor_report_options_are_refused_by_name():
+    from machdyn.errors import InputError
+
+    task = RotorBalance(((1.0, 0.1, 0.0, 0.2),), planes=(0.0, 1.0))
+    for options, field in (
+        ({"bearings": (0.0,)}, "bearings"),
+        ({"bearings": (0.5, 0.5)}, "bearings"),
+        ({"speed": 0.0}, "speed"),
+        ({"speed": float("nan")}, "speed"),
+        ({"radii": (-1.0,)}, "radii"),
+    ):
+        with pytest.raises(InputError, match=field):
+            report(task, **options)
+    with pytest.raises(InputError, match="planes"):
+        report(Rotor(1.0, (0.01, 0.0, 0.0)), planes=(1.0, 2.0, 3.0))
+    # a rotor balanced already: no correction, nothing on the bearings, every check passes
+    balanced = RotorBalance(((1.0, 0.1, 0.0, 0.2), (1.0, 0.1, np.pi, 0.2)), planes=(0.0, 1.0))
+    assert set(checks_of(report(balanced, speed=10.0)).values()) == {"pass"}

@@ -241,6 +241,8 @@ def test_build_a_six_bar_with_a_slider_by_clicking_then_undo_and_redo(page):
     settle(p, before)
     p.shot("studio-05-six-bar-by-clicking")
     pt = part(p)
+    assert pt["ground"] == ["O2", "O4"]  # named as the textbooks do (Norton: O2, O4)
+    assert pt["points"]["O2"] == [0, 0] and pt["points"]["O4"] == [80, 0]
     assert len(pt["links"]) == 5 and next(iter(pt["sliders"].values()))["on"] == "ground"
     assert pt["drive"] == ["link1"]
     summary = js(p, "() => window.studio.result.summary")
@@ -763,4 +765,50 @@ def test_a_sliders_guide_is_edited_in_the_side_panel(page):
     b = positions(r, "B")
     assert np.ptp(np.angle((b - b[0])[np.abs(b - b[0]) > 1]) % np.pi) < 3e-3  # (3 decimals)
     p.shot("studio-20-guide-edited")
+    no_errors(p)
+
+
+def test_mass_properties_edited_in_the_panel_drive_the_torque(page):
+    # The rocker's mass, I_G and centre of mass typed in the side panel reach the document
+    # and the input torque; the torque is checked against FourBar's closed-form dynamics
+    # (machdyn.dynamics, not the Linkage force assembly the studio runs) with the same numbers.
+    p = page
+    template(p, "four-bar")
+    p.page.click("button[data-tab=design]")
+    p.page.click("#tab-design .lists a:text-is('rocker')")
+    labels = p.page.locator("#tab-design label").all_inner_texts()
+    assert any(t.startswith("mass (kg)") for t in labels), labels
+    for label, value in (("mass", "0.9"), ("inertia", "400"), ("cg", "30, 5")):
+        before = analysed(p)
+        p.page.fill(f"input[aria-label='{label}']", value)
+        p.page.keyboard.press("Enter")
+        settle(p, before)
+    rocker = part(p)["links"]["rocker"]
+    assert (rocker["mass"], rocker["inertia"], rocker["cg"]) == (0.9, 400, [30, 5])
+    p.page.click("button[data-tab=plots]")
+    p.page.fill("#tab-plots input[type=search]", "T_crank")
+    box = p.page.locator("input[data-q='T_crank [N*m]']")
+    if not box.is_checked():  # the driver's torque is plotted by default when there are masses
+        before = analysed(p)
+        box.check()
+        settle(p, before)
+    r = js(p, "() => window.studio.result")
+    pts = part(p)["points"]
+    fb, _, theta1, form = placed_fourbar(pts)
+    links = part(p)["links"]
+    A, B, P = (complex(*pts[k]) for k in ("A", "B", "P"))
+    f = fb.dynamics(
+        np.radians(r["x"]) - theta1,
+        10.0,  # the template's crank speed, rad/s
+        form=form,
+        mass=(links["crank"]["mass"], links["coupler"]["mass"], 0.9),
+        inertia=(links["crank"]["inertia"], links["coupler"]["inertia"], 400.0),
+        cg=(links["crank"]["cg"], (P - A) / (B - A) * abs(B - A), 30 + 5j),
+        gravity=9806.65,  # standard gravity in mm/s² (the template's units: mm, kg)
+    )
+    torque = np.array(r["columns"]["T_crank [N*m]"], float)
+    assert torque == pytest.approx(f.T12 * 1e-6, abs=1e-6)  # kg·mm²/s² → N·m, 7 digits shown
+    p.page.click("button[data-tab=design]")
+    p.page.click("#tab-design .lists a:text-is('rocker')")
+    p.shot("studio-21-mass-properties")
     no_errors(p)

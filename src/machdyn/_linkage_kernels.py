@@ -7,27 +7,33 @@ tested against (every linkage test runs on both).
 The program is data: each step is a row of integers and floats
 (:func:`machdyn.linkage.kernel.encode`), so one compiled kernel serves every
 linkage and a changed linkage compiles nothing. The kernel takes the samples
-one by one and runs every step on a small state (one row per link, in the
-first level of cache), in **real** arithmetic (numba's complex numbers call
-helper functions; the elementary functions are the polynomial ones of
-:mod:`machdyn._kernels`). The arithmetic is the NumPy path's: a driver places
-its link; a dyad's pin is a circle–circle (RRR), circle–line (RRP) or
+in blocks of :data:`BLOCK` and runs each step over a whole block before the
+next (one dispatch per step and block, the step's loop free of branches on
+the program), on a small state (one row per link and column per sample of the
+block, in the first levels of cache), in **real** arithmetic (numba's complex
+numbers call helper functions; the elementary functions are the polynomial
+ones of :mod:`machdyn._kernels`). The arithmetic is the NumPy path's: a driver
+places its link; a dyad's pin is a circle–circle (RRR), circle–line (RRP) or
 line–line (PRP) meet with the drawn assembly sign, an RPR's line a tangent, an
 RPP a line–line meet; every derivative order is the same 2 × 2 system solved
 by Cramer's rule.
 
-The angles of links placed through an ``atan2`` (dyad arms and what turns
-with them) are taken once per block of :data:`BLOCK` samples, in a loop LLVM
-vectorises; along a sweep they are then unwrapped by :func:`follow`, which
-also runs the program (positions only) along the path from the drawn pose to
-the first sample and between samples further apart than the path's step, as
+One call (:func:`run`) takes the whole sweep: the program and the tables of
+what to report are packed in one integer and one float array
+(:func:`machdyn.linkage.kernel.pack`), the results go to one real array
+(angles, angular rates, lengths) and one complex array seen as real pairs
+(points and centres of mass). The angles of links placed through an ``atan2``
+(dyad arms and what turns with them) are taken when a block is written out;
+along a sweep they are then unwrapped (:func:`_follow`), which also runs the
+program (positions only) along the path from the drawn pose to the first
+sample and between samples further apart than the path's step, as
 :mod:`machdyn.linkage.sweep` does in NumPy.
 
-State of link ``i`` (row 0 is the ground: zeros, ``E = 1``): ``st[i, :]`` =
-origin ``(ox, oy)``, rotation ``E = (ex, ey) = e^{jΔ}``, its angle Δ (exact
-for links placed by a driver; not kept for those from an ``atan2``), then for
-k = 1, 2, 3 the origin's rate ``(vx, vy)`` and the angle's rate ``w`` at
-columns ``5 + 3 (k − 1)`` …
+State of link ``i`` (row 0 is the ground: zeros, ``E = 1``) at column ``j`` of
+a block: ``st[i, :, j]`` = origin ``(ox, oy)``, rotation ``E = (ex, ey) =
+e^{jΔ}``, its angle Δ (exact for links placed by a driver; not kept for those
+from an ``atan2``), then for k = 1, 2, 3 the origin's rate ``(vx, vy)`` and the
+angle's rate ``w`` at columns ``5 + 3 (k − 1)`` …
 """
 
 from __future__ import annotations
@@ -39,7 +45,7 @@ from numba import njit
 
 from ._kernels import angle as _angle_2pi
 from ._kernels import sincos
-from .linkage._scalar import CRANK, DYAD, MOTOR, NF, NI, RPR, SINGULAR_SINE, SLIDE
+from .linkage._scalar import CRANK, DYAD, MOTOR, NF, NI, RPP, RPR, SINGULAR_SINE
 
 # "contract" lets LLVM fuse a * b + c; "arcp" turns a division by a value used
 # several times into one reciprocal. Neither assumes finite values (NaN marks
@@ -48,13 +54,15 @@ _FAST = {"contract", "arcp"}
 _jit = njit(cache=True, nogil=True, error_model="numpy", fastmath=_FAST)
 _inline = njit(inline="always", error_model="numpy", fastmath=_FAST)
 
-#: Samples per block (the angles from atan2 are taken per block, vectorised).
-BLOCK = 256
+#: Samples per block (each step runs over a block before the next step).
+BLOCK = 128
 _PI = math.pi
 _TWO_PI = 2.0 * math.pi
 OX, OY, EX, EY, AN = 0, 1, 2, 3, 4  # then VX, VY, W of order k at 5 + 3 (k - 1)
 #: Columns of a link's state.
 NS = 14
+#: Entries of the packed integer header (:func:`machdyn.linkage.kernel.pack`).
+NH = 17
 
 
 @_inline
@@ -64,59 +72,59 @@ def _atan2(y, x):  # pragma: no cover - compiled
 
 
 @_inline
-def _pt(st, i, rx, ry, order):  # pragma: no cover - compiled
+def _pt(st, i, rx, ry, order, j):  # pragma: no cover - compiled
     """The material point drawn at offset (rx, ry) on link i: 8 floats."""
-    cx, cy = st[i, EX], st[i, EY]
+    cx, cy = st[i, EX, j], st[i, EY, j]
     qx = rx * cx - ry * cy
     qy = rx * cy + ry * cx
     p1x = p1y = p2x = p2y = p3x = p3y = 0.0
     if order >= 1:
-        w1 = st[i, 7]
-        p1x = st[i, 5] - w1 * qy
-        p1y = st[i, 6] + w1 * qx
+        w1 = st[i, 7, j]
+        p1x = st[i, 5, j] - w1 * qy
+        p1y = st[i, 6, j] + w1 * qx
         if order >= 2:
-            w2 = st[i, 10]
-            p2x = st[i, 8] - w2 * qy - w1 * w1 * qx
-            p2y = st[i, 9] + w2 * qx - w1 * w1 * qy
+            w2 = st[i, 10, j]
+            p2x = st[i, 8, j] - w2 * qy - w1 * w1 * qx
+            p2y = st[i, 9, j] + w2 * qx - w1 * w1 * qy
             if order >= 3:
-                c = st[i, 13] - w1 * w1 * w1
+                c = st[i, 13, j] - w1 * w1 * w1
                 d = 3.0 * w1 * w2
-                p3x = st[i, 11] - c * qy - d * qx
-                p3y = st[i, 12] + c * qx - d * qy
-    return st[i, OX] + qx, st[i, OY] + qy, p1x, p1y, p2x, p2y, p3x, p3y
+                p3x = st[i, 11, j] - c * qy - d * qx
+                p3y = st[i, 12, j] + c * qx - d * qy
+    return st[i, OX, j] + qx, st[i, OY, j] + qy, p1x, p1y, p2x, p2y, p3x, p3y
 
 
 @_inline
-def _put(st, i, order, P, rx, ry, cx, cy, a, w1, w2, w3):  # pragma: no cover - compiled
+def _put(st, i, order, P, rx, ry, cx, cy, a, w1, w2, w3, j):  # pragma: no cover - compiled
     """Place link i from its point drawn at (rx, ry), at P, turned by E = c."""
-    st[i, EX] = cx
-    st[i, EY] = cy
-    st[i, AN] = a
+    st[i, EX, j] = cx
+    st[i, EY, j] = cy
+    st[i, AN, j] = a
     qx = -(rx * cx - ry * cy)
     qy = -(rx * cy + ry * cx)
-    st[i, OX] = P[0] + qx
-    st[i, OY] = P[1] + qy
+    st[i, OX, j] = P[0] + qx
+    st[i, OY, j] = P[1] + qy
     if order >= 1:
-        st[i, 7] = w1
-        st[i, 5] = P[2] - w1 * qy
-        st[i, 6] = P[3] + w1 * qx
+        st[i, 7, j] = w1
+        st[i, 5, j] = P[2] - w1 * qy
+        st[i, 6, j] = P[3] + w1 * qx
         if order >= 2:
-            st[i, 10] = w2
-            st[i, 8] = P[4] - w2 * qy - w1 * w1 * qx
-            st[i, 9] = P[5] + w2 * qx - w1 * w1 * qy
+            st[i, 10, j] = w2
+            st[i, 8, j] = P[4] - w2 * qy - w1 * w1 * qx
+            st[i, 9, j] = P[5] + w2 * qx - w1 * w1 * qy
             if order >= 3:
-                st[i, 13] = w3
+                st[i, 13, j] = w3
                 c = w3 - w1 * w1 * w1
                 d = 3.0 * w1 * w2
-                st[i, 11] = P[6] - c * qy - d * qx
-                st[i, 12] = P[7] + c * qx - d * qy
+                st[i, 11, j] = P[6] - c * qy - d * qx
+                st[i, 12, j] = P[7] + c * qx - d * qy
 
 
 @_inline
-def _rates(st, i, order):  # pragma: no cover - compiled
-    w1 = st[i, 7] if order >= 1 else 0.0
-    w2 = st[i, 10] if order >= 2 else 0.0
-    w3 = st[i, 13] if order >= 3 else 0.0
+def _rates(st, i, order, j):  # pragma: no cover - compiled
+    w1 = st[i, 7, j] if order >= 1 else 0.0
+    w2 = st[i, 10, j] if order >= 2 else 0.0
+    w3 = st[i, 13, j] if order >= 3 else 0.0
     return w1, w2, w3
 
 
@@ -179,27 +187,28 @@ def _length(U, d, i, constant):  # pragma: no cover - compiled
 
 
 @_inline
-def _set_r(st, R, order, P, brx, bry, vx_, vy_, ux, uy, n, x1, x2, x3):  # pragma: no cover
+def _set_r(st, R, order, P, brx, bry, vx_, vy_, ux, uy, n, x1, x2, x3, j):  # pragma: no cover
     """Place the link of an R arm: its rotation is the arm vector over the drawn one."""
     cx = (vx_ * ux + vy_ * uy) / n
     cy = (vy_ * ux - vx_ * uy) / n
-    _put(st, R, order, P, brx, bry, cx, cy, 0.0, x1, x2, x3)  # its angle: atan2, later
+    _put(st, R, order, P, brx, bry, cx, cy, 0.0, x1, x2, x3, j)  # its angle: atan2, later
 
 
 # ---------------------------------------------------------------------- drivers
-@_jit
-def _crank(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
+@_inline
+def _crank(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
     L, K, d = pi[ib + 2], pi[ib + 3], pi[ib + 4]
     rkx, rky, rlx, rly, theta0 = pf[fb], pf[fb + 1], pf[fb + 2], pf[fb + 3], pf[fb + 4]
     RK, RL = max(K, 0), max(L, 0)
     delta = U[4 * d, i] - theta0
     s, c = sincos(delta)
-    P = _pt(st, RK, rkx, rky, order)
-    _put(st, RL, order, P, rlx, rly, c, s, delta, U[4 * d + 1, i], U[4 * d + 2, i], U[4 * d + 3, i])
+    P = _pt(st, RK, rkx, rky, order, j)
+    w1, w2, w3 = U[4 * d + 1, i], U[4 * d + 2, i], U[4 * d + 3, i]
+    _put(st, RL, order, P, rlx, rly, c, s, delta, w1, w2, w3, j)
 
 
-@_jit
-def _motor(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
+@_inline
+def _motor(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
     L, K, Sr, d = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
     rkx, rky, rlx, rly, sg, phi0 = (
         pf[fb],
@@ -212,16 +221,16 @@ def _motor(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
     RK, RL, RS = max(K, 0), max(L, 0), max(Sr, 0)
     delta = sg * (U[4 * d, i] - phi0)
     s, c = sincos(delta)
-    ex, ey = st[RS, EX], st[RS, EY]
-    w1, w2, w3 = _rates(st, RS, order)
-    P = _pt(st, RK, rkx, rky, order)
-    _put(st, RL, order, P, rlx, rly, ex * c - ey * s, ex * s + ey * c, st[RS, AN] + delta,
+    ex, ey = st[RS, EX, j], st[RS, EY, j]
+    w1, w2, w3 = _rates(st, RS, order, j)
+    P = _pt(st, RK, rkx, rky, order, j)
+    _put(st, RL, order, P, rlx, rly, ex * c - ey * s, ex * s + ey * c, st[RS, AN, j] + delta,
          w1 + sg * U[4 * d + 1, i], w2 + sg * U[4 * d + 2, i],
-         w3 + sg * U[4 * d + 3, i])  # fmt: skip
+         w3 + sg * U[4 * d + 3, i], j)  # fmt: skip
 
 
-@_jit
-def _slide(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
+@_inline
+def _slide(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
     L, K, Lf, La, d, block = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5], pi[ib + 6], pi[ib + 7]
     rfx, rfy, rax, ray, u0x, u0y = (
         pf[fb],
@@ -236,10 +245,10 @@ def _slide(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
     bx, by = (rfx, rfy) if block == 1 else (rax, ray)
     px, py = (rax, ray) if block == 1 else (rfx, rfy)  # the moving link's point
     sg = 1.0 if block == 1 else -1.0
-    cx, cy = st[RK, EX], st[RK, EY]
+    cx, cy = st[RK, EX, j], st[RK, EY, j]
     ux, uy = u0x * cx - u0y * cy, u0x * cy + u0y * cx
-    w1, w2, w3 = _rates(st, RK, order)
-    Q = _pt(st, RB, bx, by, order)
+    w1, w2, w3 = _rates(st, RK, order, j)
+    Q = _pt(st, RB, bx, by, order, j)
     d0, d1, d2, d3 = U[4 * d, i], U[4 * d + 1, i], U[4 * d + 2, i], U[4 * d + 3, i]
     t1x, t1y = _p_term(1, d0, d1, d2, ux, uy, w1, w2, w3)
     t2x, t2y = _p_term(2, d0, d1, d2, ux, uy, w1, w2, w3)
@@ -250,7 +259,7 @@ def _slide(st, pi, pf, ib, fb, U, i, order):  # pragma: no cover - compiled
         Q[4] + sg * (t2x + d2 * ux), Q[5] + sg * (t2y + d2 * uy),
         Q[6] + sg * (t3x + d3 * ux), Q[7] + sg * (t3y + d3 * uy),
     )  # fmt: skip
-    _put(st, RL, order, P, px, py, cx, cy, st[RK, AN], w1, w2, w3)
+    _put(st, RL, order, P, px, py, cx, cy, st[RK, AN, j], w1, w2, w3, j)
 
 
 # ---------------------------------------------------------------------- dyads
@@ -266,8 +275,8 @@ def _rr_order(k, A, C, a_, c_, v, xa1, xa2, xb1, xb2):  # pragma: no cover - com
     return x1, x2, kax - vay * x1, kay + vax * x1
 
 
-@_jit
-def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
+@_inline
+def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
     """RRR (an arm may be an actuator's bar: a driven length)."""
     K1, L1, d1, K2, L2, d2 = pi[ib + 3], pi[ib + 4], pi[ib + 5], pi[ib + 7], pi[ib + 8], pi[ib + 9]
     r1x, r1y, b1x = pf[fb], pf[fb + 1], pf[fb + 2]
@@ -279,8 +288,8 @@ def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     sign = pf[fb + 14]
     n1, n2 = u1x * u1x + u1y * u1y, u2x * u2x + u2y * u2y
     RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
-    A = _pt(st, RK1, r1x, r1y, order)
-    C = _pt(st, RK2, r2x, r2y, order)
+    A = _pt(st, RK1, r1x, r1y, order, j)
+    C = _pt(st, RK2, r2x, r2y, order, j)
     a0, a1, a2, a3 = _length(U, d1, i, len1)
     c0, c1, c2, c3 = _length(U, d2, i, len2)
     acx, acy = C[0] - A[0], C[1] - A[1]
@@ -308,9 +317,9 @@ def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
                 xa3, xb3, B3x, B3y = _rr_order(3, A, C, a_, c_, v, xa1, xa2, xb1, xb2)
     P = (bx, by, B1x, B1y, B2x, B2y, B3x, B3y)
     if L1 >= 0:
-        _set_r(st, RL1, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3)
+        _set_r(st, RL1, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3, j)
     if L2 >= 0:
-        _set_r(st, RL2, order, P, b2x, b2y, vbx, vby, u2x, u2y, n2, xb1, xb2, xb3)
+        _set_r(st, RL2, order, P, b2x, b2y, vbx, vby, u2x, u2y, n2, xb1, xb2, xb3, j)
 
 
 @_inline
@@ -325,8 +334,8 @@ def _rp_order(k, A, G, a_, wk, v, xa1, xa2, s1, s2):  # pragma: no cover - compi
     return x1, x2, kax - vay * x1, kay + vax * x1
 
 
-@_jit
-def _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, i, order, sign, codes, g):  # pragma: no cover
+@_inline
+def _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, i, order, sign, codes, g, j):  # pragma: no cover
     """RRP / PRR: the R arm's row at (ia, fa), the P arm's at (ip, fp)."""
     K1, L1, d1, K2, L2 = pi[ia + 1], pi[ia + 2], pi[ia + 3], pi[ip + 1], pi[ip + 2]
     r1x, r1y, b1x = pf[fa], pf[fa + 1], pf[fa + 2]
@@ -336,11 +345,11 @@ def _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, i, order, sign, codes, g):  # pragma
     b2y, u2x, u2y = pf[fp + 3], pf[fp + 4], pf[fp + 5]
     n1 = u1x * u1x + u1y * u1y
     RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
-    A = _pt(st, RK1, r1x, r1y, order)
-    G = _pt(st, RK2, gx, gy, order)
-    cx, cy = st[RK2, EX], st[RK2, EY]
+    A = _pt(st, RK1, r1x, r1y, order, j)
+    G = _pt(st, RK2, gx, gy, order, j)
+    cx, cy = st[RK2, EX, j], st[RK2, EY, j]
     ux, uy = u2x * cx - u2y * cy, u2x * cy + u2y * cx
-    w1, w2, w3 = _rates(st, RK2, order)
+    w1, w2, w3 = _rates(st, RK2, order, j)
     a0, a1, a2, a3 = _length(U, d1, i, len1)
     dx, dy = G[0] - A[0], G[1] - A[1]
     pp = dx * ux + dy * uy
@@ -365,9 +374,9 @@ def _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, i, order, sign, codes, g):  # pragma
                 xa3, _, B3x, B3y = _rp_order(3, A, G, a_, wk, v, xa1, xa2, s1, s2)
     P = (bx, by, B1x, B1y, B2x, B2y, B3x, B3y)
     if L1 >= 0:
-        _set_r(st, RL1, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3)
+        _set_r(st, RL1, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3, j)
     if L2 >= 0:
-        _put(st, RL2, order, P, b2x, b2y, cx, cy, st[RK2, AN], w1, w2, w3)
+        _put(st, RL2, order, P, b2x, b2y, cx, cy, st[RK2, AN, j], w1, w2, w3, j)
 
 
 @_inline
@@ -382,8 +391,8 @@ def _pp_order(k, G1, G2, v, s1, s2, t1, t2):  # pragma: no cover - compiled
     return x1, x2, kax + ux * x1, kay + uy * x1
 
 
-@_jit
-def _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
+@_inline
+def _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
     """PRP: two sliders pinned at B, each on a line of a known body."""
     K1, L1, K2, L2 = pi[ib + 3], pi[ib + 4], pi[ib + 7], pi[ib + 8]
     g1x, g1y, b1x = pf[fb], pf[fb + 1], pf[fb + 2]
@@ -391,13 +400,13 @@ def _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     g2x, g2y, b2x = pf[fb + 7], pf[fb + 8], pf[fb + 9]
     b2y, v2x, v2y = pf[fb + 10], pf[fb + 11], pf[fb + 12]
     RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
-    G1 = _pt(st, RK1, g1x, g1y, order)
-    G2 = _pt(st, RK2, g2x, g2y, order)
-    c1x, c1y, c2x, c2y = st[RK1, EX], st[RK1, EY], st[RK2, EX], st[RK2, EY]
+    G1 = _pt(st, RK1, g1x, g1y, order, j)
+    G2 = _pt(st, RK2, g2x, g2y, order, j)
+    c1x, c1y, c2x, c2y = st[RK1, EX, j], st[RK1, EY, j], st[RK2, EX, j], st[RK2, EY, j]
     ux, uy = v1x * c1x - v1y * c1y, v1x * c1y + v1y * c1x
     vx_, vy_ = v2x * c2x - v2y * c2y, v2x * c2y + v2y * c2x
-    p1, p2, p3 = _rates(st, RK1, order)
-    q1, q2, q3 = _rates(st, RK2, order)
+    p1, p2, p3 = _rates(st, RK1, order, j)
+    q1, q2, q3 = _rates(st, RK2, order, j)
     s0, t0 = _solve2(ux, uy, -vx_, -vy_, G2[0] - G1[0], G2[1] - G1[1])
     cr = ux * vy_ - uy * vx_
     codes[g, i] = _code(cr != 0.0, cr, 1.0)
@@ -412,13 +421,13 @@ def _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
                 _, _, B3x, B3y = _pp_order(3, G1, G2, v, s1, s2, t1, t2)
     P = (G1[0] + s0 * ux, G1[1] + s0 * uy, B1x, B1y, B2x, B2y, B3x, B3y)
     if L1 >= 0:
-        _put(st, RL1, order, P, b1x, b1y, c1x, c1y, st[RK1, AN], p1, p2, p3)
+        _put(st, RL1, order, P, b1x, b1y, c1x, c1y, st[RK1, AN, j], p1, p2, p3, j)
     if L2 >= 0:
-        _put(st, RL2, order, P, b2x, b2y, c2x, c2y, st[RK2, AN], q1, q2, q3)
+        _put(st, RL2, order, P, b2x, b2y, c2x, c2y, st[RK2, AN, j], q1, q2, q3, j)
 
 
-@_jit
-def _rpr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
+@_inline
+def _rpr(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
     """Two links pivoted at known A and C, sliding on each other along a line through C."""
     L1, KA, KC, L2 = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
     rax, ray, r1x = pf[fb], pf[fb + 1], pf[fb + 2]
@@ -426,8 +435,8 @@ def _rpr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     r2x, r2y, e = pf[fb + 6], pf[fb + 7], pf[fb + 8]
     u0x, u0y, sign = pf[fb + 9], pf[fb + 10], pf[fb + 11]
     RA, RC, RL1, RL2 = max(KA, 0), max(KC, 0), max(L1, 0), max(L2, 0)
-    A = _pt(st, RA, rax, ray, order)
-    C = _pt(st, RC, rcx, rcy, order)
+    A = _pt(st, RA, rax, ray, order, j)
+    C = _pt(st, RC, rcx, rcy, order, j)
     wx, wy = C[0] - A[0], C[1] - A[1]
     r2 = wx * wx + wy * wy
     disc = r2 - e * e
@@ -451,9 +460,9 @@ def _rpr(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
                 kx, ky = C[6] - A[6] - mx + ax_, C[7] - A[7] - my + ay_
                 om3, _ = _solve2(-wy, wx, ux, uy, kx, ky)
     cx, cy = ux * u0x + uy * u0y, uy * u0x - ux * u0y  # E = û / û0 (û0 a unit vector)
-    _put(st, RL1, order, A, r1x, r1y, cx, cy, 0.0, om1, om2, om3)  # angle: atan2 later
+    _put(st, RL1, order, A, r1x, r1y, cx, cy, 0.0, om1, om2, om3, j)  # angle: atan2 later
     if L2 >= 0:
-        _put(st, RL2, order, C, r2x, r2y, cx, cy, 0.0, om1, om2, om3)
+        _put(st, RL2, order, C, r2x, r2y, cx, cy, 0.0, om1, om2, om3, j)
 
 
 @_inline
@@ -468,8 +477,8 @@ def _rpp_order(k, A, G, v, s1, s2, t1, t2):  # pragma: no cover - compiled
     return x1, x2, G[2 * k] + qx + x2 * vx_, G[2 * k + 1] + qy + x2 * vy_
 
 
-@_jit
-def _rpp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
+@_inline
+def _rpp(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
     """A link pivoted at known A slides on a second link that slides on a known body."""
     L1, KA, K, L2 = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
     rax, ray, r1x = pf[fb], pf[fb + 1], pf[fb + 2]
@@ -477,12 +486,12 @@ def _rpp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
     v1x, v1y, v2x = pf[fb + 6], pf[fb + 7], pf[fb + 8]
     v2y, r2x, r2y = pf[fb + 9], pf[fb + 10], pf[fb + 11]
     RA, RK, RL1, RL2 = max(KA, 0), max(K, 0), max(L1, 0), max(L2, 0)
-    A = _pt(st, RA, rax, ray, order)
-    G = _pt(st, RK, rgx, rgy, order)
-    cx, cy = st[RK, EX], st[RK, EY]
+    A = _pt(st, RA, rax, ray, order, j)
+    G = _pt(st, RK, rgx, rgy, order, j)
+    cx, cy = st[RK, EX, j], st[RK, EY, j]
     ux, uy = v1x * cx - v1y * cy, v1x * cy + v1y * cx
     vx_, vy_ = v2x * cx - v2y * cy, v2x * cy + v2y * cx
-    w1, w2, w3 = _rates(st, RK, order)
+    w1, w2, w3 = _rates(st, RK, order, j)
     s0, t0 = _solve2(ux, uy, vx_, vy_, A[0] - G[0], A[1] - G[1])
     cr = ux * vy_ - uy * vx_
     codes[g, i] = _code(cr != 0.0, cr, 1.0)
@@ -496,138 +505,212 @@ def _rpp(st, pi, pf, ib, fb, U, i, order, codes, g):  # pragma: no cover
             if order >= 3:
                 _, _, X3x, X3y = _rpp_order(3, A, G, v, s1, s2, t1, t2)
     X = (G[0] + t0 * vx_, G[1] + t0 * vy_, X1x, X1y, X2x, X2y, X3x, X3y)
-    _put(st, RL2, order, X, r2x, r2y, cx, cy, st[RK, AN], w1, w2, w3)
+    _put(st, RL2, order, X, r2x, r2y, cx, cy, st[RK, AN, j], w1, w2, w3, j)
     if L1 >= 0:
-        _put(st, RL1, order, A, r1x, r1y, cx, cy, st[RK, AN], w1, w2, w3)
+        _put(st, RL1, order, A, r1x, r1y, cx, cy, st[RK, AN, j], w1, w2, w3, j)
+
+
+# ---------------------------------------------------------------------- blocks
+@_jit
+def _crank_block(st, pi, pf, ib, fb, U, start, b, order):  # pragma: no cover - compiled
+    for j in range(b):
+        _crank(st, pi, pf, ib, fb, U, start + j, order, j)
+
+
+@_jit
+def _motor_block(st, pi, pf, ib, fb, U, start, b, order):  # pragma: no cover - compiled
+    for j in range(b):
+        _motor(st, pi, pf, ib, fb, U, start + j, order, j)
+
+
+@_jit
+def _slide_block(st, pi, pf, ib, fb, U, start, b, order):  # pragma: no cover - compiled
+    for j in range(b):
+        _slide(st, pi, pf, ib, fb, U, start + j, order, j)
+
+
+@_jit
+def _rr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
+    for j in range(b):
+        _dyad_rr(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
+
+
+@_jit
+def _rp_block(st, pi, pf, ia, fa, ip, fp, U, start, b, order, sign, codes, g):  # pragma: no cover
+    for j in range(b):
+        _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, start + j, order, sign, codes, g, j)
+
+
+@_jit
+def _pp_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
+    for j in range(b):
+        _dyad_pp(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
+
+
+@_jit
+def _rpr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
+    for j in range(b):
+        _rpr(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
+
+
+@_jit
+def _rpp_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
+    for j in range(b):
+        _rpp(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
 
 
 # ---------------------------------------------------------------------- the program
 @_jit
-def _sample(st, pi, pf, ns, U, i, order, codes):  # pragma: no cover - compiled
-    """Every step of the program at column i of U (status codes to column i)."""
+def _steps(st, pi, pf, ns, U, start, b, order, codes):  # pragma: no cover - compiled
+    """Every step of the program at columns ``start`` … ``start + b − 1`` of U."""
     for s in range(ns):
         ib, fb = s * NI, s * NF
         op, g = pi[ib], pi[ib + 1]
-        if op == CRANK:
-            _crank(st, pi, pf, ib, fb, U, i, order)
-            codes[g, i] = 0
-        elif op == MOTOR:
-            _motor(st, pi, pf, ib, fb, U, i, order)
-            codes[g, i] = 0
-        elif op == SLIDE:
-            _slide(st, pi, pf, ib, fb, U, i, order)
-            codes[g, i] = 0
-        elif op == DYAD:
+        if op == DYAD:
             k1, k2 = pi[ib + 2], pi[ib + 6]
             if k1 == 0 and k2 == 0:
-                _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g)
+                _rr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g)
             elif k1 == 0:
-                _dyad_rp(st, pi, pf, ib + 2, fb, ib + 6, fb + 7, U, i, order, pf[fb + 14],
-                         codes, g)  # fmt: skip
+                _rp_block(st, pi, pf, ib + 2, fb, ib + 6, fb + 7, U, start, b, order,
+                          pf[fb + 14], codes, g)  # fmt: skip
             elif k2 == 0:
-                _dyad_rp(st, pi, pf, ib + 6, fb + 7, ib + 2, fb, U, i, order, pf[fb + 14],
-                         codes, g)  # fmt: skip
+                _rp_block(st, pi, pf, ib + 6, fb + 7, ib + 2, fb, U, start, b, order,
+                          pf[fb + 14], codes, g)  # fmt: skip
             else:
-                _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g)
+                _pp_block(st, pi, pf, ib, fb, U, start, b, order, codes, g)
         elif op == RPR:
-            _rpr(st, pi, pf, ib, fb, U, i, order, codes, g)
-        else:
-            _rpp(st, pi, pf, ib, fb, U, i, order, codes, g)
+            _rpr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g)
+        elif op == RPP:
+            _rpp_block(st, pi, pf, ib, fb, U, start, b, order, codes, g)
+        else:  # a driver: always assembled
+            if op == CRANK:
+                _crank_block(st, pi, pf, ib, fb, U, start, b, order)
+            elif op == MOTOR:
+                _motor_block(st, pi, pf, ib, fb, U, start, b, order)
+            else:
+                _slide_block(st, pi, pf, ib, fb, U, start, b, order)
+            codes[g, start : start + b] = 0
 
 
 @_inline
 def _new_state(nl):  # pragma: no cover - compiled
-    st = np.zeros((nl, NS))
-    st[:, EX] = 1.0
+    st = np.zeros((nl, NS, BLOCK))
+    st[:, EX, :] = 1.0
     return st
 
 
 @_jit
-def _outputs(st, i, order, nq, links, exact, theta0, pts_i, pts_f, lens_i, lens_f,
-             ang_out, rot_out, pts_re, pts_im, len_out):  # fmt: skip  # pragma: no cover
-    """Write sample i: angles (exact ones) and rates of the links, points, lengths."""
+def _angles(st, start, b, order, links, exact, theta0, F):  # pragma: no cover - compiled
+    """Write a block's link angles (exact, or from the rotation's atan2) and their rates."""
+    nq = len(links)
     for q in range(nq):
-        L = links[q]
+        L, t0 = links[q], theta0[q]
         if exact[q]:
-            ang_out[q, i] = st[L, AN] + theta0[q]
+            for j in range(b):
+                F[q, start + j] = st[L, AN, j] + t0
+        else:
+            for j in range(b):
+                F[q, start + j] = _atan2(st[L, EY, j], st[L, EX, j]) + t0
         for k in range(order):
-            rot_out[k * nq + q, i] = st[L, 7 + 3 * k]
-    npt = len(pts_i)
-    for p in range(npt):
-        P = _pt(st, pts_i[p], pts_f[2 * p], pts_f[2 * p + 1], order)
-        pts_re[p, i], pts_im[p, i] = P[0], P[1]
-        if order >= 1:
-            pts_re[npt + p, i], pts_im[npt + p, i] = P[2], P[3]
-            if order >= 2:
-                pts_re[2 * npt + p, i], pts_im[2 * npt + p, i] = P[4], P[5]
-                if order >= 3:
-                    pts_re[3 * npt + p, i], pts_im[3 * npt + p, i] = P[6], P[7]
-    nln = len(lens_i) // 4
-    for q in range(nln):
-        kind, f = lens_i[4 * q], 6 * q
-        Sp = _pt(st, lens_i[4 * q + 1], lens_f[f], lens_f[f + 1], order)
-        T = _pt(st, lens_i[4 * q + 2], lens_f[f + 2], lens_f[f + 3], order)
-        if kind == 0:  # a slider or slot: displacement along the guide's line
-            G = lens_i[4 * q + 3]
-            cx, cy = st[G, EX], st[G, EY]
-            ux = lens_f[f + 4] * cx - lens_f[f + 5] * cy
-            uy = lens_f[f + 4] * cy + lens_f[f + 5] * cx
-            w1, w2, _ = _rates(st, G, order)
-            d0 = (T[0] - Sp[0]) * ux + (T[1] - Sp[1]) * uy
-            d1 = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
-            d2 = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy + d0 * w1 * w1
-            d3 = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
-            d3 += 3.0 * d1 * w1 * w1 + 3.0 * d0 * w1 * w2
-        else:  # an actuator: its length
-            rx_, ry_ = T[0] - Sp[0], T[1] - Sp[1]
-            d0 = math.sqrt(rx_ * rx_ + ry_ * ry_)
-            ux, uy = rx_ / d0, ry_ / d0
-            c1x = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
-            c1y = (T[3] - Sp[3]) * ux - (T[2] - Sp[2]) * uy
-            c2x = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy
-            c2y = (T[5] - Sp[5]) * ux - (T[4] - Sp[4]) * uy
-            c3x = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
-            p1 = c1y / d0
-            d1 = c1x
-            p2 = (c2y - 2.0 * d1 * p1) / d0
-            d2 = c2x + d0 * p1 * p1
-            d3 = c3x + 3.0 * d1 * p1 * p1 + 3.0 * d0 * p1 * p2
-        len_out[q, i] = d0
-        if order >= 1:
-            len_out[nln + q, i] = d1
-            if order >= 2:
-                len_out[2 * nln + q, i] = d2
-                if order >= 3:
-                    len_out[3 * nln + q, i] = d3
+            for j in range(b):
+                F[(k + 1) * nq + q, start + j] = st[L, 7 + 3 * k, j]
 
 
 @_jit
-def run(lo, hi, pi, pf, ns, U, order, nl, links, exact, theta0, pts_i, pts_f, lens_i,
-        lens_f, ang_out, rot_out, pts_re, pts_im, len_out, codes):  # fmt: skip  # pragma: no cover
-    """Samples ``lo`` to ``hi`` (a slice, for threads): every step, then the outputs."""
+def _points(st, start, b, order, pts_i, pts_f, Pf):  # pragma: no cover - compiled
+    """Write a block's points and centres of mass (complex, as real pairs) and their rates."""
+    npt = len(pts_i)
+    for p in range(npt):
+        L, rx, ry = pts_i[p], pts_f[2 * p], pts_f[2 * p + 1]
+        for j in range(b):
+            P = _pt(st, L, rx, ry, order, j)
+            c = 2 * (start + j)
+            Pf[p, c], Pf[p, c + 1] = P[0], P[1]
+            if order >= 1:
+                Pf[npt + p, c], Pf[npt + p, c + 1] = P[2], P[3]
+                if order >= 2:
+                    Pf[2 * npt + p, c], Pf[2 * npt + p, c + 1] = P[4], P[5]
+                    if order >= 3:
+                        Pf[3 * npt + p, c], Pf[3 * npt + p, c + 1] = P[6], P[7]
+
+
+@_jit
+def _lengths(st, start, b, order, lens_i, lens_f, F, row0):  # pragma: no cover - compiled
+    """Write a block's slider displacements and actuator lengths (rows ``row0`` on)."""
+    nln = len(lens_i) // 4
+    for q in range(nln):
+        kind, f = lens_i[4 * q], 6 * q
+        a, bb, G = lens_i[4 * q + 1], lens_i[4 * q + 2], lens_i[4 * q + 3]
+        for j in range(b):
+            Sp = _pt(st, a, lens_f[f], lens_f[f + 1], order, j)
+            T = _pt(st, bb, lens_f[f + 2], lens_f[f + 3], order, j)
+            if kind == 0:  # a slider or slot: displacement along the guide's line
+                cx, cy = st[G, EX, j], st[G, EY, j]
+                ux = lens_f[f + 4] * cx - lens_f[f + 5] * cy
+                uy = lens_f[f + 4] * cy + lens_f[f + 5] * cx
+                w1, w2, _ = _rates(st, G, order, j)
+                d0 = (T[0] - Sp[0]) * ux + (T[1] - Sp[1]) * uy
+                d1 = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
+                d2 = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy + d0 * w1 * w1
+                d3 = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
+                d3 += 3.0 * d1 * w1 * w1 + 3.0 * d0 * w1 * w2
+            else:  # an actuator: its length
+                rx_, ry_ = T[0] - Sp[0], T[1] - Sp[1]
+                d0 = math.sqrt(rx_ * rx_ + ry_ * ry_)
+                ux, uy = rx_ / d0, ry_ / d0
+                c1x = (T[2] - Sp[2]) * ux + (T[3] - Sp[3]) * uy
+                c1y = (T[3] - Sp[3]) * ux - (T[2] - Sp[2]) * uy
+                c2x = (T[4] - Sp[4]) * ux + (T[5] - Sp[5]) * uy
+                c2y = (T[5] - Sp[5]) * ux - (T[4] - Sp[4]) * uy
+                c3x = (T[6] - Sp[6]) * ux + (T[7] - Sp[7]) * uy
+                p1 = c1y / d0
+                d1 = c1x
+                p2 = (c2y - 2.0 * d1 * p1) / d0
+                d2 = c2x + d0 * p1 * p1
+                d3 = c3x + 3.0 * d1 * p1 * p1 + 3.0 * d0 * p1 * p2
+            i = start + j
+            F[row0 + q, i] = d0
+            if order >= 1:
+                F[row0 + nln + q, i] = d1
+                if order >= 2:
+                    F[row0 + 2 * nln + q, i] = d2
+                    if order >= 3:
+                        F[row0 + 3 * nln + q, i] = d3
+
+
+@_jit
+def run(lo, hi, ii, ff, U, order, F, Pf, codes, follow):  # pragma: no cover - compiled
+    """Samples ``lo`` to ``hi`` (a slice, for threads), then (``follow``) the sweep's angles.
+
+    Returns how many status codes of those samples are not OK.
+
+    ``ii`` and ``ff`` are the packed program and tables
+    (:func:`machdyn.linkage.kernel.pack`); ``F`` receives the angles, their
+    rates and the lengths, ``Pf`` the points (complex rows seen as real
+    pairs), ``codes`` each group's status code.
+    """
+    ns, nl, nq, nln = ii[0], ii[1], ii[2], ii[4]
+    pi = ii[NH : ii[5]]
+    links, exact = ii[ii[5] : ii[6]], ii[ii[6] : ii[7]]
+    pts_i, lens_i = ii[ii[7] : ii[8]], ii[ii[8] : ii[9]]
+    pf, theta0 = ff[: ii[10]], ff[ii[10] : ii[11]]
+    pts_f, lens_f = ff[ii[11] : ii[12]], ff[ii[12] : ii[13]]
+    start_, scale = ff[ii[13] : ii[14]], ff[ii[14] : ii[15]]
     st = _new_state(nl)
-    nq = len(links)
-    wrap = np.flatnonzero(exact == 0)
-    nw = len(wrap)
-    ex = np.empty((nw, BLOCK))
-    ey = np.empty((nw, BLOCK))
     for start in range(lo, hi, BLOCK):
         b = min(BLOCK, hi - start)
-        for j in range(b):
-            i = start + j
-            _sample(st, pi, pf, ns, U, i, order, codes)
-            for w in range(nw):
-                L = links[wrap[w]]
-                ex[w, j] = st[L, EX]
-                ey[w, j] = st[L, EY]
-            _outputs(st, i, order, nq, links, exact, theta0, pts_i, pts_f, lens_i, lens_f,
-                     ang_out, rot_out, pts_re, pts_im, len_out)  # fmt: skip
-        for w in range(nw):  # the angles from atan2 (a loop LLVM vectorises)
-            q = wrap[w]
-            row, xs, ys, t0 = ang_out[q, start : start + b], ex[w], ey[w], theta0[q]
-            for j in range(b):
-                row[j] = _atan2(ys[j], xs[j]) + t0
-    return 0
+        _steps(st, pi, pf, ns, U, start, b, order, codes)
+        _angles(st, start, b, order, links, exact, theta0, F)
+        _points(st, start, b, order, pts_i, pts_f, Pf)
+        if nln:
+            _lengths(st, start, b, order, lens_i, lens_f, F, nq * (order + 1))
+    if follow:
+        _follow(st, pi, pf, ns, U, links, exact, theta0, start_, scale, ff[ii[15]], F, ii[16])
+    bad = 0  # samples a group flags (none, usually: the caller then skips the flags)
+    for g in range(codes.shape[0]):
+        for i in range(lo, hi):
+            bad += codes[g, i] != 0
+    return bad
 
 
 @_inline
@@ -637,8 +720,8 @@ def _turn(prev, raw):  # pragma: no cover - compiled
 
 
 @_jit
-def follow(pi, pf, ns, U, nl, links, exact, theta0, start, scale, step, ang_out,
-           ngroups):  # fmt: skip  # pragma: no cover - compiled
+def _follow(st, pi, pf, ns, U, links, exact, theta0, start, scale, step, ang_out,
+            ngroups):  # fmt: skip  # pragma: no cover - compiled
     """Unwrap the atan2 angles of a sweep along its path from the drawn pose (in place).
 
     The path runs from the drawn driver values ``start`` to the first sample and
@@ -653,7 +736,6 @@ def follow(pi, pf, ns, U, nl, links, exact, theta0, start, scale, step, ang_out,
     nw = len(wrap)
     if nw == 0:
         return 0
-    st = _new_state(nl)
     V = np.zeros((4 * nd, 1))
     c2 = np.zeros((ngroups, 1), np.int8)
     prev = np.empty(nw)
@@ -670,10 +752,10 @@ def follow(pi, pf, ns, U, nl, links, exact, theta0, start, scale, step, ang_out,
                 f = m / k
                 for d in range(nd):
                     V[4 * d, 0] = cur[d] + f * (U[4 * d, i] - cur[d])
-                _sample(st, pi, pf, ns, V, 0, 0, c2)
+                _steps(st, pi, pf, ns, V, 0, 1, 0, c2)
                 for w in range(nw):
                     L = links[wrap[w]]
-                    raw = _atan2(st[L, EY], st[L, EX]) + theta0[wrap[w]]
+                    raw = _atan2(st[L, EY, 0], st[L, EX, 0]) + theta0[wrap[w]]
                     if math.isfinite(raw):
                         prev[w] = _turn(prev[w], raw)
         for w in range(nw):

@@ -37,10 +37,12 @@ primary turned into a rotating force across the slide for ``f > 0``. No
 counterweight on the crank can remove the reciprocating part.
 
 Any :class:`~machdyn.linkage.Linkage` (:func:`linkage_counterweights`): a
-complete force balance where the moving links form a four-bar (the method
-above), a rotating-mass balance of the crank where they form a slider-crank,
-otherwise a counterweight on every link pivoted on the ground that puts that
-link's own centre of mass on its pivot (the floating links' shaking remains).
+complete force balance where every link with mass is pinned to the ground or
+floats on two pins of such links (a four-bar — the method above — a Watt
+six-bar, ...), a rotating-mass balance of the crank where the links form a
+slider-crank, otherwise a counterweight on every link pivoted on the ground
+that puts that link's own centre of mass on its pivot (the floating links'
+shaking remains).
 """
 
 from __future__ import annotations
@@ -350,11 +352,11 @@ class LinkageBalance:
     Attributes
     ----------
     method : str
-        ``"four-bar"`` (complete force balance, Berkof–Lowen: the shaking force
-        vanishes), ``"slider-crank"`` (the crank balances the rotating masses;
-        the reciprocating force of the slider's mass ``m_B`` stays) or
-        ``"pivots"`` (each pivoted link's centre of mass on its pivot; the
-        floating links still shake the frame).
+        ``"complete"`` (complete force balance, Berkof–Lowen: the total centre
+        of mass stays put and the shaking force vanishes), ``"slider-crank"``
+        (the crank balances the rotating masses; the reciprocating force of the
+        slider's mass ``m_B`` stays) or ``"pivots"`` (each pivoted link's centre
+        of mass on its pivot; the floating links still shake the frame).
     counterweights : tuple of LinkageCounterweight
     what : str
         One sentence saying exactly what the balance does.
@@ -415,10 +417,15 @@ class LinkageBalance:
 def linkage_counterweights(linkage: Any) -> LinkageBalance:
     """Counterweights that reduce a linkage's shaking force, by the best method that applies.
 
-    * **four-bar** — the moving links are a crank, a coupler and a rocker joined
-      by pins to each other and to the ground: Berkof–Lowen's complete force
-      balance (:func:`fourbar_counterweights`) on the crank and the rocker; the
-      total centre of mass then stays put and the shaking force is zero.
+    * **complete** — every link with mass is either pinned to the ground or a
+      floating link with two pins on two such links (a four-bar, a Watt
+      six-bar, a pantograph on two cranks...): Berkof–Lowen's linearly
+      independent vectors. A floating link's centre ``G = P + w (Q − P)``
+      (``w`` fixed in it) puts ``m (1 − w)(P − O_p)`` on the link carrying P
+      and ``m w (Q − O_q)`` on the one carrying Q, each a vector turning with
+      that link; a counterweight on every pivoted link cancels its total, so
+      the total centre of mass stays put and the shaking force is zero (for
+      the four-bar this is :func:`fourbar_counterweights`).
     * **slider-crank** — a crank, a rod and a block sliding on the ground: the
       crank's counterweight balances the rotating masses
       (:func:`slidercrank_counterweight`); ``−m_B B̈`` along the slide stays.
@@ -443,17 +450,18 @@ def linkage_counterweights(linkage: Any) -> LinkageBalance:
     ...       .drive("arm"))
     >>> bal = linkage_counterweights(lk)
     >>> bal.method, bal.counterweights[0].mR
-    ('pivots', (-2-1j))
+    ('complete', (-2-1j))
     """
     from .linkage import Linkage
 
     instance("linkage", linkage, Linkage)
     pivots = _pivots(linkage)
-    shape = _shape(linkage, pivots)
-    if shape is not None and shape[0] == "four-bar":
-        return _fourbar_balance(linkage, *shape[1:])
-    if shape is not None and shape[0] == "slider-crank":
-        return _slidercrank_balance(linkage, *shape[1:])
+    complete = _complete_balance(linkage, pivots)
+    if complete is not None:
+        return complete
+    shape = _slidercrank_shape(linkage, pivots)
+    if shape is not None:
+        return _slidercrank_balance(linkage, *shape)
     cws = []
     for link, pivot in pivots.items():
         mR = -linkage.links[link].mass * (_drawn_cg(linkage, link) - linkage.points[pivot])
@@ -506,63 +514,70 @@ def _pivots(lk: Any) -> dict[str, str]:
     return out
 
 
-def _shape(lk: Any, pivots: dict[str, str]) -> tuple[Any, ...] | None:
-    """("four-bar", crank, coupler, rocker, A, B) or ("slider-crank", crank, rod, block, A, B)."""
+def _slidercrank_shape(lk: Any, pivots: dict[str, str]) -> tuple[str, ...] | None:
+    """(crank, rod, block, A, B) when the moving links are a crank, a rod and a block on a slide."""
     joints = lk.joints
     pins = [j for j in joints if j.kind == "pin"]
-    if len(lk.links) != 3 or any(len(j.links) != 2 for j in pins):
+    if len(lk.links) != 3 or len(pivots) != 1 or any(len(j.links) != 2 for j in pins):
         return None
     moving_pins = {frozenset(j.links): j.points[0] for j in pins if "ground" not in j.links}
     others = [j for j in joints if j.kind != "pin"]
-    if len(pivots) == 2 and not others and len(moving_pins) == 2:
-        crank, rocker = list(pivots)
-        if lk.drivers == (rocker,):  # name the driven one the crank (the balance is the same)
-            crank, rocker = rocker, crank
-        (coupler,) = set(lk.links) - {crank, rocker}
-        A = moving_pins.get(frozenset((crank, coupler)))
-        B = moving_pins.get(frozenset((rocker, coupler)))
-        if A and B:
-            return ("four-bar", crank, coupler, rocker, A, B)
-    if (
-        len(pivots) == 1
-        and len(moving_pins) == 2
-        and len(others) == 1
-        and others[0].kind == "slider"
-        and others[0].links[1] == "ground"
-    ):
-        (crank,) = pivots
-        block = others[0].links[0]
-        (rod,) = set(lk.links) - {crank, block}
-        A = moving_pins.get(frozenset((crank, rod)))
-        B = moving_pins.get(frozenset((rod, block)))
-        if A and B and others[0].points[0] == B:
-            return ("slider-crank", crank, rod, block, A, B)
+    if len(moving_pins) != 2 or len(others) != 1 or others[0].kind != "slider":
+        return None
+    if others[0].links[1] != "ground":
+        return None
+    (crank,) = pivots
+    block = others[0].links[0]
+    rods = set(lk.links) - {crank, block}
+    if len(rods) != 1:
+        return None
+    (rod,) = rods
+    A = moving_pins.get(frozenset((crank, rod)))
+    B = moving_pins.get(frozenset((rod, block)))
+    if A and B and others[0].points[0] == B:
+        return (crank, rod, block, A, B)
     return None
 
 
-def _fourbar_balance(lk: Any, crank: str, coupler: str, rocker: str, A: str, B: str) -> Any:
-    pv = _pivots(lk)
-    O2, O4 = lk.points[pv[crank]], lk.points[pv[rocker]]
-    pA, pB = lk.points[A], lk.points[B]
-    fb = FourBar(abs(O4 - O2), abs(pA - O2), abs(pB - pA), abs(pB - O4))
-    frames = {crank: (O2, pA), coupler: (pA, pB), rocker: (O4, pB)}
-    cg = []
-    for link in (crank, coupler, rocker):
-        o, t = frames[link]
-        cg.append((_drawn_cg(lk, link) - o) / ((t - o) / abs(t - o)))
-    mass = [lk.links[n].mass for n in (crank, coupler, rocker)]
-    cw = fourbar_counterweights(fb, mass, cg)
-    e2, e4 = (pA - O2) / abs(pA - O2), (pB - O4) / abs(pB - O4)
-    cws = (
-        LinkageCounterweight(crank, pv[crank], complex(cw.mR2 * e2) + 0j),
-        LinkageCounterweight(rocker, pv[rocker], complex(cw.mR4 * e4) + 0j),
-    )
+def _complete_balance(lk: Any, pivots: dict[str, str]) -> LinkageBalance | None:
+    """Berkof–Lowen on every pivoted link, or None where a massive link is neither kind."""
+    U = {k: lk.links[k].mass * (_drawn_cg(lk, k) - lk.points[o]) for k, o in pivots.items()}
+    on_pivoted: dict[str, list[tuple[str, str]]] = {}  # floating link → [(point, pivoted link)]
+    for j in lk.joints:
+        if j.kind == "pin" and "ground" not in j.links:
+            for c in j.links:
+                on_pivoted.setdefault(c, []).extend(
+                    (j.points[0], p) for p in j.links if p in pivots and p != c
+                )
+    for name, link in lk.links.items():
+        if name in pivots or link.mass == 0:
+            continue
+        pair = next(
+            (
+                (P, p, Q, q)
+                for i, (P, p) in enumerate(on_pivoted.get(name, []))
+                for Q, q in on_pivoted[name][i + 1 :]
+                if q != p and abs(lk.points[Q] - lk.points[P]) > 0
+            ),
+            None,
+        )
+        if pair is None:
+            return None
+        P, p, Q, q = pair
+        zP, zQ = complex(lk.points[P]), complex(lk.points[Q])
+        w = (_drawn_cg(lk, name) - zP) / (zQ - zP)  # fixed in the link: G = P + w (Q − P)
+        U[p] += link.mass * (1.0 - w) * (zP - lk.points[pivots[p]])
+        U[q] += link.mass * w * (zQ - lk.points[pivots[q]])
+    if not pivots:
+        return None
+    cws = tuple(LinkageCounterweight(k, pivots[k], complex(-U[k]) + 0j) for k in pivots)
     what = (
-        f"complete force balance of the four-bar (Berkof–Lowen): counterweights on {crank} and "
-        f"{rocker} keep the total centre of mass fixed, so the shaking force vanishes (the "
-        "shaking moment does not, and usually grows)"
+        "complete force balance (Berkof–Lowen): counterweights on the links pinned to the ground "
+        f"({', '.join(pivots)}) keep the total centre of mass fixed, so the shaking force "
+        "vanishes (but for the machine's constant weight under gravity; the shaking moment "
+        "does not, and usually grows)"
     )
-    return LinkageBalance("four-bar", cws, what)
+    return LinkageBalance("complete", cws, what)
 
 
 def _slidercrank_balance(lk: Any, crank: str, rod: str, block: str, A: str, B: str) -> Any:

@@ -16,7 +16,7 @@ from typing import Annotated, Any
 
 import typer
 
-from ..errors import InputError
+from ..errors import InputError, ModelError
 from ._common import dumps, print_table
 
 __all__ = ["gear_app"]
@@ -287,7 +287,10 @@ def min_teeth_cmd(
                 "equal_gears": min_teeth_equal_gears(rad, k),
             }
             if gear_teeth is not None:
-                row[f"gear_{gear_teeth}"] = min_pinion_teeth(gear_teeth, rad, k)
+                try:
+                    row[f"gear_{gear_teeth}"] = min_pinion_teeth(gear_teeth, rad, k)
+                except ModelError:  # the gear is below the equal-gear minimum
+                    row[f"gear_{gear_teeth}"] = "none"
         rows.append(row)
     if json:
         print(dumps(rows))

@@ -402,9 +402,15 @@ def scene(model: Any, *, n: int = 120, form: int = 1, theta2: Any = None, **opti
         with np.errstate(invalid="ignore", divide="ignore"):
             return inverted_scene(model, model.solve(t, omega2, form=form))
     from ..cams import CamProfile
-    from ..gears import GearPair
+    from ..gears import GearPair, GearTrain, PlanetaryTrain
     from ..linkage import Linkage
 
+    if isinstance(model, GearTrain | PlanetaryTrain):  # schematics turning at the shaft speeds
+        from .gears import planetary_scene, train_scene
+
+        if isinstance(model, GearTrain):
+            return train_scene(model, options.pop("omega_in", 1.0), n=n, **options)
+        return planetary_scene(model, options.pop("speeds", None), n=n, **options)
     if isinstance(model, CamProfile):
         from .elements import cam_scene
 
@@ -432,5 +438,6 @@ def scene(model: Any, *, n: int = 120, form: int = 1, theta2: Any = None, **opti
     raise InputError(
         "model",
         f"cannot draw a {type(model).__name__}; expected a FourBar, SliderCrank, "
-        "InvertedSliderCrank, Linkage, cam, gear pair, synthesis result or Scene",
+        "InvertedSliderCrank, Linkage, cam, gear pair, gear or planetary train, synthesis "
+        "result or Scene",
     )

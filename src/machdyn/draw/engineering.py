@@ -381,8 +381,10 @@ def shaking_charts(
             z = force(np.ravel(np.asarray(z, complex)))
             if closed and z.size:
                 z = np.append(z, z[0])
-            top = float(np.nanmax(np.abs(z))) if np.isfinite(z).any() else 0.0
-            dot = top <= 1e-6 * peak  # balanced to rounding: a line of no length shows nothing
+            good = z[np.isfinite(z)]
+            top = float(np.abs(good).max()) if good.size else 0.0
+            extent = max(np.ptp(good.real), np.ptp(good.imag)) if good.size else 0.0
+            dot = extent <= 1e-6 * peak  # a constant force: a line of no length shows nothing
             series.append(
                 Series(z.real, z.imag, f"{label}: max {top:.4g}", colour=colour, marker=dot)
             )

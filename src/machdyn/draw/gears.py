@@ -24,10 +24,11 @@ import numpy as np
 
 from .._validate import integer
 from .build import PALETTE
+from .chart import Chart, Series
 from .scene import Curve, Item, Readout, Scene
 from .units import Units
 
-__all__ = ["planetary_scene", "train_scene"]
+__all__ = ["mesh_chart", "planetary_scene", "train_scene"]
 
 #: Direction of each stage's line of centres (radians), turning so that stages do not overlap.
 _TURN = np.radians(-50.0)
@@ -241,4 +242,84 @@ def planetary_scene(
         curves=(Curve("arm_path", arm_circle, "#bbbbbb", "path of the planet centres", "dashed"),),
         readout=readout,
         closed=False,
+    )
+
+
+def mesh_chart(pair: Any, units: Any = None) -> Chart:
+    """The mesh region of a gear pair: the line of action between the base-circle tangent points.
+
+    Norton's figure of the contact geometry (Figs. 9-6, 9-12): the pinion's
+    centre at the origin and the gear's on the x axis (left of it for an
+    internal gear), the pitch point P at ``r_p'``; the line of action through P
+    at the operating pressure angle, from the pinion's tangent point T_p to the
+    gear's T_g (the interference points); the tip (addendum), pitch and base
+    circles near P; the path of contact from the first to the last contact,
+    which must lie between T_p and T_g (else the tips interfere).
+
+    Examples
+    --------
+    >>> from machdyn.gears import Gear, GearPair
+    >>> c = mesh_chart(GearPair(Gear(24, diametral_pitch=8), Gear(60, diametral_pitch=8)))
+    >>> path = next(s for s in c.series if s.gid == "path_of_contact")
+    >>> round(float(np.hypot(np.diff(path.x), np.diff(path.y))[0]), 6)  # the length of action
+    0.624859
+    """
+    u = Units.of(units if units is not None else pair)
+    p, g = pair.pinion, pair.gear
+    phi = pair.operating_pressure_angle
+    rp_op, rg_op = pair.operating_pitch_radii
+    c = -pair.center_distance if pair.internal else pair.center_distance
+    pitch = complex(rp_op, 0.0)
+    d = complex(np.sin(phi), np.cos(phi))
+    toward_first = -1.0 if pair.driver == "pinion" else 1.0
+    first = pitch + toward_first * pair.path_of_approach * d
+    last = pitch - toward_first * pair.path_of_recess * d
+    foot = lambda centre: pitch + ((centre - pitch) * d.conjugate()).real * d  # noqa: E731
+    tp, tg = foot(0j), foot(complex(c))
+    half = 1.15 * max(abs(tp - pitch), abs(tg - pitch), abs(first - pitch), abs(last - pitch))
+    scale = float(u.show("length", 1.0))
+
+    def shown(z: Any) -> tuple[np.ndarray, np.ndarray]:
+        z = np.asarray(z, complex)
+        z = np.where(np.abs(z - pitch) <= half, z, np.nan)  # only the region of the mesh
+        return z.real * scale, z.imag * scale
+
+    t = np.linspace(0, 2 * np.pi, 4001)
+    series = []
+    for label, centre, radii, colour in (
+        ("pinion", 0j, (p.addendum_radius, rp_op, p.base_radius), PALETTE[0]),
+        ("gear", complex(c), (g.addendum_radius, rg_op, g.base_radius), PALETTE[3]),
+    ):
+        for kind, radius, dashed in zip(
+            ("tip", "pitch", "base"), radii, (False, True, True), strict=True
+        ):
+            x, y = shown(centre + radius * np.exp(1j * t))
+            series.append(
+                Series(
+                    x,
+                    y,
+                    f"{label} {kind} circle",
+                    colour,
+                    dashed=dashed,
+                    width=1.4 if kind == "tip" else 1.0,
+                    gid=f"{label}_{kind}",
+                )
+            )
+    x, y = shown([tp, tg])
+    series.append(Series(x, y, "line of action T_p T_g", "#000000", gid="line_of_action"))
+    x, y = shown([first, last])
+    series.append(Series(x, y, "path of contact Z", "#d62728", width=4.0, gid="path_of_contact"))
+    pts = {"P": pitch, "T_p": tp, "T_g": tg, "first contact": first, "last contact": last}
+    x, y = shown(list(pts.values()))
+    series.append(Series(x, y, "", "#000000", marker=True, gid="points"))
+    notes = [(float(a), float(b), n) for (n, _), a, b in zip(pts.items(), x, y, strict=True)]
+    unit = u.unit("length")
+    return Chart(
+        f"line of action at φ' = {np.degrees(phi):.4g}°, "
+        f"Z = {u.text('length', pair.length_of_action, 4)}",
+        f"x ({unit})",
+        f"y ({unit})",
+        series=series,
+        notes=notes,
+        equal=True,
     )

@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._validate import TINY, as_array, broadcast, magnitude
-from ..errors import InputError
+from ..errors import InputError, ModelError
 
 __all__ = [
     "max_gear_teeth",
@@ -148,21 +148,42 @@ def min_pinion_teeth(
     Returns
     -------
     ndarray or int
-        Minimum ``N_p`` (integers, as floats for arrays).
+        Minimum ``N_p`` (integers, as floats for arrays), never more than ``N_g``.
+
+    Raises
+    ------
+    ModelError
+        Where the gear has fewer teeth than two equal gears need
+        (:func:`min_teeth_equal_gears`): then no pinion, however small, meshes
+        with it without interference (the root of the relation exceeds ``N_g``).
 
     Examples
     --------
     >>> min_pinion_teeth(np.inf, np.radians(20)), min_pinion_teeth(1309, np.radians(20))
     (18, 17)
+    >>> min_pinion_teeth(16, np.radians(14.5))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    machdyn.errors.ModelError: no pinion meshes ... two equal gears need at least 23 teeth
     """
     ng = _teeth("gear_teeth", gear_teeth)
     s, k = _sin2(pressure_angle), _k(k)
     broadcast(gear_teeth=ng, pressure_angle=s, k=k)
+    ng, s, k = np.broadcast_arrays(ng, s, k)
     with np.errstate(invalid="ignore"):
         finite = (-ng * s + np.sqrt((ng * s) ** 2 + 4 * s * k * (ng + k))) / s
     rack = 2 * k / s
     n = np.where(np.isinf(ng), rack, finite)
     out = np.ceil(n - _EPS)
+    none = out > ng
+    if none.any():
+        i = np.unravel_index(np.argmax(none), none.shape)
+        phi = math.degrees(math.asin(math.sqrt(s[i])))
+        raise ModelError(
+            f"no pinion meshes without interference with a gear of {ng[i]:g} teeth at "
+            f"φ = {phi:.4g}°, k = {k[i]:g}: two equal gears need at least "
+            f"{min_teeth_equal_gears(math.radians(phi), k[i])} teeth"
+        )
     return _out(out.astype(int)) if np.ndim(out) == 0 else out
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
@@ -10,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import finite_array, finite_scalar
+from .._validate import finite_scalar
 from ..errors import InputError, ModelError
 from ..loops import LoopSystem
 from ..massprops import MassProperties
@@ -658,7 +657,6 @@ class Linkage(_JointMethods, _ElementMethods):
         >>> bool(m.ok.all()), m.omega["rocker"].shape
         (True, (36,))
         """
-        _warn_degrees(self, values)
         motion = _kinematics.solve(self, values, velocity, acceleration, jerk, continuation)
         return motion if self.units is None else dataclasses.replace(motion, units=self.units)
 
@@ -732,20 +730,3 @@ class Linkage(_JointMethods, _ElementMethods):
             {} if viscous is None else viscous,
             {} if coulomb is None else coulomb,
         )
-
-
-def _warn_degrees(lk: Linkage, values: Any) -> None:
-    """Warn when an angle driver's values look like degrees (``machdyn.units.warn_if_degrees``)."""
-    from ..units import DEGREE_TURNS, warn_if_degrees
-
-    if (type(values) is float or type(values) is int) and abs(values) <= DEGREE_TURNS * 6.28:
-        return  # a plain number well within ten turns (the common one-pose call)
-    angles = {d for d in lk.drivers if d in lk._links or d in lk._motors}
-    if isinstance(values, Mapping):
-        items = list(values.items())
-    else:
-        items = [(lk.drivers[0], values)] if len(lk.drivers) == 1 else []
-    for name, value in items:
-        if name in angles:
-            with contextlib.suppress(TypeError, ValueError):  # the solver names a bad value
-                warn_if_degrees(name, finite_array(name, value), stacklevel=4)

@@ -534,6 +534,18 @@ def _forces(
         return x, singular
 
     x, singular = solve_system()
+
+    def rest_scale() -> np.ndarray:
+        """Sliding speed per sample below which a slider is at rest.
+
+        The size of the drawing times its fastest link's rate, plus the fastest slide's.
+        """
+        pts = np.stack(list(P.values()))
+        size = np.ptp(pts.real, axis=0) + np.ptp(pts.imag, axis=0)
+        rates = [np.abs(flat(np.nan_to_num(motion.omega[n]))) for n in moving]
+        slides = [np.abs(flat(np.nan_to_num(r))) for r in motion.length_rate.values()]
+        return size * np.max(rates, axis=0) + np.max([np.zeros(n_s), *slides], axis=0)
+
     kappa: dict[str, Any] = {}
     slipping = {}
     for name, mu in mapping("coulomb", coulomb, "friction coefficients μ").items():
@@ -551,7 +563,10 @@ def _forces(
         mu = nonnegative(f"coulomb[{name}]", mu)
         v = flat(np.nan_to_num(motion.length_rate[name]))
         a = flat(np.nan_to_num(motion.length_acceleration[name]))
-        slipping[name] = (mu, np.where(v != 0, np.sign(v), np.sign(a)))  # at rest: impending
+        # at rest (a dead centre: ḋ is zero but for rounding) friction opposes the
+        # impending slip, sign(d̈) — never the sign of the rounding noise
+        still = np.abs(v) <= 1e-12 * rest_scale()
+        slipping[name] = (mu, np.where(still, np.sign(a), np.sign(v)))
     friction_bad = np.zeros(n_s, bool)
     if slipping:
         # the sign of N is unknown beforehand: start from the smooth solution and

@@ -2,7 +2,7 @@
 
 Every closed-form step of :mod:`machdyn.linkage.program` is encoded as a row of
 integers and a row of floats (:func:`encode`), once per linkage; the kernel of
-:mod:`machdyn._linkage_kernels` interprets the rows sample by sample. Which
+:mod:`machdyn._linkage_kernels` interprets the rows a block of samples at a time. Which
 engine runs a call:
 
 * the **compiled kernel** when :mod:`machdyn.jit` serves compiled code (its
@@ -27,7 +27,7 @@ from types import ModuleType
 import numpy as np
 
 from .. import jit
-from .program import RPP, RPR, Crank, Dyad, General, Motor, PArm, Program, RArm, Slide, State
+from .program import RPP, RPR, Crank, Dyad, Motor, PArm, Program, RArm, Slide, State
 
 #: Batches of at most this many poses go to the plain-Python twin (when not compiled).
 SCALAR_MAX = 2
@@ -50,6 +50,7 @@ class Outputs:
     codes: np.ndarray  # (n_groups, n) int8
     reasons: dict[int, np.ndarray]  # a general group's reasons (the loop core's words)
     unwrapped: bool = False  # the angles already follow the sweep's path (compiled kernel)
+    clean: bool | None = None  # every status code OK (None: not counted)
 
 
 @dataclass
@@ -67,6 +68,7 @@ class Tables:
     scale: np.ndarray  # per driver: 1 (an angle) or the typical length
     lists: tuple[list, ...] = ()  # the same as Python lists, for the plain-Python twin
     wrapped: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # rows from atan2
+    packed: tuple[np.ndarray, np.ndarray] | None = None  # for the compiled kernel (:func:`pack`)
 
     def __post_init__(self) -> None:
         self.lists = tuple(
@@ -207,28 +209,56 @@ def _empty(program: Program, tables: Tables, n: int, order: int) -> Outputs:
 THREADED = 20_000
 
 
+def pack(program: Program, tables: Tables) -> tuple[np.ndarray, np.ndarray]:
+    """The program and the tables in one integer and one float array (the kernel's layout).
+
+    Integers: a header of ``NH`` entries (steps, links, rows of angles,
+    points and lengths, then where each part ends, the number of groups),
+    the step rows, the link rows, their exactness, each point's link, each
+    length's links. Floats: the step rows, drawn angles, point offsets, length
+    offsets, the drivers' drawn values and scales, and the path's step.
+    """
+    if tables.packed is not None:
+        return tables.packed
+    enc = program.encoded
+    t = tables
+    ints = [enc.pi, t.links, t.exact.astype(np.int64), t.pts_i, t.lens_i]
+    floats = [enc.pf, t.theta0, t.pts_f, t.lens_f, t.start, t.scale, np.array([STEP])]
+    nh = 17
+    ends_i = np.cumsum([nh] + [len(a) for a in ints])[1:]
+    ends_f = np.cumsum([len(a) for a in floats])[:-1]
+    head = [enc.ns, program.n_links, len(t.links), len(t.pts_i), len(t.lens_i) // 4,
+            *ends_i, *ends_f, len(program.deps)]  # fmt: skip
+    ii = np.concatenate([np.array(head, np.int64), *[np.asarray(a, np.int64) for a in ints]])
+    ff = np.concatenate([np.asarray(a, float) for a in floats])
+    tables.packed = (ii, ff)
+    return tables.packed
+
+
 def run_compiled(kern, program, tables, U, order, follow) -> Outputs | None:
     """The compiled kernel over ``U`` (None, and NumPy serves from then on, if it fails)."""
     global _failed
     n = U.shape[1]
-    enc = program.encoded
-    out = _empty(program, tables, n, order)
+    nm, npt, nln = len(tables.links), len(tables.pts_i), len(tables.lens_i) // 4
+    F = np.empty(((order + 1) * (nm + nln), n))
+    pts = np.empty(((order + 1) * npt, n), complex)
+    codes = np.empty((len(program.deps), n), np.int8)
+    out = Outputs(F[:nm], F[nm : (order + 1) * nm], pts, F[(order + 1) * nm :], codes, {})
     if n == 0:  # nothing to do (and empty arrays would make numba compile another signature)
         out.unwrapped = True
         return out
-    t = tables
-    args = (enc.pi, enc.pf, enc.ns, U, order, program.n_links, t.links, t.exact, t.theta0,
-            t.pts_i, t.pts_f, t.lens_i, t.lens_f, out.ang, out.rot, out.pts.real,
-            out.pts.imag, out.lens, out.codes)  # fmt: skip
+    ii, ff = pack(program, tables)
+    Pf = pts.view(float)
     try:
         if n < THREADED:
-            kern.run(0, n, *args)
-        elif not jit.run(lambda sl: kern.run(sl.start, sl.stop, *args), n):
-            raise RuntimeError(jit.reason() or "the compiled linkage kernel failed")
-        if follow and n:
-            kern.follow(enc.pi, enc.pf, enc.ns, U, program.n_links, t.links, t.exact,
-                        t.theta0, t.start, t.scale, STEP, out.ang, len(program.deps))  # fmt: skip
-            out.unwrapped = True
+            out.clean = kern.run(0, n, ii, ff, U, order, F, Pf, codes, follow) == 0
+        else:  # (jit.run takes a nonzero return for a failure: the count is not returned)
+            if not jit.run(lambda sl: 0 * kern.run(sl.start, sl.stop, ii, ff, U, order, F, Pf,
+                                                   codes, False), n):  # fmt: skip
+                raise RuntimeError(jit.reason() or "the compiled linkage kernel failed")
+            if follow:
+                kern.run(0, 0, ii, ff, U, order, F, Pf, codes, True)
+        out.unwrapped = bool(follow)
     except Exception as exc:  # NumPy is the reference: it serves from now on
         if not _kernel_failure(exc):
             raise
@@ -324,4 +354,4 @@ def _lengths(st: State, tables: Tables, order: int, into: np.ndarray) -> None:
 
 def has_general(program: Program) -> bool:
     """Whether a group is solved by the vector-loop core."""
-    return any(isinstance(s, General) for s in program.steps)
+    return program.encoded is None

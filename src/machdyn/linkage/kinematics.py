@@ -53,13 +53,53 @@ def solve(
         ) from None
     n = math.prod(shape)
     cont = continuation if continuation is not None else (len(shape) <= 1 and n > 1)
-    from .sweep import solve_closed
-
     _rates_match(shape, velocity=vel, acceleration=acc, jerk=jrk)
-    return solve_closed(lk, model, vals, vel, acc, jrk, shape, bool(cont) or n == 1)
+    _warn_degrees(lk, vals)
+    return _closed()(lk, model, vals, vel, acc, jrk, shape, bool(cont) or n == 1)
+
+
+def _closed():
+    """:func:`machdyn.linkage.sweep.solve_closed` (imported once: sweep imports this module)."""
+    global _solve_closed
+    if _solve_closed is None:
+        from .sweep import solve_closed
+
+        _solve_closed = solve_closed
+    return _solve_closed
+
+
+_solve_closed = None
+#: Radians beyond this look like degrees (``machdyn.units.DEGREE_TURNS`` turns), set on first use.
+_degree_limit = 0.0
+
+
+def _warn_degrees(lk: Linkage, vals: dict[str, np.ndarray]) -> None:
+    """Warn when an angle driver's (validated) values look like degrees.
+
+    ``machdyn.units.warn_if_degrees``, called only when a value is beyond
+    :data:`~machdyn.units.DEGREE_TURNS` turns (two reductions, no temporary).
+    """
+    global _degree_limit
+    if not _degree_limit:
+        from ..units import DEGREE_TURNS
+
+        _degree_limit = DEGREE_TURNS * 2.0 * math.pi
+    top = _degree_limit
+    for name, v in vals.items():
+        if not v.shape:  # one value (an editor's call): no reductions
+            if -top <= float(v) <= top:
+                continue
+        elif not v.size or (v.max() <= top and v.min() >= -top):
+            continue
+        if name in lk._links or name in lk._motors:
+            from ..units import warn_if_degrees
+
+            warn_if_degrees(name, v, stacklevel=5)
 
 
 def _per_driver(field: str, value: Any, drivers: tuple[str, ...], required: bool):
+    if len(drivers) == 1 and type(value) in (float, int):  # the editor's one-pose call
+        return {drivers[0]: _driver_array(field, value)}
     if isinstance(value, Mapping):
         extra = [k for k in value if k not in drivers]
         if extra:
@@ -155,6 +195,17 @@ class LinkageMotion(Summarized):
     cg_jerk: Mapping[str, np.ndarray] | None = None
     length_jerk: Mapping[str, np.ndarray] | None = None
     _loop: Any = field(default=None, repr=False, compare=False)
+
+    @classmethod
+    def _make(cls, **fields: Any) -> LinkageMotion:
+        """The motion from every field, without the frozen ``__init__``'s one call per field.
+
+        For :func:`machdyn.linkage.sweep.solve_closed`, which gives them all
+        (an editor's one-pose solve pays for every microsecond).
+        """
+        self = object.__new__(cls)
+        self.__dict__.update(fields)
+        return self
 
     @property
     def loop_motion(self) -> Motion:
@@ -253,6 +304,8 @@ def _rates_match(shape: tuple[int, ...], **rates: dict[str, np.ndarray] | None) 
     """Refuse driver rates whose arrays do not broadcast to the driver values' shape."""
     for kind, table in rates.items():
         for d, a in (table or {}).items():
+            if a.shape == shape or not a.shape:  # the usual cases: nothing to broadcast
+                continue
             try:
                 ok = np.broadcast_shapes(a.shape, shape) == shape
             except ValueError:

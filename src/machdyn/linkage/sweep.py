@@ -16,16 +16,17 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ModelError
 from . import kernel
-from ._common import GROUND, _frozen, _ref_angle, _typical_length
+from ._common import GROUND, _ref_angle, _typical_length
 from .kernel import STEP, Outputs, Tables, has_general, run
 from .kinematics import LinkageMotion, _cg_drawn
-from .program import NO_ASSEMBLY, OK, SINGULAR, Program, unwrap
+from .program import NO_ASSEMBLY, OK, SINGULAR, Program, blank, unwrap
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -52,6 +53,7 @@ class _Info:
     tables: Tables  # the rows a run reports (moving links, points + centres, lengths)
     theta0: np.ndarray  # drawn angle of every moving link, as a column
     rows: dict[str, Any]  # names of the rows: links, points, centres of mass, lengths
+    index: dict[str, dict[str, int]]  # the same names, each to its row
     point_group: np.ndarray  # per point (and centre) row: the group placing its link (-1: ground)
     length_groups: tuple[tuple[int, int], ...]  # per length: the groups of its two links
 
@@ -133,6 +135,12 @@ def _info(lk: Linkage, model: _Model) -> _Info:
     by_index = {i: name for name, i in index.items()}
     edges_by = {e.name: e for e in model.edges}
     length_names = [name for name, *_ in slides] + [name for name, *_ in actuators]
+    rows = {
+        "links": tuple(lk._links),
+        "points": tuple(p for p, _ in points),
+        "cgs": tuple(lk._links),
+        "lengths": tuple(length_names),
+    }
     info = _Info(
         start=np.array(start, float),
         scale=np.array(scale, float),
@@ -146,12 +154,8 @@ def _info(lk: Linkage, model: _Model) -> _Info:
         angle_drivers=frozenset(d for d in lk._drivers if d in lk._links or d in lk._motors),
         tables=tables,
         theta0=np.array([_ref_angle(lk, n) for n in lk._links]).reshape(-1, 1),
-        rows={
-            "links": tuple(lk._links),
-            "points": tuple(p for p, _ in points),
-            "cgs": tuple(lk._links),
-            "lengths": tuple(length_names),
-        },
+        rows=rows,
+        index={k: {name: i for i, name in enumerate(v)} for k, v in rows.items()},
         point_group=np.array([group_of[by_index[i]] for i, _ in refs], int),
         length_groups=tuple(
             (group_of[edges_by[n].a], group_of[edges_by[n].b]) for n in length_names
@@ -244,19 +248,32 @@ def solve_closed(
     drivers = tuple(lk._drivers)
     n = math.prod(shape)
     order = 0 if vel is None else 3 if jrk is not None else 2
-    U = np.zeros((4 * len(drivers), n))
-    for d, name in enumerate(drivers):
-        for k, table in enumerate((vals, vel, acc, jrk)):
-            if table is not None and k <= order:
-                a = table[name]
-                U[4 * d + k] = a if a.ndim == 0 else _flat(a, shape)
-    if follow and n:
-        out = _follow(program, info, U, order)
+    given = (vals, vel, acc, jrk)[: order + 1]
+    rows = [t[name] for name in drivers for t in given]  # each driver's value and rates
+    if not shape:  # one pose (an editor's call): one small array, no row-by-row copies
+        cols = [float(a) for a in rows]
+        per = order + 1
+        U = np.zeros((4 * len(drivers), 1))
+        for d in range(len(drivers)):
+            U[4 * d : 4 * d + per, 0] = cols[per * d : per * d + per]
     else:
-        out = run(program, info.tables, U, order, False)
-    clean = not out.codes.any()  # the usual case: every group assembled, away from toggles
+        U = np.zeros((4 * len(drivers), n))
+        for r, a in enumerate(rows):
+            U[4 * (r // (order + 1)) + r % (order + 1)] = a if a.ndim == 0 else _flat(a, shape)
+    out = None
+    kern = kernel.compiled_kernel(n) if program.encoded is not None else None
+    if kern is not None:  # the compiled kernel: the whole sweep in one call
+        out = kernel.run_compiled(kern, program, info.tables, U, order, follow and n > 0)
+    if out is None:
+        out = (
+            _follow(program, info, U, order)
+            if follow and n
+            else run(program, info.tables, U, order, False)
+        )
+    # the usual case: every group assembled, away from toggles
+    clean = out.clean if out.clean is not None else not out.codes.any()
     if clean:
-        ok, reason = np.ones(n, bool), np.full(n, "", dtype=object)
+        ok, reason = np.ones(n, bool), blank(n)
     else:
         ok, reason = _flags(out, model, info, n)
     for g in () if clean else np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
@@ -270,7 +287,7 @@ def solve_closed(
 def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs:
     """Run a 1-D sweep with its angles unwrapped along a path from the drawn pose.
 
-    The compiled kernel does it all (:func:`machdyn._linkage_kernels.follow`);
+    The compiled kernel does it all (:func:`machdyn._linkage_kernels.run`);
     otherwise the program is run along the path (:func:`_path`: the drawn pose,
     the samples, and points in between where two are further apart than
     :data:`STEP`), each angle unwrapped along it, and the samples taken.
@@ -371,7 +388,7 @@ def _flags(out: Outputs, model: _Model, info: _Info, n: int):
     deps = model.program.deps
     codes = out.codes
     if not codes.any():
-        return np.ones(n, bool), np.full(n, "", dtype=object)
+        return np.ones(n, bool), blank(n)
     pos_bad = codes == NO_ASSEMBLY
     rate_bad = codes != OK
     for g, dep in enumerate(deps):
@@ -399,7 +416,7 @@ def _flags(out: Outputs, model: _Model, info: _Info, n: int):
                 for k in range(1, order + 1):
                     out.lens[k * nln + q, rb] = np.nan
     ok = ~rate_bad.any(axis=0) if len(deps) else np.ones(n, bool)
-    reason = np.full(n, "", dtype=object)
+    reason = blank(n)
     for g in range(len(deps) - 1, -1, -1):
         if g in out.reasons:  # a general group: the loop core's reason, naming the group
             bad = codes[g] != OK
@@ -422,76 +439,77 @@ def _motion(
     reason: np.ndarray,
     order: int,
 ) -> LinkageMotion:
-    rows = info.rows
+    rows, index = info.rows, info.index
     nm, npt, nln = len(rows["links"]), len(rows["points"]), len(rows["lengths"])
     size = len(info.tables.pts_i)
     for a in (out.ang, out.rot, out.pts, out.lens):
         a.flags.writeable = False  # every view below inherits it
-    ang = out.ang.reshape(nm, *shape)
     R = out.rot.reshape(order, nm, *shape)
     P = out.pts.reshape(order + 1, size, *shape)
     L = out.lens.reshape(order + 1, nln, *shape)
-    theta = _Rows(rows["links"], ang)
-    rot = [_Rows(rows["links"], R[k]) for k in range(order)]
-    pts = [_Rows(rows["points"], P[k, :npt]) for k in range(order + 1)]
-    cgs = [_Rows(rows["cgs"], P[k, npt:]) for k in range(order + 1)]
-    lens = [_Rows(rows["lengths"], L[k]) for k in range(order + 1)]
-
-    def at(seq: list, k: int) -> Any:
-        return seq[k] if k < len(seq) else None
-
-    inputs = {
-        k: np.array(v if v.shape == shape else np.broadcast_to(v, shape)) for k, v in vals.items()
-    }
-    return LinkageMotion(
-        inputs=_frozen(inputs),
-        theta=theta,
-        omega=at(rot, 0),
-        alpha=at(rot, 1),
+    links, points, lengths = index["links"], index["points"], index["lengths"]
+    pad: list[Any] = [None] * (3 - order)  # the rates not computed
+    rot = [_Rows(links, R, k) for k in range(order)] + pad
+    pts = [_Rows(points, P, k) for k in range(order + 1)] + pad
+    cgs = [_Rows(links, P, k, npt) for k in range(order + 1)] + pad
+    lens = [_Rows(lengths, L, k) for k in range(order + 1)] + pad
+    inputs = {}
+    for k, v in vals.items():
+        a = np.array(v if v.shape == shape else np.broadcast_to(v, shape))
+        a.flags.writeable = False
+        inputs[k] = a
+    return LinkageMotion._make(
+        inputs=MappingProxyType(inputs),
+        theta=_Rows(links, out.ang.reshape(1, nm, *shape), 0),
+        omega=rot[0],
+        alpha=rot[1],
         points=pts[0],
-        point_velocity=at(pts, 1),
-        point_acceleration=at(pts, 2),
+        point_velocity=pts[1],
+        point_acceleration=pts[2],
         cg=cgs[0],
-        cg_velocity=at(cgs, 1),
-        cg_acceleration=at(cgs, 2),
+        cg_velocity=cgs[1],
+        cg_acceleration=cgs[2],
         lengths=lens[0],
-        length_rate=at(lens, 1),
-        length_acceleration=at(lens, 2),
+        length_rate=lens[1],
+        length_acceleration=lens[2],
         ok=ok.reshape(shape),
         reason=reason.reshape(shape),
         angle_drivers=info.angle_drivers,
-        jerk=at(rot, 2),
-        point_jerk=at(pts, 3),
-        cg_jerk=at(cgs, 3),
-        length_jerk=at(lens, 3),
+        jerk=rot[2],
+        point_jerk=pts[3],
+        cg_jerk=cgs[3],
+        length_jerk=lens[3],
         _loop=lambda: _loop_motion(lk, vals, shape, order),
     )
 
 
 class _Rows(Mapping):
-    """A read-only mapping of names to the rows of one stacked array (no copies)."""
+    """A read-only mapping of names to rows of one stacked array (no copies).
 
-    __slots__ = ("_data", "_index", "_names")
+    Name ``key`` is ``data[k, offset + index[key]]``; ``index`` (each name's
+    row) is shared by every table of the same names, and ``data`` is
+    read-only already (:func:`_motion` makes it so).
+    """
 
-    def __init__(self, names: tuple[str, ...], data: np.ndarray) -> None:
-        if data.flags.writeable:
-            data.flags.writeable = False
-        self._names, self._data = names, data
-        self._index: dict[str, int] | None = None
+    __slots__ = ("_data", "_index", "_k", "_offset")
+
+    def __init__(self, index: dict[str, int], data: np.ndarray, k: int, offset: int = 0) -> None:
+        self._index, self._data, self._k, self._offset = index, data, k, offset
 
     def __getitem__(self, key: str) -> np.ndarray:
-        if self._index is None:
-            self._index = {n: i for i, n in enumerate(self._names)}
-        return self._data[self._index[key]]
+        return self._data[self._k, self._offset + self._index[key]]
+
+    def __contains__(self, key: object) -> bool:
+        return key in self._index
 
     def __iter__(self):
-        return iter(self._names)
+        return iter(self._index)
 
     def __len__(self) -> int:
-        return len(self._names)
+        return len(self._index)
 
     def __repr__(self) -> str:
-        return f"<{len(self._names)} arrays: {', '.join(self._names)}>"
+        return f"<{len(self._index)} arrays: {', '.join(self._index)}>"
 
 
 def _loop_motion(lk: Linkage, vals, shape, order):

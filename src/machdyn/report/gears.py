@@ -28,9 +28,11 @@ from typing import Any
 
 import numpy as np
 
-from ..draw.gears import planetary_scene, train_scene
+from .._validate import finite_scalar, mapping
+from ..draw.gears import mesh_chart, planetary_scene, train_scene
 from ..draw.html import widget
 from ..draw.units import Units
+from ..errors import ModelError
 from .checks import Check
 from .page import Page, esc, fmt
 
@@ -159,7 +161,7 @@ def _pair_numbers(pair: Any, input_speed: float | None, torque: float | None) ->
         "contact_ratio": pair.contact_ratio,
     }
     if input_speed is not None:
-        w_in = float(input_speed)
+        w_in = finite_scalar("input_speed", input_speed)
         r = pair.velocity_ratio
         shown["speeds"] = (w_in, w_in * r) if pair.driver == "pinion" else (w_in / r, w_in)
     if torque is not None:
@@ -260,12 +262,12 @@ def _interference_rows(pair: Any, deg: Any) -> tuple[list[tuple[str, str, str]],
     ]
     if not g.internal:
         rows.append(("gear undercut by a rack cutter", yes(cut[1]), "undercut_gear"))
+        try:
+            fewest = str(min_pinion_teeth(g.teeth, phi, k))
+        except ModelError:  # the gear is below the equal-gear minimum: no pinion fits
+            fewest = "none: no pinion meshes without interference"
         rows.append(
-            (
-                f"fewest pinion teeth with this {g.teeth}-tooth gear",
-                str(min_pinion_teeth(g.teeth, phi, k)),
-                "min_pinion_teeth",
-            )
+            (f"fewest pinion teeth with this {g.teeth}-tooth gear", fewest, "min_pinion_teeth")
         )
         rows.append(
             (
@@ -323,7 +325,11 @@ def gear_report(
     page.section(
         "model",
         "The pair in mesh, with the line of action",
-        widget(_gear_scene(pair, n)),
+        widget(_gear_scene(pair, n))
+        + f'<div class="charts">{mesh_chart(pair, u).to_svg(width=460)}</div>'
+        + '<p class="remark">The line of action runs between the base-circle tangent points '
+        "T_p and T_g (the interference points); contact runs along it from the first to the "
+        "last contact, where the tip circles cut it.</p>",
     )
     _pair_tables(page, pair, u, deg)
     page.section(
@@ -448,8 +454,12 @@ def train_report(
     from ..gears import stage_ratio, train_power
 
     u = Units.of(units if units is not None else train)
-    w_in = _one(u, "angular_velocity") if input_speed is None else float(input_speed)
-    t_in = _one(u, "torque") if torque is None else float(torque)
+    w_in = (
+        _one(u, "angular_velocity")
+        if input_speed is None
+        else finite_scalar("input_speed", input_speed)
+    )
+    t_in = _one(u, "torque") if torque is None else finite_scalar("torque", torque)
     power = train_power(train, w_in, t_in)
     m_v = train.train_value
     stages = len(train.stages)
@@ -620,8 +630,16 @@ def planetary_report(
     from ..gears import planetary_power
 
     u = Units.of(units if units is not None else train)
-    given = dict(speeds) if speeds else {train.last: 0.0, train.first: _one(u, "angular_velocity")}
-    load = dict(torque) if torque else {train.first: _one(u, "torque")}
+    given = (
+        mapping("speeds", speeds, "speeds (two of them)")
+        if speeds is not None
+        else {train.last: 0.0, train.first: _one(u, "angular_velocity")}
+    )
+    load = (
+        mapping("torque", torque, "torques (one of them)")
+        if torque is not None
+        else {train.first: _one(u, "torque")}
+    )
     table = train.table(**given)
     omega = dict(zip(table.members, (float(x) for x in table.total), strict=True))
     power = planetary_power(train, given, load)

@@ -29,7 +29,8 @@ from typing import Any
 
 import numpy as np
 
-from ..draw.rotor import unbalance_chart
+from .._validate import finite_array, finite_scalar
+from ..draw.rotor import rotor_side_chart, unbalance_chart
 from ..draw.units import Units
 from ..errors import InputError
 from .checks import Check
@@ -74,23 +75,40 @@ def _balance(model: Any, planes: Any, speed: Any, bearings: Any, radii: Any) -> 
         rotor, masses, u, p = model, None, model.unbalance, model.couple_unbalance
     else:
         raise InputError("model", f"expected a Rotor or RotorBalance, got {type(model).__name__}")
+    planes = _two("planes", planes)
+    bearings = _two("bearings", bearings)
+    if speed is not None:
+        speed = finite_scalar("speed", speed)
+        if speed == 0.0:
+            raise InputError("speed", "a rotor at rest loads its bearings with nothing: give ω ≠ 0")
     if planes is not None:
-        za, zb = (float(v) for v in planes)
+        za, zb = planes
         fix = rotor.two_plane_correction(za, zb)
         corrections, cz = (complex(fix.mR_a), complex(fix.mR_b)), (za, zb)
     else:
         fix = rotor.static_correction()
         corrections, cz = (complex(fix.mR),), (float(rotor.cg[2]),)
+    given = bearings is not None
     if bearings is None and planes is not None:
-        bearings, given = (float(planes[0]), float(planes[1])), False
-    else:
-        given = bearings is not None
-        bearings = None if bearings is None else (float(bearings[0]), float(bearings[1]))
-    w = 1.0 if speed is None else float(speed)
-    radii = None if radii is None else tuple(float(r) for r in np.ravel(radii))
+        bearings = planes
+    w = 1.0 if speed is None else speed
+    if radii is not None:
+        radii = tuple(float(r) for r in np.ravel(finite_array("radii", radii)))
+        if not radii or min(radii) <= 0:
+            raise InputError("radii", "one or two positive radii of the correction masses")
     return _Balance(
         rotor, masses, u, p, corrections, cz, radii, w, speed is not None, bearings, given
     )
+
+
+def _two(field: str, value: Any) -> tuple[float, float] | None:
+    """Two distinct axial positions ``(z_A, z_B)`` (or None)."""
+    if value is None:
+        return None
+    z = finite_array(field, value)
+    if z.shape != (2,) or z[0] == z[1]:
+        raise InputError(field, f"two different axial positions (z_A, z_B), got {value!r}")
+    return float(z[0]), float(z[1])
 
 
 def _corrected(b: _Balance) -> Any:
@@ -201,6 +219,7 @@ def rotor_report(
     scale = (sum(e[0] * e[1] for e in b.masses) if b.masses else 0.0) or (
         abs(b.unbalance) + abs(b.couple) / max(abs(z) for z in (*b.correction_z, 1e-300))
     )
+    scale = scale or 1e-300  # a rotor balanced already: every residual is 0
     w2 = b.speed**2
     residual = max(abs(v) for v in after_loads) if after_loads else w2 * abs(after.unbalance)
     kind = "two-plane (dynamic)" if len(b.corrections) == 2 else "single-plane (static)"
@@ -284,10 +303,21 @@ def _masses_section(page: Page, b: _Balance, u: Units) -> None:
         ]
     )
     planes = ", ".join(f"z = {L(z)}" for z in b.correction_z)
+    side = ""
+    if b.masses is not None:
+        two = len(b.corrections) == 2
+        side = rotor_side_chart(
+            b.masses,
+            b.correction_z if two else (),
+            b.corrections if two else (),
+            b.radii,
+            b.bearings,
+            units=u,
+        ).to_svg(width=560, height=260)
     page.section(
         "masses",
         "Masses and planes",
-        body + sums + f'<p class="remark">Correction plane(s): {planes}.</p>',
+        side + body + sums + f'<p class="remark">Correction plane(s): {planes}.</p>',
     )
 
 

@@ -8,7 +8,7 @@ import { Panels } from "./panels.js";
 import { Plots } from "./plots.js";
 import { Synthesis } from "./synth.js";
 import { wireFiles, download } from "./io.js";
-import { addPoint, addLink, addSlider, toggleGround, deletePoint, deleteLink, deleteJoint } from "./tools.js";
+import { addPoint, addPivot, addLink, addSlider, toggleGround, deletePoint, deleteLink, deleteJoint } from "./tools.js";
 
 const BLANK = { machdyn: 1, title: "New linkage", units: { length: "mm", mass: "kg", force: "N", torque: "N*m" },
   linkage: { linkage: { points: {}, ground: [], drive: [], links: {} } } };
@@ -321,7 +321,7 @@ class App {
       } else if (this.tool === "ground") {
         this.ensurePart();
         if (near) this.store.commit((d, p) => toggleGround(p, near));
-        else this.store.commit((d, p) => { const n = addPoint(p, world, "O"); p.ground = [...(p.ground || []), n]; });
+        else this.store.commit((d, p) => { addPivot(p, world); });
       } else if (this.tool === "link") {
         this.ensurePart();
         let name = near;

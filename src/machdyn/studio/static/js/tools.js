@@ -11,6 +11,17 @@ export function addPoint(part, xy, prefix = "P") {
   return name;
 }
 
+// A new ground pivot, named as the textbooks do: O2, O4, O6, ... (the pivots of links 2, 4, 6
+// of a four-bar or six-bar; the ground is link 1).
+export function addPivot(part, xy) {
+  const taken = pointNames(part);
+  let i = 2;
+  while (taken.has(`O${i}`)) i += 2;
+  part.points[`O${i}`] = xy;
+  part.ground = [...(part.ground || []), `O${i}`];
+  return `O${i}`;
+}
+
 export function deletePoint(part, name) {
   delete part.points[name];
   part.ground = (part.ground || []).filter((p) => p !== name);
