@@ -192,6 +192,23 @@ def test_shape_mismatch_names_the_input():
 
 
 def test_coulomb_friction_at_a_dead_centre_opposes_the_impending_slip():
+    """At θ2 = 0, π, 2π the piston is at rest (ḋ is zero but for rounding, of either
+    sign): friction opposes the impending slip, sign(d̈). Independent check: the
+    forces equal their one-sided limit, a crank angle 1e-7 later, where the piston
+    already slides that way (ω2 > 0: ḋ(θ + ε) ≈ d̈ ε / ω2)."""
+    sc = SliderCrank(2.0, 6.0)
+    theta2 = np.array([0.0, np.pi, 2 * np.pi])
+    kw = dict(mass=(1, 2, 3), inertia=(0.5, 1.5), cg=(1, 3), friction="coulomb", mu=0.3)
+    kw.update(load_force4=-50.0, gravity=9.81)
+    at = slidercrank_dynamics(sc, theta2, 314.159, **kw)
+    after = slidercrank_dynamics(sc, theta2 + 1e-7, 314.159, **kw)
+    assert np.all(np.abs(at.motion.d_dot) < 1e-12)  # rounding noise, 0 / −5e-14 / +2e-13
+    np.testing.assert_allclose(at.F14, after.F14, rtol=0, atol=0.05)  # friction 11.8
+    np.testing.assert_allclose(at.F12, after.F12, rtol=1e-7)
+    assert np.all(np.sign(at.F14.real) == -np.sign(at.motion.d_ddot))  # opposes d̈
+
+
+def test_dead_centre_friction_by_hand_in_millimetres():
     """At θ2 = 0, π, 2π the slider stops (ḋ is 0 but for rounding, ±1e-12) and is about to move
     with d̈ = ω²(∓a − a²/b) (by hand, sin θ2 = 0): friction −μ|N| sign(d̈), never the noise's."""
     a, b, w2, mu = 50.0, 200.0, 314.159, 0.3

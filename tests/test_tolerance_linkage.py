@@ -179,6 +179,26 @@ def test_linearised_prediction_of_coordinates_is_the_implicit_sensitivity():
         assert np.allclose(mc, lin, rtol=0.04, atol=0.02 * lin.max())
 
 
+def test_linearised_torque_against_newton_euler_of_re_drawn_linkages():
+    # ∂T/∂p by central differences of Linkage.forces on drawings built here at p ± h
+    lk = watt(WATT, masses=True)
+    fam = Family(lk)
+    nominal = dict(zip(fam.names, fam.nominal, strict=True))
+    tol = {"O2-A": 0.01, "C-D": 0.02, "P.delta": 0.005, "O6.p": 0.01}
+    t = machdyn.tolerance(lk, tol, POSES, samples=200, outputs=["torque.crank"], omega2=3.0,
+                          gravity=9.81, distribution="uniform")  # fmt: skip
+    stack = np.zeros(POSES.size)
+    for name, tp in tol.items():
+        h = 1e-6
+        ends = []
+        for sign in (1.0, -1.0):
+            moved = watt(watt_drawing({**nominal, name: nominal[name] + sign * h}), masses=True)
+            m = moved.solve(POSES, velocity=3.0, acceleration=0.0)
+            ends.append(moved.forces(m, gravity=9.81).driver["crank"])
+        stack += np.abs((ends[0] - ends[1]) / (2 * h)) * tp
+    assert np.allclose(t.outputs["torque.crank"].worst_case, stack, rtol=1e-5, atol=1e-9)
+
+
 def test_watt_four_bar_loop_agrees_with_fourbar_tolerance():
     lk = watt(WATT)
     A, B, P = WATT["A"], WATT["B"], WATT["P"]

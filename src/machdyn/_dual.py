@@ -93,6 +93,10 @@ class Dual:
         other = np.asarray(other)
         return Dual(self.v / other, self.d / other[..., None])
 
+    def __rtruediv__(self, other: Any) -> Dual:
+        q = other / self.v
+        return Dual(q, -self.d * (q / self.v)[..., None])
+
     def __pow__(self, k: int) -> Dual:
         return Dual(self.v**k, k * self.v[..., None] ** (k - 1) * self.d)
 

@@ -71,6 +71,14 @@ def _sqrt0(x: Any) -> Any:
     return np.sqrt(np.maximum(x, 0.0))
 
 
+def _abs(z: Any) -> Any:
+    """``|z|`` (``d|z| = Re(conj(z) dz)/|z|``)."""
+    if isinstance(z, Dual):
+        r = np.abs(z.v)
+        return Dual(r, (np.conj(z.v)[..., None] * z.d).real / r[..., None])
+    return np.abs(z)
+
+
 def _arg(z: Any) -> Any:
     """The angle of ``z`` (``d arg z = Im(dz / z)``)."""
     if isinstance(z, Dual):
@@ -248,13 +256,31 @@ class Family:
     def geometry(self, dims: np.ndarray) -> Geometry:
         """The shapes of the linkages whose dimensions are the rows of ``dims`` (n, D)."""
         dims = np.asarray(dims, dtype=float)
-        n = dims.shape[0]
         dev = dims - self.nominal
         moved = np.flatnonzero(np.any(dev != 0.0, axis=0))
-        P = {p: np.full((n, 1), z) for p, z in self.points.items()}
-        shape: dict[str, list[tuple[Dimension, np.ndarray]]] = {}
-        for i in moved:
-            d, col = self.dims[i], dev[:, i : i + 1]
+        return self._shapes(dims.shape[0], {int(i): dev[:, i : i + 1] for i in moved})
+
+    def seeded(self, index: Any = None) -> Geometry:
+        """The nominal shapes as duals along the dimensions ``index`` (default: ``P.x``, ``P.y``).
+
+        Solving them gives every output's exact first derivatives with respect
+        to those dimensions (forward differentiation through the closed forms).
+        """
+        index = range(2 * len(self.points)) if index is None else index
+        index = [int(i) for i in index]
+        cols = {}
+        for k, i in enumerate(index):
+            d = np.zeros((1, 1, len(index)))
+            d[..., k] = 1.0
+            cols[i] = Dual(np.zeros((1, 1)), d)
+        return self._shapes(1, cols)
+
+    def _shapes(self, n: int, cols: dict[int, Any]) -> Geometry:
+        """Each link's offsets with the deviations ``cols`` (dimension → (n, 1) column or dual)."""
+        P: dict[str, Any] = {p: np.full((n, 1), z) for p, z in self.points.items()}
+        shape: dict[str, list[tuple[Dimension, Any]]] = {}
+        for i, col in cols.items():
+            d = self.dims[i]
             if d.kind == "x":
                 P[d.point] = P[d.point] + col
             elif d.kind == "y":
@@ -262,19 +288,19 @@ class Family:
             else:
                 shape.setdefault(d.link, []).append((d, col))
         bad = np.zeros(n, dtype=bool)
-        q: dict[str, dict[str, np.ndarray]] = {}
-        psi: dict[str, np.ndarray] = {}
+        q: dict[str, dict[str, Any]] = {}
+        psi: dict[str, Any] = {}
         for link, pts in self.carriers.items():
             F = P[pts[0]] if pts else 0j
             off = {x: P[x] - F for x in pts}
             for d, col in shape.get(link, ()):
                 z = off[d.point]
                 if d.kind == "delta":
-                    off[d.point] = z * np.exp(1j * col)
+                    off[d.point] = z * _expj(col)
                 else:
-                    size = np.abs(z)
+                    size = _abs(z)
                     new = size + col
-                    bad |= new[:, 0] <= 0.0
+                    bad |= _value(new)[:, 0] <= 0.0
                     with np.errstate(invalid="ignore", divide="ignore"):
                         off[d.point] = z * (new / size)
             if link == GROUND:
@@ -282,27 +308,8 @@ class Family:
                 psi[link] = np.zeros((n, 1))
             else:
                 q[link] = off
-                psi[link] = np.angle(off[pts[1]]) if len(pts) > 1 else np.zeros((n, 1))
+                psi[link] = _arg(off[pts[1]]) if len(pts) > 1 else np.zeros((n, 1))
         return Geometry(q, psi, bad)
-
-    def seeded(self) -> Geometry:
-        """The nominal shapes as duals along the drawn coordinates ``P.x``, ``P.y`` (in order)."""
-        m = 2 * len(self.points)
-        P = {}
-        for k, (p, z) in enumerate(self.points.items()):
-            d = np.zeros((1, 1, m), dtype=complex)
-            d[..., 2 * k], d[..., 2 * k + 1] = 1.0, 1j
-            P[p] = Dual(np.full((1, 1), z), d)
-        q: dict[str, dict[str, Any]] = {}
-        psi: dict[str, Any] = {}
-        for link, pts in self.carriers.items():
-            if link == GROUND:
-                q[link] = {x: P[x] for x in pts}
-                psi[link] = np.zeros((1, 1))
-                continue
-            q[link] = {x: P[x] - P[pts[0]] for x in pts}
-            psi[link] = _arg(q[link][pts[1]]) if len(pts) > 1 else np.zeros((1, 1))
-        return Geometry(q, psi, np.zeros(1, dtype=bool))
 
     # ------------------------------------------------------------------ solving
     def solve(self, geo: Geometry, u: list[Any], order: int = 0) -> tuple[State, np.ndarray]:
@@ -396,7 +403,7 @@ class Family:
             elif isinstance(cg, str):
                 g = q[cg]
             else:
-                g = complex(cg) * np.exp(1j * st.geo.psi[link])
+                g = complex(cg) * _expj(st.geo.psi[link])
             w, E = st.w[link], st.E[link]
             if m:
                 gE = g * E

@@ -9,11 +9,11 @@ sweep is counted under the first group that does not close (or "a length
 ≤ 0", or a toggle where the rates are undefined), in ``Tolerance.failures``.
 
 The linearised prediction beside the Monte Carlo (``linear_std``,
-``worst_case``) uses the first derivatives of every output with respect to
-every toleranced dimension at the nominal linkage, by central differences of
-the family solver (steps 1e-6 of the linkage's size; for the drawn
-coordinates they agree with the implicit derivatives of
-:func:`machdyn.sensitivity`, which the tests check).
+``worst_case``) uses the exact first derivatives of every output with respect
+to every toleranced dimension at the nominal linkage: the family solver run
+once with those dimensions as duals (for the drawn coordinates they agree
+with the implicit differentiation of the constraints, and for a four-bar loop
+with the FourBar's, which the tests check).
 """
 
 from __future__ import annotations
@@ -101,7 +101,7 @@ def build(lk: Any, tolerances: Any, theta2: Any, samples: Any, distribution: Any
         for name, v in values.items()
     }
     job = replace(job, nominal_values=nominal)
-    return replace(job, linear=_linear(job, size))
+    return replace(job, linear=_linear(job))
 
 
 def _size(family: Family) -> float:
@@ -206,23 +206,32 @@ def _deviation(job: LinkageJob, name: str, value: np.ndarray) -> np.ndarray:
     return value - nominal
 
 
-def _linear(job: LinkageJob, size: float) -> dict:
-    """First derivatives at the nominal linkage (central differences): RSS std and stack-up."""
-    k = job.index.size
-    angle = np.array([job.family.dims[i].kind == "delta" for i in job.index])
-    h = np.where(angle, 1e-6, 1e-6 * size)
-    dims = np.repeat(job.nominal[None, :], 2 * k, axis=0)
-    rows = np.arange(k)
-    dims[2 * rows, job.index] += h
-    dims[2 * rows + 1, job.index] -= h
-    values, _, _ = _evaluate(job, dims)
-    out = {}
-    for name, v in values.items():
-        dev = _deviation(job, name, v)
-        d = (dev[0::2] - dev[1::2]) / (2.0 * h[:, None])  # (k, m)
-        scaled_std = np.abs(d * job.sigma[:, None])
-        scaled_tol = np.abs(d * job.tol[:, None])
-        out[name] = (np.sqrt(np.sum(scaled_std**2, axis=0)), np.sum(scaled_tol, axis=0))
+def _linear(job: LinkageJob) -> dict:
+    """Exact first derivatives at the nominal linkage: RSS std and worst-case stack-up.
+
+    The family solver runs once with the toleranced dimensions as duals
+    (forward differentiation through the closed-form dyads).
+    """
+    from ._dual import Dual
+
+    fam = job.family
+    k, m = job.index.size, job.theta.size
+    w2, a2 = job.rates
+    with np.errstate(invalid="ignore", divide="ignore"):
+        st, _ = fam.solve(fam.seeded(job.index), [job.theta, w2, a2], job.order)
+        out = {}
+        for name in job.outputs:
+            value = fam.value(st, name, job.gravity, w2)
+            if not isinstance(value, Dual):  # it does not depend on these dimensions
+                d = np.zeros((k, m))
+            elif name.startswith("theta."):
+                d = (value.d / value.v[..., None]).imag
+            else:
+                d = value.d
+            d = np.broadcast_to(d, (1, m, k))[0].T  # (k, m)
+            scaled_std = np.abs(d * job.sigma[:, None])
+            scaled_tol = np.abs(d * job.tol[:, None])
+            out[name] = (np.sqrt(np.sum(scaled_std**2, axis=0)), np.sum(scaled_tol, axis=0))
     return out
 
 
