@@ -3,6 +3,8 @@
 Run:
     python benchmarks/bench_atlas.py               # 2^19 entries; Dask scaling 1 vs 2 workers
     python benchmarks/bench_atlas.py --atlas DIR   # also query and synthesis on an existing atlas
+    python benchmarks/bench_atlas.py --atlas SIXBAR_DIR --sixbar-recovery 60
+                                                   # six-bar recovery rate (untimed, timed)
     python benchmarks/bench_atlas.py --build DIR --count 10000000 --scheduler local
                                                    # the big build (once, late: minutes)
 
@@ -190,6 +192,43 @@ def sixbar_bench(at, count: int) -> None:
               f"<= 1e-6 on {sum(e <= 1e-6 for e in errors)} of {count}")  # fmt: skip
 
 
+def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
+    """Recovery of random six-bars: ``count`` crank-driven six-bars drawn as the atlas
+    draws them (:func:`~machdyn.synthesis.sixbar.sample_sixbars`, every chain, attachment
+    and coupler link; another seed, so none is an atlas entry), each placed in the
+    plane by a random rotation, scale and offset; 12 points at crank angles
+    0.4 + k·30°. Recovered: the best result's largest distance ≤ 1e-6 of the
+    targets' size, untimed and timed (``mu_min=0``: this measures recovery).
+    """
+    from machdyn.synthesis.sixbar import TOPOLOGIES, sample_sixbars, sixbar_points
+
+    rows = sample_sixbars(np.random.default_rng(seed), count)
+    rng = np.random.default_rng(seed + 1)
+    th = 0.4 + np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    for label in ("untimed", "timed"):
+        errors, cpus, walls, misses = [], [], [], {}
+        for row in rows:
+            h = rng.uniform(0.5, 3.0) * np.exp(1j * rng.uniform(0, 2 * np.pi))
+            targets = complex(*rng.normal(size=2)) + h * sixbar_points(row[None], th)[0][0]
+            size = float(np.max(np.abs(targets - targets.mean())))
+            kw = {"timing": th} if label == "timed" else {}
+            t, cpu, res = timed_cpu(
+                lambda p=targets, kw=kw: path_from_atlas(p, at, n=1, mu_min=0.0, **kw)
+            )
+            e = float(np.max(res.best.distance)) / size
+            errors.append(e), cpus.append(cpu), walls.append(t)
+            if e > 1e-6:
+                (l1, l2), chain = TOPOLOGIES[int(row["topology"])]
+                key = f"{chain} {l1}-{l2} on {int(row['on'])}"
+                misses[key] = misses.get(key, 0) + 1
+        ok = sum(e <= 1e-6 for e in errors)
+        print(f"  six-bar recovery ({label}, 12 points) of {count} random six-bars: "
+              f"{ok} of {count} to <= 1e-6 of the size; error median "
+              f"{statistics.median(errors):.1e}, worst {max(errors):.1e}; CPU median "
+              f"{statistics.median(cpus):.2f} s, max {max(cpus):.2f} s; wall median "
+              f"{statistics.median(walls):.2f} s; missed: {misses or 'none'}")  # fmt: skip
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--atlas", type=Path, help="an existing atlas to query")
@@ -199,9 +238,19 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--no-scaling", action="store_true")
+    ap.add_argument(
+        "--sixbar-recovery",
+        type=int,
+        default=0,
+        metavar="N",
+        help="with --atlas (a six-bar atlas): recovery rate over N random six-bars",
+    )
     args = ap.parse_args()
     jit.load()
     print(f"kernels: {'compiled' if jit.active() else 'NumPy'}")
+    if args.atlas is not None and args.sixbar_recovery:
+        sixbar_recovery(open_atlas(args.atlas, verify=False), args.sixbar_recovery)
+        return
     if args.build is not None:
         t, m = timed(lambda: build_atlas(args.build, args.count, scheduler=args.scheduler,
                                          workers=args.workers, progress=True))  # fmt: skip

@@ -269,3 +269,39 @@ def test_dask_query_equals_local_query(small_atlas):
     np.testing.assert_array_equal(local[0], remote[0])
     np.testing.assert_allclose(local[1], remote[1])
     assert local[0][0] == at.offsets[1] + 17
+
+
+# --------------------------------------------------------------------------------------
+# a placed four-bar that does not close, and a fit just past Grashof's boundary
+
+
+def test_placed_pose_where_the_linkage_does_not_close_is_flagged_not_raised():
+    from machdyn.synthesis import PlacedFourBar
+
+    # a triple rocker (non-Grashof): link 2 reaches only |θ2| <= acos((r1²+r2²-(r3+r4)²)/(2 r1 r2))
+    pl = PlacedFourBar(FourBar(5, 4, 2, 2.5), 1 + 2j, 0.3, 1)
+    limit = np.arccos((25 + 16 - 4.5**2) / (2 * 5 * 4))
+    A, B, P, ok = pl.pose(np.array([0.0, limit + 0.2, np.pi]))
+    assert ok.tolist() == [True, False, False]
+    assert np.isnan(P[1:]).all() and np.isnan(B[1:]).all() and np.isnan(A[1:]).all()
+    assert np.isfinite(P[0]) and abs(A[0] - (1 + 2j + 4 * np.exp(0.3j))) < 1e-12
+
+
+def test_a_fit_just_past_the_change_point_lands_on_it_with_its_crank():
+    from machdyn.synthesis.atlas_path import _grashof_excess, _onto_grashof
+    from machdyn.synthesis.refine import Refined, coupler_and_jacobian
+
+    # r1 + r2 = r3 + r4 + 3e-6: a hair past a change point, link 2 the shortest
+    x = np.array([50.0, 1.35, 1.36, 50.0 - 0.01 - 3e-6, 12.0, 0.4, 10.0, -3.0, 0.1])
+    theta = np.radians([30.0, 60.0, 90.0, 120.0])
+    branch = np.ones(4)
+    assert classify(*x[:4]).condition == "non-grashof"
+    pts = coupler_and_jacobian(x, theta, branch)[0]
+    fit = Refined(x, theta, branch, 0.0, True)
+    moved = _onto_grashof(fit, pts)
+    assert _grashof_excess(moved.x) <= 1e-12 * x[:4].sum()
+    cls = classify(*moved.x[:4])
+    assert cls.condition == "change point" and 2 in cls.cranks
+    # only the longest link changed, by the excess
+    assert np.count_nonzero(moved.x != x) == 1 and abs(moved.x[0] - 50.0) == pytest.approx(3e-6)
+    assert 0 < moved.rms < 100 * 3e-6  # moved, but by little

@@ -23,6 +23,7 @@
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -74,10 +75,18 @@ POLISH = 3
 #: Six-bars: starts screened per refined candidate, and steps of each polished one.
 SIXBAR_SCREEN = 4
 SIXBAR_POLISH = 600
+#: A six-bar whose RMS distance is below this share of the size meets the targets.
+SIXBAR_MET = 1e-12
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: A best result farther than this (over the target's size) means no entry came near.
 NEAR = 0.05
+#: Random four-bars beyond the atlas's proportions (link lengths from 1/50 to 50 crank
+#: lengths) whose best-placed also start refinements: the literature's best linkages
+#: often lie there (a 50-long ground and rocker on a 1.35 crank, at a length bound).
+WIDE_POOL = 8_000
+WIDE_RANGE = (0.02, 50.0)
+WIDE_TIMED = 1_500  # of them, for timed targets whose starting angle is scanned too
 #: Minimum number of target points: a closed or open path, with prescribed timing.
 MIN_POINTS = {"closed": 5, "open": 5, "timed": 4}
 
@@ -430,6 +439,9 @@ def path_from_atlas(
         refine_count *= 4
     if timing is None:
         entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
+        count = max(1, refine_count // 4) if {6, 8} & fixed.keys() else refine_count
+        wide, placed = _retrieve_wide(atlas, pts, closed, crank, count)
+        entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
         starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
     else:
         starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
@@ -444,6 +456,10 @@ def path_from_atlas(
         fits[i] = more if more.rms <= fits[i].rms else fits[i]
     results = []
     for fit in fits:
+        if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
+            # just past the change point: hold the crank harder, then land on it
+            more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4, **options)
+            fit = _onto_grashof(more if more.rms <= 2 * fit.rms else fit, pts)
         res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
         if res is not None:
             results.append(res)
@@ -513,14 +529,21 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
             for x0, th0, fx in starts]  # fmt: skip
     fits.sort(key=lambda f: f[2])
-    fits = fits[:refine_count]
-    for i in range(min(POLISH, len(fits))):
-        x, th, rms, fx = fits[i]
-        more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
-        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
-    results = [sixbar_result(x, th, fx, pts, timing, closed, tolerance, mu_min)
-               for x, th, _, fx in fits]  # fmt: skip
-    results = sorted((r for r in results if r is not None), key=lambda r: float(np.max(r.distance)))
+    # polished best first until one meets the targets (to rounding) with no defect: the
+    # screen's order is a poor guide among six-bars, whose near-fits abound, and an exact
+    # fit may be a six-bar that cannot turn its crank (the untimed fits form a family)
+    results, met = [], False
+    for i, (x, th, rms, fx) in enumerate(fits):
+        if i < POLISH or not met:
+            more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
+            x, th, rms = more if more[2] <= rms else (x, th, rms)
+        elif i >= refine_count:
+            break
+        res = sixbar_result(x, th, fx, pts, timing, closed, tolerance, mu_min)
+        if res is not None:
+            results.append(res)
+            met = met or (res.ok and rms <= SIXBAR_MET * size)
+    results.sort(key=lambda r: float(np.max(r.distance)))
     t2 = time.perf_counter()
     chosen, rejected = [], []
     for r in results:
@@ -557,6 +580,39 @@ def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=N
         curves = even_curves(rows, man.circuit_samples, man.samples)
         target = interpolate_open(pts, 24)
         transforms, residual = align_partial(target, curves)
+    order = np.argsort(residual)[:refine_count]
+    return rows[order], transforms[order]
+
+
+@functools.lru_cache(maxsize=2)
+def _wide_rows(crank: bool) -> np.ndarray:
+    """:data:`WIDE_POOL` random four-bars over :data:`WIDE_RANGE` (the same every call)."""
+    from .atlas_store import sample_fourbars
+
+    rows = sample_fourbars(np.random.default_rng(14), WIDE_POOL, WIDE_RANGE)
+    rows = rows[rows["barker"] <= 2] if crank else rows
+    rows.flags.writeable = False
+    return rows
+
+
+@functools.lru_cache(maxsize=2)
+def _wide_curves(crank: bool, circuit_samples: int, samples: int) -> np.ndarray:
+    """Even samples of the curves of :func:`_wide_rows` (computed once)."""
+    curves = even_curves(_wide_rows(crank), circuit_samples, samples)
+    curves.flags.writeable = False
+    return curves
+
+
+def _retrieve_wide(atlas: Atlas, pts, closed, crank, refine_count):
+    """The ``refine_count`` best-placed of :func:`_wide_rows` and their placements (untimed)."""
+    man = atlas.manifest
+    rows = _wide_rows(crank)
+    curves = _wide_curves(crank, man.circuit_samples, man.samples)
+    if closed:
+        even = resample_closed(interpolate_closed(pts, 8 * man.samples), man.samples)
+        transforms, residual = align_closed(even, curves)
+    else:
+        transforms, residual = align_partial(interpolate_open(pts, 24), curves)
     order = np.argsort(residual)[:refine_count]
     return rows[order], transforms[order]
 
@@ -603,7 +659,18 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
         dense = interpolate_closed(pts, 8 * man.samples)
         q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
         idx = np.union1d(idx, atlas.nearest(q, retrieve, crank=True, client=client)[0])
-    rows = atlas.entries(idx)
+    starts = []
+    wide = _wide_rows(True)[: None if 9 in fixed else WIDE_TIMED]  # θ0 scanned: fewer
+    held = 6 in fixed or 8 in fixed  # (refine_count was quadrupled for them)
+    for rows, count in ((atlas.entries(idx), refine_count),
+                        (wide, max(1, refine_count // 4) if held else refine_count)):  # fmt: skip
+        if rows.size:
+            starts += _timed_starts(rows, pts, timing, count, fixed)
+    return starts
+
+
+def _timed_starts(rows, pts, timing, refine_count, fixed):
+    """The ``refine_count`` best timed starts among ``rows`` (both mirror images)."""
     grid = np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
     th = grid[:, None] + timing[None, :]  # (G, K)
     O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
@@ -720,6 +787,36 @@ def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesi
         objective=fit.rms,
         defects=tuple(defects),
     )
+
+
+def _grashof_excess(x) -> float:
+    """``s + l − p − q`` of the lengths ``x[:4]`` (positive: not Grashof)."""
+    srt = np.sort(np.asarray(x[:4], float))
+    return float(srt[0] + srt[3] - srt[1] - srt[2])
+
+
+def _onto_grashof(fit, pts):
+    """A fit that breaks Grashof's condition by a hair, moved onto the change point.
+
+    The refinement holds link 2 a crank by a penalty, so an optimum on the
+    boundary ``s + l = p + q`` (the literature's best linkages often sit there)
+    ends a few millionths past it, where the four-bar check rightly finds no
+    crank. The longest link is shortened by that excess (at most 1e-4 of the
+    links' sum): the linkage lands on the change point, whose shortest link turns
+    fully, and its coupler point moves little (near a change point, some ten times the
+    excess).
+    """
+    from .refine import Refined, coupler_and_jacobian
+
+    lengths = np.asarray(fit.x[:4], float)
+    excess = _grashof_excess(lengths)
+    if not 0.0 < excess <= 1e-4 * lengths.sum():
+        return fit
+    x = fit.x.copy()
+    x[int(np.argmax(lengths))] -= excess
+    G = coupler_and_jacobian(x, fit.theta, fit.branch)[0]
+    rms = float(np.sqrt(np.mean(np.abs(G - pts) ** 2)))
+    return Refined(x, fit.theta, fit.branch, rms, fit.success)
 
 
 def _in_order(theta: np.ndarray, closed: bool, timing) -> bool:

@@ -187,10 +187,13 @@ def crc_of(file: Path) -> int:
 # sampling and one chunk
 
 
-def sample_fourbars(rng: np.random.Generator, n: int) -> np.ndarray:
+def sample_fourbars(
+    rng: np.random.Generator, n: int, length_range: tuple[float, float] = LENGTH_RANGE
+) -> np.ndarray:
     """``n`` random assemblable four-bars with a coupler point and a circuit (META_DTYPE rows).
 
-    ``r2 = 1``; ``r1, r3, r4`` log-uniform over :data:`LENGTH_RANGE`; the
+    ``r2 = 1``; ``r1, r3, r4`` log-uniform over ``length_range`` (the atlas's:
+    :data:`LENGTH_RANGE`); the
     coupler point uniform over a disc of radius ``COUPLER_RADIUS·r3`` about A;
     the circuit ±1 at random. Linkages within 1e-3 of a change point, or not
     assemblable, are drawn again; so are all but :data:`NON_CRANK_SHARE` of
@@ -199,7 +202,7 @@ def sample_fourbars(rng: np.random.Generator, n: int) -> np.ndarray:
     """
     out = np.empty(n, dtype=META_DTYPE)
     filled = 0
-    lo, hi = np.log(LENGTH_RANGE[0]), np.log(LENGTH_RANGE[1])
+    lo, hi = np.log(length_range[0]), np.log(length_range[1])
     while filled < n:
         want = int(2.5 * (n - filled)) + 16
         r1, r3, r4 = np.exp(rng.uniform(lo, hi, size=(3, want))).astype(np.float32)

@@ -130,5 +130,6 @@ class PlacedFourBar:
             p, delta = fb.coupler
             p_loc = a_loc + p * np.exp(1j * (th3 + delta))
         nan = complex(np.nan, np.nan)
-        out = [np.where(ok, self.to_global(v), nan) for v in (a_loc, b_loc, p_loc)]
+        local = [np.where(ok, v, 0.0) for v in (a_loc, b_loc, p_loc)]  # NaN where unassembled
+        out = [np.where(ok, self.to_global(v), nan) for v in local]
         return out[0], out[1], out[2], ok

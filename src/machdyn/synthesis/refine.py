@@ -139,6 +139,7 @@ def refine(
     fixed: dict[int, float] | None = None,
     max_length: float | None = None,
     pivot_box: tuple[float, float, float, float] | None = None,
+    weight: float = _W_CONSTRAINT,
 ) -> Refined:
     """Refine a placed four-bar so its coupler curve passes through ``targets``.
 
@@ -164,6 +165,8 @@ def refine(
         point's distance from A).
     pivot_box : (xmin, ymin, xmax, ymax), optional
         Bounds on the pivot ``O2``.
+    weight : float
+        Weight of the soft constraints' rows (per unit of violation over the size).
 
     Examples
     --------
@@ -192,8 +195,8 @@ def refine(
     def residual(z: np.ndarray) -> np.ndarray:
         G, _, _, excess = coupler_and_jacobian(z[:9], angles(z), branch)
         d = (G - targets) / scale
-        pen = _W_CONSTRAINT * np.maximum(excess, 0.0)
-        con = _W_CONSTRAINT * _constraints(z[:4], cos_mu, crank, scale)
+        pen = weight * np.maximum(excess, 0.0)
+        con = weight * _constraints(z[:4], cos_mu, crank, scale)
         return np.concatenate([d.real, d.imag, pen, con])
 
     def jacobian(z: np.ndarray) -> np.ndarray:
@@ -215,7 +218,7 @@ def refine(
                 e[j] = h
                 hi = _constraints(z[:4] + e, cos_mu, crank, scale)
                 lo = _constraints(z[:4] - e, cos_mu, crank, scale)
-                out[3 * k :, j] = _W_CONSTRAINT * (hi - lo) / (2 * h)
+                out[3 * k :, j] = weight * (hi - lo) / (2 * h)
         return out
 
     lo = np.full(nvar, -np.inf)
