@@ -206,3 +206,25 @@ def test_coulomb_friction_at_a_dead_centre_opposes_the_impending_slip():
     np.testing.assert_allclose(at.F14, after.F14, rtol=0, atol=0.05)  # friction 11.8
     np.testing.assert_allclose(at.F12, after.F12, rtol=1e-7)
     assert np.all(np.sign(at.F14.real) == -np.sign(at.motion.d_ddot))  # opposes d̈
+
+
+def test_dead_centre_friction_by_hand_in_millimetres():
+    """At θ2 = 0, π, 2π the slider stops (ḋ is 0 but for rounding, ±1e-12) and is about to move
+    with d̈ = ω²(∓a − a²/b) (by hand, sin θ2 = 0): friction −μ|N| sign(d̈), never the noise's."""
+    a, b, w2, mu = 50.0, 200.0, 314.159, 0.3
+    th = np.radians([0.0, 180.0, 360.0])
+    f = slidercrank_dynamics(
+        SliderCrank(a, b),
+        th,
+        w2,
+        mass=(1, 2, 1.5),
+        inertia=(10, 100),
+        cg=(20, 100),
+        load_force4=-2000.0,
+        friction="coulomb",
+        mu=mu,
+        gravity=9810.0,
+    )
+    d_ddot = w2**2 * (-a * np.cos(th) - a * a / b)
+    assert f.ok.all()
+    np.testing.assert_allclose(f.F14.real, -mu * np.abs(f.N) * np.sign(d_ddot), rtol=1e-12)
