@@ -121,6 +121,7 @@ def test_gear_profile_and_plot_take_the_files_pair(tmp_path, capsys):
     assert lines[lines.index("$INSUNITS") + 2].strip() == "1"  # inches: the file's unit
     csv = tmp_path / "gear.csv"
     cli(["gear", "profile", "--spec", path, "--member", "gear", "-o", str(csv)], capsys)
+    assert csv.read_text().splitlines()[0] == "x [in],y [in],segment"  # the file's unit
     xy = np.loadtxt(csv, delimiter=",", skiprows=1, usecols=(0, 1))
     radius = np.hypot(xy[:, 0], xy[:, 1])
     # a 60-tooth gear, P_d = 8 in^-1, full depth: addendum radius 30/8 + 1/8 in

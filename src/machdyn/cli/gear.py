@@ -460,6 +460,13 @@ def profile_cmd(
         out.to_svg(output, unit=unit)
     elif suffix == ".dxf":
         out.to_dxf(output, unit=unit)
+    elif suffix == ".csv" and spec is not None:  # a machine file's gear: the unit in the header
+        import csv
+
+        with output.open("w", newline="", encoding="utf-8") as fh:
+            writer = csv.writer(fh)
+            writer.writerow([f"x [{unit}]", f"y [{unit}]", "segment"])
+            writer.writerows(zip(out.x.tolist(), out.y.tolist(), out.segment, strict=True))
     elif suffix == ".csv":
         out.to_csv(output)
     elif suffix == ".png":
