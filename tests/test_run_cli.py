@@ -147,3 +147,27 @@ def test_linkage_tables_never_cut_a_number(capsys):
     assert main(["linkage", str(EXAMPLES / "fourbar.toml"), "--forces"]) == 0
     out = capsys.readouterr().out
     assert "…" not in out and "F_coupler_rocker_y [lbf]" in out
+
+
+def test_a_reader_that_stops_early_ends_the_run_quietly():
+    """`machdyn run FILE --json | head -c 100`: the pipe closes mid-output; no error line
+    (it printed "machdyn: error: Broken pipe"), no traceback, the status click gives its
+    sub-commands in the same case (1)."""
+    watt = EXAMPLES / "watt.toml"
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            "import sys; from machdyn.cli import main; sys.exit(main())",
+            "run",
+            str(watt),
+            "--json",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    proc.stdout.read(100)
+    proc.stdout.close()  # the reader goes away while machdyn still writes
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 1
+    assert err == ""

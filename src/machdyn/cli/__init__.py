@@ -142,6 +142,10 @@ def _run(args: list[str]) -> int:
         return _fail(
             f"this needs {package}, which is not installed: pip install 'machdyn[{extra}]'", 1
         )
+    except BrokenPipeError:  # the reader went away (`machdyn ... | head`): stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so the flush at exit does not raise again
+        return 1  # as click does for the sub-commands it runs
     except OSError as exc:  # a file that cannot be read or written
         where = f"{exc.filename}: " if exc.filename else ""
         return _fail(f"{where}{exc.strerror or exc}", 1)
