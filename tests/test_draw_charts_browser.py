@@ -169,3 +169,26 @@ def test_shaking_legend_says_before_after_only_with_an_after(tab, tmp_path):
         shaking.locator("svg.chart").nth(k).text_content()
         for k in range(shaking.locator("svg.chart").count())
     )
+
+
+def test_gear_mesh_point_names_never_overlap(tab, tmp_path):
+    from machdyn.draw.elements import gear_scene
+    from machdyn.draw.html import to_html
+    from machdyn.gears import Gear, GearPair
+
+    # a fine pitch: the first contact point sits just below the pitch point
+    pair = GearPair(Gear(18, diametral_pitch=24), Gear(40, diametral_pitch=24))
+    path = tmp_path / "mesh.html"
+    to_html(gear_scene(pair, n=24), path)
+    page = tab.open(path, wait_ms=400)
+    tab.assert_clean(path)
+    labels = page.locator("g.labels text[data-point]")
+    texts = labels.all_text_contents()
+    assert {"pitch", "first"} <= set(texts), texts
+    for _ in range(2):  # the frame first drawn, and one the player moved to
+        boxes = [labels.nth(k).bounding_box() for k in range(labels.count())]
+        for i in range(len(boxes)):
+            for j in range(i):
+                assert not intersect(boxes[i], boxes[j]), (texts[i], texts[j])
+        page.wait_for_timeout(300)
+    page.locator("svg.machdyn-drawing").screenshot(path=str(screenshots() / "charts_gear_mesh.png"))

@@ -31,6 +31,7 @@ import numpy as np
 from .._validate import finite_scalar
 from ..errors import InputError
 from . import symbols
+from .chart import _overlap
 from .scene import Item, Scene, is_static
 
 __all__ = ["DATA_CLASS", "decimals", "script_json", "to_html", "to_svg", "widget"]
@@ -272,13 +273,31 @@ def _labels(scene: Scene, f: _Frame, uid: str) -> str:
         if item.kind in ("pin", "ground", "point"):
             named += [p for p in item.points if p not in named]
     out = []
+    u, size = f.unit, 3.4 * f.unit
+    placed: list[tuple[float, float, float, float]] = []
     for p in named:
         z = f.z(p)
         vis = "" if _finite(z) else ' visibility="hidden"'
         z = z if _finite(z) else 0j
+        # above right of the point; else below right, above left, below left: wherever it
+        # covers no name already placed (e.g. a gear mesh's close contact points)
+        w = 0.62 * size * len(p)  # ~0.62 em a character
+        for kx, ky in ((1.0, -1.0), (1.0, 2.7), (-1.0, -1.0), (-1.0, 2.7)):
+            x, y = z.real + kx * 1.6 * u, -z.imag + ky * 1.6 * u
+            box = (
+                x - (w if kx < 0 else 0.0),
+                y - size,
+                x + (w if kx > 0 else 0.0),
+                y + 0.25 * size,
+            )
+            if not any(_overlap(box, b) for b in placed):
+                break
+        placed.append(box)
+        moved = "" if (kx, ky) == (1.0, -1.0) else f' data-off="{kx:g} {ky:g}"'
+        anchor = ' text-anchor="end"' if kx < 0 else ""
         out.append(
-            f'<text data-point="{scene.index(p)}" x="{f.n(z.real + 1.6 * f.unit)}" '
-            f'y="{f.n(-z.imag - 1.6 * f.unit)}"{vis}>{_esc(p)}</text>'
+            f'<text data-point="{scene.index(p)}" x="{f.n(x)}" y="{f.n(y)}"'
+            f"{moved}{anchor}{vis}>{_esc(p)}</text>"
         )
     for c in scene.curves:  # numbered targets (static; drawn with the names)
         if c.style == "markers":
@@ -615,7 +634,8 @@ SCRIPT = r"""
         const j = Number(t.getAttribute("data-point"));
         if (ok(j, i)) {
           const u = Number(svg.getAttribute("data-unit") || 0);
-          t.setAttribute("x", X(j, i) + u); t.setAttribute("y", -Y(j, i) - u);
+          const k = (t.getAttribute("data-off") || "1 -1").split(" ").map(Number);
+          t.setAttribute("x", X(j, i) + k[0] * u); t.setAttribute("y", -Y(j, i) + k[1] * u);
           t.setAttribute("visibility", "visible");
         } else { t.setAttribute("visibility", "hidden"); }
       });
