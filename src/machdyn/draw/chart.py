@@ -157,7 +157,9 @@ class Chart:
         # the legend sits right of the plot, never over the curves
         extra = int(min(260, 36 + 6.8 * max(len(t) for t, _, _ in legend))) if legend else 0
         width += extra  # the plot keeps its size; the legend is added on the right
-        left, right, top, bottom = 62, 14 + extra, 26, 44
+        # a title wider than the chart is wrapped (12 px bold: ~7 px a character), never cut off
+        title = _wrap(self.title, max(12, int((width - 12) / 7.2)))
+        left, right, top, bottom = 62, 14 + extra, 26 + 15 * (len(title) - 1), 44
         if self.equal:
             height = (width - left - right) + top + bottom  # a square plot
         w, h = width - left - right, height - top - bottom
@@ -178,8 +180,13 @@ class Chart:
             f'<svg class="chart" viewBox="0 0 {width} {height}" width="{width}" '
             f'height="{height}" role="img" aria-label="{e(self.title)}" '
             'font-family="system-ui, sans-serif" font-size="11">',
-            f'<text x="{width / 2:.1f}" y="16" text-anchor="middle" font-size="12" '
-            f'font-weight="600">{e(self.title)}</text>',
+            f'<text class="title" x="{width / 2:.1f}" y="16" text-anchor="middle" '
+            'font-size="12" font-weight="600">'
+            + "".join(
+                f'<tspan x="{width / 2:.1f}" dy="{15 if i else 0}">{e(t)}</tspan>'
+                for i, t in enumerate(title)
+            )
+            + "</text>",
         ]
         clip = f"c{abs(hash((self.title, self.xlabel))) % 10**8}"
         out.append(
@@ -245,12 +252,21 @@ class Chart:
                     a, b = float(X(x[run.start])), float(Y(y[run.start]))
                     out.append(f'<circle cx="{a:.1f}" cy="{b:.1f}" r="1.5" fill="{colour}"/>')
         out.append("</g>")
+        placed: list[tuple[float, float, float, float]] = []
         for x, y, text in self.notes:
             px = float(X(x))
             anchor = (
                 "start" if px < left + 0.2 * w else ("end" if px > left + 0.8 * w else "middle")
             )
             px += 6 if anchor == "start" else (-6 if anchor == "end" else 0)
+            # a note that would overlap one already drawn is left out (notes come most
+            # important first), never drawn over it (10 px text: ≤ 6.2 px a character)
+            tw = 6.2 * len(text) + 4
+            bx = px - {"start": 0.0, "middle": 0.5, "end": 1.0}[anchor] * tw
+            box = (bx, float(Y(y)) - 11, bx + tw, float(Y(y)) + 4)
+            if any(_overlap(box, b) for b in placed):
+                continue
+            placed.append(box)
             out.append(
                 f'<text x="{px:.1f}" y="{float(Y(y)):.1f}" text-anchor="{anchor}" '
                 f'font-size="10" paint-order="stroke" stroke="#fff" stroke-width="3">'
@@ -267,6 +283,18 @@ class Chart:
             )
         out.append("</svg>")
         return "".join(out)
+
+
+def _wrap(text: str, chars: int) -> list[str]:
+    """``text`` in lines of at most ``chars`` characters, broken at spaces where possible."""
+    import textwrap
+
+    return textwrap.wrap(text, chars, break_on_hyphens=False) or [text]
+
+
+def _overlap(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    """Whether boxes ``(x0, y0, x1, y1)`` ``a`` and ``b`` intersect."""
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 def _pts(pairs: Any) -> str:

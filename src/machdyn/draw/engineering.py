@@ -304,6 +304,10 @@ def torque_chart(
         mid = t0 + (0.5 * (a + b) - t0) % 360.0
         y = float(np.interp(mid, th, Tf))
         chart.notes.append((mid, 0.5 * (y + avg), f"ΔE = {float(energy(area)):.4g}{eu}"))
+    # the largest lobes first: where labels would collide, the chart drops the later
+    # (smaller) ones; every lobe's ΔE stays in the report's lobe table
+    order = np.argsort(-np.abs(np.asarray(lobes.area, float)), kind="stable")
+    chart.notes[:] = [chart.notes[int(i)] for i in order]
     inertia, inertia_unit = _shown(units, "inertia", "")
     iu = f" {inertia_unit}" if inertia_unit else ""
     return Chart(
@@ -373,8 +377,10 @@ def shaking_charts(
     # the origin first, so a balanced trace (a dot there) is drawn over it
     series = [Series(np.array([0.0]), np.array([0.0]), colour="#000", marker=True)]
     peak = 0.0
+    # "before"/"after" only when there is an after: unbalanced alone is just the shaking force
+    both = after is not None
     for z, label, colour in (
-        (before, "before balancing", "#d62728"),
+        (before, "before balancing" if both else "shaking force", "#d62728"),
         (after, "after balancing", "#2ca02c"),
     ):
         if z is not None:
@@ -401,7 +407,7 @@ def shaking_charts(
     if moment_before is not None and theta is not None:
         x = np.degrees(np.ravel(theta).astype(float))
         before_m = torque(np.ravel(moment_before).astype(float))
-        ms = [Series(x, before_m, "before", colour="#d62728")]
+        ms = [Series(x, before_m, "before" if moment_after is not None else "", colour="#d62728")]
         if moment_after is not None:
             after_m = torque(np.ravel(moment_after).astype(float))
             ms.append(Series(x, after_m, "after", colour="#2ca02c", dashed=True))
