@@ -251,11 +251,12 @@ def test_bad_requests_name_the_field():
         machdyn.tolerance(lk, {"A-B": 0.1}, mass=(1, 2, 3))
     with pytest.raises(InputError, match="omega2"):
         machdyn.tolerance(lk, {"A-B": 0.1}, outputs=["torque.crank"], omega2=0.0)
-    slider = (Linkage({"O2": 0j, "A": 2j, "B": 6 + 0.5j}).ground("O2").link("crank", "O2", "A")
-              .link("rod", "A", "B").link("block", "B").slider("block", "ground", "B", 0.0)
-              .drive("crank"))  # fmt: skip
-    with pytest.raises(InputError, match=r"RRP dyad"):
-        machdyn.tolerance(slider, {"O2-A": 0.01})
+    slot = (Linkage({"O2": 0j, "A": 2 + 0j, "Y": 5 + 0j}).ground("O2")  # a Scotch yoke
+            .link("crank", "O2", "A").link("yoke", "Y")
+            .slider("yoke", "ground", "Y", 0.0, through="O2", name="guide")
+            .slot("A", "crank", "yoke", np.pi / 2).drive("crank"))  # fmt: skip
+    with pytest.raises(InputError, match=r"not solved in closed form"):
+        machdyn.tolerance(slot, {"O2-A": 0.01})
     rocker = watt({**WATT, "A": 4.0 + 0j})  # the crank cannot turn: say where, not NaN
     with pytest.raises(InputError, match="theta2"):
         machdyn.tolerance(rocker, {"O2-A": 0.01}, samples=10)

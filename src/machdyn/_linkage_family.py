@@ -25,10 +25,18 @@ Each sample keeps the nominal drawing's assembly of every dyad (the sign of
 ``Im(conj(A₂ − A₁)(B − A₁))``), so no sample is read on another circuit;
 where a dyad does not close the sample is flagged with the group's name.
 
-Groups solved: a crank (a link pinned to a known body, its angle driven) and
-RRR dyads — the closed forms of
-:mod:`machdyn.linkage.program` written over samples × poses. Other groups
-are refused with an :class:`~machdyn.errors.InputError` naming them.
+* ``"guide.angle"``, ``"guide.offset"``: a straight ground slider's guide line
+  (named as its joint, :meth:`Linkage.slider` ``name=``), turned about the
+  drawn sliding point and shifted across itself (to the left of its
+  direction); the line's point is the sliding point's ``"B.x"``, ``"B.y"``.
+
+Groups solved: a crank (a link pinned to a known body, its angle driven), RRR
+dyads and RRP dyads (a pin-pin link ending in a block on a straight ground
+guide; the block turns with its guide) — the closed forms of
+:mod:`machdyn.linkage.program` written over samples × poses, with the slide
+displacement ``"length.<joint>"`` as an output. Other groups (slots, sliders
+on moving links, actuators) are refused with an
+:class:`~machdyn.errors.InputError` naming them.
 """
 
 from __future__ import annotations
@@ -91,7 +99,7 @@ class Dimension:
     """One dimension of a linkage family: a coordinate, a length or a polar parameter."""
 
     name: str
-    kind: str  # "x" | "y" | "length" | "p" | "delta"
+    kind: str  # "x" | "y" | "length" | "p" | "delta" | "angle" | "offset"
     link: str | None  # the link whose shape it changes (None: a drawn coordinate)
     point: str  # the point that moves
 
@@ -103,6 +111,7 @@ class Geometry:
     q: dict[str, dict[str, np.ndarray]]
     psi: dict[str, np.ndarray]
     bad: np.ndarray  # (n,) a length ≤ 0
+    guides: dict[str, tuple[Any, Any]]  # per slider: a point of its line and its unit û
 
 
 class State:
@@ -173,6 +182,7 @@ class Family:
         self.carriers |= {n: tuple(ln.points) for n, ln in lk.links.items()}
         self.links = tuple(lk.links)
         self.mass = {n: (ln.mass, ln.inertia, ln.cg) for n, ln in lk.links.items()}
+        self.sliders: dict[str, tuple[str, str, complex, str | None]] = {}
         self.steps, self.group_names = self._steps()
         self.dims = self._dimensions()
         self.names = tuple(d.name for d in self.dims)
@@ -211,17 +221,38 @@ class Family:
                     sign = float(np.sign(_cross(A2 - A1, B - A1))) or float(g.sign)
                     if sign:
                         step = ("rrr", L1, *p1, L2, *p2, mid[1], sign)
+            elif g.kind == "RRP":
+                step = self._rrp_step(joints, g, known)
             if step is None:
                 raise InputError(
                     "model",
                     f"tolerance of a Linkage: {g.name} is not solved in closed form by the "
-                    "family solver (cranks and RRR dyads are); sliders, slots and "
-                    "actuators are not toleranced yet",
+                    "family solver (cranks, RRR dyads and RRP dyads on a ground guide are); "
+                    "slots, sliders on moving links and actuators are not toleranced yet",
                 )
             steps.append(step)
             names.append(g.name)
             known |= set(g.links)
         return steps, names
+
+    def _rrp_step(self, joints: dict[str, Any], g: Any, known: set[str]) -> tuple | None:
+        """An RRP dyad: a pin-pin link ``L1`` and a block ``L2`` on a straight ground guide."""
+        slider = next((joints[n] for n in g.joints if joints[n].kind == "slider"), None)
+        if slider is None or slider.links[1] != GROUND or slider.radius is not None:
+            return None
+        L2 = slider.links[0]
+        L1 = next((x for x in g.links if x != L2), None)
+        p1 = self._pin(joints, g.joints, L1, known) if L1 else None
+        mid = self._pin(joints, g.joints, L1, {L2}) if L1 else None
+        if not (p1 and mid):
+            return None
+        at, A, B = slider.points[0], self.points[p1[1]], self.points[mid[1]]
+        u = complex(slider.direction)
+        sign = float(np.sign(((B - A) * u.conjugate()).real)) or float(g.sign)
+        if not sign:
+            return None
+        self.sliders[slider.name] = (L2, at, u, slider.through)
+        return ("rrp", L1, *p1, L2, mid[1], slider.name, sign)
 
     def _dimensions(self) -> list[Dimension]:
         dims = [Dimension(f"{p}.{a}", a, None, p) for p in self.points for a in ("x", "y")]
@@ -231,6 +262,8 @@ class Family:
                 shape.append(Dimension(f"{pts[0]}-{pts[1]}", "length", link, pts[1]))
             for q in pts[2:]:
                 shape += [Dimension(f"{q}.{k}", k, link, q) for k in ("p", "delta")]
+        for name, (_, at, _, _) in self.sliders.items():
+            shape += [Dimension(f"{name}.{k}", k, None, at) for k in ("angle", "offset")]
         count: dict[str, int] = {}
         for d in shape:
             count[d.name] = count.get(d.name, 0) + 1
@@ -245,6 +278,10 @@ class Family:
             return z.real
         if d.kind == "y":
             return z.imag
+        if d.kind == "angle":
+            return float(np.angle(self.sliders[d.name.rsplit(".", 1)[0]][2]))
+        if d.kind == "offset":
+            return 0.0
         pts = self.carriers[d.link]
         off = z - self.points[pts[0]]
         if d.kind in ("length", "p"):
@@ -279,9 +316,12 @@ class Family:
         """Each link's offsets with the deviations ``cols`` (dimension → (n, 1) column or dual)."""
         P: dict[str, Any] = {p: np.full((n, 1), z) for p, z in self.points.items()}
         shape: dict[str, list[tuple[Dimension, Any]]] = {}
+        line: dict[str, dict[str, Any]] = {}
         for i, col in cols.items():
             d = self.dims[i]
-            if d.kind == "x":
+            if d.kind in ("angle", "offset"):
+                line.setdefault(d.name.rsplit(".", 1)[0], {})[d.kind] = col
+            elif d.kind == "x":
                 P[d.point] = P[d.point] + col
             elif d.kind == "y":
                 P[d.point] = P[d.point] + 1j * col
@@ -309,7 +349,13 @@ class Family:
             else:
                 q[link] = off
                 psi[link] = _arg(off[pts[1]]) if len(pts) > 1 else np.zeros((n, 1))
-        return Geometry(q, psi, bad)
+        guides = {}
+        for name, (_, at, u0, _) in self.sliders.items():
+            dev = line.get(name, {})
+            u = u0 * _expj(dev["angle"]) if "angle" in dev else np.full((n, 1), u0)
+            Q = P[at] + 1j * u * dev["offset"] if "offset" in dev else P[at]
+            guides[name] = (Q, u)
+        return Geometry(q, psi, bad, guides)
 
     # ------------------------------------------------------------------ solving
     def solve(self, geo: Geometry, u: list[Any], order: int = 0) -> tuple[State, np.ndarray]:
@@ -327,6 +373,8 @@ class Family:
                 _, L, K, p = step
                 E = np.exp(1j * np.asarray(u[0])) * _expj(-geo.psi[L])
                 self._crank(st, L, K, p, E, u)
+            elif kind == "rrp":
+                closes[g] = self._rrp(st, step)
             else:
                 closes[g] = self._rrr(st, step)
         return st, closes
@@ -370,6 +418,39 @@ class Family:
         st.place(L2, B, PB, E2, w2, al2)
         return closes
 
+    def _rrp(self, st: State, step: tuple) -> np.ndarray:
+        """Circle (``L1`` about ``A``) meets the guide's line ``Q + s û``; the block rides on it."""
+        _, L1, K1, p1, L2, B, guide, sign = step
+        Q, u = st.geo.guides[guide]
+        q1 = st.geo.q[L1]
+        A = st.pos(K1, p1)
+        arm1 = q1[B] - q1[p1]
+        a2 = (arm1 * arm1.conj()).real
+        d = Q - A
+        t0, c = (d * u.conj()).real, _cross(u, d)  # along and across the line
+        h2 = a2 - c * c
+        with np.errstate(invalid="ignore", divide="ignore"):
+            closes = np.all(_value(h2) >= 0.0, axis=1)
+            r1 = (c * 1j + sign * _sqrt0(h2)) * u  # B − A
+            Bz = A + r1
+            E1 = r1 / arm1
+            E2 = u / self.sliders[guide][2]  # the block turns with its (toleranced) guide
+            PB, w1, al1 = [Bz], None, None
+            zero = 0.0 * _value(t0)
+            if st.order >= 1:
+                c2 = -1j * r1  # v_B = ṡ û = v_A + j ω1 r1
+                det = _cross(u, c2)
+                k = st.vel(K1, p1)
+                w1 = _cross(u, k) / det
+                PB.append(k + 1j * w1 * r1)
+            if st.order >= 2:
+                k = st.acc(K1, p1) - w1 * w1 * r1
+                al1 = _cross(u, k) / det
+                PB.append(st.acc(K1, p1) + (1j * al1 - w1 * w1) * r1)
+        st.place(L1, B, PB, E1, w1, al1)
+        st.place(L2, B, PB, E2, zero, zero)
+        return closes
+
     # ------------------------------------------------------------------ outputs
     def output_names(self) -> tuple[str, ...]:
         """Every output: link angles, moving points, and the driver's torque."""
@@ -377,6 +458,7 @@ class Family:
         return (
             tuple(f"theta.{n}" for n in self.links)
             + tuple(f"point.{p}" for p in moving)
+            + tuple(f"length.{s}" for s in self.sliders)
             + (f"torque.{self.driver}",)
         )
 
@@ -391,7 +473,16 @@ class Family:
             return st.direction(what)
         if kind == "point":
             return st.pos(self.owner(what), what)
+        if kind == "length":
+            return self.slide(st, what)
         return self.torque(st, gravity, speed)
+
+    def slide(self, st: State, name: str) -> Any:
+        """The slider's displacement along its guide from the foot of its reference point."""
+        block, at, _, through = self.sliders[name]
+        u = st.geo.guides[name][1]
+        ref = through if through is not None else self.carriers[GROUND][0]
+        return ((st.pos(block, at) - st.pos(GROUND, ref)) * u.conj()).real
 
     def torque(self, st: State, gravity: float, speed: Any) -> Any:
         """The driver's torque by the power balance ``T u̇ = Σ m (a_G + j g)·v_G + I α ω``."""

@@ -192,6 +192,8 @@ def linkage_sensitivity(lk: Any, values: Any, velocity: Any, acceleration: Any) 
         family = Family(lk)
     except InputError:
         return implicit_sensitivity(lk, values, velocity, acceleration)
+    if family.sliders:  # the closed-form route differentiates cranks and RRR dyads only
+        return implicit_sensitivity(lk, values, velocity, acceleration)
     return closed_form_sensitivity(lk, family, values, velocity, acceleration)
 
 

@@ -130,7 +130,7 @@ def _tolerances(tolerances: Any, family: Family, default: str, size: float):
             value, how = value
             how = choice(f"tolerances[{name}]", how, _DISTRIBUTIONS)
         t = nonnegative(f"tolerances[{name}]", value)
-        angle = family.dims[names.index(name)].kind == "delta"
+        angle = family.dims[names.index(name)].kind in ("delta", "angle")
         limit, what = (math.pi, "pi radians") if angle else (size, "the linkage's size")
         if not t <= limit:
             raise InputError(
@@ -223,7 +223,7 @@ def _linear(job: LinkageJob) -> dict:
         for name in job.outputs:
             value = fam.value(st, name, job.gravity, w2)
             if not isinstance(value, Dual):  # it does not depend on these dimensions
-                d = np.zeros((k, m))
+                d = np.zeros((1, m, k))
             elif name.startswith("theta."):
                 d = (value.d / value.v[..., None]).imag
             else:

@@ -209,7 +209,8 @@ def tolerance(
     ----------
     model : FourBar, SliderCrank or Linkage
         The nominal linkage. A :class:`~machdyn.linkage.Linkage` (one driven
-        crank, RRR dyads: four-bars, Watt and Stephenson six-bars, ...) is
+        crank, RRR dyads, RRP dyads on straight ground guides: four-bars, Watt
+        and Stephenson six-bars, slider-cranks and six-bars with a slider) is
         solved by the family solver (:mod:`machdyn._linkage_family`).
     tolerances : mapping
         ``{dimension: t}`` (±t) or ``{dimension: (t, "uniform")}``; dimensions
@@ -220,7 +221,10 @@ def tolerance(
         ``"F-S"`` (a link's first two points: its length, the ground's too),
         ``"Q.p"``/``"Q.delta"`` (a further point's distance from the link's
         first point and angle from its first → second line: the coupler-point
-        parameters); an unknown name is refused with the list of valid ones.
+        parameters), ``"guide.angle"``/``"guide.offset"`` (a ground slider's
+        guide line, named as its joint); an unknown name is refused with the
+        list of valid ones. A Linkage's outputs include ``"length.guide"``,
+        the slide displacement.
     theta2 : array_like, optional
         Input angles of the sweep, radians; default 360 poses over a turn (or
         inside the input's range when it rocks; a Linkage: a turn from its

@@ -142,12 +142,30 @@ def _element_page(part: Any, machine: Any, title: str) -> Page:
 
     v, model, units = part.values, part.model, machine.units
     if part.kind == "gear_pair":
-        return gear_report(model, title=title, input_speed=v.get("input_speed"), units=units)
+        return gear_report(
+            model,
+            title=title,
+            input_speed=v.get("input_speed"),
+            torque=v.get("torque"),
+            units=units,
+        )
     if part.kind == "gear_train":
-        return train_report(model, title=title, input_speed=v.get("input_speed"), units=units)
+        return train_report(
+            model,
+            title=title,
+            input_speed=v.get("input_speed"),
+            torque=v.get("torque"),
+            units=units,
+        )
     if part.kind == "planetary":
-        return planetary_report(model, title=title, speeds=v.get("speeds") or None, units=units)
-    return rotor_report(model, title=title, units=units)
+        return planetary_report(
+            model,
+            title=title,
+            speeds=v.get("speeds") or None,
+            torque=v.get("torques") or None,
+            units=units,
+        )
+    return rotor_report(model, title=title, bearings=model.bearings, units=units)
 
 
 def _summary(page: Page, result: Any, machine: Any) -> str:

@@ -56,6 +56,7 @@ GEAR_PAIR = Table(
         center_distance=optional(Quantity("length", positive=True), "default: tight mesh"),
         driver=optional(Choice("pinion", "gear")),
         input_speed=optional(Quantity("angular_velocity"), "the driving member's speed"),
+        torque=optional(Quantity("torque"), "the driving member's torque (tooth loads)"),
         notes=optional(Text()),
     ),
     doc="a pinion meshing with a gear",
@@ -117,6 +118,7 @@ GEAR_TRAIN = Table(
     fields(
         stages=required(Stages(), "[driver, driven(, kind)] from the input shaft"),
         input_speed=optional(Quantity("angular_velocity")),
+        torque=optional(Quantity("torque"), "the input shaft's torque"),
         notes=optional(Text()),
     ),
     doc="a simple or compound train",
@@ -175,6 +177,10 @@ PLANETARY = Table(
         speeds=optional(
             MapOf(Quantity("angular_velocity"), "a table of member = speed (two of them)"),
             "two known member speeds (0 for a fixed member)",
+        ),
+        torques=optional(
+            MapOf(Quantity("torque"), "a table of member = torque (one of them)"),
+            "the external torque on one member (first gear, last gear or arm)",
         ),
         notes=optional(Text()),
     ),
@@ -289,6 +295,18 @@ def _build_planetary(ctx: Context, path: tuple, v: dict) -> Any:
                 raise ctx.error((*path, "speeds", name), f"not a member; members: {listed}")
         with ctx.at((*path, "speeds")):
             train.table(**speeds)
+    torques = v.get("torques", {})
+    if torques:
+        if len(torques) != 1 or not speeds:
+            raise ctx.error((*path, "torques"), "give one member's torque, with two speeds")
+        for name in torques:
+            if name not in train.members:
+                listed = ", ".join(train.members)
+                raise ctx.error((*path, "torques", name), f"not a member; members: {listed}")
+        from ..gears import planetary_power
+
+        with ctx.at((*path, "torques")):
+            planetary_power(train, speeds, torques)
     train.units = None if ctx.system.is_unit_free else ctx.system
     return train
 
@@ -342,6 +360,17 @@ def _run_pair(part: Part, machine: Machine, results: dict) -> PartResult:
         kinds["speed"] = "angular_velocity"
         out.speed = float(w_out)
         out.summary.append(Summary("output speed", w_out, "angular_velocity"))
+    if "torque" in v:
+        from ..gears import mesh_forces
+
+        f = mesh_forces(pair, v["torque"], pair.driver)
+        cols["torque"] = np.array([f.torque_pinion, f.torque_gear])
+        kinds["torque"] = "torque"
+        out.summary += [
+            Summary("tangential tooth load W_t", f.tangential, "force"),
+            Summary("radial tooth load W_r", f.radial, "force"),
+            Summary("total tooth load W", f.total, "force"),
+        ]
     out.tables.append(ResultTable("gears", f"Gears of {part.name}", cols, kinds))
     return out
 
@@ -369,6 +398,13 @@ def _run_train(part: Part, machine: Machine, results: dict) -> PartResult:
         kinds["driven_speed"] = "angular_velocity"
         out.speed = speeds[-1]
         out.summary.append(Summary("output speed", speeds[-1], "angular_velocity"))
+    if "torque" in v:
+        from ..gears import train_power
+
+        power = train_power(train, v.get("input_speed", 1.0), v["torque"])
+        cols["driven_torque"] = np.array(power.torques[1:])
+        kinds["driven_torque"] = "torque"
+        out.summary.append(Summary("load torque on the output shaft", power.load_torque, "torque"))
     out.tables.append(ResultTable("stages", f"Stages of {part.name}", cols, kinds))
     return out
 
@@ -391,6 +427,13 @@ def _run_planetary(part: Part, machine: Machine, results: dict) -> PartResult:
             "relative_to_arm": "angular_velocity",
             "speed": "angular_velocity",
         }
+        if v.get("torques"):
+            from ..gears import planetary_power
+
+            power = planetary_power(train, v["speeds"], v["torques"])
+            by = dict(zip(power.members, power.torques, strict=True))
+            cols["torque"] = np.array([by.get(m, 0.0) for m in table.members])
+            kinds["torque"] = "torque"
         out.tables.append(ResultTable("speeds", f"Tabular method for {part.name}", cols, kinds))
     return out
 

@@ -425,7 +425,8 @@ class RotorBalance:
 
     ``masses`` holds ``(m, R, angle, z)`` for each mass (angle from the rotor's
     reference line, z along its axis); ``planes`` the correction planes' z (None:
-    single-plane, static balance); ``radii`` the radius of each correction mass.
+    single-plane, static balance); ``radii`` the radius of each correction mass;
+    ``bearings`` the bearings' z (their loads at ``speed``, before and after).
 
     Examples
     --------
@@ -441,6 +442,7 @@ class RotorBalance:
     radii: tuple[float, ...] | None = None
     speed: float | None = None
     units: Any = field(default=None, compare=False)
+    bearings: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -474,6 +476,11 @@ class RotorBalance:
             s(self, "radii", tuple(float(r) for r in radii))
         if self.speed is not None:
             s(self, "speed", finite_scalar("speed", self.speed))
+        if self.bearings is not None:
+            zb = finite_array("bearings", self.bearings)
+            if zb.shape != (2,) or zb[0] == zb[1]:
+                raise InputError("bearings", "two different axial positions (z_A, z_B)")
+            s(self, "bearings", (float(zb[0]), float(zb[1])))
         check_units(self.units)
 
     @property
@@ -515,6 +522,7 @@ ROTOR = Table(
             "radius of the correction mass(es)",
         ),
         speed=optional(Quantity("angular_velocity"), "for the shaking force before balance"),
+        bearings=optional(Quantities("length", count=2), "z of bearings A, B (loads at speed)"),
         notes=optional(Text()),
     ),
     doc="rotating masses to balance",
@@ -534,13 +542,18 @@ def _build_rotor(ctx: Context, path: tuple, v: dict) -> RotorBalance:
         wanted = 1 if planes is None else 2
         if len(radii) not in (1, wanted) or any(r <= 0 for r in radii):
             raise ctx.error((*path, "radii"), f"give {wanted} positive radius(es)")
-    task = RotorBalance(
-        tuple(masses),
-        planes,
-        radii,
-        v.get("speed"),
-        None if ctx.system.is_unit_free else ctx.system,
-    )
+    bearings = tuple(float(z) for z in v["bearings"]) if "bearings" in v else None
+    if bearings is not None and "speed" not in v:
+        raise ctx.error((*path, "bearings"), "bearing loads need the rotor's speed: give speed")
+    with ctx.at(path, {"bearings": (*path, "bearings")}):
+        task = RotorBalance(
+            tuple(masses),
+            planes,
+            radii,
+            v.get("speed"),
+            None if ctx.system.is_unit_free else ctx.system,
+            bearings,
+        )
     with ctx.at(path, {"plane_a": (*path, "planes"), "plane_b": (*path, "planes")}):
         task.solve()
     return task
@@ -559,6 +572,8 @@ def _rotor_values(task: RotorBalance) -> dict[str, Any]:
         out["radii"] = np.array(task.radii)
     if task.speed is not None:
         out["speed"] = task.speed
+    if task.bearings is not None:
+        out["bearings"] = np.array(task.bearings)
     return out
 
 
@@ -570,6 +585,8 @@ def _run_rotor(part: Part, machine: Machine, results: dict) -> PartResult:
     out.summary.append(Summary("unbalance |sum m R|", abs(total), "unbalance"))
     if task.speed is not None:
         out.summary.append(Summary("shaking force before", abs(total) * task.speed**2, "force"))
+    if task.bearings is not None:
+        out.summary += _bearing_loads(task, fix)
     if task.planes is None:
         cols = {"plane": np.array(["static"], dtype=object), "mR": np.array([abs(fix.mR)])}
         cols["angle"] = np.array([float(fix.theta)]) % (2 * math.pi)  # as `balance static`
@@ -588,6 +605,26 @@ def _run_rotor(part: Part, machine: Machine, results: dict) -> PartResult:
         kinds["mass"] = "mass"
     out.tables.append(ResultTable("corrections", f"Corrections for {part.name}", cols, kinds))
     return out
+
+
+def _bearing_loads(task: RotorBalance, fix: Any) -> list[Summary]:
+    """|F_A|, |F_B| at the task's speed, before and after its corrections."""
+    from ..rotor import Rotor
+
+    m = np.array([e[0] for e in task.masses])
+    z = np.array([e[3] for e in task.masses])
+    before = Rotor.from_masses(m, task.unbalance / m, z)
+    if task.planes is None:
+        after = before + Rotor.from_masses([1.0], [fix.mR], [float(before.cg[2])])
+    else:
+        after = before + Rotor.from_masses([1.0, 1.0], [fix.mR_a, fix.mR_b], list(task.planes))
+    loads = []
+    for label, rotor in (("before", before), ("after", after)):
+        r = rotor.bearing_reactions(task.speed, *task.bearings)
+        loads.append(
+            Summary(f"bearing loads A, B {label}", [abs(r.load_a), abs(r.load_b)], "force")
+        )
+    return loads
 
 
 PART_KINDS = {
