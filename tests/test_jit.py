@@ -264,8 +264,9 @@ def test_a_forked_child_can_solve_after_the_parent_used_threads():
 
 
 def test_solve_beyond_the_kernels_range_falls_back_to_numpy():
-    theta2 = np.array([0.3, 2e7 + 0.3])
-    reference, compiled = both_paths(lambda: FourBar(8, 4, 7, 6).solve(theta2, 2.0))
+    theta2 = np.array([0.3, 2e7 + 0.3])  # radians on purpose: the degrees hint is expected
+    with pytest.warns(UserWarning, match="did you pass degrees"):
+        reference, compiled = both_paths(lambda: FourBar(8, 4, 7, 6).solve(theta2, 2.0))
     np.testing.assert_allclose(compiled.theta3, reference.theta3, atol=1e-9)
     np.testing.assert_allclose(compiled.omega4, reference.omega4, atol=1e-9)
 

@@ -87,7 +87,10 @@ def test_every_angle_array_taken_warns_on_degrees():
     """Function-generator ranges, path-synthesis timing and a simulation's start angle too."""
     from machdyn.synthesis import function_generator, synthesize_path
 
-    with pytest.warns(UserWarning, match="theta2_range reaches 105 rad"):
+    with (
+        pytest.warns(UserWarning, match="theta2_range reaches 105 rad"),
+        pytest.warns(UserWarning, match="theta4_range reaches 225 rad"),
+    ):
         function_generator(np.log10, (1, 2), (45.0, 105.0), (135.0, 225.0))
     with warnings.catch_warnings():
         warnings.simplefilter("error")
