@@ -88,11 +88,6 @@ def _from_spec(
     two_plane: bool,
 ) -> bool:
     """Run ``--spec FILE``'s rotor part as ``machdyn run`` does; False without --spec."""
-    if spec is None:
-        for option, value in (("--part", part is not None), ("--csv", csv)):
-            if value:
-                raise InputError(option, "goes with --spec FILE (a machine file)")
-        return False
     from .run import run_spec_part
 
     def fits(p: Any) -> str | None:
@@ -101,8 +96,7 @@ def _from_spec(
         has, other = ("no correction planes", "static") if two_plane else ("planes", "rotor")
         return f"has {has}: use `machdyn balance {other} --spec`"
 
-    run_spec_part(spec, ("rotor",), part, given=given, json=as_json, csv_out=csv, fits=fits)
-    return True
+    return run_spec_part(spec, ("rotor",), part, given=given, json=as_json, csv_out=csv, fits=fits)
 
 
 def _phasor(magnitude: float, angle_deg: float) -> complex:

@@ -93,9 +93,9 @@ def flywheel(
     ``flywheel`` part (its torque may be another part's, e.g. a four-bar's),
     reported as ``machdyn run FILE --part NAME`` does.
     """
-    if spec is not None:
-        from .run import run_spec_part
+    from .run import run_spec_part
 
+    if spec is not None:
         given = {
             "CURVE": curve is not None,
             "--omega-avg": omega_avg is not None,
@@ -105,9 +105,7 @@ def flywheel(
         given |= {"--density": density is not None, "--thickness": thickness is not None}
         run_spec_part(spec, ("flywheel",), part, given=given, json=as_json, csv_out=csv)
         return
-    for option, value in (("--part", part is not None), ("--csv", csv)):
-        if value:
-            raise InputError(option, "goes with --spec FILE (a machine file)")
+    run_spec_part(None, ("flywheel",), part, csv_out=csv)  # refuses --part/--csv without a file
     for option, value in (("CURVE", curve), ("--omega-avg", omega_avg), ("--k", k)):
         if value is None:
             raise InputError(option, "missing: give CURVE --omega-avg W --k K, or --spec FILE")

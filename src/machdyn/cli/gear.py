@@ -18,6 +18,7 @@ import typer
 
 from ..errors import InputError, ModelError
 from ._common import dumps, print_table
+from .run import run_spec_part
 
 __all__ = ["gear_app"]
 
@@ -244,7 +245,7 @@ def pair_cmd(
 
     given = _pair_given(np_, ng, module, pd, phi, system, xp, xg, internal, center_distance)
     given |= {"--thin-p": thin_p != 0.0, "--thin-g": thin_g != 0.0, "--driver": driver != "pinion"}
-    if _from_spec(spec, ("gear_pair",), part, csv, given, json):
+    if run_spec_part(spec, ("gear_pair",), part, given=given, json=json, csv_out=csv):
         return
     np_, ng = _teeth(np_, ng)
     pair = _pair(
@@ -293,26 +294,6 @@ def pair_cmd(
         "undercut_gear",
     ]
     print_table("Mesh", ["", "value"], [[k, _show(summary[k])] for k in mesh_keys])
-
-
-def _from_spec(
-    spec: Path | None,
-    kinds: tuple[str, ...],
-    part: str | None,
-    csv: bool,
-    given: dict[str, bool],
-    json: bool,
-) -> bool:
-    """Run ``--spec FILE``'s part as ``machdyn run`` does; False when no --spec was given."""
-    if spec is None:
-        for option, value in (("--part", part is not None), ("--csv", csv)):
-            if value:
-                raise InputError(option, "goes with --spec FILE (a machine file)")
-        return False
-    from .run import run_spec_part
-
-    run_spec_part(spec, kinds, part, given=given, json=json, csv_out=csv)
-    return True
 
 
 def _pair_given(
@@ -556,7 +537,8 @@ def train_cmd(
     """
     from ..gears import stage_ratio, train_value
 
-    if _from_spec(spec, ("gear_train",), part, csv, {"STAGES": stages is not None}, json):
+    given = {"STAGES": stages is not None}
+    if run_spec_part(spec, ("gear_train",), part, given=given, json=json, csv_out=csv):
         return
     if stages is None:
         raise InputError("STAGES", "missing: give the stages, e.g. 14:54,14:56, or --spec FILE")
@@ -640,7 +622,7 @@ def planetary_cmd(
 
     given = {"--sun": sun is not None, "--planet": planet is not None}
     given |= {"--ring": ring is not None, "--speed": bool(speed)}
-    if _from_spec(spec, ("planetary",), part, csv, given, json):
+    if run_spec_part(spec, ("planetary",), part, given=given, json=json, csv_out=csv):
         return
     for option, value in (("--sun", sun), ("--planet", planet), ("--ring", ring)):
         if value is None:

@@ -296,7 +296,7 @@ def load_part(
 
 
 def run_spec_part(
-    file: Path,
+    file: Path | None,
     kinds: tuple[str, ...],
     part: str | None,
     *,
@@ -304,12 +304,19 @@ def run_spec_part(
     json: bool = False,
     csv_out: bool = False,
     fits: Callable[[Any], str | None] | None = None,
-) -> None:
+) -> bool:
     """A sub-command's ``--spec FILE``: analyse the file's part as ``machdyn run --part`` does.
 
     ``given`` maps the command's model options to whether they were given:
-    the model comes from the file, so any of them is refused.
+    the model comes from the file, so any of them is refused. Without a file
+    (no ``--spec``) nothing runs and False is returned; ``--part`` and ``--csv``
+    are then refused, as they only go with a file.
     """
+    if file is None:
+        for option, value in (("--part", part is not None), ("--csv", csv_out)):
+            if value:
+                raise InputError(option, "goes with --spec FILE (a machine file)")
+        return False
     for option, was_given in (given or {}).items():
         if was_given:
             raise InputError(
@@ -320,6 +327,7 @@ def run_spec_part(
     machine, name = load_part(file, kinds, part, fits)
     results = machine.run([name])
     emit(machine, {name: results[name]}, file, json=json, csv_out=csv_out)
+    return True
 
 
 spec_app = typer.Typer(

@@ -16,6 +16,7 @@ import typer
 from .._expression import parse_function
 from ..errors import AssemblyError, InputError
 from ._common import dumps, print_table
+from .run import run_spec_part
 
 __all__ = [
     "candidate_spec",
@@ -45,26 +46,6 @@ PartOpt = Annotated[
 CsvOpt = Annotated[
     bool, typer.Option("--csv", help="With --spec: print the main table as CSV (with units).")
 ]
-
-
-def _from_spec(
-    spec: Path | None,
-    kind: str,
-    part: str | None,
-    csv: bool,
-    given: dict[str, bool],
-    json: bool,
-) -> bool:
-    """Run ``--spec FILE``'s ``kind`` part as ``machdyn run`` does; False without --spec."""
-    if spec is None:
-        for option, value in (("--part", part is not None), ("--csv", csv)):
-            if value:
-                raise InputError(option, "goes with --spec FILE (a machine file)")
-        return False
-    from .run import run_spec_part
-
-    run_spec_part(spec, (kind,), part, given=given, json=json, csv_out=csv)
-    return True
 
 
 def _missing(option: str, value: object, what: str) -> None:
@@ -130,7 +111,7 @@ def three_position_cmd(
 
     given = {"--c": c is not None, "--d": d is not None}
     given |= {"--o2": o2 is not None, "--o4": o4 is not None}
-    if _from_spec(spec, "motion_synthesis", part, csv, given, json):
+    if run_spec_part(spec, ("motion_synthesis",), part, given=given, json=json, csv_out=csv):
         return
     _missing("--c", c, "--c and --d (three points each)")
     _missing("--d", d, "--c and --d (three points each)")
@@ -232,7 +213,7 @@ def function_cmd(
     given = {"--f": f is not None, "--x": x is not None, "--theta2": theta2 is not None}
     given |= {"--theta4": theta4 is not None, "--n": n != 3, "--spacing": spacing != "chebyshev"}
     given |= {"--r1": r1 != 1.0, "--samples": samples != 11}
-    if _from_spec(spec, "function_synthesis", part, csv, given, json):
+    if run_spec_part(spec, ("function_synthesis",), part, given=given, json=json, csv_out=csv):
         return
     what = "--f, --x, --theta2 and --theta4"
     for option, value in (("--f", f), ("--x", x), ("--theta2", theta2), ("--theta4", theta4)):
@@ -400,7 +381,7 @@ def path_cmd(
 
     given = {"POINTS": points is not None, "--open": open_path, "--timing": timing}
     given |= {"--atlas": atlas is not None, "--scheduler": scheduler is not None}
-    if _from_spec(spec, "path_synthesis", part, csv, given, json):
+    if run_spec_part(spec, ("path_synthesis",), part, given=given, json=json, csv_out=csv):
         return
     _missing("POINTS", points, "a CSV of target points")
     assert points is not None
