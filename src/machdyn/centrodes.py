@@ -169,21 +169,29 @@ class Centrodes(Summarized):
         return plot_centrodes(self, ax=ax, frame=frame, **options)
 
     def to_pandas(self) -> Any:
-        """One row per sample: parameter, fixed and moving centrode points, ok, reason."""
+        """One row per sample: parameter, fixed and moving centrode points, ok, reason.
+
+        A model given units (a machine file's) names the columns with them
+        (``fixed_x [mm]``, ``parameter [deg]``) and converts the values.
+        """
         import pandas as pd
 
-        return pd.DataFrame(
-            {
-                "parameter": self.parameter,
-                "fixed_x": self.fixed.real,
-                "fixed_y": self.fixed.imag,
-                "moving_x": self.moving.real,
-                "moving_y": self.moving.imag,
-                "at_infinity": self.at_infinity,
-                "ok": self.ok,
-                "reason": self.reason,
-            }
-        )
+        from .units import columns, units_of
+
+        system = units_of(self)
+        kind = getattr(self, "parameter_kind", "angle")
+        spec = [("parameter", kind if system is not None else None, self.parameter)]
+        spec += [
+            (name, "length", values)
+            for name, values in (
+                ("fixed_x", self.fixed.real),
+                ("fixed_y", self.fixed.imag),
+                ("moving_x", self.moving.real),
+                ("moving_y", self.moving.imag),
+            )
+        ]
+        spec += [(n, None, getattr(self, n)) for n in ("at_infinity", "ok", "reason")]
+        return pd.DataFrame(columns(system, spec, degrees=True))
 
 
 @dataclass(frozen=True)
@@ -280,7 +288,7 @@ def centrodes(
     (o_i, a_i), (o_j, a_j) = frames[fixed], frames[moving]
     fixed_curve = np.where(ok, (contact - o_i) * np.exp(-1j * a_i), np.nan)
     moving_curve = np.where(ok, (contact - o_j) * np.exp(-1j * a_j), np.nan)
-    return Centrodes(
+    result = Centrodes(
         parameter=values,
         fixed_link=fixed,
         moving_link=moving,
@@ -293,6 +301,13 @@ def centrodes(
         ok=ok,
         reason=np.asarray(reason, dtype=object),
     )
+    from .units import with_units
+
+    system = getattr(model, "units", None)
+    if system is not None and hasattr(model, "drivers"):  # a Linkage: a slide's driver is a length
+        angular = all(d in model._links or d in model._motors for d in model.drivers)
+        object.__setattr__(result, "parameter_kind", "angle" if angular else "length")
+    return with_units(result, system)
 
 
 def gear_pitch_curves(

@@ -83,6 +83,8 @@ class Sensitivity(Flagged):
     derivative: Mapping[str, np.ndarray]
     status: np.ndarray
     reasons: tuple[str, ...] = ()
+    #: The quantity of ``theta``: ``"angle"``, or ``"length"`` for a linkage driven by a slide.
+    input_kind: str = "angle"
 
     @property
     def REASONS(self) -> tuple[str, ...]:
@@ -136,19 +138,76 @@ class Sensitivity(Flagged):
         return self.derivative[_name("output", output, self.derivative)] * t
 
     def to_pandas(self) -> Any:
-        """One row per sample: ``theta`` and ``d<output>/d<dimension>`` columns (pandas lazily)."""
+        """One row per sample: ``theta`` and ``d<output>/d<dimension>`` columns (pandas lazily).
+
+        A model given units (a machine file's) names each column with the quotient
+        of its output's and its dimension's display units, ``dtheta.output/dO2.x
+        [deg/mm]``, and converts the values to them; a unit-free model's columns
+        are bare and in its own units (angles in radians).
+        """
         import pandas as pd
 
-        cols: dict[str, np.ndarray] = {"theta": self.theta}
+        from .units import units_of
+
+        system = units_of(self)
+
+        def scaled(name: str, kind: str | None, values: np.ndarray, dim: str) -> dict:
+            if system is None or kind is None:
+                return {name: values}
+            dim_kind = _dimension_kind(dim)
+            out = system.display(kind)
+            out = f"({out})" if "/" in out else out
+            unit = f"{out}/{system.display(dim_kind)}"
+            return {f"{name} [{unit}]": values * system.factor(kind) / system.factor(dim_kind)}
+
+        if system is None:
+            cols: dict[str, np.ndarray] = {"theta": self.theta}
+        else:
+            theta = self.input_kind
+            cols = {system.label("theta", theta): system.show(theta, self.theta)}
         for name, d in self.derivative.items():
+            kind = _output_kind(name, np.iscomplexobj(d))
             for k, dim in enumerate(self.dimensions):
                 if np.iscomplexobj(d):
-                    cols[f"d{name}_x/d{dim}"] = d[:, k].real
-                    cols[f"d{name}_y/d{dim}"] = d[:, k].imag
+                    cols |= scaled(f"d{name}_x/d{dim}", kind, d[:, k].real, dim)
+                    cols |= scaled(f"d{name}_y/d{dim}", kind, d[:, k].imag, dim)
                 else:
-                    cols[f"d{name}/d{dim}"] = d[:, k]
+                    cols |= scaled(f"d{name}/d{dim}", kind, d[:, k], dim)
         cols["ok"] = self.ok
         return pd.DataFrame(cols)
+
+
+#: The quantity of an output by its name's head (four-bar, slider-crank and Linkage names).
+_OUTPUT_KINDS = {
+    "theta": "angle",
+    "omega": "angular_velocity",
+    "alpha": "angular_acceleration",
+    "point": "length",
+    "velocity": "velocity",
+    "acceleration": "acceleration",
+    "length": "length",
+    "torque": "torque",
+    "T12": "torque",
+    "d": "length",
+    "d_dot": "velocity",
+    "d_ddot": "acceleration",
+}
+
+
+def _output_kind(name: str, is_point: bool) -> str | None:
+    """The quantity of output ``name`` (None: unknown, left unlabelled)."""
+    if is_point:  # A, B, coupler, their _velocity/_acceleration
+        for suffix in ("velocity", "acceleration"):
+            if name.endswith(f"_{suffix}"):
+                return suffix
+    head = name.split(".", 1)[0] if "." in name else name.rstrip("0123456789")
+    kind = _OUTPUT_KINDS.get(head) or _OUTPUT_KINDS.get(name)
+    return kind if kind is not None else ("length" if is_point else None)
+
+
+def _dimension_kind(name: str) -> str:
+    """An angle for ``delta`` and a guide's ``.angle``; every other dimension is a length."""
+    return "angle" if name == "delta" or name.endswith((".delta", ".angle")) else "length"
 
 
 def sensitivity(
@@ -211,9 +270,11 @@ def sensitivity(
     from .fourbar import FourBar
     from .linkage import Linkage
     from .slidercrank import SliderCrank
+    from .units import with_units
 
     if isinstance(model, Linkage):
-        return _linkage(model, theta2, omega2, alpha2, dimensions)
+        result = _linkage(model, theta2, omega2, alpha2, dimensions)
+        return with_units(result, getattr(model, "units", None))
     if isinstance(model, FourBar):
         names, values, motion, status, reasons = _fourbar(
             model, theta2, omega2, alpha2, form, branch, mass, inertia, cg, gravity, load
@@ -236,7 +297,7 @@ def sensitivity(
             v[bad] = np.nan
             d[bad] = np.nan
         nominal[name], derivative[name] = v, d
-    return Sensitivity(
+    result = Sensitivity(
         theta=np.asarray(motion.theta2, dtype=float).ravel(),
         dimensions=tuple(names[k] for k in keep),
         nominal=MappingProxyType(nominal),
@@ -244,6 +305,7 @@ def sensitivity(
         status=status,
         reasons=reasons,
     )
+    return with_units(result, getattr(model, "units", None))
 
 
 def _linkage(
@@ -268,6 +330,7 @@ def _linkage(
         "",
         "not solved: unassembled, or a singular pose (toggle) where the derivatives are undefined",
     )
+    angular = set(getattr(motion, "angle_drivers", ())) >= set(lk.drivers)
     return Sensitivity(
         theta=values,
         dimensions=tuple(names[k] for k in keep),
@@ -275,6 +338,7 @@ def _linkage(
         derivative=MappingProxyType(derivative),
         status=status,
         reasons=reasons,
+        input_kind="angle" if angular else "length",
     )
 
 
