@@ -19,7 +19,6 @@ with the FourBar's, which the tests check).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import Any
@@ -78,7 +77,14 @@ def build(lk: Any, tolerances: Any, theta2: Any, samples: Any, distribution: Any
     distribution = choice("distribution", distribution, _DISTRIBUTIONS)
     sigmas = in_range("sigmas", sigmas, 0.1, 100.0)
     size = _size(family)
-    index, tol, uniform = _tolerances(tolerances, family, distribution, size)
+    from .tolerance import _tolerances
+
+    angles = {
+        n for n, d in zip(family.names, family.dims, strict=True) if d.kind in ("delta", "angle")
+    }
+    index, tol, uniform = _tolerances(
+        tolerances, family.names, distribution, size, angles=angles, size_is="the linkage's size"
+    )
     sigma = np.where(uniform, tol / math.sqrt(3.0), tol / sigmas)
     w2 = finite_scalar("omega2", omega2, "radian / second")
     a2 = finite_scalar("alpha2", alpha2, "radian / second ** 2")
@@ -107,39 +113,6 @@ def build(lk: Any, tolerances: Any, theta2: Any, samples: Any, distribution: Any
 def _size(family: Family) -> float:
     z = np.array(list(family.points.values()))
     return float(np.abs(z - z.mean()).max()) or 1.0
-
-
-def _tolerances(tolerances: Any, family: Family, default: str, size: float):
-    from ._validate import choice, nonnegative
-
-    names = family.names
-    if not isinstance(tolerances, Mapping) or not tolerances:
-        raise InputError(
-            "tolerances", f"give a mapping {{dimension: tolerance}} of some of {', '.join(names)}"
-        )
-    index, tol, uniform = [], [], []
-    for name, value in tolerances.items():
-        if not isinstance(name, str) or name not in names:
-            raise InputError(
-                "tolerances", f"unknown dimension {name!r:.40}; known: {', '.join(names)}"
-            )
-        how = default
-        if isinstance(value, tuple | list):
-            if len(value) != 2:
-                raise InputError(f"tolerances[{name}]", "give t or (t, 'normal' | 'uniform')")
-            value, how = value
-            how = choice(f"tolerances[{name}]", how, _DISTRIBUTIONS)
-        t = nonnegative(f"tolerances[{name}]", value)
-        angle = family.dims[names.index(name)].kind in ("delta", "angle")
-        limit, what = (math.pi, "pi radians") if angle else (size, "the linkage's size")
-        if not t <= limit:
-            raise InputError(
-                f"tolerances[{name}]", f"{t:.6g} is larger than {what} ({limit:.6g}): give ±t"
-            )
-        index.append(names.index(name))
-        tol.append(t)
-        uniform.append(how == "uniform")
-    return np.array(index), np.array(tol), np.array(uniform)
 
 
 def _outputs(outputs: Any, family: Family) -> tuple[str, ...]:

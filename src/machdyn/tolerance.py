@@ -404,7 +404,20 @@ class _Job:
         )  # fmt: skip
 
 
-def _tolerances(tolerances: Any, names: tuple[str, ...], default: str, size: float):
+def _tolerances(
+    tolerances: Any,
+    names: tuple[str, ...],
+    default: str,
+    size: float,
+    *,
+    angles: Any = ("delta",),
+    size_is: str = "the longest link",
+):
+    """Indices, tolerances and uniform flags of ``{dimension: t | (t, distribution)}``.
+
+    ``angles`` names the dimensions that are angles (bounded by π); the others are
+    bounded by ``size`` (``size_is`` says what it is in the message).
+    """
     from ._validate import choice, nonnegative
 
     if not isinstance(tolerances, Mapping) or not tolerances:
@@ -424,7 +437,7 @@ def _tolerances(tolerances: Any, names: tuple[str, ...], default: str, size: flo
             value, how = value
             how = choice(f"tolerances[{name}]", how, _DISTRIBUTIONS)
         t = nonnegative(f"tolerances[{name}]", value)
-        limit, what = (math.pi, "pi radians") if name == "delta" else (size, "the longest link")
+        limit, what = (math.pi, "pi radians") if name in angles else (size, size_is)
         if not t <= limit:
             raise InputError(
                 f"tolerances[{name}]", f"{t:.6g} is larger than {what} ({limit:.6g}): give ±t"
