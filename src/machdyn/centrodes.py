@@ -106,6 +106,8 @@ class Centrodes(Summarized):
     at_infinity: np.ndarray
     ok: np.ndarray
     reason: np.ndarray
+    #: The quantity of ``parameter``: ``"angle"``, or ``"length"`` for a linkage driven by a slide.
+    parameter_kind: str = "angle"
 
     def placed(self, k: int) -> np.ndarray:
         """The moving centrode where it sits at sample ``k``, in the fixed link's frame.
@@ -179,8 +181,7 @@ class Centrodes(Summarized):
         from .units import columns, units_of
 
         system = units_of(self)
-        kind = getattr(self, "parameter_kind", "angle")
-        spec = [("parameter", kind if system is not None else None, self.parameter)]
+        spec = [("parameter", self.parameter_kind if system else None, self.parameter)]
         spec += [
             (name, "length", values)
             for name, values in (
@@ -288,6 +289,11 @@ def centrodes(
     (o_i, a_i), (o_j, a_j) = frames[fixed], frames[moving]
     fixed_curve = np.where(ok, (contact - o_i) * np.exp(-1j * a_i), np.nan)
     moving_curve = np.where(ok, (contact - o_j) * np.exp(-1j * a_j), np.nan)
+    from .units import with_units
+
+    # a Linkage driven by a slide sweeps a length; a FourBar (no drivers) its crank angle
+    drivers = getattr(model, "drivers", ())
+    angular = all(d in model._links or d in model._motors for d in drivers)
     result = Centrodes(
         parameter=values,
         fixed_link=fixed,
@@ -300,14 +306,9 @@ def centrodes(
         at_infinity=at_inf,
         ok=ok,
         reason=np.asarray(reason, dtype=object),
+        parameter_kind="angle" if angular else "length",
     )
-    from .units import with_units
-
-    system = getattr(model, "units", None)
-    if system is not None and hasattr(model, "drivers"):  # a Linkage: a slide's driver is a length
-        angular = all(d in model._links or d in model._motors for d in model.drivers)
-        object.__setattr__(result, "parameter_kind", "angle" if angular else "length")
-    return with_units(result, system)
+    return with_units(result, getattr(model, "units", None))
 
 
 def gear_pitch_curves(
