@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -535,16 +536,15 @@ def _forces(
 
     x, singular = solve_system()
 
+    @functools.cache  # one scale for every Coulomb slider of the call
     def rest_scale() -> np.ndarray:
         """Sliding speed per sample below which a slider is at rest.
 
-        The size of the drawing times its fastest link's rate, plus the fastest slide's.
+        The linkage's typical length times its fastest link's rate, plus the fastest slide's.
         """
-        pts = np.stack(list(P.values()))
-        size = np.ptp(pts.real, axis=0) + np.ptp(pts.imag, axis=0)
         rates = [np.abs(flat(np.nan_to_num(motion.omega[n]))) for n in moving]
         slides = [np.abs(flat(np.nan_to_num(r))) for r in motion.length_rate.values()]
-        return size * np.max(rates, axis=0) + np.max([np.zeros(n_s), *slides], axis=0)
+        return length * np.max(rates, axis=0) + np.max([np.zeros(n_s), *slides], axis=0)
 
     kappa: dict[str, Any] = {}
     slipping = {}
