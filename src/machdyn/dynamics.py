@@ -1047,10 +1047,7 @@ def slidercrank_forces(
     M3 = Me[3] - (I3 * al3 + m3 * _cross(g3, aG3))
     F3 = Fe[3] - m3 * aG3
     if friction == "coulomb" and mu:
-        # at rest (a dead centre: ḋ is zero but for rounding) friction opposes the
-        # impending slip, sign(d̈) — never the sign of the rounding noise (as Linkage.forces)
-        still = np.abs(d_dot) <= 1e-12 * (a + b) * (np.abs(w2) + np.abs(w3))
-        slip = np.where(still, np.sign(d_ddot), np.sign(d_dot))
+        slip = newton_euler._slip_sign(d_dot, d_ddot, (a + b) * (np.abs(w2) + np.abs(w3)))
         F23, F43, N, _, _, kappa, jammed = newton_euler.rrp_coulomb(
             u, 0.0, 1.0 + 0j, slip, mu, F3, M3, P0, 0.0
         )

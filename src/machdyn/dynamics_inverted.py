@@ -81,8 +81,6 @@ INVERTED_REASONS: tuple[str, ...] = (
 )
 _JAM, _STICK = 3, 4
 _FRICTION_MODELS = ("smooth", "coulomb", "viscous")
-#: ḃ below this × (a + d)|ω2| is rest (a dead point of the slide), not a slip direction.
-_REST_TOL = 1e-12
 #: Relative tolerance of the motion's consistency check with the model.
 _SAME_MODEL_TOL = 1e-9
 
@@ -319,9 +317,8 @@ def inverted_slidercrank_forces(
     F4 = F4 - f0
     M4 = M4 - _cross(r, f0)
     if friction == "coulomb" and mu:
-        # the block at rest in the slot (ḃ zero but for rounding): the impending slip, sign(b̈)
-        still = np.abs(b_dot) <= _REST_TOL * (isc.a + isc.d) * np.abs(motion.omega2)
-        slip = np.where(still, np.sign(motion.b_ddot), np.sign(b_dot))
+        speed = (isc.a + isc.d) * np.abs(motion.omega2)  # ḃ below REST_TOL × this: a dead point
+        slip = newton_euler._slip_sign(b_dot, motion.b_ddot, speed)
         F23, N, C43, F14, den, kappa, jammed = newton_euler.rpr_coulomb(
             r, e4, slip, mu, F3, M3, F4, M4
         )

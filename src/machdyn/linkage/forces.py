@@ -538,7 +538,7 @@ def _forces(
 
     @functools.cache  # one scale for every Coulomb slider of the call
     def rest_scale() -> np.ndarray:
-        """Sliding speed per sample below which a slider is at rest.
+        """The speed scale per sample a slide's rate is at rest against (``_slip_sign``).
 
         The linkage's typical length times its fastest link's rate, plus the fastest slide's.
         """
@@ -563,10 +563,7 @@ def _forces(
         mu = nonnegative(f"coulomb[{name}]", mu)
         v = flat(np.nan_to_num(motion.length_rate[name]))
         a = flat(np.nan_to_num(motion.length_acceleration[name]))
-        # at rest (a dead centre: ḋ is zero but for rounding) friction opposes the
-        # impending slip, sign(d̈) — never the sign of the rounding noise
-        still = np.abs(v) <= 1e-12 * rest_scale()
-        slipping[name] = (mu, np.where(still, np.sign(a), np.sign(v)))
+        slipping[name] = (mu, newton_euler._slip_sign(v, a, rest_scale()))
     friction_bad = np.zeros(n_s, bool)
     if slipping:
         # the sign of N is unknown beforehand: start from the smooth solution and

@@ -40,6 +40,21 @@ def _cross(u: Any, v: Any) -> Any:
     return u.real * v.imag - u.imag * v.real
 
 
+#: A slide whose rate is below this × the mechanism's speed scale is at rest.
+REST_TOL = 1e-12
+
+
+def _slip_sign(v: Any, a: Any, speed: Any) -> Any:
+    """Direction of sliding that Coulomb friction opposes: ``sign(v)``.
+
+    At rest (a dead centre: ``v`` is zero but for rounding, ``|v| ≤ REST_TOL·speed``
+    with ``speed`` the mechanism's speed scale per sample) it is the impending
+    slip, ``sign(a)`` — never the sign of the rounding noise.
+    """
+    still = np.abs(v) <= REST_TOL * speed
+    return np.where(still, np.sign(a), np.sign(v))
+
+
 def shift(M_Q: Any, F: Any, Q: Any, R: Any) -> Any:
     """The moment about ``R`` of a load whose moment about ``Q`` is ``M_Q`` and resultant ``F``.
 
