@@ -66,3 +66,13 @@ def test_linkage_forces_refuse_the_motion_of_another_linkage():
     )
     with pytest.raises(InputError, match="motion"):
         lk.forces(sc.solve([0.0], velocity=1.0))
+
+
+def test_linkage_centres_refuse_the_motion_of_another_linkage():
+    """(was: the centres of the other drawing, I(ground, coupler) at (9, 0) for O4 at (8, 0))"""
+    from machdyn.centres import linkage_centres
+
+    lk = fourbar()
+    assert linkage_centres(lk, lk.solve([0.0, 0.2], velocity=1.0)).valid.all()
+    with pytest.raises(InputError, match="motion"):
+        linkage_centres(lk, fourbar(9.0).solve([0.0, 0.2], velocity=1.0))

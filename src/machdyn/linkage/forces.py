@@ -14,7 +14,15 @@ from .._validate import finite_array, items, mapping, nonnegative
 from ..errors import InputError, ModelError, UnknownNameError
 from ..loops import lu_factor, lu_solve
 from . import newton_euler
-from ._common import GROUND, _complex_point, _frozen, _name, _ref_angle, _typical_length
+from ._common import (
+    GROUND,
+    _complex_point,
+    _frozen,
+    _name,
+    _ref_angle,
+    _typical_length,
+    check_motion,
+)
 from .kinematics import LinkageMotion
 from .topology import _Edge
 
@@ -236,37 +244,6 @@ def _block_triangular(pattern: np.ndarray, labels: list, moving: list[str]) -> l
     return [(np.flatnonzero(comp == c), match[comp == c]) for c in order]
 
 
-def _check_motion(lk, motion) -> None:
-    """The motion must be this linkage's: its links and points, its links' lengths."""
-    if set(motion.theta) != set(lk._links) or not set(lk._points) <= set(motion.points):
-        raise InputError(
-            "motion",
-            f"is not a motion of this linkage (links {', '.join(motion.theta)}, not "
-            f"{', '.join(lk._links)}); pass what this linkage's solve() returned",
-        )
-    there = np.flatnonzero(np.ravel(motion.ok))[:16]  # a few poses tell
-    size = max((abs(z) for z in lk._points.values()), default=1.0) or 1.0
-    for p in lk._ground:
-        moved = np.abs(np.ravel(motion.points[p])[there] - lk._points[p])
-        if np.any(moved > 1e-7 * size):
-            raise InputError(
-                "motion",
-                f"is not a motion of this linkage: its ground point {p} is not where this "
-                "linkage has it; pass what this linkage's solve() returned",
-            )
-    for name, ln in lk._links.items():
-        for p, q in zip(ln.points, ln.points[1:], strict=False):
-            drawn = abs(lk._points[q] - lk._points[p])
-            now = np.abs(np.ravel(motion.points[q])[there] - np.ravel(motion.points[p])[there])
-            if np.any(np.abs(now - drawn) > 1e-7 * size):
-                raise InputError(
-                    "motion",
-                    f"is not a motion of this linkage: {p}{q} on link {name!r} is "
-                    f"{float(now.max()):.6g} long in it, {drawn:.6g} in the drawing; pass what "
-                    "this linkage's solve() returned",
-                )
-
-
 def _forces(
     lk, motion, gravity, external_forces, external_torques, viscous, coulomb
 ) -> LinkageForces:
@@ -274,7 +251,7 @@ def _forces(
         raise InputError("motion", f"must be a LinkageMotion from Linkage.solve, got {motion!r}")
     if motion.omega is None:
         raise ModelError("forces need accelerations: solve with velocity=... first")
-    _check_motion(lk, motion)
+    check_motion(lk, motion)
     lk._compile()
     g = nonnegative("gravity", gravity)
     shape = motion.ok.shape
