@@ -76,3 +76,37 @@ def test_linkage_centres_refuse_the_motion_of_another_linkage():
     assert linkage_centres(lk, lk.solve([0.0, 0.2], velocity=1.0)).valid.all()
     with pytest.raises(InputError, match="motion"):
         linkage_centres(lk, fourbar(9.0).solve([0.0, 0.2], velocity=1.0))
+
+
+def test_transmission_angles_refuse_the_motion_of_another_linkage():
+    lk = fourbar()
+    lk.transmission_angles(lk.solve([0.0, 0.2], velocity=1.0))
+    with pytest.raises(InputError, match="motion"):
+        lk.transmission_angles(fourbar(9.0).solve([0.0, 0.2], velocity=1.0))
+
+
+def test_flipped_linkage_with_a_curved_slot():
+    """(was: TypeError from view.rebuilt: a curved guide has no direction to turn)
+
+    The HW 6 four-bar plus an arm pivoted at O6 whose curved slot (centre C) holds a pin Q
+    of the crank; flipping the RRR dyad (coupler, rocker) puts B at its mirror image in the
+    line A → O4 and leaves the rest where it is drawn."""
+    pts = {"O2": 0j, "O4": 8 + 0j, "A": 4 + 0j, "B": 7.625 + 1j * np.sqrt(35.859375)}
+    pts |= {"Q": -1 + 0j, "O6": -3 + 3j, "C": -3 + 0.5j}
+    lk = (
+        Linkage(pts)
+        .ground("O2", "O4", "O6")
+        .link("crank", "O2", "A", "Q")
+        .link("coupler", "A", "B")
+        .link("rocker", "O4", "B")
+        .link("arm", "O6", "C")
+        .slot("Q", "crank", "arm", centre="C", name="arc")
+        .drive("crank")
+    )
+    rrr = next(g for g in lk.groups if g.kind == "RRR")
+    other = lk.flipped(rrr.name)
+    A, O4, B = pts["A"], pts["O4"], pts["B"]
+    u = (O4 - A) / abs(O4 - A)
+    assert abs(other.points["B"] - (A + u * np.conj((B - A) / u))) < 1e-9
+    for p in ("Q", "C", "O6", "A"):
+        assert abs(other.points[p] - pts[p]) < 1e-12
