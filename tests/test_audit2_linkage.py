@@ -371,18 +371,18 @@ def test_random_chain_rates_equal_central_differences(index, backend):
     lk = ch.linkage(masses=True)
     _, _, closes, clear = ch.solve(_sweep(ch, 37))
     th0 = _sweep(ch, 37)[closes & clear]
-    h = 1e-3
+    h = 5e-4  # (the jerk's third difference: truncation ~h², 1e-3 near steep stretches)
     th = _stencil(ch, th0, h)
-    w, al = 1.7, -2.3
-    m = lk.solve(th, velocity=w, acceleration=al)
+    w, al, je = 1.7, -2.3, 0.9
+    m = lk.solve(th, velocity=w, acceleration=al, jerk=je)
     okb = m.ok.reshape(-1, 5).all(axis=1)
     assert okb.sum() >= 0.5 * th0.size
     size = max(abs(z) for z in ch.pts.values())
     tables = [
-        (m.points, m.point_velocity, m.point_acceleration),
-        (m.cg, m.cg_velocity, m.cg_acceleration),
+        (m.points, m.point_velocity, m.point_acceleration, m.point_jerk),
+        (m.cg, m.cg_velocity, m.cg_acceleration, m.cg_jerk),
     ]
-    for pos, vel, acc in tables:
+    for pos, vel, acc, jrk in tables:
         for name, z in pos.items():
             z = z.reshape(-1, 5)
             d1 = (z[:, 0] - 8 * z[:, 1] + 8 * z[:, 3] - z[:, 4]) / (12 * h)
@@ -392,6 +392,11 @@ def test_random_chain_rates_equal_central_differences(index, backend):
             scale = size + np.abs(z[:, 2]) + np.abs(V) + np.abs(A)
             assert (np.abs(V - d1 * w) / scale)[okb].max() < 1e-7, name
             assert (np.abs(A - (d2 * w * w + d1 * al)) / scale)[okb].max() < 2e-5, name
+            # jerk by the chain rule once more: P3 w^3 + 3 P2 w alpha + P1 j
+            d3 = (-z[:, 0] + 2 * z[:, 1] - 2 * z[:, 3] + z[:, 4]) / (2 * h**3)
+            J = jrk[name].reshape(-1, 5)[:, 2]
+            want = d3 * w**3 + 3 * d2 * w * al + d1 * je
+            assert (np.abs(J - want) / (scale + np.abs(J)))[okb].max() < 5e-3, name
     for link, t in m.theta.items():
         t = t.reshape(-1, 5)
         d1 = (t[:, 0] - 8 * t[:, 1] + 8 * t[:, 3] - t[:, 4]) / (12 * h)
@@ -400,6 +405,10 @@ def test_random_chain_rates_equal_central_differences(index, backend):
         scale = 1.0 + np.abs(om) + np.abs(a)
         assert (np.abs(om - d1 * w) / scale)[okb].max() < 1e-7, link
         assert (np.abs(a - (d2 * w * w + d1 * al)) / scale)[okb].max() < 2e-5, link
+        d3 = (-t[:, 0] + 2 * t[:, 1] - 2 * t[:, 3] + t[:, 4]) / (2 * h**3)
+        J = m.jerk[link].reshape(-1, 5)[:, 2]
+        want = d3 * w**3 + 3 * d2 * w * al + d1 * je
+        assert (np.abs(J - want) / (scale + np.abs(J)))[okb].max() < 5e-3, link
 
 
 def _cg_world(ch, m, link):
