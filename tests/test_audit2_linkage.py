@@ -753,3 +753,52 @@ def test_random_chain_flipped_is_the_other_assembly(index):
         done += 1
     if not done:
         pytest.skip("no dyad of this chain closes on its other assembly")
+
+
+@pytest.mark.parametrize("index", range(1, len(CHAINS), 4))
+def test_random_chain_springs_and_dampers_by_power(index):
+    """A spring–damper between points of two random links and a torsion spring at a random
+    pin: T = k (L − L0) + c L̇ + preload and τ = kt (φ − φ0) + ct φ̇ from the points and
+    angles here, and T ω − Σ T L̇ − Σ τ φ̇ = d(KE + PE)/dt (docs/linkage.md, springs)."""
+    ch = CHAINS[index]
+    rng = np.random.default_rng(ch.seed + 7)
+    links = [n for n, pts in ch.links.items()]
+    a, b = rng.choice(len(links), size=2, replace=False)
+    A, B = links[a], links[b]
+    start, end = ch.links[A][-1], ch.links[B][-1]
+    if start == end:
+        pytest.skip("the two links share their last point")
+    k, c, pre = rng.uniform(5, 50), rng.uniform(0.1, 2), rng.uniform(-5, 5)
+    L0 = abs(ch.pts[end] - ch.pts[start]) * rng.uniform(0.7, 1.3)
+    lk = ch.linkage(masses=True)
+    lk.spring("s", start, end, stiffness=k, free_length=L0, damping=c, preload=pre, links=(A, B))
+    pins = [j for j in lk.joints if j.kind == "pin" and "ground" not in j.links]
+    pin = pins[int(rng.integers(len(pins)))]
+    ta, tb = pin.links[:2]
+    kt, ct, phi0 = rng.uniform(1, 10), rng.uniform(0.01, 0.5), rng.uniform(-1, 1)
+    lk.torsion_spring("t", pin.points[0], stiffness=kt, free_angle=phi0, damping=ct, links=(ta, tb))
+    th = _sweep(ch, 41)
+    w, al, g = 2.1, 0.4, 9.81
+    m = lk.solve(th, velocity=w, acceleration=al)
+    f = lk.forces(m, gravity=g)
+    ok = f.ok & m.ok
+    assert ok.sum() > 0.1 * th.size
+    r = m.points[end] - m.points[start]
+    L = np.abs(r)
+    Ld = np.real(np.conj(r) * (m.point_velocity[end] - m.point_velocity[start])) / L
+    T = k * (L - L0) + c * Ld + pre
+    assert np.abs(f.elements["s"] - T)[ok].max() < 1e-9 * (1 + np.abs(T[ok]).max())
+    phi = m.theta[tb] - m.theta[ta]
+    phid = m.omega[tb] - m.omega[ta]
+    tau = kt * (phi - phi0) + ct * phid  # φ not wrapped: its drawn value is θb − θa as drawn
+    assert np.abs(f.element_rate["t"] - phid)[ok].max() < 1e-9
+    assert np.abs(f.elements["t"] - tau)[ok].max() < 1e-9 * (1 + np.abs(tau[ok]).max())
+    P = f.driver["crank"] * w - T * Ld - tau * phid
+    dE = np.zeros(th.size)
+    big = np.abs(P) + np.abs(T * Ld) + np.abs(tau * phid) + 1.0
+    for name, ln in lk.links.items():
+        vG, aG = m.cg_velocity[name], m.cg_acceleration[name]
+        dE += ln.mass * np.real(np.conj(vG) * aG) + ln.inertia * m.omega[name] * m.alpha[name]
+        dE += ln.mass * g * vG.imag
+        big += np.abs(ln.mass * np.real(np.conj(vG) * aG)) + np.abs(ln.mass * g * vG.imag)
+    assert (np.abs(P - dE) / big)[ok].max() < 1e-8
