@@ -196,8 +196,11 @@ class Chain:
             del self.pts[P2]
         self.known += [L for L in (L1, L2) if L is not None]
 
-    def linkage(self, masses=False):
-        lk = Linkage(dict(self.pts)).ground(*self.ground)
+    def linkage(self, masses=False, cylinder=None):
+        """The drawn linkage; ``cylinder``: a ground point driving the crank pin A by a
+        linear actuator ("cyl") instead of the crank's angle."""
+        pts = dict(self.pts) | ({"C0": cylinder} if cylinder is not None else {})
+        lk = Linkage(pts).ground(*self.ground, *(["C0"] if cylinder is not None else []))
         rng = np.random.default_rng(self.seed)
         self.cg = {}
         for name, pts in self.links.items():
@@ -216,6 +219,8 @@ class Chain:
                 lk.slot(pin, link, on, ang, name=name)
             else:
                 lk.slot(pin, link, on, centre=centre, name=name)
+        if cylinder is not None:
+            return lk.actuator("cyl", "C0", "A").drive("cyl")
         return lk.drive("crank")
 
     # -- independent position solve ---------------------------------------
@@ -802,3 +807,48 @@ def test_random_chain_springs_and_dampers_by_power(index):
         dE += ln.mass * g * vG.imag
         big += np.abs(ln.mass * np.real(np.conj(vG) * aG)) + np.abs(ln.mass * g * vG.imag)
     assert (np.abs(P - dE) / big)[ok].max() < 1e-8
+
+
+@pytest.mark.parametrize("index", range(0, len(CHAINS), 4))
+def test_random_chain_driven_by_a_cylinder(index):
+    """The crank pushed by a linear actuator from a ground point C0 to the crank pin A (the
+    loader of the notes): the crank angle for a length ℓ from two circles here, then every
+    point as before; the actuator's force F by power, F ℓ̇ = d(KE + PE)/dt."""
+    ch = CHAINS[index]
+    rng = np.random.default_rng(ch.seed + 3)
+    A0 = ch.pts["A"]
+    C0 = A0 + rng.uniform(2.0, 3.0) * np.exp(1j * (np.angle(A0) + rng.uniform(0.8, 2.3)))
+    lk = ch.linkage(masses=True, cylinder=C0)
+    # lengths for which the crank pin can be reached, on the drawn side of C0 → O2
+    rA = abs(A0)
+    l0 = abs(A0 - C0)
+    side = np.sign(cross(0j - C0, A0 - C0))
+    ell = l0 + np.linspace(-0.4, 0.4, 41) * rA
+    d = abs(C0)
+    x = (ell**2 - rA**2 + d**2) / (2 * d)
+    h2 = rA**2 - (d - x) ** 2  # (E on the circle about O2 of radius rA)
+    ell, x, h2 = ell[h2 > 0.05 * rA**2], x[h2 > 0.05 * rA**2], h2[h2 > 0.05 * rA**2]
+    E = C0 + (0j - C0) / d * (x + 1j * side * np.sqrt(ell**2 - x**2))
+    assert np.allclose(np.abs(E), rA) and np.allclose(np.abs(E - C0), ell)
+    theta2 = ch.theta0 + np.unwrap(np.angle(E / A0))
+    ref, _, closes, clear = ch.solve(theta2)
+    m = lk.solve(ell, velocity=0.8, acceleration=0.3)
+    assert not (clear & (m.ok != closes)).any()
+    ok = m.ok & clear
+    if ok.sum() < 3:
+        pytest.skip("the chain does not close over this stroke")
+    for name, z in ref.items():
+        err = np.abs(m.points[name] - z)[ok] / (size_of(ch) + np.abs(z[ok]))
+        assert err.max() < 1e-9, name
+    g = 9.81
+    f = lk.forces(m, gravity=g)
+    ok &= f.ok
+    dE = np.zeros(ell.size)
+    big = np.ones(ell.size)  # (the crank's I_O2 α and the cylinder's push, all in the sum)
+    for name, ln in lk.links.items():
+        vG, aG = m.cg_velocity[name], m.cg_acceleration[name]
+        dE += ln.mass * np.real(np.conj(vG) * aG) + ln.inertia * m.omega[name] * m.alpha[name]
+        dE += ln.mass * g * vG.imag
+        big += np.abs(ln.mass * np.real(np.conj(vG) * aG)) + np.abs(ln.mass * g * vG.imag)
+    P = f.driver["cyl"] * 0.8
+    assert (np.abs(P - dE) / (big + np.abs(P)))[ok].max() < 1e-8
