@@ -185,3 +185,46 @@ def test_virtual_work_with_dalembert_loads_equals_newton_euler_of_a_slider_crank
         load_force4=F4,
     )
     np.testing.assert_allclose(f.T12, T_vw, rtol=1e-9, atol=1e-9 * np.abs(T_vw).max())
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_slidercrank_counterweight_leaves_the_reciprocating_force(seed):
+    """With the counterweight on, −Σ m a_G of crank (+ weight), rod and piston — written here
+    from the loop in closed form — is −m_B (B̈ − f Ä): the rotating masses balanced exactly,
+    a part f of the reciprocating one traded into y (Norton §13.6–13.7, overbalancing)."""
+    from machdyn.shaking import slidercrank_counterweight
+
+    rng = np.random.default_rng(9500 + seed)
+    a = rng.uniform(0.5, 2.0)
+    b = a * rng.uniform(2.5, 5.0)
+    c = rng.uniform(-0.3, 0.3) * a
+    m2, m3, m4 = rng.uniform(0.5, 3.0, 3)
+    c2 = complex(rng.uniform(-0.5, 1.2) * a, rng.uniform(-0.2, 0.2) * a)
+    c3 = complex(rng.uniform(0.2, 0.8) * b, rng.uniform(-0.1, 0.1) * b)
+    f = float(rng.choice([0.0, 0.5, 1.0]))
+    sc = SliderCrank(a, b, offset=c)
+    bal = slidercrank_counterweight(sc, (m2, m3, m4), (c2, c3), fraction=f)
+    R = rng.uniform(0.3, 1.0) * a
+    mc = abs(bal.mR) / R
+    th = np.linspace(0.0, 2 * np.pi, 37)
+    w2, al2 = 50.0, 7.0
+    th3 = np.arcsin((c - a * np.sin(th)) / b)
+    w3 = -a * np.cos(th) * w2 / (b * np.cos(th3))
+    al3 = (-a * al2 * np.cos(th) + a * w2**2 * np.sin(th) + b * w3**2 * np.sin(th3)) / (
+        b * np.cos(th3)
+    )
+    e2, e3 = np.exp(1j * th), np.exp(1j * th3)
+    aA = (1j * al2 - w2**2) * a * e2
+    aB = aA + (1j * al3 - w3**2) * b * e3
+    # every body's centre of mass: crank (origin O2, x to A), weight, rod (origin A, x to B)
+    a2 = (1j * al2 - w2**2) * c2 * e2
+    aw = (1j * al2 - w2**2) * (bal.mR / mc) * e2
+    a3 = aA + (1j * al3 - w3**2) * c3 * e3
+    Fs = -(m2 * a2 + mc * aw + m3 * a3 + m4 * aB)
+    m = sc.solve(th, w2, al2)
+    np.testing.assert_allclose(m.d_ddot, aB.real, rtol=1e-9, atol=1e-9 * np.abs(aB).max())
+    np.testing.assert_allclose(bal.shaking_force(m), Fs, atol=1e-9 * np.abs(Fs).max())
+    mB = m4 + m3 * c3 / b
+    np.testing.assert_allclose(Fs, -mB * (aB - f * aA), atol=1e-9 * np.abs(Fs).max())
+    if f == 0.0 and c3.imag == 0.0:  # only the piston's line is left shaking
+        assert np.abs(Fs.imag).max() < 1e-9 * np.abs(Fs).max()

@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from machdyn.errors import ModelError
 from machdyn.linkage import Linkage
 
 pytestmark = pytest.mark.usefixtures("backend")
@@ -653,3 +654,93 @@ def test_loops_numpy_sweep_keeps_turns_before_a_gap():
         jit.set_mode(mode)
     steps = np.abs(np.diff(t, axis=1))  # within each stencil: samples 1e-3 rad apart
     assert np.nanmax(steps) < 0.1, t[np.nanmax(steps, axis=1) >= 0.1]
+
+
+@pytest.mark.parametrize("index", range(2, len(CHAINS), 5))
+def test_random_chain_grid_without_continuation(index):
+    """A 2-D grid of inputs in shuffled order, each sample on its own (continuation=False):
+    the drawn assembly at every sample, the points of the solve written here, the flags."""
+    ch = CHAINS[index]
+    lk = ch.linkage()
+    rng = np.random.default_rng(ch.seed + 1)
+    th = ch.theta0 + rng.permutation(np.linspace(0, 2 * np.pi, 48, endpoint=False)).reshape(6, 8)
+    m = lk.solve(th, velocity=1.0, continuation=False)
+    ref, _, closes, clear = ch.solve(th)
+    assert m.ok.shape == (6, 8)
+    assert not (clear & (m.ok != closes)).any()
+    ok = m.ok & clear
+    for name, z in ref.items():
+        err = np.abs(m.points[name] - z)[ok] / (size_of(ch) + np.abs(z[ok]))
+        assert err.max(initial=0) < 1e-9, name
+
+
+def _group_of(lk, *links):
+    """The Assur group made of exactly these links."""
+    return next(g for g in lk.groups if set(g.links) == set(links))
+
+
+@pytest.mark.parametrize("index", range(0, len(CHAINS), 3))
+def test_random_chain_transmission_angles(index):
+    """μ of each RRR dyad: the acute angle between its links at the middle pin; of each RRP
+    dyad: between the rod and the slide's normal (90° pushing along the slide) — from the
+    points solved here."""
+    ch = CHAINS[index]
+    lk = ch.linkage()
+    th = _sweep(ch, 19)
+    m = lk.solve(th, velocity=1.0)
+    ref, B, _, clear = ch.solve(th)
+    mu = lk.transmission_angles(m)
+    ok = m.ok & clear
+    checked = 0
+    for kind, data in ch.steps:
+        if kind == "RRR":
+            _, _, P1, P2, X, L1, L2, _ = data
+            g = _group_of(lk, L1, L2)
+            phi = np.angle((ref[X] - ref[P1]) / (ref[X] - ref[P2]))
+            want = np.arcsin(np.abs(np.sin(phi)))
+        elif kind == "RRP":
+            _, K2, P1, X, L1, L2, u, _ = data
+            g = _group_of(lk, L1, L2)
+            slide = B[K2].c * u
+            want = np.arcsin(
+                np.abs(np.real(np.conj(slide) * (ref[X] - ref[P1])) / abs(ch.pts[X] - ch.pts[P1]))
+            )
+        else:
+            continue
+        assert np.abs(mu[g.name] - want)[ok].max(initial=0) < 1e-9, g.name
+        assert np.isnan(mu[g.name][~m.ok]).all()
+        checked += 1
+    if not checked:
+        pytest.skip("no RRR or RRP dyad in this chain")
+
+
+@pytest.mark.parametrize("index", range(1, len(CHAINS), 3))
+def test_random_chain_flipped_is_the_other_assembly(index):
+    """lk.flipped(group) is drawn on the other root of that dyad (the sign solved here turned
+    over) with every other dyad on its own drawn assembly, at the drawn driver value."""
+    ch = CHAINS[index]
+    lk = ch.linkage()
+    done = 0
+    for k, (kind, data) in enumerate(ch.steps):
+        if kind not in ("RRR", "RRP", "RPR", "ARC"):
+            continue
+        links = [x for x in data if isinstance(x, str) and x in lk.links and x not in data[:2]]
+        g = next(g for g in lk.groups if set(links) <= set(g.links) and g.kind != "driver")
+        try:
+            other = lk.flipped(g.name)
+        except ModelError:
+            continue  # the other assembly does not close at the drawn input
+        flip = list(ch.steps)
+        flip[k] = (kind, (*data[:-1], -data[-1]))
+        saved, ch.steps = ch.steps, flip
+        try:
+            ref, _, closes, clear = ch.solve(np.array([ch.theta0]))
+        finally:
+            ch.steps = saved
+        if not (closes[0] and clear[0]):
+            continue
+        for name, z in ref.items():
+            assert abs(other.points[name] - z[0]) < 1e-9 * size_of(ch), (g.name, name)
+        done += 1
+    if not done:
+        pytest.skip("no dyad of this chain closes on its other assembly")

@@ -17,7 +17,13 @@ import pytest
 
 from machdyn.errors import AssemblyError, InputError
 from machdyn.synthesis.function import function_generator
-from machdyn.synthesis.motion import three_position, three_position_fixed_pivots, two_position
+from machdyn.synthesis.motion import (
+    driving_dyad,
+    rotopole_link,
+    three_position,
+    three_position_fixed_pivots,
+    two_position,
+)
 from machdyn.synthesis.quick_return import quick_return
 
 TWO_PI = 2 * np.pi
@@ -303,3 +309,45 @@ def test_quick_return_swing_and_time_ratio_by_moving_it(swing_deg, tr, r4):
     cos_mu = np.real(np.conj(B - A) * (B - O4)) / (r3 * r4_)
     mu = np.arccos(np.abs(np.clip(cos_mu, -1, 1)))
     assert qr.mu_min == pytest.approx(mu.min(), abs=1e-4)
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_rotopole_link_carries_the_line_by_its_rotation(seed):
+    rng = np.random.default_rng(8000 + seed)
+    c, d = random_positions(rng, 2)
+    link = rotopole_link(c, d)
+    turn = np.exp(1j * link.rotation)
+    for p1, p2 in ((c[0], c[1]), (d[0], d[1])):
+        assert abs(link.pole + turn * (p1 - link.pole) - p2) < 1e-9 * (1 + abs(p2))
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_driving_dyad_swings_the_rocker_between_b1_and_b2_in_equal_times(seed):
+    """Turn the crank a whole turn with the solve written here: the rocker's extremes are
+    b1 and b2, half a turn of the crank apart (time ratio 1, Norton §3.4)."""
+    rng = np.random.default_rng(9000 + seed)
+    pivot = complex(*rng.uniform(-2, 2, 2))
+    r4 = rng.uniform(1, 3)
+    a1 = rng.uniform(-np.pi, np.pi)
+    swing = rng.uniform(0.3, 1.2) * rng.choice([-1, 1])
+    b1, b2 = pivot + r4 * np.exp(1j * a1), pivot + r4 * np.exp(1j * (a1 + swing))
+    try:
+        dy = driving_dyad(pivot, b1, b2, distance=rng.uniform(1.5, 4) * r4)
+    except InputError:
+        return
+    assert dy.swing == pytest.approx(abs(swing), rel=1e-9)
+    O6, r2, r3 = dy.crank_pivot, dy.crank, dy.coupler
+    A0 = O6 + r2 * (O6 - b1) / abs(O6 - b1)  # the folded toggle: the pin at b1
+    side = side_of(A0, pivot, b1) or 1.0
+    psi0 = np.angle(A0 - O6)
+    psi = psi0 + np.linspace(0, 2 * np.pi, 100001)
+    _, B, h2 = drive(O6, pivot, r2, r3, r4, psi, side)
+    assert h2.min() > 0
+    beta = np.unwrap(np.angle(B - pivot))
+    i, j = int(np.argmax(beta)), int(np.argmin(beta))
+    assert beta[i] - beta[j] == pytest.approx(abs(swing), abs=1e-6)
+    assert {complex(np.round(B[i], 5)), complex(np.round(B[j], 5))} == {
+        complex(np.round(b1, 5)),
+        complex(np.round(b2, 5)),
+    }
+    assert abs(abs(psi[i] - psi[j]) - np.pi) < 1e-3  # equal strokes

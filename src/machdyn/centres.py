@@ -598,6 +598,9 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
 
     if not isinstance(motion, LinkageMotion):
         raise InputError("motion", f"must be a LinkageMotion from lk.solve(), got {motion!r}")
+    from .linkage._common import check_motion
+
+    check_motion(lk, motion)
     bodies = ["ground", *lk.links]
     fields = {b: _body_motion(lk, motion, b) for b in bodies}
     known: dict[tuple[str, str], np.ndarray] = {}
