@@ -139,6 +139,22 @@ def sse_machdyn(case: dict, result) -> tuple[float, bool]:
     return float(np.sum(np.abs(P - targets_of(case, result)) ** 2)), bool(papers)
 
 
+def least_sse(case: dict, res) -> tuple:
+    """Of machdyn's candidates (ranked by their worst distance), the one of least SSE.
+
+    Returns it, its SSE (:func:`sse_machdyn`; a dropped repeated point counted twice)
+    and whether it is on the papers' assembly.
+    """
+    best = None
+    for r in res.candidates or res.rejected[:1]:
+        sse, papers = sse_machdyn(case, r)
+        if r.targets.size < case["targets"].size:  # a dropped repeated point counts twice
+            sse += float(np.abs(r.distance[0]) ** 2)
+        if best is None or sse < best[1]:
+            best = (r, sse, papers)
+    return best
+
+
 def targets_of(case: dict, result) -> np.ndarray:
     """The targets machdyn was given (a closed path's repeated last point dropped)."""
     return result.targets
@@ -153,7 +169,7 @@ def run_machdyn(case: dict, atlas):
         # input angle: the sum over the points of an open path (machdyn would drop the
         # repeat of a closed one). The order check still asks for less than one turn.
         closed = False
-    kw = dict(closed=closed, n=1, mu_min=0.0, crank="crank" in case["constraints"])
+    kw = dict(closed=closed, n=5, mu_min=0.0, crank="crank" in case["constraints"])
     b = case["bounds"]
     kw["max_length"] = min(b["lengths"][1], b["coupler"][1])  # |rcx|, |rcy| <= p
     if "placement" in b:
@@ -190,8 +206,9 @@ def pso(case: dict, seconds: float, seed: int) -> float:
     dummy = pl.Linkage([crank.anchor, crank], name="placeholder")  # the PSO needs one
 
     def fitness(_linkage, dims, _pos):
+        # mu_min 0: machdyn is given no transmission-angle limit either (run_machdyn)
         return float(path_objective(np.asarray(dims), targets, timing=timing, n=120,
-                                    scale=scale, centre=centre))  # fmt: skip
+                                    mu_min=0.0, scale=scale, centre=centre))  # fmt: skip
 
     np.random.seed(seed)  # noqa: NPY002  (pylinkage's PSO draws from NumPy's global generator)
     t0 = time.perf_counter()
@@ -228,10 +245,7 @@ def main() -> None:
             note = f"  [{'; '.join(broken)}]" if broken else ""
             print(f"  published  {pub['label']:52s} SSE {sse:10.3e}{note}")
         res, seconds, cpu = run_machdyn(case, at)
-        r = res.best
-        sse, papers = sse_machdyn(case, r)
-        if r.targets.size < case["targets"].size:  # a dropped repeated point counts twice
-            sse += float(np.abs(r.distance[0]) ** 2)
+        r, sse, papers = least_sse(case, res)
         pl = r.linkage
         p, delta = pl.fourbar.coupler
         broken = constraint_report(case, pl.fourbar.lengths,

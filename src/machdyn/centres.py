@@ -50,6 +50,8 @@ __all__ = [
 _INFINITY_RTOL = 1e-12
 #: Two unit lines whose cross product is shorter than this are the same line.
 _SAME_LINE = 1e-9
+#: Relative velocity and Δω below this fraction of the speeds: no relative motion.
+_STILL = 1e-12
 
 
 def _finite(z: np.ndarray | complex) -> np.ndarray:
@@ -391,8 +393,13 @@ def relative_centre(a: BodyMotion, b: BodyMotion) -> np.ndarray:
     """
     num = (a.V - b.V) + 1j * (b.omega * b.R - a.omega * a.R)
     d_omega = b.omega - a.omega
-    z = -1j * num  # P = num / (j Δω) = −j num / Δω
-    return np.stack([z.real, z.imag, d_omega], axis=-1)
+    # no relative motion but rounding: all zeros (else the noise reads as a direction)
+    speeds = np.abs(a.V) + np.abs(b.V) + np.abs(a.omega * a.R) + np.abs(b.omega * b.R)
+    still = (np.abs(num) <= _STILL * speeds) & (
+        np.abs(d_omega) <= _STILL * (np.abs(a.omega) + np.abs(b.omega))
+    )
+    z = np.where(still, 0j, -1j * num)  # P = num / (j Δω) = −j num / Δω
+    return np.stack([z.real, z.imag, np.where(still, 0.0, d_omega)], axis=-1)
 
 
 def kennedy(
@@ -591,6 +598,9 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
 
     if not isinstance(motion, LinkageMotion):
         raise InputError("motion", f"must be a LinkageMotion from lk.solve(), got {motion!r}")
+    from .linkage._common import check_motion
+
+    check_motion(lk, motion)
     bodies = ["ground", *lk.links]
     fields = {b: _body_motion(lk, motion, b) for b in bodies}
     known: dict[tuple[str, str], np.ndarray] = {}

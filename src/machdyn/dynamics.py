@@ -304,6 +304,24 @@ def _check_model(model: Any, motion: Any) -> None:
         )
 
 
+def _check_slidercrank(slidercrank: Any, motion: Any) -> None:
+    """The motion must be this slider-crank's: its offset, ``|O2A| = a``, ``|AB| = b``."""
+    a, b, c = slidercrank.a, slidercrank.b, slidercrank.c
+    A, B = np.ravel(motion.A), np.ravel(motion.B)
+    there = np.flatnonzero(np.isfinite(A) & np.isfinite(B))[:16]  # a few poses tell
+    tol = 1e-9 * (a + b + abs(c))
+    if (
+        abs(float(motion.offset) - c) > tol
+        or np.any(np.abs(np.abs(A[there]) - a) > tol)
+        or np.any(np.abs(np.abs(B[there] - A[there]) - b) > tol)
+    ):
+        raise InputError(
+            "motion",
+            f"was not solved by {slidercrank!r} (its crank, rod or offset differ); "
+            "pass the motion of this slider-crank",
+        )
+
+
 def _check_sample_shapes(
     shape: tuple[int, ...], loads: Any, torques: Any, load4: tuple[str, Any]
 ) -> None:
@@ -986,6 +1004,7 @@ def slidercrank_forces(
 
     instance("slidercrank", slidercrank, SliderCrank)
     instance("motion", motion, SliderCrankMotion, "a SliderCrankMotion (from SliderCrank.solve)")
+    _check_slidercrank(slidercrank, motion)
     friction = choice("friction", friction, _FRICTION_MODELS)
     masses = _triple("mass", mass)
     inertias = tuple(_sequence("inertia", inertia, 2, "(IG2, IG3)"))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
@@ -74,3 +75,40 @@ def _typical_length(lk: Linkage) -> float:
     ]
     sizes = [d for d in sizes if d > 0]
     return float(np.mean(sizes)) if sizes else 1.0
+
+
+def check_motion(lk: Linkage, motion: Any) -> None:
+    """Refuse a motion that ``lk.solve`` did not return (another linkage's, same names or not).
+
+    Its links, the ground points and every link's point-to-point lengths are
+    checked on up to 16 solved poses (a motion of another drawing fails at the first).
+    """
+    if set(motion.theta) != set(lk._links):
+        raise InputError(
+            "motion",
+            f"is not a motion of this linkage (links {', '.join(motion.theta)}, not "
+            f"{', '.join(lk._links)}); pass what this linkage's solve() returned",
+        )
+    there = np.flatnonzero(np.ravel(motion.ok))[:16]  # a few poses tell
+    size = max((abs(z) for z in lk._points.values()), default=1.0) or 1.0
+    have = motion.points  # (every point of a link; a rolling profile's may be absent)
+    for p in (p for p in lk._ground if p in have):
+        moved = np.abs(np.ravel(motion.points[p])[there] - lk._points[p])
+        if np.any(moved > 1e-7 * size):
+            raise InputError(
+                "motion",
+                f"is not a motion of this linkage: its ground point {p} is not where this "
+                "linkage has it; pass what this linkage's solve() returned",
+            )
+    for name, ln in lk._links.items():
+        pts = [p for p in ln.points if p in have]
+        for p, q in itertools.pairwise(pts):
+            drawn = abs(lk._points[q] - lk._points[p])
+            now = np.abs(np.ravel(motion.points[q])[there] - np.ravel(motion.points[p])[there])
+            if np.any(np.abs(now - drawn) > 1e-7 * size):
+                raise InputError(
+                    "motion",
+                    f"is not a motion of this linkage: {p}{q} on link {name!r} is "
+                    f"{float(now.max()):.6g} long in it, {drawn:.6g} in the drawing; pass what "
+                    "this linkage's solve() returned",
+                )

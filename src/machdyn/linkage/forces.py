@@ -14,7 +14,15 @@ from .._validate import finite_array, items, mapping, nonnegative
 from ..errors import InputError, ModelError, UnknownNameError
 from ..loops import lu_factor, lu_solve
 from . import newton_euler
-from ._common import GROUND, _complex_point, _frozen, _name, _ref_angle, _typical_length
+from ._common import (
+    GROUND,
+    _complex_point,
+    _frozen,
+    _name,
+    _ref_angle,
+    _typical_length,
+    check_motion,
+)
 from .kinematics import LinkageMotion
 from .topology import _Edge
 
@@ -243,6 +251,7 @@ def _forces(
         raise InputError("motion", f"must be a LinkageMotion from Linkage.solve, got {motion!r}")
     if motion.omega is None:
         raise ModelError("forces need accelerations: solve with velocity=... first")
+    check_motion(lk, motion)
     lk._compile()
     g = nonnegative("gravity", gravity)
     shape = motion.ok.shape

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError, ModelError
-from ._common import GROUND, _ref_angle
+from ._common import GROUND, _ref_angle, check_motion
 from .program import RPP, RPR, Crank, Dyad, General, Motor, PArm, Program, RArm, Slide
 from .topology import _Edge
 
@@ -554,6 +554,7 @@ def transmission_angles(lk: Linkage, motion: Any) -> dict[str, np.ndarray]:
 
     if not isinstance(motion, LinkageMotion):
         raise InputError("motion", f"must be a LinkageMotion from Linkage.solve, got {motion!r}")
+    check_motion(lk, motion)
     program = lk._compile().program
     names = {i + 1: n for i, n in enumerate(lk._links)}
     theta0 = {n: _ref_angle(lk, n) for n in lk._links}

@@ -433,7 +433,8 @@ def _vector_of_points(P: list[Any], Q: list[Any], order: int) -> tuple[list[Any]
     """Length and angle of ``Q − P`` and their rates (the angle within π of the drawn one)."""
     r = [Q[k] - P[k] for k in range(order + 1)]
     L = np.abs(r[0])
-    e = r[0] / L
+    with np.errstate(invalid="ignore"):  # NaN where an earlier group did not close
+        e = r[0] / L
     lr, ar = [L], [np.angle(r[0])]
     c = [r[k] * np.conj(e) for k in range(order + 1)]
     if order >= 1:

@@ -230,7 +230,12 @@ def rebuilt(lk: Linkage, points: dict[str, complex], turn: dict[str, complex]) -
             cg = 0j if ln.cg is None else ln.cg
             out.link(ln.name, *ln.points, body=MassProperties(ln.mass, cg, ln.inertia))
     for j in joints_of(lk):
-        if j.kind in ("slider", "slot"):
+        if j.kind in ("slider", "slot") and j.centre is not None:  # a curved guide: its centre
+            if j.kind == "slider":
+                out.slider(j.links[0], j.links[1], j.points[0], centre=j.centre, name=j.name)
+            else:
+                out.slot(j.points[0], j.links[0], j.links[1], centre=j.centre, name=j.name)
+        elif j.kind in ("slider", "slot"):
             u = j.direction * turn[j.links[1]]
             if j.kind == "slider":
                 out.slider(j.links[0], j.links[1], j.points[0], u, through=j.through, name=j.name)

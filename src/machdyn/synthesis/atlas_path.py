@@ -72,6 +72,10 @@ REFINE = 10
 BLAS_ROWS = 2048
 #: How many of the refined candidates are refined on to convergence.
 POLISH = 3
+#: Steps of every start's refinement, the share of them that goes on, and its steps in all.
+SCREEN_NFEV = 12
+SCREEN_KEEP = 0.25
+REFINE_NFEV = 40
 #: Six-bars: starts screened per refined candidate, and steps of each polished one.
 SIXBAR_SCREEN = 4
 SIXBAR_POLISH = 600
@@ -448,9 +452,8 @@ def path_from_atlas(
     t1 = time.perf_counter()
     options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,
                    pivot_box=pivot_box)  # fmt: skip
-    fits = [refine(*first, pts, max_nfev=40, **options) for first in starts if first is not None]
+    fits = _screened(starts, pts, options)
     # the few best go on until they converge (the rest rarely overtake them)
-    fits.sort(key=lambda f: f.rms)
     for i in range(min(POLISH, len(fits))):
         more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
         fits[i] = more if more.rms <= fits[i].rms else fits[i]
@@ -483,6 +486,27 @@ def path_from_atlas(
         note = "every linkage found has a defect (see rejected)"
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+
+
+def _screened(starts, pts, options) -> list:
+    """Refinements of ``starts``, best first: a few steps each, then more for the best.
+
+    Every start takes :data:`SCREEN_NFEV` steps; the best :data:`SCREEN_KEEP` share (at
+    least :data:`REFINE`) goes on to :data:`REFINE_NFEV` steps in all. A start that is
+    far behind after a few steps rarely overtakes the leaders (and the few best are
+    polished to convergence afterwards); this halves the refinement time of a query
+    with many starts (prescribed timing or placement: four times :data:`REFINE`).
+    """
+    fits = [refine(*first, pts, max_nfev=SCREEN_NFEV, **options)
+            for first in starts if first is not None]  # fmt: skip
+    fits.sort(key=lambda f: f.rms)
+    keep = max(REFINE, int(np.ceil(SCREEN_KEEP * len(fits))))
+    for i in range(min(keep, len(fits))):
+        f = fits[i]
+        more = refine(f.x, f.theta, f.branch, pts, max_nfev=REFINE_NFEV - SCREEN_NFEV, **options)
+        fits[i] = more if more.rms <= f.rms else f
+    fits.sort(key=lambda f: f.rms)
+    return fits
 
 
 def _constraints(O2, theta1, absolute_timing, max_length, pivot_box, timing, atlas):
