@@ -3,6 +3,7 @@
 Run:
     pip install -e ".[bench]"        # pylinkage 1.3.0 (the PSO peer; never a run-time need)
     python benchmarks/bench_atlas_literature.py --atlas ~/.cache/machdyn/fourbar.atlas [--no-pso]
+        [--multistart 1500]   # an independent check of cases 3 and 4's optimum (minutes)
 
 The targets, their constraints and the earlier methods' solution vectors are in
 ``benchmarks/data/path_literature.toml`` (its header names the source, file by file).
@@ -187,6 +188,60 @@ def run_machdyn(case: dict, atlas):
     return res, time.perf_counter() - t0, time.process_time() - c0
 
 
+def multistart(case: dict, count: int, seed: int = 0) -> tuple[float, np.ndarray, int]:
+    """An independent check of the optimum: ``count`` random starts of bounded least squares.
+
+    Not machdyn's code: the papers' SSE by circle intersection on a random one of the
+    two assemblies, scipy's trust-region least squares within the case's length and
+    coupler bounds, each result kept only if it closes at every target and meets the
+    case's Grashof/crank constraint. Returns the least SSE, its design vector
+    (``r1 r2 r3 r4 rcx rcy x0 y0 θ0 [θ2_1]``) and how many results were feasible.
+    """
+    from scipy.optimize import least_squares
+
+    T, n = case["targets"], case["targets"].size
+    step = case["timing"] == "step"
+    if case["timing"] == "free":
+        raise ValueError("multistart checks the timed cases only")
+
+    def coupler(x, side):
+        r1, r2, r3, r4, rcx, rcy, x0, y0, th0 = x[:9]
+        t = x[9] + np.arange(n) * np.radians(case["step_deg"]) if step else case["theta2"]
+        a = r2 * np.exp(1j * t)
+        d = a - r1
+        along = (r4**2 - r3**2 + np.abs(d) ** 2) / (2 * np.abs(d))
+        h2 = r4**2 - along**2
+        b = r1 + d / np.abs(d) * (along + 1j * side * np.sqrt(np.maximum(h2, 0.0)))
+        return complex(x0, y0) + np.exp(1j * th0) * (a + (rcx + 1j * rcy) * (b - a) / r3), h2
+
+    def residual(x, side):
+        P, h2 = coupler(x, side)
+        return np.concatenate([(P - T).real, (P - T).imag, 1e3 * np.minimum(h2, 0.0)])
+
+    rng = np.random.default_rng(seed)
+    L, C = case["bounds"]["lengths"][1], case["bounds"]["coupler"][1]
+    lo = np.r_[[1e-6] * 4, [-C] * 2, [-np.inf] * (4 if step else 3)]
+    hi = np.r_[[L] * 4, [C] * 2, [np.inf] * (4 if step else 3)]
+    best, feasible = (np.inf, None), 0
+    for _ in range(count):
+        s = np.exp(rng.uniform(np.log(0.05), np.log(L)))
+        x = np.r_[rng.uniform(0.05, 1, 4) * s, rng.uniform(-1, 1, 2) * s,
+                  T.mean().real + rng.uniform(-2, 2), T.mean().imag + rng.uniform(-2, 2),
+                  rng.uniform(0, 2 * np.pi, 2 if step else 1)]  # fmt: skip
+        side = rng.choice([-1.0, 1.0])
+        x = np.clip(x, lo + 1e-9, hi - 1e-9)
+        r = least_squares(residual, x, args=(side,), bounds=(lo, hi), max_nfev=400)
+        P, h2 = coupler(r.x, side)
+        srt = np.sort(r.x[:4])
+        ok = bool(np.all(h2 >= 0)) and srt[0] + srt[3] <= srt[1] + srt[2]
+        ok = ok and ("crank" not in case["constraints"] or np.argmin(r.x[:4]) == 1)
+        sse = float(np.sum(np.abs(P - T) ** 2))
+        feasible += ok
+        if ok and sse < best[0]:
+            best = (sse, r.x)
+    return best[0], best[1], feasible
+
+
 def pso(case: dict, seconds: float, seed: int) -> float:
     """pylinkage's particle swarm on the 10-number path objective for ``seconds``: its SSE."""
     import pylinkage as pl
@@ -227,7 +282,16 @@ def main() -> None:
     ap.add_argument("--atlas", required=True)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--no-pso", action="store_true")
+    ap.add_argument("--multistart", type=int, default=0, metavar="N",
+                    help="also check cases 3 and 4 by N random least-squares starts")  # fmt: skip
     args = ap.parse_args()
+    if args.multistart:
+        for name in ("case3", "case4"):
+            t0 = time.perf_counter()
+            sse, x, feasible = multistart(load_cases()[name], args.multistart, args.seed)
+            print(f"{name}: independent multistart, {args.multistart} starts, {feasible} "
+                  f"feasible: least SSE {sse:.6e} ({time.perf_counter() - t0:.0f} s) at "
+                  f"{np.array2string(x, precision=4)}")  # fmt: skip
     jit.load()
     at = open_atlas(args.atlas, verify=False)
     print(f"atlas: {len(at):,} entries")

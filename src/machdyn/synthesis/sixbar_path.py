@@ -349,6 +349,8 @@ SIXBAR_TIMED_POOL = 1_000
 #: Timed targets: starting angles every entry is scanned at, and entries scanned again finely.
 SIXBAR_COARSE = 20
 SIXBAR_FINE = 96
+#: Timed targets: the second pool is this many times larger, with as many times the nearest.
+SIXBAR_WIDE_RETRIEVE = 4
 
 
 def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
@@ -368,7 +370,7 @@ def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, in
 
 def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None):
     """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries."""
-    from .atlas_path import TIMED_GRID, _retrieve
+    from .atlas_path import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
     from .sixbar import sixbar_points
 
@@ -384,28 +386,50 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
             x0, fixed = _design_of(row, h, t)
             starts.append((x0, u[near], fixed))
         return starts
-    idx = atlas.pool(SIXBAR_TIMED_POOL, crank=True)
-    if closed:  # the entries whose whole curve looks like the target's, and a spread pool
+    near = np.zeros(0, np.int64)
+    if closed:  # the entries whose whole curve looks like the target's
         dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
         even = resample_closed(dense, atlas.manifest.samples)
         q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
-        idx = np.union1d(idx, atlas.nearest(q, retrieve, client=client)[0])
+        near = atlas.nearest(q, SIXBAR_WIDE_RETRIEVE * retrieve, client=client)[0]
+    # two pools, each with its own best starts: a small pool with the nearest entries, and a
+    # four times larger one with four times as many nearest. Their best-scoring starts lie
+    # in different basins (the timed fit is over-determined: near the truth it has real
+    # local minima), and a target missed from one pool is often met from the other
+    seen: set[tuple[int, float]] = set()
+    for size, k in (
+        (SIXBAR_TIMED_POOL, retrieve),
+        (SIXBAR_WIDE_RETRIEVE * SIXBAR_TIMED_POOL, SIXBAR_WIDE_RETRIEVE * retrieve),
+    ):
+        idx = np.union1d(atlas.pool(size, crank=True), near[:k])
+        for i, h, t, g0, mirror in _timed_best(atlas, idx, timing, pts, refine_count):
+            if (i, mirror) not in seen:
+                seen.add((i, mirror))
+                x0, fixed = _design_of(atlas.entries(np.array([i]))[0], h, t, mirror)
+                starts.append((x0, g0 + timing, fixed))
+    return starts
+
+
+def _timed_best(atlas, idx, timing, pts, count):
+    """The ``count`` best timed placements of entries ``idx``: (index, h, t, θ0, mirror).
+
+    Coarse to fine: every entry at :data:`SIXBAR_COARSE` starting angles, the best
+    :data:`SIXBAR_FINE` of each direction again at every one of ``TIMED_GRID`` angles.
+    """
+    from .atlas_path import TIMED_GRID
+
     rows = atlas.entries(idx)
-    # coarse to fine: every entry at SIXBAR_COARSE starting angles, the best
-    # SIXBAR_FINE of each direction again at every one of the TIMED_GRID angles
     found = []
     for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
         coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
         score = _timed_scan(rows, coarse, timing, pts, mirror)[0]
-        best = rows[np.argsort(-score)[:SIXBAR_FINE]]
+        pick = np.argsort(-score)[:SIXBAR_FINE]
         grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-        score, hh, off, g = _timed_scan(best, grid, timing, pts, mirror)
-        found += [(score[i], best[i], hh[i], off[i], grid[g[i]], mirror) for i in range(best.size)]
+        score, hh, off, g = _timed_scan(rows[pick], grid, timing, pts, mirror)
+        found += [(score[j], int(idx[pick[j]]), hh[j], off[j], grid[g[j]], mirror)
+                  for j in range(pick.size)]  # fmt: skip
     found.sort(key=lambda f: -f[0])
-    for _, row, h, t, g0, mirror in found[:refine_count]:
-        x0, fixed = _design_of(row, h, t, mirror)
-        starts.append((x0, g0 + timing, fixed))
-    return starts
+    return [f[1:] for f in found[:count]]
 
 
 def _ordered_samples(curve: np.ndarray, pts: np.ndarray, rolls: int = 8) -> np.ndarray:
