@@ -110,3 +110,18 @@ def test_flipped_linkage_with_a_curved_slot():
     assert abs(other.points["B"] - (A + u * np.conj((B - A) / u))) < 1e-9
     for p in ("Q", "C", "O6", "A"):
         assert abs(other.points[p] - pts[p]) < 1e-12
+
+
+@pytest.mark.parametrize("r1", [0.0, -8.0])
+def test_freudenstein_ground_length_must_be_positive(r1):
+    """(was: r1 = −8 returned the lengths (−8, −4, 7, −6); r1 = 0 an AssemblyError saying no
+    four-bar generates the precision points — there is one, at any positive scale)"""
+    from machdyn.synthesis.function import function_generator, lengths_from_freudenstein
+
+    assert lengths_from_freudenstein([2.0, 4 / 3, 67 / 48], r1=8.0) == (8.0, 4.0, 7.0, 6.0)
+    with pytest.raises(InputError, match="r1"):
+        lengths_from_freudenstein([2.0, 4 / 3, 67 / 48], r1=r1)
+    with pytest.raises(InputError, match="r1"):
+        function_generator(
+            np.log10, (1.0, 2.0), np.radians((45, 105)), np.radians((135, 225)), r1=r1
+        )

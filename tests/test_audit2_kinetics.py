@@ -228,3 +228,27 @@ def test_slidercrank_counterweight_leaves_the_reciprocating_force(seed):
     np.testing.assert_allclose(Fs, -mB * (aB - f * aA), atol=1e-9 * np.abs(Fs).max())
     if f == 0.0 and c3.imag == 0.0:  # only the piston's line is left shaking
         assert np.abs(Fs.imag).max() < 1e-9 * np.abs(Fs).max()
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_bearing_balance_cancels_the_bearing_forces_statics_written_here(seed):
+    """A rotor with random unbalances U_i = m_i r_i e^{jφ_i} at z_i turning at ω: the bearings
+    carry ω² ΣU with moments about the left bearing (statics in the rotating frame, Norton
+    §12.2); bearing_balance of those forces must give corrections that leave ΣU = 0 and
+    Σ U z = 0 — the balanced rotor loads neither bearing."""
+    from machdyn.balancing import bearing_balance
+
+    rng = np.random.default_rng(9900 + seed)
+    n = int(rng.integers(1, 5))
+    U = rng.uniform(0.01, 0.2, n) * np.exp(1j * rng.uniform(-np.pi, np.pi, n))
+    z = rng.uniform(-5, 15, n)
+    zL, zR = -10.0, 20.0
+    omega = rng.uniform(10, 100)
+    FR = omega**2 * np.sum(U * (z - zL)) / (zR - zL)
+    FL = omega**2 * np.sum(U) - FR
+    za, zb = rng.uniform(-8, 0), rng.uniform(5, 18)
+    fix = bearing_balance([FL, FR], [zL, zR], omega, za, zb)
+    total = np.sum(U) + fix.mR_a + fix.mR_b
+    moment = np.sum(U * z) + fix.mR_a * za + fix.mR_b * zb
+    scale = np.sum(np.abs(U)) * (1 + np.abs(z).max())
+    assert abs(total) < 1e-12 * scale and abs(moment) < 1e-12 * scale * 20

@@ -196,8 +196,11 @@ class Chain:
             del self.pts[P2]
         self.known += [L for L in (L1, L2) if L is not None]
 
-    def linkage(self, masses=False):
-        lk = Linkage(dict(self.pts)).ground(*self.ground)
+    def linkage(self, masses=False, cylinder=None):
+        """The drawn linkage; ``cylinder``: a ground point driving the crank pin A by a
+        linear actuator ("cyl") instead of the crank's angle."""
+        pts = dict(self.pts) | ({"C0": cylinder} if cylinder is not None else {})
+        lk = Linkage(pts).ground(*self.ground, *(["C0"] if cylinder is not None else []))
         rng = np.random.default_rng(self.seed)
         self.cg = {}
         for name, pts in self.links.items():
@@ -216,6 +219,8 @@ class Chain:
                 lk.slot(pin, link, on, ang, name=name)
             else:
                 lk.slot(pin, link, on, centre=centre, name=name)
+        if cylinder is not None:
+            return lk.actuator("cyl", "C0", "A").drive("cyl")
         return lk.drive("crank")
 
     # -- independent position solve ---------------------------------------
@@ -371,18 +376,18 @@ def test_random_chain_rates_equal_central_differences(index, backend):
     lk = ch.linkage(masses=True)
     _, _, closes, clear = ch.solve(_sweep(ch, 37))
     th0 = _sweep(ch, 37)[closes & clear]
-    h = 1e-3
+    h = 5e-4  # (the jerk's third difference: truncation ~h², 1e-3 near steep stretches)
     th = _stencil(ch, th0, h)
-    w, al = 1.7, -2.3
-    m = lk.solve(th, velocity=w, acceleration=al)
+    w, al, je = 1.7, -2.3, 0.9
+    m = lk.solve(th, velocity=w, acceleration=al, jerk=je)
     okb = m.ok.reshape(-1, 5).all(axis=1)
     assert okb.sum() >= 0.5 * th0.size
     size = max(abs(z) for z in ch.pts.values())
     tables = [
-        (m.points, m.point_velocity, m.point_acceleration),
-        (m.cg, m.cg_velocity, m.cg_acceleration),
+        (m.points, m.point_velocity, m.point_acceleration, m.point_jerk),
+        (m.cg, m.cg_velocity, m.cg_acceleration, m.cg_jerk),
     ]
-    for pos, vel, acc in tables:
+    for pos, vel, acc, jrk in tables:
         for name, z in pos.items():
             z = z.reshape(-1, 5)
             d1 = (z[:, 0] - 8 * z[:, 1] + 8 * z[:, 3] - z[:, 4]) / (12 * h)
@@ -392,6 +397,11 @@ def test_random_chain_rates_equal_central_differences(index, backend):
             scale = size + np.abs(z[:, 2]) + np.abs(V) + np.abs(A)
             assert (np.abs(V - d1 * w) / scale)[okb].max() < 1e-7, name
             assert (np.abs(A - (d2 * w * w + d1 * al)) / scale)[okb].max() < 2e-5, name
+            # jerk by the chain rule once more: P3 w^3 + 3 P2 w alpha + P1 j
+            d3 = (-z[:, 0] + 2 * z[:, 1] - 2 * z[:, 3] + z[:, 4]) / (2 * h**3)
+            J = jrk[name].reshape(-1, 5)[:, 2]
+            want = d3 * w**3 + 3 * d2 * w * al + d1 * je
+            assert (np.abs(J - want) / (scale + np.abs(J)))[okb].max() < 5e-3, name
     for link, t in m.theta.items():
         t = t.reshape(-1, 5)
         d1 = (t[:, 0] - 8 * t[:, 1] + 8 * t[:, 3] - t[:, 4]) / (12 * h)
@@ -400,6 +410,10 @@ def test_random_chain_rates_equal_central_differences(index, backend):
         scale = 1.0 + np.abs(om) + np.abs(a)
         assert (np.abs(om - d1 * w) / scale)[okb].max() < 1e-7, link
         assert (np.abs(a - (d2 * w * w + d1 * al)) / scale)[okb].max() < 2e-5, link
+        d3 = (-t[:, 0] + 2 * t[:, 1] - 2 * t[:, 3] + t[:, 4]) / (2 * h**3)
+        J = m.jerk[link].reshape(-1, 5)[:, 2]
+        want = d3 * w**3 + 3 * d2 * w * al + d1 * je
+        assert (np.abs(J - want) / (scale + np.abs(J)))[okb].max() < 5e-3, link
 
 
 def _cg_world(ch, m, link):
@@ -744,3 +758,97 @@ def test_random_chain_flipped_is_the_other_assembly(index):
         done += 1
     if not done:
         pytest.skip("no dyad of this chain closes on its other assembly")
+
+
+@pytest.mark.parametrize("index", range(1, len(CHAINS), 4))
+def test_random_chain_springs_and_dampers_by_power(index):
+    """A spring–damper between points of two random links and a torsion spring at a random
+    pin: T = k (L − L0) + c L̇ + preload and τ = kt (φ − φ0) + ct φ̇ from the points and
+    angles here, and T ω − Σ T L̇ − Σ τ φ̇ = d(KE + PE)/dt (docs/linkage.md, springs)."""
+    ch = CHAINS[index]
+    rng = np.random.default_rng(ch.seed + 7)
+    links = [n for n, pts in ch.links.items()]
+    a, b = rng.choice(len(links), size=2, replace=False)
+    A, B = links[a], links[b]
+    start, end = ch.links[A][-1], ch.links[B][-1]
+    if start == end:
+        pytest.skip("the two links share their last point")
+    k, c, pre = rng.uniform(5, 50), rng.uniform(0.1, 2), rng.uniform(-5, 5)
+    L0 = abs(ch.pts[end] - ch.pts[start]) * rng.uniform(0.7, 1.3)
+    lk = ch.linkage(masses=True)
+    lk.spring("s", start, end, stiffness=k, free_length=L0, damping=c, preload=pre, links=(A, B))
+    pins = [j for j in lk.joints if j.kind == "pin" and "ground" not in j.links]
+    pin = pins[int(rng.integers(len(pins)))]
+    ta, tb = pin.links[:2]
+    kt, ct, phi0 = rng.uniform(1, 10), rng.uniform(0.01, 0.5), rng.uniform(-1, 1)
+    lk.torsion_spring("t", pin.points[0], stiffness=kt, free_angle=phi0, damping=ct, links=(ta, tb))
+    th = _sweep(ch, 41)
+    w, al, g = 2.1, 0.4, 9.81
+    m = lk.solve(th, velocity=w, acceleration=al)
+    f = lk.forces(m, gravity=g)
+    ok = f.ok & m.ok
+    assert ok.sum() > 0.1 * th.size
+    r = m.points[end] - m.points[start]
+    L = np.abs(r)
+    Ld = np.real(np.conj(r) * (m.point_velocity[end] - m.point_velocity[start])) / L
+    T = k * (L - L0) + c * Ld + pre
+    assert np.abs(f.elements["s"] - T)[ok].max() < 1e-9 * (1 + np.abs(T[ok]).max())
+    phi = m.theta[tb] - m.theta[ta]
+    phid = m.omega[tb] - m.omega[ta]
+    tau = kt * (phi - phi0) + ct * phid  # φ not wrapped: its drawn value is θb − θa as drawn
+    assert np.abs(f.element_rate["t"] - phid)[ok].max() < 1e-9
+    assert np.abs(f.elements["t"] - tau)[ok].max() < 1e-9 * (1 + np.abs(tau[ok]).max())
+    P = f.driver["crank"] * w - T * Ld - tau * phid
+    dE = np.zeros(th.size)
+    big = np.abs(P) + np.abs(T * Ld) + np.abs(tau * phid) + 1.0
+    for name, ln in lk.links.items():
+        vG, aG = m.cg_velocity[name], m.cg_acceleration[name]
+        dE += ln.mass * np.real(np.conj(vG) * aG) + ln.inertia * m.omega[name] * m.alpha[name]
+        dE += ln.mass * g * vG.imag
+        big += np.abs(ln.mass * np.real(np.conj(vG) * aG)) + np.abs(ln.mass * g * vG.imag)
+    assert (np.abs(P - dE) / big)[ok].max() < 1e-8
+
+
+@pytest.mark.parametrize("index", range(0, len(CHAINS), 4))
+def test_random_chain_driven_by_a_cylinder(index):
+    """The crank pushed by a linear actuator from a ground point C0 to the crank pin A (the
+    loader of the notes): the crank angle for a length ℓ from two circles here, then every
+    point as before; the actuator's force F by power, F ℓ̇ = d(KE + PE)/dt."""
+    ch = CHAINS[index]
+    rng = np.random.default_rng(ch.seed + 3)
+    A0 = ch.pts["A"]
+    C0 = A0 + rng.uniform(2.0, 3.0) * np.exp(1j * (np.angle(A0) + rng.uniform(0.8, 2.3)))
+    lk = ch.linkage(masses=True, cylinder=C0)
+    # lengths for which the crank pin can be reached, on the drawn side of C0 → O2
+    rA = abs(A0)
+    l0 = abs(A0 - C0)
+    side = np.sign(cross(0j - C0, A0 - C0))
+    ell = l0 + np.linspace(-0.4, 0.4, 41) * rA
+    d = abs(C0)
+    x = (ell**2 - rA**2 + d**2) / (2 * d)
+    h2 = rA**2 - (d - x) ** 2  # (E on the circle about O2 of radius rA)
+    ell, x, h2 = ell[h2 > 0.05 * rA**2], x[h2 > 0.05 * rA**2], h2[h2 > 0.05 * rA**2]
+    E = C0 + (0j - C0) / d * (x + 1j * side * np.sqrt(ell**2 - x**2))
+    assert np.allclose(np.abs(E), rA) and np.allclose(np.abs(E - C0), ell)
+    theta2 = ch.theta0 + np.unwrap(np.angle(E / A0))
+    ref, _, closes, clear = ch.solve(theta2)
+    m = lk.solve(ell, velocity=0.8, acceleration=0.3)
+    assert not (clear & (m.ok != closes)).any()
+    ok = m.ok & clear
+    if ok.sum() < 3:
+        pytest.skip("the chain does not close over this stroke")
+    for name, z in ref.items():
+        err = np.abs(m.points[name] - z)[ok] / (size_of(ch) + np.abs(z[ok]))
+        assert err.max() < 1e-9, name
+    g = 9.81
+    f = lk.forces(m, gravity=g)
+    ok &= f.ok
+    dE = np.zeros(ell.size)
+    big = np.ones(ell.size)  # (the crank's I_O2 α and the cylinder's push, all in the sum)
+    for name, ln in lk.links.items():
+        vG, aG = m.cg_velocity[name], m.cg_acceleration[name]
+        dE += ln.mass * np.real(np.conj(vG) * aG) + ln.inertia * m.omega[name] * m.alpha[name]
+        dE += ln.mass * g * vG.imag
+        big += np.abs(ln.mass * np.real(np.conj(vG) * aG)) + np.abs(ln.mass * g * vG.imag)
+    P = f.driver["cyl"] * 0.8
+    assert (np.abs(P - dE) / (big + np.abs(P)))[ok].max() < 1e-8

@@ -196,9 +196,9 @@ def _set_r(st, R, order, P, brx, bry, vx_, vy_, ux, uy, n, x1, x2, x3, j):  # pr
 
 # ---------------------------------------------------------------------- drivers
 @_inline
-def _crank(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
-    L, K, d = pi[ib + 2], pi[ib + 3], pi[ib + 4]
-    rkx, rky, rlx, rly, theta0 = pf[fb], pf[fb + 1], pf[fb + 2], pf[fb + 3], pf[fb + 4]
+def _crank(st, ri, rf, U, i, order, j):  # pragma: no cover - compiled
+    L, K, d = ri[2], ri[3], ri[4]
+    rkx, rky, rlx, rly, theta0 = rf[0], rf[1], rf[2], rf[3], rf[4]
     RK, RL = max(K, 0), max(L, 0)
     delta = U[4 * d, i] - theta0
     s, c = sincos(delta)
@@ -208,15 +208,15 @@ def _crank(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
 
 
 @_inline
-def _motor(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
-    L, K, Sr, d = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
+def _motor(st, ri, rf, U, i, order, j):  # pragma: no cover - compiled
+    L, K, Sr, d = ri[2], ri[3], ri[4], ri[5]
     rkx, rky, rlx, rly, sg, phi0 = (
-        pf[fb],
-        pf[fb + 1],
-        pf[fb + 2],
-        pf[fb + 3],
-        pf[fb + 4],
-        pf[fb + 5],
+        rf[0],
+        rf[1],
+        rf[2],
+        rf[3],
+        rf[4],
+        rf[5],
     )
     RK, RL, RS = max(K, 0), max(L, 0), max(Sr, 0)
     delta = sg * (U[4 * d, i] - phi0)
@@ -230,15 +230,15 @@ def _motor(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
 
 
 @_inline
-def _slide(st, pi, pf, ib, fb, U, i, order, j):  # pragma: no cover - compiled
-    L, K, Lf, La, d, block = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5], pi[ib + 6], pi[ib + 7]
+def _slide(st, ri, rf, U, i, order, j):  # pragma: no cover - compiled
+    L, K, Lf, La, d, block = ri[2], ri[3], ri[4], ri[5], ri[6], ri[7]
     rfx, rfy, rax, ray, u0x, u0y = (
-        pf[fb],
-        pf[fb + 1],
-        pf[fb + 2],
-        pf[fb + 3],
-        pf[fb + 4],
-        pf[fb + 5],
+        rf[0],
+        rf[1],
+        rf[2],
+        rf[3],
+        rf[4],
+        rf[5],
     )
     RK, RL = max(K, 0), max(L, 0)
     RB = max(Lf if block == 1 else La, 0)  # the known body's point: foot or block's pin
@@ -276,18 +276,15 @@ def _rr_order(k, A, C, a_, c_, v, xa1, xa2, xb1, xb2):  # pragma: no cover - com
 
 
 @_inline
-def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
-    """RRR (an arm may be an actuator's bar: a driven length)."""
-    K1, L1, d1, K2, L2, d2 = pi[ib + 3], pi[ib + 4], pi[ib + 5], pi[ib + 7], pi[ib + 8], pi[ib + 9]
-    r1x, r1y, b1x = pf[fb], pf[fb + 1], pf[fb + 2]
-    b1y, u1x, u1y = pf[fb + 3], pf[fb + 4], pf[fb + 5]
-    len1 = pf[fb + 6]
-    r2x, r2y, b2x = pf[fb + 7], pf[fb + 8], pf[fb + 9]
-    b2y, u2x, u2y = pf[fb + 10], pf[fb + 11], pf[fb + 12]
-    len2 = pf[fb + 13]
-    sign = pf[fb + 14]
-    n1, n2 = u1x * u1x + u1y * u1y, u2x * u2x + u2y * u2y
-    RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
+def _rr_solve(st, ri, rf, U, i, order, j):  # pragma: no cover
+    """RRR (an arm may be an actuator's bar: a driven length): the pin, the arms' rates.
+
+    Reads only the known links' state (:func:`_rr_put` writes the new links'),
+    so two samples' solves may run side by side.
+    """
+    K1, d1, K2, d2 = ri[3], ri[5], ri[7], ri[9]
+    r1x, r1y, len1, r2x, r2y, len2, sign = rf[0], rf[1], rf[6], rf[7], rf[8], rf[13], rf[14]
+    RK1, RK2 = max(K1, 0), max(K2, 0)
     A = _pt(st, RK1, r1x, r1y, order, j)
     C = _pt(st, RK2, r2x, r2y, order, j)
     a0, a1, a2, a3 = _length(U, d1, i, len1)
@@ -302,7 +299,7 @@ def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
     bx = A[0] + (x * acx - h * acy) / dd if ok else math.nan
     by = A[1] + (x * acy + h * acx) / dd if ok else math.nan
     vax, vay, vbx, vby = bx - A[0], by - A[1], bx - C[0], by - C[1]
-    codes[g, i] = _code(ok, vax * vby - vay * vbx, a0 * c0)
+    code = _code(ok, vax * vby - vay * vbx, a0 * c0)
     eax, eay, ebx, eby = vax / a0, vay / a0, vbx / c0, vby / c0
     # unknowns: the arms' angles; columns j·va and −j·vb
     xa1 = xa2 = xa3 = xb1 = xb2 = xb3 = 0.0
@@ -316,6 +313,21 @@ def _dyad_rr(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
             if order >= 3:
                 xa3, xb3, B3x, B3y = _rr_order(3, A, C, a_, c_, v, xa1, xa2, xb1, xb2)
     P = (bx, by, B1x, B1y, B2x, B2y, B3x, B3y)
+    return code, P, (vax, vay, vbx, vby), (xa1, xa2, xa3, xb1, xb2, xb3)
+
+
+@_inline
+def _rr_put(st, ri, rf, codes, g, i, order, j, R):  # pragma: no cover
+    """Write an RRR's status code and place its two links (R: :func:`_rr_solve`'s answer)."""
+    code, P, vv, xx = R
+    vax, vay, vbx, vby = vv
+    xa1, xa2, xa3, xb1, xb2, xb3 = xx
+    L1, L2 = ri[4], ri[8]
+    b1x, b1y, u1x, u1y = rf[2], rf[3], rf[4], rf[5]
+    b2x, b2y, u2x, u2y = rf[9], rf[10], rf[11], rf[12]
+    n1, n2 = u1x * u1x + u1y * u1y, u2x * u2x + u2y * u2y
+    RL1, RL2 = max(L1, 0), max(L2, 0)
+    codes[g, i] = code
     if L1 >= 0:
         _set_r(st, RL1, order, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3, j)
     if L2 >= 0:
@@ -335,14 +347,11 @@ def _rp_order(k, A, G, a_, wk, v, xa1, xa2, s1, s2):  # pragma: no cover - compi
 
 
 @_inline
-def _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, i, order, sign, codes, g, j):  # pragma: no cover
-    """RRP / PRR: the R arm's row at (ia, fa), the P arm's at (ip, fp)."""
-    K1, L1, d1, K2, L2 = pi[ia + 1], pi[ia + 2], pi[ia + 3], pi[ip + 1], pi[ip + 2]
-    r1x, r1y, b1x = pf[fa], pf[fa + 1], pf[fa + 2]
-    b1y, u1x, u1y = pf[fa + 3], pf[fa + 4], pf[fa + 5]
-    len1 = pf[fa + 6]
-    gx, gy, b2x = pf[fp], pf[fp + 1], pf[fp + 2]
-    b2y, u2x, u2y = pf[fp + 3], pf[fp + 4], pf[fp + 5]
+def _dyad_rp(st, ar, fr, ap, fp, U, i, order, sign, codes, g, j):  # pragma: no cover
+    """RRP / PRR: the R arm's integers and floats (ar, fr), the P arm's (ap, fp)."""
+    K1, L1, d1, K2, L2 = ar[0], ar[1], ar[2], ap[0], ap[1]
+    r1x, r1y, b1x, b1y, u1x, u1y, len1 = fr
+    gx, gy, b2x, b2y, u2x, u2y = fp
     n1 = u1x * u1x + u1y * u1y
     RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
     A = _pt(st, RK1, r1x, r1y, order, j)
@@ -392,13 +401,13 @@ def _pp_order(k, G1, G2, v, s1, s2, t1, t2):  # pragma: no cover - compiled
 
 
 @_inline
-def _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
+def _dyad_pp(st, ri, rf, U, i, order, codes, g, j):  # pragma: no cover
     """PRP: two sliders pinned at B, each on a line of a known body."""
-    K1, L1, K2, L2 = pi[ib + 3], pi[ib + 4], pi[ib + 7], pi[ib + 8]
-    g1x, g1y, b1x = pf[fb], pf[fb + 1], pf[fb + 2]
-    b1y, v1x, v1y = pf[fb + 3], pf[fb + 4], pf[fb + 5]
-    g2x, g2y, b2x = pf[fb + 7], pf[fb + 8], pf[fb + 9]
-    b2y, v2x, v2y = pf[fb + 10], pf[fb + 11], pf[fb + 12]
+    K1, L1, K2, L2 = ri[3], ri[4], ri[7], ri[8]
+    g1x, g1y, b1x = rf[0], rf[1], rf[2]
+    b1y, v1x, v1y = rf[3], rf[4], rf[5]
+    g2x, g2y, b2x = rf[7], rf[8], rf[9]
+    b2y, v2x, v2y = rf[10], rf[11], rf[12]
     RK1, RK2, RL1, RL2 = max(K1, 0), max(K2, 0), max(L1, 0), max(L2, 0)
     G1 = _pt(st, RK1, g1x, g1y, order, j)
     G2 = _pt(st, RK2, g2x, g2y, order, j)
@@ -427,13 +436,13 @@ def _dyad_pp(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
 
 
 @_inline
-def _rpr(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
+def _rpr(st, ri, rf, U, i, order, codes, g, j):  # pragma: no cover
     """Two links pivoted at known A and C, sliding on each other along a line through C."""
-    L1, KA, KC, L2 = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
-    rax, ray, r1x = pf[fb], pf[fb + 1], pf[fb + 2]
-    r1y, rcx, rcy = pf[fb + 3], pf[fb + 4], pf[fb + 5]
-    r2x, r2y, e = pf[fb + 6], pf[fb + 7], pf[fb + 8]
-    u0x, u0y, sign = pf[fb + 9], pf[fb + 10], pf[fb + 11]
+    L1, KA, KC, L2 = ri[2], ri[3], ri[4], ri[5]
+    rax, ray, r1x = rf[0], rf[1], rf[2]
+    r1y, rcx, rcy = rf[3], rf[4], rf[5]
+    r2x, r2y, e = rf[6], rf[7], rf[8]
+    u0x, u0y, sign = rf[9], rf[10], rf[11]
     RA, RC, RL1, RL2 = max(KA, 0), max(KC, 0), max(L1, 0), max(L2, 0)
     A = _pt(st, RA, rax, ray, order, j)
     C = _pt(st, RC, rcx, rcy, order, j)
@@ -478,13 +487,13 @@ def _rpp_order(k, A, G, v, s1, s2, t1, t2):  # pragma: no cover - compiled
 
 
 @_inline
-def _rpp(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
+def _rpp(st, ri, rf, U, i, order, codes, g, j):  # pragma: no cover
     """A link pivoted at known A slides on a second link that slides on a known body."""
-    L1, KA, K, L2 = pi[ib + 2], pi[ib + 3], pi[ib + 4], pi[ib + 5]
-    rax, ray, r1x = pf[fb], pf[fb + 1], pf[fb + 2]
-    r1y, rgx, rgy = pf[fb + 3], pf[fb + 4], pf[fb + 5]
-    v1x, v1y, v2x = pf[fb + 6], pf[fb + 7], pf[fb + 8]
-    v2y, r2x, r2y = pf[fb + 9], pf[fb + 10], pf[fb + 11]
+    L1, KA, K, L2 = ri[2], ri[3], ri[4], ri[5]
+    rax, ray, r1x = rf[0], rf[1], rf[2]
+    r1y, rgx, rgy = rf[3], rf[4], rf[5]
+    v1x, v1y, v2x = rf[6], rf[7], rf[8]
+    v2y, r2x, r2y = rf[9], rf[10], rf[11]
     RA, RK, RL1, RL2 = max(KA, 0), max(K, 0), max(L1, 0), max(L2, 0)
     A = _pt(st, RA, rax, ray, order, j)
     G = _pt(st, RK, rgx, rgy, order, j)
@@ -511,52 +520,127 @@ def _rpp(st, pi, pf, ib, fb, U, i, order, codes, g, j):  # pragma: no cover
 
 
 # ---------------------------------------------------------------------- blocks
+# Each block reads its step's row into scalars before the loop over the samples
+# (the row and the state are both float arrays that may alias: read in the loop,
+# every parameter would be loaded again after each store to the state), and the
+# loop is written out for order 2 (positions, velocities, accelerations: the usual
+# call) so that the order's branches fold there; other orders branch at run time
+# (a copy per order would double the compile time again).
+@_inline
+def _row_i(pi, ib):  # pragma: no cover - compiled
+    """A step's integer row (:data:`~machdyn.linkage._scalar.NI` entries) as scalars."""
+    return (pi[ib], pi[ib + 1], pi[ib + 2], pi[ib + 3], pi[ib + 4],
+            pi[ib + 5], pi[ib + 6], pi[ib + 7], pi[ib + 8], pi[ib + 9])  # fmt: skip
+
+
+@_inline
+def _row_f(pf, fb):  # pragma: no cover - compiled
+    """A step's float row (:data:`~machdyn.linkage._scalar.NF` entries) as scalars."""
+    return (pf[fb], pf[fb + 1], pf[fb + 2], pf[fb + 3], pf[fb + 4], pf[fb + 5],
+            pf[fb + 6], pf[fb + 7], pf[fb + 8], pf[fb + 9], pf[fb + 10], pf[fb + 11],
+            pf[fb + 12], pf[fb + 13], pf[fb + 14], pf[fb + 15])  # fmt: skip
+
+
 @_jit
 def _crank_block(st, pi, pf, ib, fb, U, start, b, order):  # pragma: no cover - compiled
-    for j in range(b):
-        _crank(st, pi, pf, ib, fb, U, start + j, order, j)
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    if order == 2:
+        for j in range(b):
+            _crank(st, ri, rf, U, start + j, 2, j)
+    else:
+        for j in range(b):
+            _crank(st, ri, rf, U, start + j, order, j)
 
 
 @_jit
 def _motor_block(st, pi, pf, ib, fb, U, start, b, order):  # pragma: no cover - compiled
-    for j in range(b):
-        _motor(st, pi, pf, ib, fb, U, start + j, order, j)
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    if order == 2:
+        for j in range(b):
+            _motor(st, ri, rf, U, start + j, 2, j)
+    else:
+        for j in range(b):
+            _motor(st, ri, rf, U, start + j, order, j)
 
 
 @_jit
 def _slide_block(st, pi, pf, ib, fb, U, start, b, order):  # pragma: no cover - compiled
-    for j in range(b):
-        _slide(st, pi, pf, ib, fb, U, start + j, order, j)
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    if order == 2:
+        for j in range(b):
+            _slide(st, ri, rf, U, start + j, 2, j)
+    else:
+        for j in range(b):
+            _slide(st, ri, rf, U, start + j, order, j)
 
 
 @_jit
 def _rr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
-    for j in range(b):
-        _dyad_rr(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
+    """RRR dyads; at order 2 two samples at a time (two chains of divisions to overlap)."""
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    j0 = 0
+    if order == 2:
+        for j in range(0, b - 1, 2):
+            R0 = _rr_solve(st, ri, rf, U, start + j, 2, j)
+            R1 = _rr_solve(st, ri, rf, U, start + j + 1, 2, j + 1)
+            _rr_put(st, ri, rf, codes, g, start + j, 2, j, R0)
+            _rr_put(st, ri, rf, codes, g, start + j + 1, 2, j + 1, R1)
+        j0 = b - b % 2
+    for j in range(j0, b):
+        R = _rr_solve(st, ri, rf, U, start + j, order, j)
+        _rr_put(st, ri, rf, codes, g, start + j, order, j, R)
 
 
 @_jit
-def _rp_block(st, pi, pf, ia, fa, ip, fp, U, start, b, order, sign, codes, g):  # pragma: no cover
-    for j in range(b):
-        _dyad_rp(st, pi, pf, ia, fa, ip, fp, U, start + j, order, sign, codes, g, j)
+def _rp_block(st, pi, pf, ib, fb, flip, U, start, b, order, codes, g):  # pragma: no cover
+    """An RRP (arm 1 the R arm) or, ``flip``, a PRR (arm 2 the R arm)."""
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    r1, r2 = (ri[3], ri[4], ri[5]), (ri[7], ri[8], ri[9])
+    f1 = (rf[0], rf[1], rf[2], rf[3], rf[4], rf[5], rf[6])
+    f2 = (rf[7], rf[8], rf[9], rf[10], rf[11], rf[12], rf[13])
+    ar, fr = (r2, f2) if flip else (r1, f1)
+    ap, fq = (r1, f1) if flip else (r2, f2)
+    fp = (fq[0], fq[1], fq[2], fq[3], fq[4], fq[5])
+    sign = rf[14]
+    if order == 2:
+        for j in range(b):
+            _dyad_rp(st, ar, fr, ap, fp, U, start + j, 2, sign, codes, g, j)
+    else:
+        for j in range(b):
+            _dyad_rp(st, ar, fr, ap, fp, U, start + j, order, sign, codes, g, j)
 
 
 @_jit
 def _pp_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
-    for j in range(b):
-        _dyad_pp(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    if order == 2:
+        for j in range(b):
+            _dyad_pp(st, ri, rf, U, start + j, 2, codes, g, j)
+    else:
+        for j in range(b):
+            _dyad_pp(st, ri, rf, U, start + j, order, codes, g, j)
 
 
 @_jit
 def _rpr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
-    for j in range(b):
-        _rpr(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    if order == 2:
+        for j in range(b):
+            _rpr(st, ri, rf, U, start + j, 2, codes, g, j)
+    else:
+        for j in range(b):
+            _rpr(st, ri, rf, U, start + j, order, codes, g, j)
 
 
 @_jit
 def _rpp_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
-    for j in range(b):
-        _rpp(st, pi, pf, ib, fb, U, start + j, order, codes, g, j)
+    ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    if order == 2:
+        for j in range(b):
+            _rpp(st, ri, rf, U, start + j, 2, codes, g, j)
+    else:
+        for j in range(b):
+            _rpp(st, ri, rf, U, start + j, order, codes, g, j)
 
 
 # ---------------------------------------------------------------------- the program
@@ -571,11 +655,9 @@ def _steps(st, pi, pf, ns, U, start, b, order, codes):  # pragma: no cover - com
             if k1 == 0 and k2 == 0:
                 _rr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g)
             elif k1 == 0:
-                _rp_block(st, pi, pf, ib + 2, fb, ib + 6, fb + 7, U, start, b, order,
-                          pf[fb + 14], codes, g)  # fmt: skip
+                _rp_block(st, pi, pf, ib, fb, False, U, start, b, order, codes, g)
             elif k2 == 0:
-                _rp_block(st, pi, pf, ib + 6, fb + 7, ib + 2, fb, U, start, b, order,
-                          pf[fb + 14], codes, g)  # fmt: skip
+                _rp_block(st, pi, pf, ib, fb, True, U, start, b, order, codes, g)
             else:
                 _pp_block(st, pi, pf, ib, fb, U, start, b, order, codes, g)
         elif op == RPR:
@@ -603,35 +685,61 @@ def _new_state(nl):  # pragma: no cover - compiled
 def _angles(st, start, b, order, links, exact, theta0, F):  # pragma: no cover - compiled
     """Write a block's link angles (exact, or from the rotation's atan2) and their rates."""
     nq = len(links)
-    for q in range(nq):
+    for q in range(nq):  # rows as 1-D views: contiguous loops the vectoriser takes
         L, t0 = links[q], theta0[q]
+        out = F[q, start : start + b]
         if exact[q]:
+            an = st[L, AN, :b]
             for j in range(b):
-                F[q, start + j] = st[L, AN, j] + t0
+                out[j] = an[j] + t0
         else:
+            ey, ex = st[L, EY, :b], st[L, EX, :b]
             for j in range(b):
-                F[q, start + j] = _atan2(st[L, EY, j], st[L, EX, j]) + t0
+                out[j] = _atan2(ey[j], ex[j]) + t0
         for k in range(order):
-            for j in range(b):
-                F[(k + 1) * nq + q, start + j] = st[L, 7 + 3 * k, j]
+            F[(k + 1) * nq + q, start : start + b] = st[L, 7 + 3 * k, :b]
+
+
+@_inline
+def _point_rows(s, rx, ry, order, R0, R1, R2, R3, b):  # pragma: no cover - compiled
+    """One point's block: ``s`` its link's state, ``Rk`` its order-k row (re/im pairs)."""
+    for j in range(b):
+        cx, cy = s[EX, j], s[EY, j]
+        qx = rx * cx - ry * cy
+        qy = rx * cy + ry * cx
+        R0[2 * j], R0[2 * j + 1] = s[OX, j] + qx, s[OY, j] + qy
+        if order >= 1:
+            w1 = s[7, j]
+            R1[2 * j], R1[2 * j + 1] = s[5, j] - w1 * qy, s[6, j] + w1 * qx
+            if order >= 2:
+                w2 = s[10, j]
+                R2[2 * j] = s[8, j] - w2 * qy - w1 * w1 * qx
+                R2[2 * j + 1] = s[9, j] + w2 * qx - w1 * w1 * qy
+                if order >= 3:
+                    c = s[13, j] - w1 * w1 * w1
+                    d = 3.0 * w1 * w2
+                    R3[2 * j] = s[11, j] - c * qy - d * qx
+                    R3[2 * j + 1] = s[12, j] + c * qx - d * qy
 
 
 @_jit
 def _points(st, start, b, order, pts_i, pts_f, Pf):  # pragma: no cover - compiled
-    """Write a block's points and centres of mass (complex, as real pairs) and their rates."""
+    """Write a block's points and centres of mass (complex, as real pairs) and their rates.
+
+    The arithmetic of :func:`_pt`, on 1-D views of the rows (order 2 written out).
+    """
     npt = len(pts_i)
+    c0, c1 = 2 * start, 2 * (start + b)
     for p in range(npt):
         L, rx, ry = pts_i[p], pts_f[2 * p], pts_f[2 * p + 1]
-        for j in range(b):
-            P = _pt(st, L, rx, ry, order, j)
-            c = 2 * (start + j)
-            Pf[p, c], Pf[p, c + 1] = P[0], P[1]
-            if order >= 1:
-                Pf[npt + p, c], Pf[npt + p, c + 1] = P[2], P[3]
-                if order >= 2:
-                    Pf[2 * npt + p, c], Pf[2 * npt + p, c + 1] = P[4], P[5]
-                    if order >= 3:
-                        Pf[3 * npt + p, c], Pf[3 * npt + p, c + 1] = P[6], P[7]
+        R0 = Pf[p, c0:c1]
+        R1 = Pf[min(order, 1) * npt + p, c0:c1]  # rows beyond the order: never written
+        R2 = Pf[min(order, 2) * npt + p, c0:c1]
+        R3 = Pf[min(order, 3) * npt + p, c0:c1]
+        if order == 2:
+            _point_rows(st[L], rx, ry, 2, R0, R1, R2, R3, b)
+        else:
+            _point_rows(st[L], rx, ry, order, R0, R1, R2, R3, b)
 
 
 @_jit
@@ -714,9 +822,32 @@ def run(lo, hi, ii, ff, U, order, F, Pf, codes, follow):  # pragma: no cover - c
 
 
 @_inline
-def _turn(prev, raw):  # pragma: no cover - compiled
-    """``raw`` moved by whole turns to within π of ``prev``."""
-    return raw + _TWO_PI * math.floor((prev - raw) / _TWO_PI + 0.5)
+def _turn(prev, raw, k):  # pragma: no cover - compiled
+    """``raw`` moved by whole turns to within π of ``prev``, and how many turns.
+
+    ``k`` (the last sample's turns) is tried first: within 3 (< π, with room
+    for rounding) of ``prev`` it is the rounded ``(prev − raw) / 2π`` and the
+    result is the same number; the next angle then does not wait for this one.
+    """
+    t = raw + _TWO_PI * k
+    if abs(prev - t) < 3.0:
+        return t, k
+    k = math.floor((prev - raw) / _TWO_PI + 0.5)
+    return raw + _TWO_PI * k, k
+
+
+@_inline
+def _unwrap(ang_out, wrap, prev, turns, i0, i1):  # pragma: no cover - compiled
+    """Unwrap samples ``i0`` … ``i1 − 1`` of each angle row (one row at a time)."""
+    for w in range(len(wrap)):
+        row = ang_out[wrap[w]]
+        p, k = prev[w], turns[w]
+        for i in range(i0, i1):
+            raw = row[i]
+            if math.isfinite(raw):
+                p, k = _turn(p, raw, k)
+                row[i] = p
+        prev[w], turns[w] = p, k
 
 
 @_jit
@@ -738,15 +869,18 @@ def _follow(st, pi, pf, ns, U, links, exact, theta0, start, scale, step, ang_out
         return 0
     V = np.zeros((4 * nd, 1))
     c2 = np.zeros((ngroups, 1), np.int8)
-    prev = np.empty(nw)
+    prev, turns = np.empty(nw), np.zeros(nw)
     for w in range(nw):
         prev[w] = theta0[wrap[w]]  # the drawn pose: Δ = 0
     cur = start.copy()
+    i0 = 0  # the samples from i0 on are not unwrapped yet
     for i in range(n):
         span = 0.0
         for d in range(nd):
             span = max(span, abs(U[4 * d, i] - cur[d]) / scale[d])
         if span > step or (i == 0 and span > 1e-12):
+            _unwrap(ang_out, wrap, prev, turns, i0, i)  # the samples before the gap
+            i0 = i
             k = math.ceil(span / step)
             for m in range(1, k):
                 f = m / k
@@ -757,14 +891,10 @@ def _follow(st, pi, pf, ns, U, links, exact, theta0, start, scale, step, ang_out
                     L = links[wrap[w]]
                     raw = _atan2(st[L, EY, 0], st[L, EX, 0]) + theta0[wrap[w]]
                     if math.isfinite(raw):
-                        prev[w] = _turn(prev[w], raw)
-        for w in range(nw):
-            raw = ang_out[wrap[w], i]
-            if math.isfinite(raw):
-                prev[w] = _turn(prev[w], raw)
-                ang_out[wrap[w], i] = prev[w]
+                        prev[w], turns[w] = _turn(prev[w], raw, turns[w])
         for d in range(nd):
             cur[d] = U[4 * d, i]
+    _unwrap(ang_out, wrap, prev, turns, i0, n)
     return 0
 
 

@@ -70,17 +70,21 @@ _failure = ""  # why the compiled kernels are unavailable, once they are
 _spent = 0.0
 _mode: str | None = None  # None: read MACHDYN_JIT
 _warned_env = ""
+_env = ("", "auto")  # the last MACHDYN_JIT read and what it means (parsed once per value)
 
 
 def mode() -> str:
     """The current mode: ``"auto"``, ``"on"`` or ``"off"``."""
-    global _warned_env
+    global _warned_env, _env
     if _mode is not None:
         return _mode
     raw = os.environ.get("MACHDYN_JIT", "")
+    if raw == _env[0]:
+        return _env[1]
     value = raw.strip().lower() or "auto"
     value = _ALIASES.get(value, value)
     if value in _MODES:
+        _env = (raw, value)
         return value
     if raw != _warned_env:  # once per distinct bad value
         _warned_env = raw

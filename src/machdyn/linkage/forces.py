@@ -528,8 +528,8 @@ def _forces(
                     geo = {"G": G, "P": P, "u": slide_u, "kappa": current_kappa, "sl": sl}
                     sol, sing = _solve_closed(spec, rhs, geo)
                     singular[sl] |= sing & ~skip
-                    for k, val in zip(cols, sol, strict=True):
-                        x[sl, k] = val
+                    for k, val in zip(cols, sol, strict=True):  # (0 where not solved, as LU's)
+                        x[sl, k] = np.where(skip, 0.0, val) if skip.any() else val
                     continue
                 A = np.zeros((nb, nb, size))  # layout of machdyn.loops.lu_factor
                 for i, j, coef in inner:

@@ -251,15 +251,15 @@ def solve_closed(
     given = (vals, vel, acc, jrk)[: order + 1]
     rows = [t[name] for name in drivers for t in given]  # each driver's value and rates
     if not shape:  # one pose (an editor's call): one small array, no row-by-row copies
-        cols = [float(a) for a in rows]
-        per = order + 1
-        U = np.zeros((4 * len(drivers), 1))
-        for d in range(len(drivers)):
-            U[4 * d : 4 * d + per, 0] = cols[per * d : per * d + per]
+        col, per = [0.0] * (4 * len(drivers)), order + 1
+        for r, a in enumerate(rows):
+            col[4 * (r // per) + r % per] = float(a)
+        U = np.array(col).reshape(-1, 1)
     else:
         U = np.zeros((4 * len(drivers), n))
         for r, a in enumerate(rows):
-            U[4 * (r // (order + 1)) + r % (order + 1)] = a if a.ndim == 0 else _flat(a, shape)
+            row = 4 * (r // (order + 1)) + r % (order + 1)
+            U[row] = a if a.ndim == 0 else a.reshape(-1) if a.shape == shape else _flat(a, shape)
     out = None
     kern = kernel.compiled_kernel(n) if program.encoded is not None else None
     if kern is not None:  # the compiled kernel: the whole sweep in one call
@@ -441,22 +441,25 @@ def _motion(
 ) -> LinkageMotion:
     rows, index = info.rows, info.index
     nm, npt, nln = len(rows["links"]), len(rows["points"]), len(rows["lengths"])
-    size = len(info.tables.pts_i)
-    for a in (out.ang, out.rot, out.pts, out.lens):
-        a.flags.writeable = False  # every view below inherits it
-    R = out.rot.reshape(order, nm, *shape)
-    P = out.pts.reshape(order + 1, size, *shape)
-    L = out.lens.reshape(order + 1, nln, *shape)
     links, points, lengths = index["links"], index["points"], index["lengths"]
-    pad: list[Any] = [None] * (3 - order)  # the rates not computed
-    rot = [_Rows(links, R, k) for k in range(order)] + pad
-    pts = [_Rows(points, P, k) for k in range(order + 1)] + pad
-    cgs = [_Rows(links, P, k, npt) for k in range(order + 1)] + pad
-    lens = [_Rows(lengths, L, k) for k in range(order + 1)] + pad
+    for a in (out.ang, out.rot, out.pts, out.lens):
+        a.setflags(write=False)  # every view below inherits it
+    R = out.rot.reshape(order, nm, *shape)
+    P = out.pts.reshape(order + 1, len(info.tables.pts_i), *shape)
+    L = out.lens.reshape(order + 1, nln, *shape)
+    # one loop for the four tables (an editor's one-pose call pays for every microsecond)
+    rot: list[Any] = [None] * 4  # rates not computed stay None
+    pts, cgs, lens = rot[:], rot[:], rot[:]
+    for k in range(order + 1):
+        if k:
+            rot[k - 1] = _Rows(links, R, k - 1)
+        pts[k] = _Rows(points, P, k)
+        cgs[k] = _Rows(links, P, k, npt)
+        lens[k] = _Rows(lengths, L, k)
     inputs = {}
     for k, v in vals.items():
         a = np.array(v if v.shape == shape else np.broadcast_to(v, shape))
-        a.flags.writeable = False
+        a.setflags(write=False)
         inputs[k] = a
     return LinkageMotion._make(
         inputs=MappingProxyType(inputs),

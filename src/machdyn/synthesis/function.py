@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from .._angles import wrap_pi
-from .._validate import choice, count, finite_array, finite_scalar, items
+from .._validate import choice, count, finite_array, finite_scalar, items, positive
 from ..errors import AssemblyError, InputError
 from ..fourbar import FourBar, positions
 
@@ -125,7 +125,7 @@ def lengths_from_freudenstein(k: Any, r1: float = 1.0) -> tuple[float, float, fl
     if k.size != 3:
         raise InputError("k", f"must hold the three coefficients K1, K2, K3, got {k.size}")
     k1, k2, k3 = (float(v) for v in k)
-    d = finite_scalar("r1", r1)
+    d = positive("r1", r1)  # the scale: a ground of zero or negative length is no linkage
     if abs(k1) < 1e-12 or abs(k2) < 1e-12:
         raise InputError("k", "K1 and K2 must be non-zero (a zero K means an infinite link)")
     a, c = d / k1, d / k2
