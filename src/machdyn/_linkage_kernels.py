@@ -202,7 +202,8 @@ def _crank(st, ri, rf, U, i, order, j):  # pragma: no cover - compiled
     RK, RL = max(K, 0), max(L, 0)
     delta = U[4 * d, i] - theta0
     s, c = sincos(delta)
-    P = _pt(st, RK, rkx, rky, order, j)
+    # pivoted on the ground: the pin where it is drawn, at rest (the values _pt gives)
+    P = (rkx, rky, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0) if RK == 0 else _pt(st, RK, rkx, rky, order, j)
     w1, w2, w3 = U[4 * d + 1, i], U[4 * d + 2, i], U[4 * d + 3, i]
     _put(st, RL, order, P, rlx, rly, c, s, delta, w1, w2, w3, j)
 
@@ -736,7 +737,12 @@ def _points(st, start, b, order, pts_i, pts_f, Pf):  # pragma: no cover - compil
         R1 = Pf[min(order, 1) * npt + p, c0:c1]  # rows beyond the order: never written
         R2 = Pf[min(order, 2) * npt + p, c0:c1]
         R3 = Pf[min(order, 3) * npt + p, c0:c1]
-        if order == 2:
+        if L == 0:  # a ground point: where it is drawn, at rest (the values _pt gives)
+            for j in range(b):
+                R0[2 * j], R0[2 * j + 1] = rx, ry
+            for k in range(1, order + 1):
+                Pf[k * npt + p, c0:c1] = 0.0
+        elif order == 2:
             _point_rows(st[L], rx, ry, 2, R0, R1, R2, R3, b)
         else:
             _point_rows(st[L], rx, ry, order, R0, R1, R2, R3, b)

@@ -273,7 +273,7 @@ def solve_closed(
     # the usual case: every group assembled, away from toggles
     clean = out.clean if out.clean is not None else not out.codes.any()
     if clean:
-        ok, reason = np.ones(n, bool), blank(n)
+        ok, reason = _clean(n)
     else:
         ok, reason = _flags(out, model, info, n)
     for g in () if clean else np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
@@ -429,6 +429,26 @@ def _flags(out: Outputs, model: _Model, info: _Info, n: int):
     return ok, reason
 
 
+_BLANK: np.ndarray = np.empty(0, object)
+_BLANK.setflags(write=False)
+
+
+def _clean(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``ok`` and ``reason`` of a sweep of ``n`` samples, all assembled.
+
+    The reasons (read-only, like every array of the motion but ``ok``) are
+    shared by the calls of the same ``n``: ``n`` references to ``''`` cost as
+    much as solving a few hundred poses.
+    """
+    global _BLANK
+    reason = _BLANK
+    if len(reason) != n:
+        reason = blank(n)
+        reason.setflags(write=False)
+        _BLANK = reason
+    return np.ones(n, bool), reason
+
+
 def _motion(
     lk: Linkage,
     out: Outputs,
@@ -442,7 +462,7 @@ def _motion(
     rows, index = info.rows, info.index
     nm, npt, nln = len(rows["links"]), len(rows["points"]), len(rows["lengths"])
     links, points, lengths = index["links"], index["points"], index["lengths"]
-    for a in (out.ang, out.rot, out.pts, out.lens):
+    for a in (out.ang, out.rot, out.pts, out.lens, reason):
         a.setflags(write=False)  # every view below inherits it
     R = out.rot.reshape(order, nm, *shape)
     P = out.pts.reshape(order + 1, len(info.tables.pts_i), *shape)
