@@ -140,3 +140,23 @@ def test_sprockets_and_chains_need_whole_teeth():
         chain_ratio(17.5, 51)
     with pytest.raises(InputError, match="teeth"):
         chain_ratio(17, [51, 50.5])
+
+
+def test_a_fixed_pin_in_a_moving_slot_says_how_to_draw_it():
+    """(was: "unknown link 'ground'", though the ground is a link everywhere else). The advice
+    works: a bar pinned to the crank at A slides through a block on the fixed pin O (the
+    swinging-block inverted slider-crank), so the bar points from A through O."""
+    from machdyn.errors import ModelError
+
+    pts = {"O2": 0j, "A": 1 + 0j, "O": -2.5 + 0.5j, "Q": -4 + (0.5 + 1.5 * 0.5 / 3.5) * 1j}
+    base = Linkage(pts).ground("O2", "O").link("crank", "O2", "A").link("bar", "A", "Q")
+    with pytest.raises(ModelError, match="block"):
+        base.slot("O", "ground", "bar", "Q")
+    lk = base.link("block", "O").slider("block", "bar", "O", "Q").drive("crank")
+    th = np.radians(np.arange(0.0, 360.0, 30.0))
+    m = lk.solve(th, velocity=1.0)
+    assert m.ok.all()
+    A = np.exp(1j * th)
+    along = np.angle((pts["O"] - A) / (pts["O"] - pts["A"]))  # the bar's turn from the drawing
+    turn = m.theta["bar"] - m.theta["bar"][0]
+    assert np.allclose(np.angle(np.exp(1j * (turn - along))), 0.0, atol=1e-9)

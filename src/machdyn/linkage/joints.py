@@ -154,6 +154,12 @@ class _JointMethods:
         """
         name = f"{pin}@{on}" if name is None else _name("name", name)
         _names_given(name, pin=pin, link=link, on=on, through=through, centre=centre)
+        if link == GROUND:  # a fixed pin in a slot of a moving link: a block on the pin
+            raise ModelError(
+                f"slot {name!r}: the pin must ride on a moving link, not the ground; for a "
+                f"fixed pin {pin!r} in a slot of {on!r}, add a one-point link on the pin "
+                f"(link('block', {pin!r})) and slide it: slider('block', {on!r}, {pin!r}, ...)"
+            )
         if centre is not None or radius is not None:
             return self._curved_joint("slot", link, on, pin, centre, radius, name)
         if link not in self._links:
