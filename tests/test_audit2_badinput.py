@@ -125,3 +125,18 @@ def test_freudenstein_ground_length_must_be_positive(r1):
         function_generator(
             np.log10, (1.0, 2.0), np.radians((45, 105)), np.radians((135, 225)), r1=r1
         )
+
+
+def test_sprockets_and_chains_need_whole_teeth():
+    """(was: 17.5 teeth gave a pitch diameter 2.8002 and a chain ratio 0.3431, silently)"""
+    from machdyn.gears.trains import chain_ratio, sprocket_pitch_diameter
+
+    # d = p / sin(180°/N): 1/2-in chain, 17 teeth (Norton, chain drives)
+    assert sprocket_pitch_diameter(0.5, 17) == pytest.approx(0.5 / np.sin(np.pi / 17))
+    assert chain_ratio(17, 51) == pytest.approx(1 / 3)
+    with pytest.raises(InputError, match="teeth"):
+        sprocket_pitch_diameter(0.5, 17.5)
+    with pytest.raises(InputError, match="teeth"):
+        chain_ratio(17.5, 51)
+    with pytest.raises(InputError, match="teeth"):
+        chain_ratio(17, [51, 50.5])

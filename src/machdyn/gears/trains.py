@@ -159,7 +159,16 @@ def chain_ratio(driver_teeth: ArrayLike, driven_teeth: ArrayLike) -> Any:
     >>> chain_ratio(17, 51)
     0.3333333333333333
     """
+    _whole("driver_teeth", driver_teeth)
+    _whole("driven_teeth", driven_teeth)
     return stage_ratio(driver_teeth, driven_teeth, "chain")
+
+
+def _whole(field: str, teeth: ArrayLike) -> None:
+    """Tooth numbers are whole: 17.5 teeth is a typo (or a diameter), not a sprocket."""
+    n = finite_array(field, teeth)
+    if np.any(n != np.round(n)):
+        raise InputError(field, f"tooth numbers must be whole numbers, got {teeth!r}")
 
 
 def sprocket_pitch_diameter(pitch: ArrayLike, teeth: ArrayLike) -> Any:
@@ -173,6 +182,7 @@ def sprocket_pitch_diameter(pitch: ArrayLike, teeth: ArrayLike) -> Any:
     2.7211
     """
     p, n = finite_array("pitch", pitch), finite_array("teeth", teeth)
+    _whole("teeth", n)
     if np.any(p <= 0):
         raise InputError("pitch", "a sprocket needs a positive chain pitch")
     if np.any(n < 3):
