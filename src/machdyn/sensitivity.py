@@ -319,8 +319,8 @@ def _linkage(
         raise InputError("theta2", "give at least one driver value")
     names, nominal, derivative, motion = linkage_sensitivity(lk, values, velocity, acceleration)
     keep = _chosen(dimensions, names)
-    ok = np.asarray(motion.ok).ravel()
-    ok &= np.all([np.isfinite(d).all(axis=-1) for d in derivative.values()], axis=0)
+    finite = np.all([np.isfinite(d).all(axis=-1) for d in derivative.values()], axis=0)
+    ok = np.asarray(motion.ok).ravel() & finite  # a new array: the motion's flags stay as solved
     status = (~ok).astype(np.uint8)
     for name in nominal:
         derivative[name] = derivative[name][:, keep]
