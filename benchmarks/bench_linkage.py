@@ -182,6 +182,9 @@ def main() -> None:
     import numba
     import pylinkage
 
+    # pylinkage's numba code first, with LLVM's options as they are before machdyn's linkage
+    # kernel compiles (its warm-up raises the inlining threshold and restores the default)
+    pylinkage_watt_ii(360).step_fast_with_kinematics(360)
     assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
     print(
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
