@@ -298,28 +298,37 @@ def solve_positions(
         if done is not None:
             return done
     start = time.perf_counter()
-    pos = _turns_after_gaps(c, _sweep_numpy(c, u, guess, want, fast=fast, **options))
+    pos = _whole_turns(c, _sweep_numpy(c, u, guess, want, fast=fast, **options), u)
     jit.charge(time.perf_counter() - start)
     return pos
 
 
-def _turns_after_gaps(c: Compiled, pos: Positions) -> Positions:
-    """Every stretch of poses after a gap in the whole turns of the last pose before it.
+def _whole_turns(c: Compiled, pos: Positions, u: np.ndarray) -> Positions:
+    """Each angle's whole turns by the compiled sweep's rule (docs/loops.md).
 
-    Across a gap (samples with no pose) an angle's whole turn is not defined by
-    continuity; the rule (docs/loops.md) is that the first pose after the gap
-    lies within π of the last pose before it, and the stretch that follows moves
-    with it. The compiled sweep keeps the same rule sample by sample.
+    Across an assembly gap (samples with no pose) continuity does not define an
+    angle's whole turn: the first pose after the gap lies within π of the last
+    pose before it, and the stretch that follows moves with it. Between two
+    solved samples whose inputs moved by at most ``SUB_STEP`` (scaled), no angle
+    turns by π (the march halves a step that would move one by a radian), so a
+    whole turn between them is a sample solved in another neighbour's turn (one
+    filled from the far side of a stretch the march crossed): the rest of the
+    sweep moves with it likewise. The compiled sweep keeps both rules sample by
+    sample.
     """
     rows = c.angle_rows
     there = np.flatnonzero(np.isfinite(pos.q).all(axis=0))
     if not rows.size or there.size < 2:
         return pos
-    starts = np.flatnonzero(np.diff(there) > 1) + 1  # runs that begin after a gap
+    before, after = there[:-1], there[1:]
+    step = np.abs((u[:, after] - u[:, before]) / c.var_scale[c.inputs][:, None]).max(axis=0)
+    jump = pos.q[np.ix_(rows, after)] - pos.q[np.ix_(rows, before)]
+    whole = np.round(jump / (2.0 * np.pi))
+    rule = (after - before > 1) | (step <= _jit_sweep.SUB_STEP)
+    starts = np.flatnonzero(rule & (whole != 0).any(axis=0)) + 1  # runs that move
     if not starts.size:
         return pos
-    jump = pos.q[np.ix_(rows, there[starts])] - pos.q[np.ix_(rows, there[starts - 1])]
-    turns = np.cumsum(np.round(jump / (2.0 * np.pi)), axis=1)
+    turns = np.cumsum(whole[:, starts - 1], axis=1)
     if len(c.con0):  # no shift that a constraint would not follow (a gear's ratio, an input)
         full = np.zeros((len(c.names), starts.size))
         full[c.unknown[rows]] = turns
