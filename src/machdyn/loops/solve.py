@@ -320,15 +320,16 @@ def _whole_turns(c: Compiled, pos: Positions, u: np.ndarray) -> Positions:
     there = np.flatnonzero(np.isfinite(pos.q).all(axis=0))
     if not rows.size or there.size < 2:
         return pos
-    before, after = there[:-1], there[1:]
-    step = np.abs((u[:, after] - u[:, before]) / c.var_scale[c.inputs][:, None]).max(axis=0)
-    jump = pos.q[np.ix_(rows, after)] - pos.q[np.ix_(rows, before)]
+    jump = np.diff(pos.q[np.ix_(rows, there)], axis=1)
     whole = np.round(jump / (2.0 * np.pi))
-    rule = (after - before > 1) | (step <= _jit_sweep.SUB_STEP)
-    starts = np.flatnonzero(rule & (whole != 0).any(axis=0)) + 1  # runs that move
-    if not starts.size:
+    moved = np.flatnonzero((whole != 0).any(axis=0))  # pairs (there[k], there[k + 1]) a turn apart
+    before, after = there[moved], there[moved + 1]
+    step = np.abs((u[:, after] - u[:, before]) / c.var_scale[c.inputs][:, None]).max(axis=0)
+    moved = moved[(after - before > 1) | (step <= _jit_sweep.SUB_STEP)]  # where the rule applies
+    if not moved.size:
         return pos
-    turns = np.cumsum(whole[:, starts - 1], axis=1)
+    starts = moved + 1  # the runs that move, as positions in ``there``
+    turns = np.cumsum(whole[:, moved], axis=1)
     if len(c.con0):  # no shift that a constraint would not follow (a gear's ratio, an input)
         full = np.zeros((len(c.names), starts.size))
         full[c.unknown[rows]] = turns
