@@ -29,6 +29,15 @@ def rng() -> np.random.Generator:
     return np.random.default_rng(20101008)
 
 
+@pytest.fixture(scope="module")
+def browser():
+    """One headless Chromium per test module (skips with the reason where it is missing)."""
+    from browser import chromium
+
+    with chromium() as b:
+        yield b
+
+
 @pytest.fixture(scope="module", params=["numpy", "compiled"])
 def backend(request: pytest.FixtureRequest):
     """Run every test of a module twice: NumPy kernels, then the compiled (numba) ones."""

@@ -14,19 +14,13 @@ import re
 import numpy as np
 import pytest
 
-from browser import Page, chromium, screenshots
+from browser import Page, screenshots
 from closed_forms import circle_meet
 from machdyn import FourBar, InvertedSliderCrank, SliderCrank
 from machdyn.draw import scene, to_html
 from machdyn.linkage import Linkage
 
 pytestmark = pytest.mark.slow
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as b:
-        yield b
 
 
 @pytest.fixture

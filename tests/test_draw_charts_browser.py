@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from browser import Page, chromium, screenshots
+from browser import Page, screenshots
 from machdyn import FourBar, InvertedSliderCrank, SliderCrank
 from machdyn.draw.engineering import shaking_charts, torque_chart
 from machdyn.flywheel import size_flywheel
@@ -27,12 +27,6 @@ ISC = dict(
     friction="coulomb",
     mu=0.1,
 )
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as b:
-        yield b
 
 
 @pytest.fixture

@@ -15,17 +15,11 @@ from pathlib import Path
 
 import pytest
 
-from browser import Page, chromium
+from browser import Page
 from machdyn.cli import main
 
 pytestmark = pytest.mark.slow
 EXAMPLES = Path(__file__).parent.parent / "docs" / "examples"
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as b:
-        yield b
 
 
 @pytest.fixture

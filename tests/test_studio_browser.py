@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import machdyn
-from browser import Page, chromium, screenshots
+from browser import Page, screenshots
 from machdyn.fourbar import FourBar
 from machdyn.studio.templates import TEMPLATES
 from machdyn.studio.templates import template as studio_template
@@ -33,12 +33,6 @@ def studio(tmp_path_factory):
     s.start()
     yield s
     s.stop()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as b:
-        yield b
 
 
 @pytest.fixture
