@@ -12,7 +12,7 @@ import re
 import numpy as np
 import pytest
 
-from browser import Page, chromium
+from browser import Page
 from machdyn import InvertedSliderCrank
 from machdyn.report import report
 from machdyn.report.slidercrank import slidercrank_sweep
@@ -31,11 +31,10 @@ KW = dict(
 
 
 @pytest.fixture(scope="module")
-def tab():
-    with chromium() as browser:
-        page = Page(browser)
-        yield page
-        page.close()
+def tab(browser):
+    page = Page(browser)
+    yield page
+    page.close()
 
 
 def test_the_inverted_slider_crank_report_shows_its_forces(tab, tmp_path):
