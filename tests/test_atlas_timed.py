@@ -86,3 +86,37 @@ def test_the_angle_table_holds_each_angle_and_its_negative_once():
     assert angles.size == 180  # multiples of 2 deg: 6 and 20 meet on gcd 2
     np.testing.assert_allclose(np.exp(1j * angles[ip]), np.exp(1j * th), atol=1e-11)
     np.testing.assert_allclose(np.exp(1j * angles[im]), np.exp(-1j * th), atol=1e-11)
+
+
+# --------------------------------------------------------------------------------------
+# the nearest entries, scored by chunks on several threads
+
+
+@pytest.mark.parametrize("crank", [True, False])
+def test_nearest_on_threads_is_the_exact_top_k_of_a_brute_force_search(
+    tmp_path_factory, monkeypatch, crank
+):
+    from machdyn import _parallel
+    from machdyn.synthesis.atlas_path import open_atlas
+    from machdyn.synthesis.atlas_store import build_atlas
+    from machdyn.synthesis.descriptor import descriptor_variants
+
+    folder = tmp_path_factory.mktemp("near") / "a"
+    build_atlas(folder, 2500, chunk_size=400, seed=8, progress=False)  # 7 chunks
+    at = open_atlas(folder)
+    monkeypatch.setattr(_parallel, "MIN_PARALLEL", 1)  # threads even for this small atlas
+    monkeypatch.setenv("MACHDYN_THREADS", "3")
+    desc = np.concatenate([np.asarray(d, float) for d in at.desc])
+    allowed = np.concatenate([np.asarray(m["barker"]) <= 2 for m in at.meta])
+    rng = np.random.default_rng(4)
+    for _ in range(3):
+        q = desc[rng.integers(len(desc))] + 0.05 * rng.standard_normal(desc.shape[1])
+        q /= np.linalg.norm(q)  # a descriptor has unit length
+        idx, dist = at.nearest(q, 40, crank=crank)
+        # brute force in float64: the best cosine over the descriptor's four variants
+        v = descriptor_variants(q).reshape(4, -1)
+        score = np.max(desc @ v.T, axis=1)
+        score[~allowed if crank else np.zeros(len(desc), bool)] = -np.inf
+        want = np.argsort(-score)[:40]
+        assert set(idx) == set(want)
+        np.testing.assert_allclose(dist, 2 - 2 * score[want], atol=1e-5)

@@ -152,12 +152,7 @@ class Atlas:
             raise InputError("client", "must be a distributed.Client (or None)")
         variants = np.ascontiguousarray(descriptor_variants(descriptor).reshape(4, -1))  # (4, D)
         if client is None:
-            parts, floor = [], -np.inf
-            for d, ok in zip(self.desc, self._crank, strict=True):
-                parts.append(chunk_topk(d, ok if crank else None, variants, k, floor))
-                best = np.concatenate([sc for _, sc in parts])
-                if best.size >= k:  # the k-th best so far: later chunks must beat it
-                    floor = float(np.partition(best, best.size - k)[best.size - k])
+            parts = self._local_topk(variants, k, crank)
         else:
             futures = [
                 client.submit(chunk_topk_file, str(self.path), c, variants, k, crank, pure=False)
@@ -166,9 +161,34 @@ class Atlas:
             parts = client.gather(futures)
         idx = np.concatenate([top + self.offsets[c] for c, (top, _) in enumerate(parts)])
         score = np.concatenate([s for _, s in parts])
-        order = np.argsort(-score)[:k]
+        order = np.lexsort((idx, -score))[:k]  # best first; equal scores by index
         keep = np.isfinite(score[order])
         return idx[order][keep], (2.0 - 2.0 * score[order][keep]).astype(float)
+
+    def _local_topk(self, variants: np.ndarray, k: int, crank: bool) -> list:
+        """:func:`chunk_topk` of every chunk, on the threads of :mod:`machdyn._parallel`.
+
+        Each thread scores a run of chunks (BLAS products, comparisons and the
+        partial sort release the GIL), keeping only what beats its own k-th best
+        so far; the union holds the exact top k.
+        """
+        from .._parallel import for_slices
+
+        parts: list = [None] * len(self.desc)
+        starts = self.offsets[:-1]
+
+        def run(sl: slice) -> None:
+            floor, best = -np.inf, np.empty(0, np.float32)
+            for c in np.flatnonzero((starts >= sl.start) & (starts < sl.stop)):
+                ok = self._crank[c] if crank else None
+                parts[c] = chunk_topk(self.desc[c], ok, variants, k, floor)
+                best = np.concatenate([best, parts[c][1]])
+                if best.size >= k:  # the k-th best so far: later chunks must beat it
+                    best = np.partition(best, best.size - k)[best.size - k :]
+                    floor = float(best[0])
+
+        for_slices(run, len(self))
+        return parts
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas."""
