@@ -177,6 +177,7 @@ class Table:
         self.trend = trend
         self._trend = [(k, float(v)) for k, v in enumerate(trend) if v]
         self._coef = np.array(spline.c)  # (4, cells, F): c0 d³ + c1 d² + c2 d + c3
+        self.force_scale = float(np.max(np.abs(self._coef[3, :, 3])))  # |Q| at the nodes
         self.functions = self._coef.shape[2]
         self._k = range(0, 4 * self.functions, 4)
         self._store()
@@ -358,6 +359,12 @@ class Exact:
         self.error = 0.0
         self.cells = 0
         self._last: list[float] | None = None
+        if self.period is not None:
+            q = np.linspace(0.0, self.period, 65)
+        else:
+            q = np.linspace(self.lo, self.hi, 67)[1:-1]
+        values, ok = coefficient_samples(plant, loads, q)
+        self.force_scale = float(np.max(np.abs(values[3, ok]), initial=0.0))  # |Q| over the span
 
     def __call__(self, q: float) -> list[float]:
         """The coefficient vector at ``q``, solving the model there."""
