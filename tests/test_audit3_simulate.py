@@ -445,3 +445,61 @@ def test_a_rocker_cannot_be_asked_for_turns_or_a_steady_state():
     with pytest.raises(InputError) as info:  # outside its range
         machdyn.simulate(rocker, 0.1, theta0=math.radians(150), t_end=1.0, **masses)
     assert info.value.field == "theta0"
+
+
+# --- loads of the simulation -----------------------------------------------------------------
+
+
+def test_loads_on_the_rocker_and_the_coupler_conserve_energy_with_their_potentials():
+    from machdyn.simulate import force, torque
+
+    r = (0.08, 0.03, 0.07, 0.06)
+    fb = machdyn.FourBar(*r)
+    m, IG, c = (0.2, 0.3, 0.25), (3e-5, 1.2e-4, 7.5e-5), (0.02, 0.035, 0.03)
+    sign = fourbar_sign(fb, 0.0)
+    theta40 = float(fourbar_cgs(r, c, np.array([0.0]), sign)[1][2][0])
+    k, F, point = 0.05, -2.0 + 1.0j, 0.03 + 0.01j
+    spring = torque(4, lambda t, x, v: -k * (x - theta40))  # a torsion spring on the rocker
+    push = force(3, point, F)  # a constant force on a coupler point
+    run = machdyn.simulate(
+        fb,
+        None,
+        omega0=30.0,
+        t_end=0.5,
+        mass=m,
+        inertia=IG,
+        cg=c,
+        loads=[spring, push],
+        samples=401,
+    )
+    ke, _ = fourbar_energy(r, c, m, IG, 0.0, run.theta, run.omega, sign)
+    A, B = fourbar_pins(r, run.theta, sign)
+    P = A + point * (B - A) / r[2]
+    theta4 = np.unwrap(fourbar_cgs(r, c, run.theta, sign)[1][2])
+    potential = 0.5 * k * (theta4 - theta40) ** 2 - (F.conjugate() * P).real
+    assert run.theta[-1] > 2 * math.pi
+    assert np.ptp(ke + potential) < 1e-7 * ke.max()
+    np.testing.assert_allclose(run.energy.loads, -(potential - potential[0]), atol=1e-8 * ke.max())
+
+
+def test_a_slider_crank_drawn_as_a_linkage_moves_like_the_slider_crank():
+    from machdyn.massprops import point_mass
+
+    a, b = 0.05, 0.2
+    m, IG, cg = (0.5, 1.0, 1.5), (2e-4, 4e-3), (0.02, 0.08)
+    sc = machdyn.SliderCrank(a, b)
+    x_b = a + b
+    lk = (
+        Linkage({"O2": (0, 0), "A": (a, 0), "B": (x_b, 0)})
+        .ground("O2")
+        .link("crank", "O2", "A", mass=m[0], inertia=IG[0], cg=cg[0])
+        .link("rod", "A", "B", mass=m[1], inertia=IG[1], cg=cg[1])
+        .link("piston", "B", body=point_mass(m[2]))
+        .slider("piston", "ground", "B", direction=0.0)
+        .drive("crank")
+    )
+    opts = dict(t_end=0.4, flywheel=5e-3, samples=81, gravity=G)
+    one = machdyn.simulate(sc, ConstantTorque(2.0), mass=m, inertia=IG, cg=cg, **opts)
+    two = machdyn.simulate(lk, ConstantTorque(2.0), theta0=0.0, **opts)
+    np.testing.assert_allclose(two.theta, one.theta, rtol=1e-7, atol=1e-9)
+    np.testing.assert_allclose(two.omega, one.omega, rtol=1e-7, atol=1e-8)
