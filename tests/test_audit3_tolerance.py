@@ -348,3 +348,47 @@ def test_cli_tolerance_bad_file_is_one_line(tmp_path, capsys):
     text = (out + err).strip()
     assert "Traceback" not in text and "r9" in text
     assert len(text.splitlines()) <= 2
+
+
+def drawn_fourbar_outputs(pts, theta):
+    """θ of the rocker and the coupler point P of a drawn four-bar, from its drawn points."""
+    O2, O4, A0, B0, P0 = (pts[k] for k in ("O2", "O4", "A", "B", "P"))
+    r2, r3, r4 = abs(A0 - O2), abs(B0 - A0), abs(B0 - O4)
+    rho = (P0 - A0) / (B0 - A0)  # P in the coupler's frame (A, toward B)
+    side = np.sign(((B0 - A0) / (O4 - A0)).imag)  # the drawn assembly
+    A = O2 + r2 * np.exp(1j * theta)
+    d = O4 - A
+    L = np.abs(d)
+    along = (r3**2 - r4**2 + L**2) / (2 * L)
+    B = A + (along + side * 1j * np.sqrt(r3**2 - along**2)) * d / L
+    return {"theta.rocker": np.angle(B - O4), "point.P": A + rho * (B - A)}
+
+
+def test_drawn_linkage_derivatives_match_differences_of_the_drawing():
+    from machdyn.linkage import Linkage
+
+    rng = np.random.default_rng(307)
+    pts = {"O2": 0j, "O4": 8 + 0.5j, "A": 2.5 + 1.0j, "P": 5 + 4j}
+    pts["B"] = 7.0 + 5.5j
+    lk = (
+        Linkage(pts)
+        .ground("O2", "O4")
+        .link("crank", "O2", "A")
+        .link("coupler", "A", "B", "P")
+        .link("rocker", "O4", "B")
+        .drive("crank")
+    )
+    theta = rng.uniform(0, 2 * np.pi, 6)
+    s = machdyn.sensitivity(lk, theta)
+    h = 1e-6
+    for dim in s.dimensions:
+        name, axis = dim.split(".")
+        step = h if axis == "x" else 1j * h
+        up, dn = dict(pts), dict(pts)
+        up[name] += step
+        dn[name] -= step
+        yu, yd = drawn_fourbar_outputs(up, theta), drawn_fourbar_outputs(dn, theta)
+        expect = angle_diff(yu["theta.rocker"], yd["theta.rocker"]) / (2 * h)
+        np.testing.assert_allclose(s.of("theta.rocker", dim), expect, rtol=1e-6, atol=1e-7)
+        expect = (yu["point.P"] - yd["point.P"]) / (2 * h)
+        np.testing.assert_allclose(s.of("point.P", dim), expect, rtol=1e-6, atol=1e-7)
