@@ -503,3 +503,53 @@ def test_a_slider_crank_drawn_as_a_linkage_moves_like_the_slider_crank():
     two = machdyn.simulate(lk, ConstantTorque(2.0), theta0=0.0, **opts)
     np.testing.assert_allclose(two.theta, one.theta, rtol=1e-7, atol=1e-9)
     np.testing.assert_allclose(two.omega, one.omega, rtol=1e-7, atol=1e-8)
+
+
+def test_motor_laws_are_the_textbook_curves():
+    from machdyn.simulate import InductionMotor
+
+    # Kloss: T = 2 T_b s s_b / (s² + s_b²), s_b from the rated point: s_b = s_r (k + √(k² − 1))
+    Tr, wr, ws, kb = 20.0, 150.0, 157.08, 2.5
+    motor = InductionMotor.from_rating(
+        Tr, rated_speed=wr, synchronous_speed=ws, breakdown_factor=kb
+    )
+    sr = 1 - wr / ws
+    sb = sr * (kb + math.sqrt(kb * kb - 1))
+    for w in (0.0, 50.0, 140.0, 150.0, 157.08, 170.0, -10.0):
+        s = 1 - w / ws
+        assert float(motor(0.0, 0.0, w)) == pytest.approx(2 * kb * Tr * s * sb / (s * s + sb * sb))
+    # DC from V, R, kt (ke = kt in SI): T = kt (V − kt ω) / R; through a 10:1 box and off at 1 s
+    dc = DCMotor.from_electrical(voltage=24.0, resistance=2.0, kt=0.05)
+    for w in (0.0, 100.0, 480.0, 600.0):
+        assert float(dc(0.0, 0.0, w)) == pytest.approx(0.05 * (24 - 0.05 * w) / 2)
+    geared = DCMotor(0.5, 300.0, ratio=10.0, off_at=1.0)
+    assert float(geared(0.5, 0.0, 10.0)) == pytest.approx(10 * 0.5 * (1 - 100 / 300))
+    assert float(geared(1.5, 0.0, 10.0)) == 0.0
+
+
+def test_steady_state_torque_pays_the_dampers_work_per_turn():
+    # periodic under a constant T: T·2π = ∫ β ḋ² dt = β ∫ (dd/dθ)² ω(θ) dθ over the turn
+    from scipy.integrate import simpson
+
+    from machdyn.simulate import steady_state
+
+    a, b, beta, w = 0.05, 0.2, 5.0, 30.0
+    sc = machdyn.SliderCrank(a, b)
+    p = steady_state(
+        sc,
+        None,
+        omega_avg=w,
+        flywheel=0.05,
+        mass=(0.1, 0.3, 0.4),
+        inertia=(1e-4, 1e-3),
+        cg=(0.01, 0.08),
+        friction="viscous",
+        beta=beta,
+    )
+    assert p.omega_avg == pytest.approx(w, rel=1e-8)
+    h = 1e-6
+    th = np.asarray(p.theta)
+    assert th[-1] - th[0] == pytest.approx(2 * math.pi, rel=1e-12)
+    dd = (slider_d(a, b, 0.0, th + h) - slider_d(a, b, 0.0, th - h)) / (2 * h)
+    work = beta * simpson(dd**2 * p.omega, x=th)
+    assert float(np.mean(p.torque)) == pytest.approx(work / (2 * math.pi), rel=1e-6)
