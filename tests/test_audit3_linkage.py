@@ -8,10 +8,12 @@ cosine law ``|A − O4|² = r1² + r2² − 2 r1 r2 cos θ2`` with
 circuits of the linkage: no motion takes the drawn one (θ2 = 60°) to the
 other without taking it apart. ``FourBar.solve`` flags the mirror arc ("input
 angle belongs to the other form (circuit) of this linkage"); the same linkage
-drawn as a ``Linkage`` keeps the dyad's assembly sign there and returns those
+drawn as a ``Linkage`` kept the dyad's assembly sign there and returned those
 poses as ``ok`` — poses on another circuit passed off as the drawn mechanism's
-motion (the studio plots and animates them as valid, ``machdyn.tolerance`` and
-``machdyn.sensitivity`` of the Linkage report them).
+motion (the studio plotted and animated them as valid, ``machdyn.tolerance`` and
+``machdyn.sensitivity`` of the Linkage reported them). Fixed: a dyad placed
+straight from the driver that closes on separate arcs of the driver angle is
+flagged outside the drawn pose's arc.
 """
 
 from __future__ import annotations
@@ -69,13 +71,6 @@ def test_inside_the_drawn_arc_the_linkage_is_the_two_circle_solution():
     assert not fb.solve(np.radians([-60.0]), 1.0, 0.0, 1).ok.any()  # FourBar: other circuit
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="Linkage.solve keeps a dyad's assembly sign but not its circuit: the mirror arc "
-    "[-92.1°, -31.6°] of a coupler-shortest Grashof four-bar drawn at 60° is returned ok "
-    "(FourBar.solve flags it). Fix in linkage/sweep.py (flag samples outside the closing arc "
-    "of the drawn input) and _linkage_family.py; left to the linkage owner (core hot path).",
-)
 def test_a_drawn_linkage_flags_poses_on_its_other_circuit():
     lk, _ = drawn()
     th = np.radians([60.0, 80.0, 300.0, 320.0])
@@ -84,11 +79,6 @@ def test_a_drawn_linkage_flags_poses_on_its_other_circuit():
     assert np.isnan(m.theta["rocker"][2:]).all()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the studio's analysis inherits Linkage.solve's circuit jump: frames at θ2 in "
-    "[268°, 328°] (the mirror circuit) are shown as ok (see the test above)",
-)
 def test_the_studio_does_not_show_the_other_circuit_as_the_motion():
     from machdyn.studio.analysis import analyse
 
@@ -122,3 +112,44 @@ def test_the_studio_does_not_show_the_other_circuit_as_the_motion():
     mirror = (x > 360 - hi + 0.5) & (x < 360 - lo - 0.5)
     assert mirror.any()
     assert not np.asarray(out["ok"])[mirror].any()
+
+
+def test_sensitivity_and_tolerance_of_the_drawn_linkage_refuse_the_other_circuit():
+    from machdyn.errors import InputError
+
+    lk, _ = drawn()
+    th = np.radians([60.0, 80.0, 300.0, 320.0])
+    s = machdyn.sensitivity(lk, th)
+    assert s.ok.tolist() == [True, True, False, False]
+    with pytest.raises(InputError) as info:
+        machdyn.tolerance(lk, {"A-B": 0.01}, th, samples=100)
+    assert info.value.field == "theta2" and "other circuit" in str(info.value)
+    mc = machdyn.tolerance(lk, {"A-B": 0.01}, th[:2], samples=100)  # on its own arc: fine
+    assert mc.failed == 0
+
+
+def test_a_slider_crank_with_a_long_crank_keeps_to_its_arc():
+    # crank a = 2 longer than the rod b = 1 on a slide through O2: the rod reaches the slide
+    # for |a sin θ| ≤ b, two arcs (around 0° and around 180°): the other one is the other
+    # circuit. Drawn at θ = 10°.
+    a, b = 2.0, 1.0
+    t0 = math.radians(10.0)
+    A = a * np.exp(1j * t0)
+    x = a * math.cos(t0) + math.sqrt(b * b - (a * math.sin(t0)) ** 2)
+    lk = (
+        Linkage({"O2": 0j, "A": A, "B": x + 0j})
+        .ground("O2")
+        .link("crank", "O2", "A")
+        .link("rod", "A", "B")
+        .link("block", "B")
+        .slider("block", "ground", "B", 0.0, name="guide")
+        .drive("crank")
+    )
+    edge = math.degrees(math.asin(b / a))  # 30°
+    th = np.radians([0.0, 20.0, edge + 5, 180.0, 200.0])
+    m = lk.solve(th)
+    assert m.ok.tolist() == [True, True, False, False, False]
+    assert "does not close" in m.reason[2] and "another circuit" in m.reason[3]
+    np.testing.assert_allclose(
+        m.points["B"][:2].real, a * np.cos(th[:2]) + np.sqrt(b * b - (a * np.sin(th[:2])) ** 2)
+    )
