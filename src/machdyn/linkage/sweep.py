@@ -337,18 +337,13 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple[float, float, int
         if bad.any() and not bad[0]:
             k_hi, k_lo = int(np.argmax(bad)), int(n - 1 - np.argmax(bad[::-1]))
             below = theta - 2.0 * np.pi  # the lower end, approached from t0 downwards
-            pairs = ((theta[k_hi - 1], theta[k_hi]), (below[k_lo + 1] if k_lo + 1 < n else t0,
-                                                       below[k_lo]))  # fmt: skip
-            ends = []
-            for a, b in pairs:  # a closes, b does not
-                for _ in range(44):
-                    mid = 0.5 * (a + b)
-                    if failing(np.array([mid])).any():
-                        b = mid
-                    else:
-                        a = mid
-                ends.append(float(a))
-            hi, lo = ends
+            a = np.array([theta[k_hi - 1], below[k_lo + 1] if k_lo + 1 < n else t0])  # closes
+            b = np.array([theta[k_hi], below[k_lo]])  # does not
+            for _ in range(40):  # both ends at once, to 2e-14 rad
+                mid = 0.5 * (a + b)
+                fails = failing(mid).any(axis=0)
+                a, b = np.where(fails, a, mid), np.where(fails, mid, b)
+            hi, lo = (float(v) for v in a)
             group = int(np.argmax(failing(theta[k_hi : k_hi + 1])[:, 0]))
             # a gap narrower than the grid's half degree is not seen: such arcs join
             if hi - lo < 2.0 * np.pi - 1e-9:
