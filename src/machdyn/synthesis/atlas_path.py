@@ -82,6 +82,10 @@ SIXBAR_POLISH = 600
 #: Six-bars: most fits polished while none meets the targets (of 20 random timed six-bars
 #: of the benchmark, none was met from a fit screened below the 23rd; a miss polished all).
 SIXBAR_POLISH_MAX = 24
+#: Six-bars with prescribed timing: starts screened per refined candidate, most fits polished.
+SIXBAR_TIMED = (16, 96)
+#: Timed six-bars: when none meets the targets, the best few fits polished this many steps more.
+SIXBAR_LONG = (2, 6000)
 #: A six-bar whose RMS distance is below this share of the size meets the targets.
 SIXBAR_MET = 1e-12
 #: Size of the pool an open target is matched against (entries spread over the atlas).
@@ -568,9 +572,11 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     size = float(np.max(np.abs(pts - pts.mean())))
     compiled = jit.mode() != "off" and jit.load()  # one choice for the whole synthesis
     t0 = time.perf_counter()
-    # six-bars: many atlas entries draw nearly the same curve, so many are screened
-    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, SIXBAR_SCREEN * refine_count,
-                           client, compiled)  # fmt: skip
+    # six-bars: many atlas entries draw nearly the same curve, so many are screened; timed
+    # targets many more (their fit is over-determined: real local minima near the truth)
+    screen, most = (SIXBAR_SCREEN, SIXBAR_POLISH_MAX) if timing is None else SIXBAR_TIMED
+    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count, client,
+                           compiled)  # fmt: skip
     t1 = time.perf_counter()
     options = dict(timing=timing, compiled=compiled)
     fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
@@ -579,17 +585,32 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     # polished best first until one meets the targets (to rounding) with no defect: the
     # screen's order is a poor guide among six-bars, whose near-fits abound, and an exact
     # fit may be a six-bar that cannot turn its crank (the untimed fits form a family)
-    results, met = [], False
-    for i, (x, th, rms, fx) in enumerate(fits):
-        if i < POLISH or (not met and i < SIXBAR_POLISH_MAX):
-            more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
-            x, th, rms = more if more[2] <= rms else (x, th, rms)
-        elif i >= refine_count:
+    checked: dict[int, Any] = {}  # the Linkage's check of the fits met so far, by id
+
+    def check(fit):
+        if id(fit) not in checked:
+            checked[id(fit)] = (fit, sixbar_result(fit[0], fit[1], fit[3], pts, timing, closed,
+                                                   tolerance, mu_min))  # fmt: skip
+        return checked[id(fit)][1]
+
+    met = False
+    for i, (x, th, rms, fx) in enumerate(fits[: max(POLISH, most)]):
+        if i >= POLISH and met:
             break
-        res = sixbar_result(x, th, fx, pts, timing, closed, tolerance, mu_min)
-        if res is not None:
-            results.append(res)
-            met = met or (res.ok and rms <= SIXBAR_MET * size)
+        more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
+        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+        if fits[i][2] <= SIXBAR_MET * size:
+            res = check(fits[i])
+            met = met or (res is not None and res.ok)
+    fits.sort(key=lambda f: f[2])
+    if not met and timing is not None:  # the best crawl along narrow valleys: polish longer
+        for i in range(min(SIXBAR_LONG[0], len(fits))):
+            x, th, rms, fx = fits[i]
+            more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_LONG[1], **options)
+            fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+    for fit in fits[:refine_count]:
+        check(fit)
+    results = [r for _, r in checked.values() if r is not None]
     results.sort(key=lambda r: float(np.max(r.distance)))
     t2 = time.perf_counter()
     chosen, rejected = [], []

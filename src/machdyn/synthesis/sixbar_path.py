@@ -370,8 +370,9 @@ SIXBAR_TIMED_POOL = 1_000
 SIXBAR_COARSE = 20
 SIXBAR_FINE = 96
 #: Timed targets: the pools scanned, each ``(entries spread over the atlas, nearest entries by
-#: shape in units of ``retrieve``)``; each pool gives its own best starts.
-SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4))
+#: shape in units of ``retrieve``)``; each pool gives its own best starts. Spread entries
+#: start most Watt II fits, the nearest by shape most Watt I and Stephenson ones.
+SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25), (0, 60))
 
 
 def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
