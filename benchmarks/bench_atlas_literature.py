@@ -3,6 +3,7 @@
 Run:
     pip install -e ".[bench]"        # pylinkage 1.3.0 (the PSO peer; never a run-time need)
     python benchmarks/bench_atlas_literature.py --atlas ~/.cache/machdyn/fourbar.atlas [--no-pso]
+        [--seeds 5] [--seed 0] [--cases case3,case4]
         [--multistart 1500]   # an independent check of cases 3 and 4's optimum (minutes)
 
 The targets, their constraints and the earlier methods' solution vectors are in
@@ -20,6 +21,9 @@ For each case this script
 3. gives pylinkage's particle swarm (``pylinkage.particle_swarm_optimization``, 100
    particles) the same wall time on the same target, its fitness being the path
    objective machdyn's differential evolution uses, and measures its result the same way.
+   machdyn and the swarm take turns, ``--seeds`` times per case (each swarm seed gets
+   the wall time of the machdyn run just before it); the median and the worst ratio of
+   the swarm's SSE to machdyn's over the seeds are printed (``--seeds 1 --seed S``: one).
 
 Where machdyn's problem differs from the paper's (a bound it cannot hold, the other
 assembly than the papers' formula), the table says so.
@@ -277,10 +281,69 @@ def pso(case: dict, seconds: float, seed: int) -> float:
     return float(np.sum(res.distance**2))
 
 
+def compare(case: dict, at, seeds: list[int], pso_on: bool) -> None:
+    """machdyn, then the swarm given machdyn's wall time, once per seed (interleaved)."""
+    runs, swarm = [], []
+    for seed in seeds:
+        res, seconds, cpu = run_machdyn(case, at)
+        runs.append((seconds, cpu))
+        if pso_on:
+            try:
+                swarm.append(pso(case, seconds, seed))
+            except ImportError:
+                print("  pylinkage  not installed (pip install -e '.[bench]')")
+                pso_on = False
+    best = published_best(case)
+    r, sse, papers = least_sse(case, res)
+    pl = r.linkage
+    p, delta = pl.fourbar.coupler
+    broken = constraint_report(case, pl.fourbar.lengths, [p * np.cos(delta), p * np.sin(delta)],
+                               [pl.O2.real, pl.O2.imag], r.theta2)  # fmt: skip
+    broken += list(r.defects) + ([] if papers else ["the other assembly than the papers'"])
+    note = f"  [{'; '.join(broken)}]" if broken else ""
+    verdict = "<= best published" if sse <= best * (1 + 1e-9) else "WORSE than published"
+    wall, cpu = np.median(runs, axis=0)
+    print(f"  machdyn    {'atlas + refine':52s} SSE {sse:10.3e}  {wall:5.2f} s "
+          f"({cpu:.2f} s CPU; median of {len(runs)}: {', '.join(f'{w:.2f}' for w, _ in runs)} s)"
+          f"  {verdict}{note}")  # fmt: skip
+    if swarm:
+        ratio = np.array(swarm) / max(sse, 1e-300)
+        print(f"  pylinkage  {'PSO, same wall time, seeds ' + str(seeds[0]) + '+':52s} SSE "
+              f"{np.median(swarm):10.3e} median, {min(swarm):.3e} best seed "
+              f"({', '.join(f'{x:.3g}' for x in swarm)})")  # fmt: skip
+        med, worst = np.median(ratio), ratio.min()
+        print(f"  ratio      swarm / machdyn: median {med:.3g}x, worst {worst:.3g}x")
+
+
+def published_best(case: dict) -> float:
+    """Least SSE of the published vectors that meet the case's constraints; prints each."""
+    best = np.inf
+    for pub in case["published"]:
+        sse, closes = sse_published(case, pub["x"])
+        x = np.asarray(pub["x"], float)
+        broken = constraint_report(case, x[:4], x[4:6], x[6:8], angles_of(case, x))
+        broken += [] if closes else ["does not close at some target"]
+        if not broken:
+            best = min(best, sse)
+        note = f"  [{'; '.join(broken)}]" if broken else ""
+        print(f"  published  {pub['label']:52s} SSE {sse:10.3e}{note}")
+    return best
+
+
 def main() -> None:
+    import os
+
     ap = argparse.ArgumentParser()
     ap.add_argument("--atlas", required=True)
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seed", type=int, default=0, help="the first seed of the swarm")
+    ap.add_argument(
+        "--seeds",
+        type=int,
+        default=5,
+        metavar="N",
+        help="run machdyn and then the swarm N times per case (seeds seed … seed+N-1)",
+    )
+    ap.add_argument("--cases", default="", help="comma-separated case names (default: all)")
     ap.add_argument("--no-pso", action="store_true")
     ap.add_argument("--multistart", type=int, default=0, metavar="N",
                     help="also check cases 3 and 4 by N random least-squares starts")  # fmt: skip
@@ -294,38 +357,17 @@ def main() -> None:
                   f"{np.array2string(x, precision=4)}")  # fmt: skip
     jit.load()
     at = open_atlas(args.atlas, verify=False)
-    print(f"atlas: {len(at):,} entries")
+    print(f"atlas: {len(at):,} entries; load average {os.getloadavg()[0]:.2f} "
+          f"on {os.cpu_count()} CPUs")  # fmt: skip
     path_from_atlas(load_cases()["case5"]["targets"][:-1], at, n=1)  # warm-up (imports)
+    seeds = list(range(args.seed, args.seed + max(1, args.seeds)))
+    wanted = [c for c in args.cases.split(",") if c]
     for name, case in load_cases().items():
+        if wanted and name not in wanted:
+            continue
         print(f"\n{name}: {case['title']} ({case['targets'].size} points)")
-        best = np.inf
-        for pub in case["published"]:
-            sse, closes = sse_published(case, pub["x"])
-            x = np.asarray(pub["x"], float)
-            broken = constraint_report(case, x[:4], x[4:6], x[6:8], angles_of(case, x))
-            broken += [] if closes else ["does not close at some target"]
-            if not broken:
-                best = min(best, sse)
-            note = f"  [{'; '.join(broken)}]" if broken else ""
-            print(f"  published  {pub['label']:52s} SSE {sse:10.3e}{note}")
-        res, seconds, cpu = run_machdyn(case, at)
-        r, sse, papers = least_sse(case, res)
-        pl = r.linkage
-        p, delta = pl.fourbar.coupler
-        broken = constraint_report(case, pl.fourbar.lengths,
-                                   [p * np.cos(delta), p * np.sin(delta)],
-                                   [pl.O2.real, pl.O2.imag], r.theta2)  # fmt: skip
-        broken += list(r.defects) + ([] if papers else ["the other assembly than the papers'"])
-        note = f"  [{'; '.join(broken)}]" if broken else ""
-        verdict = "<= best published" if sse <= best * (1 + 1e-9) else "WORSE than published"
-        print(f"  machdyn    {'atlas + refine':52s} SSE {sse:10.3e}  {seconds:5.2f} s "
-              f"({cpu:.2f} s CPU)  {verdict}{note}")  # fmt: skip
-        if not args.no_pso:
-            try:
-                sse_pso = pso(case, seconds, args.seed)
-                print(f"  pylinkage  {'PSO, same wall time':52s} SSE {sse_pso:10.3e}")
-            except ImportError:
-                print("  pylinkage  not installed (pip install -e '.[bench]')")
+        compare(case, at, seeds, not args.no_pso)
+    print(f"\nload average at the end {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":

@@ -246,7 +246,9 @@ class Runner:
         q = float(y[0])
         _, alpha, torque, q_loads, _, q_model = self.terms(t, q, 0.0)
         need = -(q_loads + q_model)  # effort that holds it at rest here
-        scale = abs(torque) + abs(q_loads) + abs(q_model) + 1e-300
+        # the model's generalised force over its range sets the scale: at an equilibrium
+        # of gravity (a pendulum hanging down) q_model is itself zero but for round-off
+        scale = abs(torque) + abs(q_loads) + abs(q_model) + self.coef.force_scale + 1e-300
         pushes = self.motor is not None and torque != 0.0
         if abs(alpha) * (self.coef(q)[0] + self.added) <= 1e-12 * scale:
             what = f"at rest in equilibrium at {self.plant.label} = {_show(q, self.plant)}"

@@ -16,7 +16,7 @@ from numba import njit
 
 from .._kernels import _unit_vectors, sincos
 
-__all__ = ["even_circuit_curves", "sixbar_coupler"]
+__all__ = ["coupler_jacobian", "even_circuit_curves", "sixbar_coupler", "timed_scores"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -66,6 +66,114 @@ def even_circuit_curves(params, m, out):  # pragma: no cover - compiled
             t = (target - cum[j]) / width if width > 0.0 else 0.0
             t = min(max(t, 0.0), 1.0)
             out[k, q] = complex(xs[j] + t * (xs[j + 1] - xs[j]), ys[j] + t * (ys[j + 1] - ys[j]))
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def coupler_jacobian(x, theta, branch, G, J, Jt, excess):  # pragma: no cover - compiled
+    """Placed coupler point of a four-bar and its derivatives, one target at a time.
+
+    The compiled twin of :func:`machdyn.synthesis.refine.coupler_and_jacobian`
+    (the same arithmetic, tested against it): ``x`` (9) the design, ``theta``
+    and ``branch`` (K,); writes ``G`` (K,), ``J`` (K, 9), ``Jt`` (K,) complex and
+    ``excess`` (K,) (``|cos γ| − 1``, positive where the linkage does not close).
+    """
+    r1, r2, r3, r4, p, delta, ox, oy, theta1 = x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]
+    ed = complex(math.cos(delta), math.sin(delta))
+    rot = complex(math.cos(theta1), math.sin(theta1))
+    for k in range(theta.size):
+        e2 = complex(math.cos(theta[k]), math.sin(theta[k]))
+        a = r2 * e2
+        s = a - r1
+        dd = s.real * s.real + s.imag * s.imag
+        d = math.sqrt(dd)
+        cg = (r4 * r4 - r3 * r3 + dd) / (2.0 * r4 * d)
+        excess[k] = abs(cg) - 1.0
+        cg = min(max(cg, -1.0), 1.0)
+        sg = math.sqrt(1.0 - cg * cg) * branch[k]
+        e4 = (s / d) * complex(cg, -sg)
+        e3 = (r1 + r4 * e4 - a) / r3
+        P = a + p * ed * e3
+        G[k] = complex(ox, oy) + rot * P
+        sin34 = (e3 * e4.conjugate()).imag
+        den = r3 * (sin34 if abs(sin34) > 1e-12 else 1e-12)
+        ce4 = e4.conjugate()
+        tail = 1j * p * ed * e3
+        ja = 1j * a
+        J[k, 0] = rot * tail * ((-ce4).real / den)
+        J[k, 1] = rot * (e2 + tail * ((e2 * ce4).real / den))
+        J[k, 2] = rot * tail * ((e3 * ce4).real / den)
+        J[k, 3] = rot * tail * ((-e4 * ce4).real / den)
+        J[k, 4] = rot * ed * e3
+        J[k, 5] = rot * tail
+        J[k, 6] = 1.0
+        J[k, 7] = 1j
+        J[k, 8] = 1j * rot * P
+        Jt[k] = rot * (ja + tail * ((ja * ce4).real / den))
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def timed_scores(Q, ip, im, a, centred, theta1, score, best, h, qm):  # pragma: no cover
+    """Best starting angle of each entry for timed targets, both mirror images, fused.
+
+    The compiled twin of :func:`machdyn.synthesis.atlas_path._timed_scores_numpy`
+    (tested against it). ``Q`` (R, M) complex: each entry's coupler points at
+    the angles of the table; ``ip``/``im`` (G, K): the table index of
+    ``θ0_g + Δ_k`` and of its negative (the mirror image's point is the
+    conjugate of the point at the negative angle); ``a`` (K,) complex: the
+    targets (centred, or less the held pivot); ``centred``: fit an offset too;
+    ``theta1``: the held ground direction (NaN: free). Writes, for mirror ``m``
+    (0: as stored, 1: mirrored) and entry ``r``: ``score[m, r]`` (the share of
+    the targets' spread explained, −1 where a pose does not assemble),
+    ``best[m, r]`` (index g of the best θ0, the first of equal ones), ``h[m, r]``
+    (rotation and scale) and ``qm[m, r]`` (mean of the fitted points).
+    """
+    n_g, n_k = ip.shape
+    aa = 0.0
+    for k in range(n_k):
+        aa += a[k].real * a[k].real + a[k].imag * a[k].imag
+    aa = max(aa, 1e-300)
+    held = not math.isnan(theta1)
+    ct, st = (math.cos(theta1), math.sin(theta1)) if held else (1.0, 0.0)
+    for r in range(Q.shape[0]):
+        for m in range(2):
+            table = ip if m == 0 else im
+            sign = 1.0 if m == 0 else -1.0
+            top, top_g, top_h, top_q = -np.inf, 0, 0j, 0j
+            for g in range(n_g):
+                mr, mi = 0.0, 0.0
+                if centred:
+                    for k in range(n_k):
+                        q = Q[r, table[g, k]]
+                        mr += q.real
+                        mi += sign * q.imag
+                    mr /= n_k
+                    mi /= n_k
+                cr, ci, v = 0.0, 0.0, 0.0
+                for k in range(n_k):
+                    q = Q[r, table[g, k]]
+                    qr, qi = q.real - mr, sign * q.imag - mi
+                    ar, ai = a[k].real, a[k].imag
+                    cr += qr * ar + qi * ai  # conj(q) a
+                    ci += qr * ai - qi * ar
+                    v += qr * qr + qi * qi
+                if not v > 0.0:
+                    v = np.inf
+                if held:
+                    along = max(cr * ct + ci * st, 0.0)
+                    gain = along * along / v
+                    hr, hi = along / v * ct, along / v * st
+                else:
+                    gain = (cr * cr + ci * ci) / v
+                    hr, hi = cr / v, ci / v
+                s = gain / aa
+                if s != s:
+                    s = -1.0  # an unassembled pose fits nothing
+                if s > top:
+                    top, top_g, top_h, top_q = s, g, complex(hr, hi), complex(mr, mi)
+            score[m, r] = top
+            best[m, r] = top_g
+            h[m, r] = top_h
+            qm[m, r] = top_q
 
 
 # --------------------------------------------------------------------------------------

@@ -166,12 +166,7 @@ class Atlas:
             raise InputError("client", "must be a distributed.Client (or None)")
         variants = np.ascontiguousarray(descriptor_variants(descriptor).reshape(4, -1))  # (4, D)
         if client is None:
-            parts, floor = [], -np.inf
-            for d, ok in zip(self.desc, self._crank, strict=True):
-                parts.append(chunk_topk(d, ok if crank else None, variants, k, floor))
-                best = np.concatenate([sc for _, sc in parts])
-                if best.size >= k:  # the k-th best so far: later chunks must beat it
-                    floor = float(np.partition(best, best.size - k)[best.size - k])
+            parts = self._local_topk(variants, k, crank)
         else:
             futures = [
                 client.submit(chunk_topk_file, str(self.path), c, variants, k, crank, pure=False)
@@ -180,9 +175,34 @@ class Atlas:
             parts = client.gather(futures)
         idx = np.concatenate([top + self.offsets[c] for c, (top, _) in enumerate(parts)])
         score = np.concatenate([s for _, s in parts])
-        order = np.argsort(-score)[:k]
+        order = np.lexsort((idx, -score))[:k]  # best first; equal scores by index
         keep = np.isfinite(score[order])
         return idx[order][keep], (2.0 - 2.0 * score[order][keep]).astype(float)
+
+    def _local_topk(self, variants: np.ndarray, k: int, crank: bool) -> list:
+        """:func:`chunk_topk` of every chunk, on the threads of :mod:`machdyn._parallel`.
+
+        Each thread scores a run of chunks (BLAS products, comparisons and the
+        partial sort release the GIL), keeping only what beats its own k-th best
+        so far; the union holds the exact top k.
+        """
+        from .._parallel import for_slices
+
+        parts: list = [None] * len(self.desc)
+        starts = self.offsets[:-1]
+
+        def run(sl: slice) -> None:
+            floor, best = -np.inf, np.empty(0, np.float32)
+            for c in np.flatnonzero((starts >= sl.start) & (starts < sl.stop)):
+                ok = self._crank[c] if crank else None
+                parts[c] = chunk_topk(self.desc[c], ok, variants, k, floor)
+                best = np.concatenate([best, parts[c][1]])
+                if best.size >= k:  # the k-th best so far: later chunks must beat it
+                    best = np.partition(best, best.size - k)[best.size - k :]
+                    floor = float(best[0])
+
+        for_slices(run, len(self))
+        return parts
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True, draw: int = 0) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas.
@@ -864,13 +884,14 @@ def _timed_starts(rows, pts, timing, refine_count, fixed):
     grid = np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
     th = grid[:, None] + timing[None, :]  # (G, K)
     O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
-    best = []
-    for mirror in (1.0, -1.0):
-        for lo in range(0, rows.size, 2048):  # blocks keep the (rows, θ0, targets) arrays small
-            best.append(_timed_fits(rows[lo : lo + 2048], mirror, th, pts, O2, fixed.get(8)))
-    score, g, hh, off, mirror = (np.concatenate(x) for x in zip(*best, strict=True))
+    table = _angle_table(th)
+    blocks = [_timed_fits(rows[lo : lo + TIMED_BLOCK], table, pts, O2, fixed.get(8))
+              for lo in range(0, rows.size, TIMED_BLOCK)]  # fmt: skip
+    # (2, rows) each, flattened: all entries as stored, then all mirrored
+    score, g, hh, off = (np.concatenate(x, axis=1).ravel() for x in zip(*blocks, strict=True))
+    mirror = np.repeat([1.0, -1.0], rows.size)
     order = np.argsort(-score)[:refine_count]
-    rows2 = np.concatenate([rows, rows])  # the order of the blocks: all unmirrored, then mirrored
+    rows2 = np.concatenate([rows, rows])
     starts = []
     for i in order:
         row, m, h = rows2[i], mirror[i], hh[i]
@@ -883,43 +904,77 @@ def _timed_starts(rows, pts, timing, refine_count, fixed):
     return starts
 
 
-def _timed_fits(rows, mirror, th, pts, O2=None, theta1=None):
+#: Entries whose coupler points are computed at once for timed targets.
+TIMED_BLOCK = 2048
+
+
+def _angle_table(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distinct crank angles of ``θ0_g + Δ_k`` and of their negatives, and where each lies.
+
+    Returns the angles (in [0, 2π], to 1e-12 rad) and the index of each
+    ``th[g, k]`` and of each ``−th[g, k]`` in them: the coupler points are
+    computed once per distinct angle (steps of 20° from a grid of 6° meet only
+    180 angles, not 2 × 60 × 18), and a mirror image's point at θ is the
+    conjugate of the stored linkage's point at −θ.
+    """
+    both = np.concatenate([th.ravel(), -th.ravel()])
+    angles, where = np.unique(np.round(np.mod(both, 2 * np.pi), 12), return_inverse=True)
+    where = where.reshape(2, *th.shape)
+    return angles, where[0], where[1]
+
+
+def _timed_fits(rows, table, pts, O2=None, theta1=None):
     """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets.
 
-    The placement ``t + h·Q`` minimising ``Σ |a_k − t − h Q_k|²`` in closed form:
-    ``t`` the offset (``O2`` when held) and ``h`` a rotation and scale (a scale
-    ``s ≥ 0`` times ``e^{jθ1}`` when ``θ1`` is held). The score is the share of
-    the targets' spread the fit explains.
+    For the entries as stored and mirrored (δ → −δ on the other assembly), each
+    shaped (2, rows). The placement ``t + h·Q`` minimising ``Σ |a_k − t − h Q_k|²``
+    in closed form: ``t`` the offset (``O2`` when held) and ``h`` a rotation and
+    scale (a scale ``s ≥ 0`` times ``e^{jθ1}`` when ``θ1`` is held). The score is
+    the share of the targets' spread the fit explains. ``table``: see
+    :func:`_angle_table`.
     """
+    from .. import jit
     from .atlas import _kernel  # the compiled coupler-point kernel (angles shared by all rows)
 
+    angles, ip, im = table
     f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
-    circuit = rows["circuit"].astype(float) * mirror
-    one = np.ones(rows.size)
-    Q, _ = _kernel(f["r1"], one, f["r3"], f["r4"], f["p"], mirror * f["delta"], th.ravel(), circuit)
-    Q = Q.reshape(rows.size, *th.shape)
-    if O2 is None:  # free offset: fit the centred points
-        qm = Q.mean(axis=2, keepdims=True)
-        q, a = Q - qm, pts - pts.mean()
+    circuit = rows["circuit"].astype(float)
+    Q, _ = _kernel(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"], f["delta"], angles,
+                   circuit)  # fmt: skip
+    centre = pts.mean() if O2 is None else O2
+    a = pts - centre
+    held = np.nan if theta1 is None else float(theta1)
+    out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
+           np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
+    if jit.kernels(Q.size) is not None:
+        from ._atlas_kernels import timed_scores
+
+        timed_scores(Q, ip, im, a, O2 is None, held, *out)
     else:
-        qm, q, a = np.zeros_like(Q[..., :1]), Q, pts - O2
-    aa = float(np.sum(np.abs(a) ** 2))
-    c = np.sum(np.conj(q) * a, axis=2)  # (R, G)
-    v = np.sum(np.abs(q) ** 2, axis=2)
-    v = np.where(v > 0, v, np.inf)
-    if theta1 is None:
-        h = c / v
-        gain = np.abs(c) ** 2 / v
-    else:
-        along = np.maximum(np.real(c * np.exp(-1j * theta1)), 0.0)
-        h = along / v * np.exp(1j * theta1)
-        gain = along**2 / v
-    score = np.nan_to_num(gain / max(aa, 1e-300), nan=-1.0)  # an unassembled pose fits nothing
-    g = np.argmax(score, axis=1)
-    r = np.arange(rows.size)
-    hh = h[r, g]
-    off = (pts.mean() if O2 is None else O2) - hh * qm[r, g, 0]
-    return score[r, g], g, hh, off, np.full(rows.size, mirror)
+        _timed_scores_numpy(Q, ip, im, a, O2 is None, held, *out)
+    score, g, h, qm = out
+    return score, g, h, centre - h * qm
+
+
+def _timed_scores_numpy(Q, ip, im, a, centred, theta1, score, best, h, qm):
+    """NumPy reference of :func:`machdyn.synthesis._atlas_kernels.timed_scores` (same outputs)."""
+    for m, q in enumerate((Q[:, ip], np.conj(Q[:, im]))):  # (R, G, K)
+        mean = q.mean(axis=2, keepdims=True) if centred else np.zeros_like(q[..., :1])
+        q = q - mean
+        c = np.sum(np.conj(q) * a, axis=2)  # (R, G)
+        v = np.sum(q.real**2 + q.imag**2, axis=2)
+        v = np.where(v > 0, v, np.inf)
+        if np.isnan(theta1):
+            hh = c / v
+            gain = np.abs(c) ** 2 / v
+        else:
+            along = np.maximum(np.real(c * np.exp(-1j * theta1)), 0.0)
+            hh = along / v * np.exp(1j * theta1)
+            gain = along**2 / v
+        s = np.nan_to_num(gain / max(float(np.sum(np.abs(a) ** 2)), 1e-300), nan=-1.0)
+        g = np.argmax(s, axis=1)
+        r = np.arange(q.shape[0])
+        score[m], best[m], h[m], qm[m] = s[r, g], g, hh[r, g], mean[r, g, 0]
 
 
 def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesis | None:

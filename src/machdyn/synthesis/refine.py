@@ -126,6 +126,41 @@ def _constraints(lengths: np.ndarray, cos_mu: float, crank: bool, scale: float) 
     return np.array(out)
 
 
+def _constraint_slopes(lengths: np.ndarray, cos_mu: float, scale: float) -> np.ndarray:
+    """Central differences (4 × 4) of :func:`_constraints` in the lengths (crank required)."""
+    h = 1e-7 * scale
+    out = np.empty((4, 4))
+    for j in range(4):
+        e = np.zeros(4)
+        e[j] = h
+        hi = _constraints(lengths + e, cos_mu, True, scale)
+        lo = _constraints(lengths - e, cos_mu, True, scale)
+        out[:, j] = (hi - lo) / (2 * h)
+    return out
+
+
+def _evaluator(compiled: bool | None):
+    """``(x, θ, branch) → (G, dG/dx, dG/dθ, excess)``: the compiled kernel or NumPy's."""
+    from .. import jit
+
+    if compiled is None:
+        compiled = jit.active()
+    if not compiled:
+        return coupler_and_jacobian
+    from ._atlas_kernels import coupler_jacobian
+
+    def evaluate(x, theta, branch):
+        theta = np.ascontiguousarray(theta, dtype=float)
+        k = theta.size
+        G, J, jt = np.empty(k, complex), np.empty((k, 9), complex), np.empty(k, complex)
+        excess = np.empty(k)
+        coupler_jacobian(np.ascontiguousarray(x, dtype=float), theta,
+                         np.ascontiguousarray(branch, dtype=float), G, J, jt, excess)  # fmt: skip
+        return G, J, jt, excess
+
+    return evaluate
+
+
 def refine(
     x0: np.ndarray,
     theta0: np.ndarray,
@@ -140,6 +175,7 @@ def refine(
     max_length: float | None = None,
     pivot_box: tuple[float, float, float, float] | None = None,
     weight: float = _W_CONSTRAINT,
+    compiled: bool | None = None,
 ) -> Refined:
     """Refine a placed four-bar so its coupler curve passes through ``targets``.
 
@@ -167,6 +203,10 @@ def refine(
         Bounds on the pivot ``O2``.
     weight : float
         Weight of the soft constraints' rows (per unit of violation over the size).
+    compiled : bool, optional
+        Evaluate the coupler points and their derivatives with the compiled
+        kernel (:func:`machdyn.synthesis._atlas_kernels.coupler_jacobian`);
+        None: when :mod:`machdyn.jit` has the compiled kernels loaded.
 
     Examples
     --------
@@ -192,33 +232,34 @@ def refine(
     def angles(z: np.ndarray) -> np.ndarray:
         return z[9] + timing if timed else z[9:]
 
+    evaluate = _evaluator(compiled)
+    last: list = [None, None]  # the design last evaluated and its values (trf asks twice)
+
+    def at(z: np.ndarray):
+        if last[0] is None or not np.array_equal(last[0], z):
+            last[0], last[1] = z.copy(), evaluate(z[:9], angles(z), branch)
+        return last[1]
+
     def residual(z: np.ndarray) -> np.ndarray:
-        G, _, _, excess = coupler_and_jacobian(z[:9], angles(z), branch)
+        G, _, _, excess = at(z)
         d = (G - targets) / scale
         pen = weight * np.maximum(excess, 0.0)
         con = weight * _constraints(z[:4], cos_mu, crank, scale)
         return np.concatenate([d.real, d.imag, pen, con])
 
+    rows = np.arange(k)
+
     def jacobian(z: np.ndarray) -> np.ndarray:
-        _, J, jt, _ = coupler_and_jacobian(z[:9], angles(z), branch)
+        _, J, jt, _ = at(z)
         out = np.zeros((2 * k + k + (4 if crank else 0), nvar))
-        J = J / scale
-        jt = jt / scale
-        out[:k, :9], out[k : 2 * k, :9] = J.real, J.imag
+        out[:k, :9], out[k : 2 * k, :9] = J.real / scale, J.imag / scale
         if timed:
-            out[:k, 9], out[k : 2 * k, 9] = jt.real, jt.imag
+            out[:k, 9], out[k : 2 * k, 9] = jt.real / scale, jt.imag / scale
         else:
-            idx = np.arange(k)
-            out[idx, 9 + idx], out[k + idx, 9 + idx] = jt.real, jt.imag
-        # rows of the assembly penalty: by differences (rarely active)
+            out[rows, 9 + rows], out[k + rows, 9 + rows] = jt.real / scale, jt.imag / scale
+        # rows of the crank and transmission-angle constraints: by differences (rarely active)
         if crank:
-            h = 1e-7 * scale
-            for j in range(4):
-                e = np.zeros(4)
-                e[j] = h
-                hi = _constraints(z[:4] + e, cos_mu, crank, scale)
-                lo = _constraints(z[:4] - e, cos_mu, crank, scale)
-                out[3 * k :, j] = weight * (hi - lo) / (2 * h)
+            out[3 * k :, :4] = weight * _constraint_slopes(z[:4], cos_mu, scale)
         return out
 
     lo = np.full(nvar, -np.inf)
@@ -249,6 +290,6 @@ def refine(
         z, ok = full(sol.x), bool(sol.status > 0)
     except (ValueError, np.linalg.LinAlgError):
         z, ok = z0, False
-    G = coupler_and_jacobian(z[:9], angles(z), branch)[0]
+    G = at(z)[0]
     rms = float(np.sqrt(np.mean(np.abs(G - targets) ** 2)))
     return Refined(z[:9].copy(), np.asarray(angles(z), dtype=float), branch, rms, ok)

@@ -29,7 +29,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .refine import _W_CONSTRAINT, Refined, _constraints, coupler_and_jacobian
+from .refine import (
+    _W_CONSTRAINT,
+    Refined,
+    _constraint_slopes,
+    _constraints,
+    _evaluator,
+    coupler_and_jacobian,
+)
 
 # Internal to machdyn.synthesis (used by path_from_atlas).
 __all__: list[str] = []
@@ -88,15 +95,23 @@ def polish(
     def angles(z: np.ndarray) -> np.ndarray:
         return z[9] + timing if timed else z[9:]
 
+    evaluate = _evaluator(None)  # the compiled kernel when loaded
+    last: list = [None, None]  # the point last evaluated and its values
+
+    def at(z: np.ndarray):
+        if last[0] is None or not np.array_equal(last[0], z):
+            last[0], last[1] = z.copy(), evaluate(z[:9], angles(z), branch)
+        return last[1]
+
     def residual(z: np.ndarray) -> np.ndarray:
-        G, _, _, excess = coupler_and_jacobian(z[:9], angles(z), branch)
+        G, _, _, excess = at(z)
         d = (G - targets) / scale
         pen = _W_CONSTRAINT * np.maximum(excess, 0.0)
         con = _W_CONSTRAINT * _constraints(z[:4], cos_mu, crank, scale)
         return np.concatenate([d.real, d.imag, pen, con])
 
     def jacobian(z: np.ndarray) -> np.ndarray:
-        _, J, jt, _ = coupler_and_jacobian(z[:9], angles(z), branch)
+        _, J, jt, _ = at(z)
         out = np.zeros((3 * k + (4 if crank else 0), z.size))
         out[:k, :9], out[k : 2 * k, :9] = J.real / scale, J.imag / scale
         if timed:
@@ -105,13 +120,7 @@ def polish(
             idx = np.arange(k)
             out[idx, 9 + idx], out[k + idx, 9 + idx] = jt.real / scale, jt.imag / scale
         if crank:  # the crank rows by central differences (as refine does)
-            h = 1e-7 * scale
-            for j in range(4):
-                e = np.zeros(4)
-                e[j] = h
-                hi = _constraints(z[:4] + e, cos_mu, crank, scale)
-                lo = _constraints(z[:4] - e, cos_mu, crank, scale)
-                out[3 * k :, j] = _W_CONSTRAINT * (hi - lo) / (2 * h)
+            out[3 * k :, :4] = _W_CONSTRAINT * _constraint_slopes(z[:4], cos_mu, scale)
         return out[:, free]
 
     def allowed(z: np.ndarray) -> bool:
