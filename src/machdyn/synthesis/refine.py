@@ -113,9 +113,13 @@ def coupler_and_jacobian(
 
 def _constraints(lengths: np.ndarray, cos_mu: float, crank: bool, scale: float) -> np.ndarray:
     """Violations (≥ 0) of the crank and transmission-angle requirements, dimensionless."""
-    r1, r2, r3, r4 = lengths
     if not crank:
         return np.zeros(0)
+    return np.array(_violations(*(float(v) for v in lengths), cos_mu, scale))
+
+
+def _violations(r1: float, r2: float, r3: float, r4: float, cos_mu: float, scale: float) -> list:
+    """:func:`_constraints` on plain floats (the Jacobian's differences call it 8 times)."""
     out = [
         max(0.0, abs(r3 - r4) - abs(r1 - r2)) / scale,
         max(0.0, r1 + r2 - r3 - r4) / scale,
@@ -123,19 +127,21 @@ def _constraints(lengths: np.ndarray, cos_mu: float, crank: bool, scale: float) 
     for dgl in (abs(r1 - r2), r1 + r2):
         c = (r3 * r3 + r4 * r4 - dgl * dgl) / (2.0 * r3 * r4)
         out.append(max(0.0, abs(c) - cos_mu))
-    return np.array(out)
+    return out
 
 
 def _constraint_slopes(lengths: np.ndarray, cos_mu: float, scale: float) -> np.ndarray:
     """Central differences (4 × 4) of :func:`_constraints` in the lengths (crank required)."""
     h = 1e-7 * scale
+    base = [float(v) for v in lengths]
     out = np.empty((4, 4))
     for j in range(4):
-        e = np.zeros(4)
-        e[j] = h
-        hi = _constraints(lengths + e, cos_mu, True, scale)
-        lo = _constraints(lengths - e, cos_mu, True, scale)
-        out[:, j] = (hi - lo) / (2 * h)
+        up, down = base.copy(), base.copy()
+        up[j] += h
+        down[j] -= h
+        hi = _violations(*up, cos_mu, scale)
+        lo = _violations(*down, cos_mu, scale)
+        out[:, j] = [(a - b) / (2 * h) for a, b in zip(hi, lo, strict=True)]
     return out
 
 
