@@ -617,6 +617,17 @@ def test_a_link_with_fewer_than_two_joints():
         Linkage().link("empty")
 
 
+def test_a_link_of_zero_length_is_refused_by_name():
+    lk = fourbar_drawing()
+    lk.point("A", 0j)  # the crank drawn with A on O2: it would turn on the spot
+    with pytest.raises(ModelError, match=r"link '2' has its pins O2, A drawn at one place"):
+        lk.solve(0.0)
+    # a coupler point (not a pin) on a pin is fine
+    ok = fourbar_drawing()
+    ok.point("P", ok.position("A"))
+    assert ok.solve(0.0).ok.all()
+
+
 def test_non_positive_mass_or_inertia():
     with pytest.raises(InputError, match=r"2\.mass: must be positive"):
         fourbar_drawing(**{"2": {"mass": 0.0, "inertia": 1.0}})

@@ -125,3 +125,46 @@ def test_coulomb_friction_at_a_dead_centre_opposes_the_impending_slip():
     np.testing.assert_allclose(
         friction, -mu * np.abs(f.normal["guide"]) * np.sign(d_ddot), rtol=1e-12
     )
+
+
+def test_coulomb_wedging_of_two_sliders_is_each_slider_cranks_own():
+    """A V-twin: one crank, two rods, two blocks on guides at 0° and 90°, no gravity.
+
+    Each rod-and-block dyad's forces are set by its own equilibrium, so the pair has
+    one answer exactly where each slider-crank alone has one (SliderCrank.dynamics, the
+    second in a frame turned by 90°), and the crank torque is the sum of the two. Every
+    set of the two normal forces' signs is tried: a sample wedges where either does.
+    """
+    a, b1, b2, w2, mu = 0.08, 0.11, 0.13, 150.0, 1.0
+    theta = np.radians(np.arange(0.0, 360.0, 7.5)) + 0.05
+    A = a * np.exp(1j * theta[0])
+    B1 = A.real + np.sqrt(b1**2 - A.imag**2)
+    B2 = 1j * (A.imag + np.sqrt(b2**2 - A.real**2))
+    lk = Linkage({"O2": 0j, "A": A, "B1": B1, "B2": B2}).ground("O2")
+    lk.link("crank", "O2", "A", mass=0.5, inertia=1e-4, cg=0j)  # centre on the pivot
+    lk.link("rod1", "A", "B1", body=rod(0.4, b1)).link("rod2", "A", "B2", body=rod(0.45, b2))
+    lk.link("block1", "B1", body=point_mass(0.3)).link("block2", "B2", body=point_mass(0.35))
+    lk.slider("block1", "ground", "B1", 0.0, name="g1")
+    lk.slider("block2", "ground", "B2", np.pi / 2, name="g2").drive("crank")
+    m = lk.solve(theta, velocity=w2)
+    f = lk.forces(
+        m, coulomb={"g1": mu, "g2": mu}, external_forces=[("block1", "B1", -600.0),
+                                                          ("block2", "B2", -450.0j)]
+    )  # fmt: skip
+    common = dict(mass=(0.5, None, None), inertia=(1e-4, None), friction="coulomb", mu=mu)
+
+    def alone(b, mass, theta_local, load):
+        kw = {**common, "mass": (0.5, mass, 0.3 if b == b1 else 0.35)}
+        kw["inertia"] = (1e-4, mass * b**2 / 12)
+        return slidercrank_dynamics(SliderCrank(a, b), theta_local, w2, cg=(0.0, b / 2),
+                                    load_force4=load, **kw)  # fmt: skip
+
+    one = alone(b1, 0.4, theta, -600.0)
+    two = alone(b2, 0.45, theta - np.pi / 2, -450.0)
+    assert (~one.ok).any() or (~two.ok).any()  # some sample wedges
+    assert (f.ok == (one.ok & two.ok)).all()
+    jammed = {FORCE_REASONS["wedging"], FORCE_REASONS["coulomb"]}  # two answers, or none
+    assert {f.reason[k] for k in np.flatnonzero(~f.ok)} <= jammed
+    good = f.ok
+    assert good.sum() > theta.size // 3
+    np.testing.assert_allclose(f.driver["crank"][good], (one.T12 + two.T12)[good], rtol=1e-9)

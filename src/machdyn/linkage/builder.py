@@ -550,6 +550,7 @@ class Linkage(_JointMethods, _ElementMethods):
                 "swings freely unless its angle is driven: drive(link), or a motor at the "
                 "pin); check the point names shared with other links"
             )
+        self._refuse_zero_length(edges)
         m = self.mobility()
         if not self._drivers:
             raise ModelError(f"mobility is {m} but no driver was named: call drive(...)")
@@ -570,6 +571,28 @@ class Linkage(_JointMethods, _ElementMethods):
         groups, program = decompose(self, edges)
         self._compiled = _Model(self, edges, groups, program)
         return self._compiled
+
+    def _refuse_zero_length(self, edges: list[_Edge]) -> None:
+        """A moving link whose pins are all drawn at one place moves nothing: refuse it.
+
+        (A crank drawn with A on O2 would otherwise turn on the spot while the rest
+        of the linkage stands still, a structure passed off as a mechanism.)
+        """
+        size = max((abs(z) for z in self._points.values()), default=0.0) or 1.0
+        pins: dict[str, list[str]] = {n: [] for n in self._links}
+        for e in edges:
+            if e.kind == "R":
+                for n in (e.a, e.b):
+                    if n in pins and e.pa not in pins[n]:
+                        pins[n].append(e.pa)
+        for name, names in pins.items():
+            spots = [self._points[p] for p in names]
+            if len(spots) >= 2 and max(abs(z - spots[0]) for z in spots) <= 1e-12 * size:
+                raise ModelError(
+                    f"link {name!r} has its pins {', '.join(names)} drawn at one place (a "
+                    "link of zero length moves nothing): draw them apart, or join the links "
+                    "at one named point"
+                )
 
     # ------------------------------------------------------------------ solving
     def loop_system(self) -> LoopSystem:

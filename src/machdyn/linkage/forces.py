@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import itertools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -34,6 +35,9 @@ _SINGULAR_RCOND = 1e-12
 #: Joints that slide: straight slider and slot, and their curved forms (arc: a pin in
 #: a curved slot; arcP: a block on a curved guide, turning with the radius).
 _ARCS = ("arc", "arcP")
+#: Up to this many sliders with Coulomb friction every set of normal-force signs is
+#: tried (2**n solves): wedging found exactly; above, one slider's sign flipped at a time.
+_EVERY_SIGN = 6
 _SLIDING = ("P", "slot", *_ARCS)
 _WITH_COUPLE = ("P", "arcP")
 
@@ -555,6 +559,70 @@ def _forces(
         slides = [np.abs(flat(np.nan_to_num(r))) for r in motion.length_rate.values()]
         return length * np.max(rates, axis=0) + np.max([np.zeros(n_s), *slides], axis=0)
 
+    def consistent(x_: np.ndarray, signs: Mapping[str, np.ndarray]) -> np.ndarray:
+        """Samples where each slider's normal force has the sign its friction was given."""
+        agree = np.ones(n_s, bool)
+        for m, s_m in signs.items():
+            N = x_[:, labels.index(("normal", m))]
+            agree &= (np.where(N < 0, -1.0, 1.0) == s_m) & np.isfinite(N)
+        return agree
+
+    def every_sign(slipping: Mapping[str, tuple], singular: np.ndarray) -> tuple:
+        """Every set of normal-force signs tried: the one that agrees, or wedging.
+
+        A sample has one answer where exactly one set of signs gives normal forces of
+        those signs; none: self-locking (``coulomb``); more: wedging. A slider whose
+        friction vanishes (μ = 0, or at rest with no acceleration) counts with + only.
+        """
+        names = [m for m, (mu, _) in slipping.items() if mu]
+        live = {m: slipping[m][1] != 0 for m in names}
+        count = np.zeros(n_s, int)
+        x_one = np.full((n_s, n_eq), np.nan)
+        singular_one = np.zeros(n_s, bool)
+        chosen = {m: np.ones(n_s) for m in slipping}
+        for pattern in itertools.product((1.0, -1.0), repeat=len(names)):
+            signs = {m: np.full(n_s, p) for m, p in zip(names, pattern, strict=True)}
+            build({m: -mu * signs.get(m, 1.0) * sv for m, (mu, sv) in slipping.items()})
+            x_p, singular_p = solve_system()
+            agree = consistent(x_p, signs)
+            for m, p in zip(names, pattern, strict=True):
+                agree &= live[m] | (p > 0)  # no friction there: the sign is no choice
+            count += agree
+            x_one[agree] = x_p[agree]
+            singular_one[agree] = singular_p[agree]
+            for m in names:
+                chosen[m] = np.where(agree, signs[m], chosen[m])
+        kappa_ = {m: -mu * chosen[m] * sv for m, (mu, sv) in slipping.items()}
+        build(kappa_)
+        singular_one = np.where(count == 0, singular, singular_one)  # as the smooth solve
+        return x_one, singular_one, count == 0, count >= 2, kappa_
+
+    def one_flip(slipping: Mapping[str, tuple], sign_n: dict) -> np.ndarray:
+        """Wedging with many sliders, one slider at a time.
+
+        That slider's sign is held the other way and the others' are found as the
+        iteration does; a sample wedges where those signs all agree.
+        """
+        wedged = np.zeros(n_s, bool)
+        for n, (mu, sv) in slipping.items():
+            if not mu:
+                continue
+            other = {m: s_m.copy() for m, s_m in sign_n.items()}
+            other[n] = -sign_n[n]
+            for _ in range(8):
+                build({m: -mu_m * other[m] * sv_m for m, (mu_m, sv_m) in slipping.items()})
+                x_other, _ = solve_system()
+                agree = consistent(x_other, other) & (sv != 0)
+                agree &= x_other[:, labels.index(("normal", n))] != 0
+                for m in slipping:
+                    if m != n:
+                        N = x_other[:, labels.index(("normal", m))]
+                        other[m] = np.where(N < 0, -1.0, 1.0)
+                if agree.all():
+                    break
+            wedged |= agree
+        return wedged
+
     kappa: dict[str, Any] = {}
     slipping = {}
     for name, mu in mapping("coulomb", coulomb, "friction coefficients μ").items():
@@ -574,7 +642,9 @@ def _forces(
         a = flat(np.nan_to_num(motion.length_acceleration[name]))
         slipping[name] = (mu, newton_euler._slip_sign(v, a, rest_scale()))
     friction_bad = np.zeros(n_s, bool)
-    if slipping:
+    if slipping and len(slipping) <= _EVERY_SIGN:
+        x, singular, friction_bad, wedged, kappa = every_sign(slipping, singular)
+    elif slipping:
         # the sign of N is unknown beforehand: start from the smooth solution and
         # re-solve with the signs found until they agree (the notes' ±μN)
         sign_n = {n: np.where(x[:, labels.index(("normal", n))] < 0, -1.0, 1.0) for n in slipping}
@@ -591,23 +661,13 @@ def _forces(
                 sign_n[n] = new
             if not friction_bad.any():
                 break
-        # wedging: the other sign of one slider's normal force satisfies the equations too
-        wedged = np.zeros(n_s, bool)
-        for n, (mu, sv) in slipping.items():
-            if not mu:
-                continue
-            flipped = {m: -mu_m * sign_n[m] * sv_m for m, (mu_m, sv_m) in slipping.items()}
-            flipped[n] = mu * sign_n[n] * sv
-            build(flipped)
-            x_other, _ = solve_system()
-            N = x_other[:, labels.index(("normal", n))]
-            wedged |= (np.where(N < 0, -1.0, 1.0) != sign_n[n]) & np.isfinite(N) & (N != 0)
-        if slipping:
-            build(kappa)
-        friction_bad |= wedged & ~friction_bad
-        x[friction_bad] = np.nan
+        # wedging: a second set of normal-force signs satisfies the equations too
+        wedged = one_flip(slipping, sign_n)
+        build(kappa)
     else:
         wedged = np.zeros(n_s, bool)
+    friction_bad |= wedged
+    x[friction_bad] = np.nan
     bad_all = bad | singular | friction_bad
 
     def col_of(kind: str, name: str) -> np.ndarray:
