@@ -114,6 +114,66 @@ def test_compiled_jacobian_equals_the_numpy_forward_mode(rows):
         np.testing.assert_allclose(got[0], indep, atol=1e-9)
 
 
+def test_compiled_scan_points_match_circle_intersections(rows):
+    pytest.importorskip("numba")
+    from machdyn.synthesis._sixbar_kernels import sixbar_points_compiled
+
+    theta = np.linspace(-1.0, 8.0, 31)
+    got = sixbar_points_compiled(rows[:40], theta)
+    for row, p in zip(rows[:40], got, strict=True):
+        np.testing.assert_allclose(p, _independent(row, theta), atol=1e-9)
+    # a dyad too short to reach across: NaN exactly where the NumPy points say "apart"
+    short = rows[:40].copy()
+    short["a"], short["b"] = 0.3 * short["a"], 0.3 * short["b"]
+    want_ok = sixbar_points(short, theta)[1]
+    assert 0 < want_ok.sum() < want_ok.size
+    np.testing.assert_array_equal(np.isfinite(sixbar_points_compiled(short, theta)), want_ok)
+
+
+def test_compiled_refinement_takes_the_numpy_refinement_steps(rows):
+    # the same Levenberg-Marquardt loop compiled: a few steps give the same design (to
+    # rounding), and to convergence both meet targets drawn from a known six-bar,
+    # timed and untimed, measured by circle intersections
+    pytest.importorskip("numba")
+    from machdyn.synthesis.sixbar_path import _design_of, refine_sixbar
+
+    rng = np.random.default_rng(5)
+    theta = 0.4 + np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    for row in rows[:6]:
+        x, fixed = _design_of(row, 1.7 * np.exp(0.6j), 0.4 - 1.1j)
+        targets = 0.4 - 1.1j + 1.7 * np.exp(0.6j) * _independent(row, theta)
+        size = np.max(np.abs(targets - targets.mean()))
+        x0 = x.copy()
+        x0[3:] *= 1 + 0.03 * rng.normal(size=12)
+        for timing in (theta - theta[0], None):
+            th0 = theta + (0.02 if timing is not None else 0.02 * rng.normal(size=12))
+            kw = dict(timing=timing)
+            few = [refine_sixbar(x0, th0, fixed, targets, iterations=3, compiled=c, **kw)
+                   for c in (False, True)]  # fmt: skip
+            np.testing.assert_allclose(few[1][0], few[0][0], rtol=1e-7, atol=1e-7 * size)
+            xc, thc, rms = refine_sixbar(x0, th0, fixed, targets, iterations=600, compiled=True,
+                                         **kw)  # fmt: skip
+            assert rms <= 1e-10 * size
+            if timing is not None:
+                np.testing.assert_allclose(np.diff(thc), np.diff(theta), atol=1e-12)
+            place = (complex(xc[0], xc[1]), xc[2], xc[4])
+            f = dict(zip(("r1", "r3", "r4"), xc[[3, 5, 6]] / xc[4], strict=True))
+            f.update(zip(("cu", "cv", "du", "dv"), xc[7:11], strict=True))
+            f.update(a=xc[11] / xc[4], b=xc[12] / xc[4], pu=xc[13], pv=xc[14], **fixed)
+            f.update(barker=0, circuit=0)
+            j = refine_sixbar(xc, thc, fixed, targets, iterations=0, compiled=False)
+            assert j[2] <= 1e-10 * size  # the NumPy forward mode agrees
+            got = _independent(f, thc, place, _drawn(xc, thc[0], fixed))
+            assert np.max(np.abs(got - targets)) <= 1e-9 * size
+
+
+def _drawn(x, theta2, fixed):
+    from machdyn.synthesis.sixbar_path import _joints
+
+    j = _joints(x, theta2, fixed)
+    return j["B"], j["E"]
+
+
 @pytest.fixture(scope="module")
 def atlas6(tmp_path_factory):
     folder = tmp_path_factory.mktemp("six")

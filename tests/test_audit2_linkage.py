@@ -233,6 +233,7 @@ class Chain:
         P = self.pts
         closes = np.ones(theta2.shape, bool)
         clear = np.ones(theta2.shape, bool)  # far from every assembly limit and toggle
+        self.first_closes = np.ones(theta2.shape, bool)  # the dyads placed from the crank
         for kind, data in self.steps:
             if kind == "RRR":
                 K1, K2, P1, P2, X, L1, L2, s = data
@@ -242,6 +243,8 @@ class Chain:
                 a = (r1**2 - r2**2 + d**2) / (2 * d)
                 h2 = r1**2 - a**2
                 closes &= h2 > 0
+                if {data[0], data[1]} <= {"ground", "crank"}:
+                    self.first_closes &= h2 > 0
                 clear &= np.abs(h2) > 1e-4 * r1**2
                 x = p1 + (p2 - p1) / d * (a + 1j * s * np.sqrt(np.maximum(h2, 0)))
                 B[L1] = Body.mapping(P[P1], p1, unit((x - p1) / (P[X] - P[P1])))
@@ -254,6 +257,8 @@ class Chain:
                 b = np.real(np.conj(uu) * (g - p1))
                 disc = b**2 - (np.abs(g - p1) ** 2 - r**2)
                 closes &= disc > 0
+                if {data[0], data[1]} <= {"ground", "crank"}:
+                    self.first_closes &= disc > 0
                 clear &= np.abs(disc) > 1e-4 * r**2
                 x = g + (-b + s * np.sqrt(np.maximum(disc, 0))) * uu
                 B[L2] = Body.mapping(P[X], x, B[K2].c)
@@ -265,6 +270,8 @@ class Chain:
                 e = np.imag(np.conj(u) * d0)  # the line's offset from P2
                 D2 = np.abs(p1 - p2) ** 2
                 closes &= e**2 < D2
+                if {data[0], data[1]} <= {"ground", "crank"}:
+                    self.first_closes &= e**2 < D2
                 clear &= np.abs(D2 - e**2) > 1e-4 * D2
                 at = s * np.sqrt(np.maximum(D2 - e**2, 0))
                 c = unit((p1 - p2) / ((at + 1j * e) * u))
@@ -279,6 +286,8 @@ class Chain:
                 a = (rC**2 - R**2 + d**2) / (2 * d)
                 h2 = rC**2 - a**2
                 closes &= h2 > 0
+                if {data[0], data[1]} <= {"ground", "crank"}:
+                    self.first_closes &= h2 > 0
                 clear &= np.abs(h2) > 1e-4 * rC**2
                 x = p2 + (p1 - p2) / d * (a + 1j * s * np.sqrt(np.maximum(h2, 0)))
                 B[L2] = Body.mapping(P[P2], p2, unit((x - p2) / (P[C] - P[P2])))
@@ -309,6 +318,36 @@ class Chain:
             )
             points[name] = B[body](self.pts[name])
         return points, B, closes, clear
+
+
+def on_drawn_circuit(ch, theta2):
+    """Where the crank angle lies on the drawn pose's arc of the dyads placed from the crank.
+
+    Those dyads close on arcs of the crank angle; a second arc is the linkage's other
+    circuit (reached only by taking it apart), which the solver flags (audit 3). The arc
+    is found here by the solve above on a grid from the drawn angle, edges bisected.
+    """
+    theta2 = np.asarray(theta2, float)
+
+    def first(t):
+        ch.solve(np.atleast_1d(t))
+        return ch.first_closes
+
+    grid = ch.theta0 + np.linspace(0.0, 2 * np.pi, 3601)[:-1]
+    ok = first(grid).copy()
+    if ok.all() or not ok[0]:
+        return np.ones(theta2.shape, bool)
+    k_hi, k_lo = int(np.argmax(~ok)), int(ok.size - 1 - np.argmax(~ok[::-1]))
+    edges = []
+    for a, b in ((grid[k_hi - 1], grid[k_hi]),
+                 (grid[k_lo + 1] - 2 * np.pi if k_lo + 1 < ok.size else ch.theta0,
+                  grid[k_lo] - 2 * np.pi)):  # fmt: skip
+        for _ in range(50):
+            mid = 0.5 * (a + b)
+            a, b = (mid, b) if first(mid)[0] else (a, mid)
+        edges.append(a)
+    hi, lo = edges
+    return np.remainder(theta2 - lo, 2 * np.pi) <= hi - lo + 1e-9
 
 
 def chains(seed, count, length, kinds=KINDS):
@@ -342,6 +381,7 @@ def test_random_chain_positions_equal_an_independent_solve(index):
     th = _sweep(ch)
     m = lk.solve(th, velocity=1.0)
     ref, _, closes, clear = ch.solve(th)
+    closes &= on_drawn_circuit(ch, th)
     assert closes.sum() > 0.1 * th.size, "degenerate random draw"
     # the flags: ok exactly where every dyad closes (away from the limits themselves)
     bad = clear & (m.ok != closes)
@@ -505,6 +545,7 @@ def test_random_chain_single_poses_equal_the_sweep(index):
     th = _sweep(ch, 13)
     m = lk.solve(th, velocity=1.3, acceleration=-0.4)
     ref, _, closes, clear = ch.solve(th)
+    closes &= on_drawn_circuit(ch, th)
     scale = size_of(ch)
     for k in np.flatnonzero(clear)[:5]:
         one = lk.solve(float(th[k]), velocity=1.3, acceleration=-0.4)

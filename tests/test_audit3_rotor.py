@@ -235,3 +235,31 @@ def test_bad_rotor_input_names_the_field(build, field):
     with pytest.raises(InputError) as info:
         build()
     assert info.value.field == field
+
+
+def test_the_rotor_example_file_run_gives_corrections_that_close_the_3d_sums(capsys):
+    from pathlib import Path
+
+    from machdyn.cli import main
+
+    example = Path(__file__).resolve().parents[1] / "docs" / "examples" / "rotor.toml"
+    assert main(["run", str(example), "--json"]) == 0
+    part = json.loads(capsys.readouterr().out)["parts"]["shaft"]
+    # the file's masses (mm, kg, degrees), written here
+    m = np.array([0.2, 0.3, 0.1])
+    R = np.array([60, 50, 80]) * np.exp(1j * np.radians([30, 150, 270]))
+    z = np.array([100.0, 220.0, 320.0])
+    U = abs(np.sum(m * R))
+    assert part["summary"]["unbalance |sum m R| [kg*mm]"] == pytest.approx(U, rel=1e-12)
+    w = 1500 * 2 * math.pi / 60
+    assert part["summary"]["shaking force before [N]"] == pytest.approx(U * 1e-3 * w * w, rel=1e-12)
+    rows = part["tables"]["corrections"]["rows"]
+    masses = [row[4] for row in rows]
+    angles = np.radians([row[3] for row in rows])
+    m2 = np.concatenate([m, masses])
+    R2 = np.concatenate([R, 100 * np.exp(1j * angles)])  # the file's radii: 100 mm
+    z2 = np.concatenate([z, [row[1] for row in rows]])
+    f, mo = sums(m2, R2, z2, w, 0.0, 0.0)
+    f0, mo0 = sums(m, R, z, w, 0.0, 0.0)
+    assert np.abs(f).max() < 1e-12 * np.abs(f0).max() * 10
+    assert np.abs(mo).max() < 1e-12 * np.abs(mo0).max() * 10

@@ -555,3 +555,44 @@ def test_steady_state_torque_pays_the_dampers_work_per_turn():
     dd = (slider_d(a, b, 0.0, th + h) - slider_d(a, b, 0.0, th - h)) / (2 * h)
     work = beta * simpson(dd**2 * p.omega, x=th)
     assert float(np.mean(p.torque)) == pytest.approx(work / (2 * math.pi), rel=1e-6)
+
+
+def test_a_slider_driven_slider_crank_follows_the_energy_method_to_its_dead_centre():
+    # the piston is the input (a force on it): ½ I(d) ḋ² = F (d − d0), with the crank's
+    # angle from the cosine law b² = a² + d² − 2ad cos θ, and a toggle at d = a + b
+    from machdyn.massprops import point_mass
+
+    a, b, th0, F = 0.05, 0.2, 1.2, 5.0
+    m, IG, cg = (0.5, 1.0, 1.5), (2e-4, 4e-3), (0.02, 0.08)
+    A0 = a * np.exp(1j * th0)
+    d0 = slider_d(a, b, 0.0, th0)
+    lk = (
+        Linkage({"O2": (0, 0), "A": (A0.real, A0.imag), "B": (d0, 0)})
+        .ground("O2")
+        .link("crank", "O2", "A", mass=m[0], inertia=IG[0], cg=cg[0])
+        .link("rod", "A", "B", mass=m[1], inertia=IG[1], cg=cg[1])
+        .link("piston", "B", body=point_mass(m[2]))
+        .slider("piston", "ground", "B", direction=0.0, name="guide")
+        .drive("guide")
+    )
+    run = machdyn.simulate(lk, F, t_end=2.0, samples=201)
+    assert not run.angular and run.coordinate == "guide"
+    assert run.status == "toggle" and "guide = 0.25" in run.message
+    assert 0.0 < a + b - run.events[-1].theta < 1e-4
+
+    def inertia(d, h=1e-7):
+        def parts(x):
+            t = np.arccos((a * a + x * x - b * b) / (2 * a * x))
+            A = a * np.exp(1j * t)
+            e3 = (x - A) / b
+            return cg[0] * A / a, A + cg[1] * e3, np.angle(A), np.angle(e3)
+
+        p, q = parts(d + h), parts(d - h)
+        v2, v3 = (p[0] - q[0]) / (2 * h), (p[1] - q[1]) / (2 * h)
+        w2, w3 = (p[2] - q[2]) / (2 * h), (p[3] - q[3]) / (2 * h)
+        return m[0] * abs(v2) ** 2 + IG[0] * w2**2 + m[1] * abs(v3) ** 2 + IG[1] * w3**2 + m[2]
+
+    d = run.theta[run.theta < a + b - 1e-3]  # away from the toggle (I grows without bound)
+    speed = run.omega[: d.size]
+    expected = np.sqrt(2 * F * (d - d0) / np.array([inertia(x) for x in d]))
+    np.testing.assert_allclose(speed, expected, rtol=1e-6, atol=1e-9)

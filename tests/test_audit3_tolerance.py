@@ -392,3 +392,34 @@ def test_drawn_linkage_derivatives_match_differences_of_the_drawing():
         np.testing.assert_allclose(s.of("theta.rocker", dim), expect, rtol=1e-6, atol=1e-7)
         expect = (yu["point.P"] - yd["point.P"]) / (2 * h)
         np.testing.assert_allclose(s.of("point.P", dim), expect, rtol=1e-6, atol=1e-7)
+
+
+def test_drawn_four_bar_length_tolerances_match_the_two_circle_prediction():
+    from machdyn.linkage import Linkage
+
+    r = (8.0, 3.0, 7.0, 6.0)
+    A0 = 3 * np.exp(0.5j)
+    B0 = complex(pins(r, 0.5, 1.0)[1])
+    lk = (
+        Linkage({"O2": 0j, "O4": 8 + 0j, "A": A0, "B": B0})
+        .ground("O2", "O4")
+        .link("crank", "O2", "A")
+        .link("coupler", "A", "B")
+        .link("rocker", "O4", "B")
+        .drive("crank")
+    )
+    names = ("O2-O4", "O2-A", "A-B", "O4-B")  # r1, r2, r3, r4
+    t = np.array([2e-3, 1e-3, 3e-3, 1.5e-3])
+    theta2 = np.radians(np.arange(0.0, 360.0, 30.0))
+    mc = machdyn.tolerance(lk, dict(zip(names, t, strict=True)), theta2, samples=40_000, seed=9)
+    assert mc.failed == 0
+    fd = differences((*r, 0.0, 0.0), theta2, 1.0)
+    grads = np.array([fd["theta4", j] for j in range(4)])
+    predicted = np.sqrt(((grads * (t / 3)[:, None]) ** 2).sum(axis=0))
+    spread = mc.outputs["theta.rocker"]
+    np.testing.assert_allclose(spread.linear_std, predicted, rtol=1e-5)
+    np.testing.assert_allclose(spread.std, predicted, rtol=0.02)
+    np.testing.assert_allclose(
+        spread.worst_case, (np.abs(grads) * t[:, None]).sum(axis=0), rtol=1e-5
+    )
+    assert np.all(np.abs(mc.outputs["theta.crank"].std) < 1e-12)  # the input is not toleranced

@@ -102,6 +102,14 @@ def build(lk: Any, tolerances: Any, theta2: Any, samples: Any, distribution: Any
             f"the nominal linkage is not solved over the sweep ({reason[0]}); sweep inside its "
             "input range",
         )
+    drawn = lk.solve(theta)  # the drawn mechanism's own flags: a pose on its other circuit
+    if not np.all(drawn.ok):
+        bad = int(np.argmin(drawn.ok))
+        raise InputError(
+            "theta2",
+            f"the nominal linkage is not solved at {math.degrees(theta[bad]):.6g} deg "
+            f"({drawn.reason[bad]}); sweep inside its input range",
+        )
     nominal = {
         name: np.unwrap(np.angle(v[0])) if name.startswith("theta.") else v[0]
         for name, v in values.items()

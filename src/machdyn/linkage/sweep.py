@@ -270,6 +270,11 @@ def solve_closed(
             if follow and n
             else run(program, info.tables, U, order, False)
         )
+    arc = _circuit(lk, model, info)
+    away = None if arc is None else _off_circuit(arc, U[0], out.codes)
+    if away is not None:  # poses of the drawn groups' other circuit: not this mechanism's
+        out.codes[arc[2], away] = NO_ASSEMBLY
+        out.clean = False
     # the usual case: every group assembled, away from toggles
     clean = out.clean if out.clean is not None else not out.codes.any()
     if clean:
@@ -281,7 +286,80 @@ def solve_closed(
         if where:
             mine = reason == info.texts[g][0]
             reason[mine] = f"{info.texts[g][0]} ({where})"
+    if away is not None:
+        lo, hi, g = arc
+        reason[away] = (
+            f"{info.texts[g][2]} is on another circuit at this input: the drawn mechanism "
+            f"reaches {lk._drivers[0]} in [{math.degrees(lo):.5g}°, {math.degrees(hi):.5g}°] "
+            "only (it would have to be taken apart)"
+        )
     return _motion(lk, out, info, vals, shape, ok, reason, order)
+
+
+def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple[float, float, int] | None:
+    """The arc of a lone angle driver that the drawn pose can reach, when it is not a turn.
+
+    Every closed-form group keeps its drawn assembly sign, but a driver angle
+    whose groups close on a *separate* arc (a Grashof four-bar whose coupler is
+    the shortest link, driven at a rocker: two mirror arcs) puts the linkage on
+    its other circuit there, which no motion of the drawn mechanism reaches.
+    Only the groups placed straight from the driver are asked (for them the
+    closing arcs are the circuits exactly). Returns ``(lo, hi, group)`` — the
+    arc around the drawn value (edges refined by bisection) and the group that
+    stops closing at its ends — or None when they close over the whole turn
+    (or for several drivers, a length driver, or a group the closed forms do
+    not cover).
+    """
+    if "circuit" in model.cache:
+        return model.cache["circuit"]  # type: ignore[return-value]
+    from .program import General
+
+    arc = None
+    driver = lk._drivers[0] if len(lk._drivers) == 1 else None
+    if (
+        driver in info.angle_drivers
+        and model.program.steps
+        and not any(isinstance(s, General) for s in model.program.steps)
+    ):
+        # only the groups placed straight from the driver: where they close does not hang
+        # on another dyad's assembly, which a toggle could switch on the way (then the
+        # closing arcs of the drawn signs would not be the circuits)
+        kinds = [g.kind for g in model.groups]
+        first = [not any(kinds[h] != "driver" for h in dep) for dep in model.program.deps]
+
+        def failing(theta: np.ndarray) -> np.ndarray:
+            _, codes = model.program.run([[theta, 0.0, 0.0, 0.0]], theta.size, 0, False)
+            return (codes == NO_ASSEMBLY) & np.array(first)[:, None]  # (groups, samples)
+
+        t0, n = float(info.start[0]), 720
+        theta = t0 + np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+        bad = failing(theta).any(axis=0)
+        if bad.any() and not bad[0]:
+            k_hi, k_lo = int(np.argmax(bad)), int(n - 1 - np.argmax(bad[::-1]))
+            below = theta - 2.0 * np.pi  # the lower end, approached from t0 downwards
+            a = np.array([theta[k_hi - 1], below[k_lo + 1] if k_lo + 1 < n else t0])  # closes
+            b = np.array([theta[k_hi], below[k_lo]])  # does not
+            for _ in range(40):  # both ends at once, to 2e-14 rad
+                mid = 0.5 * (a + b)
+                fails = failing(mid).any(axis=0)
+                a, b = np.where(fails, a, mid), np.where(fails, mid, b)
+            hi, lo = (float(v) for v in a)
+            group = int(np.argmax(failing(theta[k_hi : k_hi + 1])[:, 0]))
+            # a gap narrower than the grid's half degree is not seen: such arcs join
+            if hi - lo < 2.0 * np.pi - 1e-9:
+                arc = (lo, hi, group)
+    model.cache["circuit"] = arc
+    return arc
+
+
+def _off_circuit(arc: tuple[float, float, int], theta: np.ndarray, codes: np.ndarray):
+    """The samples assembled outside the drawn arc, on the other circuit (None: none)."""
+    lo, hi, _ = arc
+    away = np.remainder(theta - lo, 2.0 * np.pi) > (hi - lo) + 1e-9 * (1.0 + abs(hi))
+    if not away.any():
+        return None
+    away &= ~(codes == NO_ASSEMBLY).any(axis=0)  # in the gap between: "does not close" stays
+    return away if away.any() else None
 
 
 def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs:

@@ -572,7 +572,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     t0 = time.perf_counter()
     # six-bars: many atlas entries draw nearly the same curve, so many are screened
     starts = sixbar_starts(atlas, pts, timing, closed, retrieve, SIXBAR_SCREEN * refine_count,
-                           client)  # fmt: skip
+                           client, compiled)  # fmt: skip
     t1 = time.perf_counter()
     options = dict(timing=timing, compiled=compiled)
     fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)

@@ -189,6 +189,29 @@ def refine_sixbar(x0, theta0, fixed, targets, *, timing=None, iterations=200, co
         r = np.concatenate([d.real, d.imag])
         return r, out, float(r @ r)
 
+    if compiled:  # the same loop, compiled (machdyn.synthesis._sixbar_kernels.refine_loop)
+        z = _compiled_loop(z, timing, targets, scale, fixed, iterations)
+    else:
+        z = _loop(evaluate, z, iterations)
+    x, theta = _positive_lengths(z[:_NP].copy(), np.asarray(angles(z), float).copy())
+    P, _, _, ok = coupler(x, theta, fixed)
+    rms = float(np.sqrt(np.mean(np.abs(P - targets) ** 2))) if ok.all() else np.inf
+    return x, theta, rms
+
+
+def _compiled_loop(z, timing, targets, scale, fixed, iterations):
+    from ._sixbar_kernels import refine_loop
+
+    (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
+    timed = timing is not None
+    timing = np.ascontiguousarray(timing if timed else np.zeros(0), dtype=float)
+    return refine_loop(z.copy(), timing, timed, np.ascontiguousarray(targets, complex),
+                       scale, float(fixed["s4"]), float(fixed["s6"]), l1, l2,
+                       fixed["on"] == 6, _STEEP, int(iterations))  # fmt: skip
+
+
+def _loop(evaluate, z, iterations):
+    """The damped Gauss–Newton loop of :func:`refine_sixbar` (NumPy)."""
     r, J, cost = evaluate(z)
     lam = 1e-3
     for _ in range(iterations):
@@ -217,10 +240,7 @@ def refine_sixbar(x0, theta0, fixed, targets, *, timing=None, iterations=200, co
             lam *= 4.0
             if lam > 1e15:
                 break
-    x, theta = _positive_lengths(z[:_NP].copy(), np.asarray(angles(z), float).copy())
-    P, _, _, ok = coupler(x, theta, fixed)
-    rms = float(np.sqrt(np.mean(np.abs(P - targets) ** 2))) if ok.all() else np.inf
-    return x, theta, rms
+    return z
 
 
 def _geodesic(evaluate, z, r, J, M, v, h=0.1):
@@ -349,8 +369,9 @@ SIXBAR_TIMED_POOL = 1_000
 #: Timed targets: starting angles every entry is scanned at, and entries scanned again finely.
 SIXBAR_COARSE = 20
 SIXBAR_FINE = 96
-#: Timed targets: the second pool is this many times larger, with as many times the nearest.
-SIXBAR_WIDE_RETRIEVE = 4
+#: Timed targets: the pools scanned, each ``(entries spread over the atlas, nearest entries by
+#: shape in units of ``retrieve``)``; each pool gives its own best starts.
+SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4))
 
 
 def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
@@ -368,8 +389,13 @@ def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, in
     return x, fixed
 
 
-def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None):
-    """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries."""
+def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None,
+                  compiled=False):  # fmt: skip
+    """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries.
+
+    ``compiled``: the timed scan computes its coupler points on the compiled
+    kernel (:mod:`machdyn.synthesis._sixbar_kernels`) rather than in NumPy.
+    """
     from .atlas_path import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
     from .sixbar import sixbar_points
@@ -391,18 +417,17 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
         dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
         even = resample_closed(dense, atlas.manifest.samples)
         q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
-        near = atlas.nearest(q, SIXBAR_WIDE_RETRIEVE * retrieve, client=client)[0]
-    # two pools, each with its own best starts: a small pool with the nearest entries, and a
-    # four times larger one with four times as many nearest. Their best-scoring starts lie
-    # in different basins (the timed fit is over-determined: near the truth it has real
-    # local minima), and a target missed from one pool is often met from the other
+        wanted = max(k for _, k in SIXBAR_TIMED_POOLS) * retrieve
+        near = atlas.nearest(q, min(wanted, len(atlas)), client=client)[0]
+    # pools, each with its own best starts (see SIXBAR_TIMED_POOLS). Their best-scoring
+    # starts lie in different basins (the timed fit is over-determined: near the truth it
+    # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    for size, k in (
-        (SIXBAR_TIMED_POOL, retrieve),
-        (SIXBAR_WIDE_RETRIEVE * SIXBAR_TIMED_POOL, SIXBAR_WIDE_RETRIEVE * retrieve),
-    ):
-        idx = np.union1d(atlas.pool(size, crank=True), near[:k])
-        for i, h, t, g0, mirror in _timed_best(atlas, idx, timing, pts, refine_count):
+    for size, k in SIXBAR_TIMED_POOLS:
+        idx = near[: k * retrieve]
+        if size:
+            idx = np.union1d(atlas.pool(size, crank=True), idx)
+        for i, h, t, g0, mirror in _timed_best(atlas, idx, timing, pts, refine_count, compiled):
             if (i, mirror) not in seen:
                 seen.add((i, mirror))
                 x0, fixed = _design_of(atlas.entries(np.array([i]))[0], h, t, mirror)
@@ -410,7 +435,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     return starts
 
 
-def _timed_best(atlas, idx, timing, pts, count):
+def _timed_best(atlas, idx, timing, pts, count, compiled=False):
     """The ``count`` best timed placements of entries ``idx``: (index, h, t, θ0, mirror).
 
     Coarse to fine: every entry at :data:`SIXBAR_COARSE` starting angles, the best
@@ -422,10 +447,10 @@ def _timed_best(atlas, idx, timing, pts, count):
     found = []
     for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
         coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
-        score = _timed_scan(rows, coarse, timing, pts, mirror)[0]
+        score = _timed_scan(rows, coarse, timing, pts, mirror, compiled)[0]
         pick = np.argsort(-score)[:SIXBAR_FINE]
         grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-        score, hh, off, g = _timed_scan(rows[pick], grid, timing, pts, mirror)
+        score, hh, off, g = _timed_scan(rows[pick], grid, timing, pts, mirror, compiled)
         found += [(score[j], int(idx[pick[j]]), hh[j], off[j], grid[g[j]], mirror)
                   for j in range(pick.size)]  # fmt: skip
     found.sort(key=lambda f: -f[0])
@@ -483,21 +508,27 @@ def _placed_start(z: np.ndarray, h: complex, t: complex, pts: np.ndarray, rounds
     return h, t, _ordered_samples(t + h * z, pts)
 
 
-def _timed_scan(rows, grid, timing, pts, mirror):
+def _timed_scan(rows, grid, timing, pts, mirror, compiled=False):
     """Each row's best starting angle on ``grid`` for timed targets: fit score, placement.
 
     The coupler points at ``θ0 + Δ_k`` placed on the targets by a rotation, scale and
     offset ``t + h·Q`` (closed form); the score is the share of the targets' spread the
     fit explains. Returns per row the score, ``h``, ``t`` and the index of θ0 in ``grid``.
     """
-    from .sixbar import sixbar_points
+    if compiled:
+        from ._sixbar_kernels import sixbar_points_compiled as points
+    else:
+        from .sixbar import sixbar_points
+
+        def points(block, th):
+            return sixbar_points(block, th)[0]
 
     a0 = pts - pts.mean()
     out = []
     for lo in range(0, rows.size, 1024):
         block = rows[lo : lo + 1024]
         th = mirror * (grid[:, None] + timing[None, :]).ravel()
-        Q = sixbar_points(block, th)[0].reshape(block.size, grid.size, -1)
+        Q = points(block, th).reshape(block.size, grid.size, -1)
         Q = Q.conj() if mirror < 0 else Q
         qm = np.nanmean(Q, axis=2, keepdims=True)
         c = np.sum(np.conj(Q - qm) * a0, axis=2)
