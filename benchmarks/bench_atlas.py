@@ -7,6 +7,9 @@ Run:
                                                    # six-bar recovery rate (untimed, timed)
     python benchmarks/bench_atlas.py --build DIR --count 10000000 --scheduler local
                                                    # the big build (once, late: minutes)
+    python benchmarks/bench_atlas.py --atlas DIR --recovery 20 --seed 7
+                                                   # four-bar recovery: closed, timed, open,
+                                                   # open-timed targets of random crank-rockers
 
 Targets (issue 14): >= 10^7 four-bars in <= 15 min and <= 4 GB on the 2-core machine;
 linear in workers within +-20 % from 1 to 2; query on a 10^7 atlas <= 1 s; query + refine
@@ -229,6 +232,79 @@ def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
               f"{statistics.median(walls):.2f} s; missed: {misses or 'none'}")  # fmt: skip
 
 
+RECOVERY_KINDS = ("closed", "timed", "open", "open-timed")
+
+
+def _random_crank_rocker(rng):
+    """A placed crank-rocker: r2 = 1, r1, r3, r4 log-uniform over 1.5–6 (clear of a change
+    point by 5 % of the links' sum), coupler point 0.3–1.5·r3 at any angle, scaled by
+    0.5–20, turned and moved at random, either assembly."""
+    while True:
+        r1, r3, r4 = np.exp(rng.uniform(np.log(1.5), np.log(6), 3))
+        lengths = sorted([r1, 1.0, r3, r4])
+        if lengths[0] == 1.0 and lengths[0] + lengths[3] < lengths[1] + lengths[2] - 0.05 * sum(
+            lengths
+        ):
+            p, delta = rng.uniform(0.3, 1.5) * r3, rng.uniform(-np.pi, np.pi)
+            s = np.exp(rng.uniform(np.log(0.5), np.log(20)))
+            fb = FourBar(r1 * s, s, r3 * s, r4 * s, coupler=(p * s, delta))
+            O2 = complex(*rng.normal(0, 5, 2))
+            return PlacedFourBar(fb, O2, rng.uniform(0, 6.28), int(rng.choice([-1, 1])))
+
+
+def _recovery_targets(rng):
+    """Crank angles and options of the four target kinds (all drawn, whichever are run)."""
+    closed = np.sort(rng.uniform(0, 2 * np.pi, 12))
+    timed = np.sort(rng.uniform(0, 2 * np.pi, 8))
+    arc = rng.uniform(0, 6.28) + np.linspace(0, rng.uniform(1.0, 3.0), 9)
+    arc_timed = rng.uniform(0, 6.28) + np.linspace(0, rng.uniform(1.0, 3.0), 7)
+    return {
+        "closed": (closed, {}),
+        "timed": (timed, {"timing": timed}),
+        "open": (arc, {"closed": False}),
+        "open-timed": (arc_timed, {"closed": False, "timing": arc_timed}),
+    }
+
+
+def fourbar_recovery(at, count: int, seed: int, kinds, verbose: bool) -> None:
+    """Recovery of random placed crank-rockers (:func:`_random_crank_rocker`), four kinds:
+    12 untimed points round the curve (closed), 8 timed ones, 9 untimed points on a
+    1–3 rad arc of the crank (open), 7 timed ones on such an arc (open-timed).
+    Recovered: the best candidate's largest distance to the targets, measured by the
+    tests' independent point-to-curve distance (circle intersections + a scalar
+    minimisation, tests/test_synthesis_path_atlas.py), is <= 1e-6 of the targets' size
+    (``mu_min=0``: this measures recovery, not the defect filter).
+    """
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from tests.test_synthesis_path_atlas import _curve_distance
+
+    rng = np.random.default_rng(seed)
+    stats = {k: [] for k in kinds}
+    for i in range(count):
+        linkage = _random_crank_rocker(rng)
+        for kind, (theta, options) in _recovery_targets(rng).items():
+            if kind not in stats:
+                continue
+            targets = linkage.pose(theta)[2]
+            size = float(np.max(np.abs(targets - targets.mean())))
+            t, cpu, res = timed_cpu(
+                lambda p=targets, o=options: path_from_atlas(p, at, n=3, mu_min=0.0, **o)
+            )
+            best = res.candidates[:1]
+            e = float(_curve_distance(best[0], targets).max()) / size if best else np.inf
+            stats[kind].append((e, cpu, t))
+            if verbose:
+                print(f"    {i:3d} {kind:10s} {e:.2e}  CPU {cpu:.2f} s  wall {t:.2f} s", flush=True)
+    for kind, rows in stats.items():
+        e, cpu, wall = (np.array(c) for c in zip(*rows, strict=True))
+        print(f"  four-bar recovery ({kind}, seed {seed}): {int(np.sum(e <= 1e-6))} of {count} "
+              f"to <= 1e-6 of the size; misses {sorted(float(f'{x:.1e}') for x in e[e > 1e-6])}; "
+              f"CPU median {np.median(cpu):.2f} s, max {cpu.max():.2f} s; wall median "
+              f"{np.median(wall):.2f} s")  # fmt: skip
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--atlas", type=Path, help="an existing atlas to query")
@@ -245,9 +321,26 @@ def main() -> None:
         metavar="N",
         help="with --atlas (a six-bar atlas): recovery rate over N random six-bars",
     )
+    ap.add_argument(
+        "--recovery",
+        type=int,
+        default=0,
+        metavar="N",
+        help="with --atlas (a four-bar atlas): recovery rates over N random crank-rockers",
+    )
+    ap.add_argument("--seed", type=int, default=7, help="of --recovery's random linkages")
+    ap.add_argument("--kinds", default=",".join(RECOVERY_KINDS), help="of --recovery's targets")
+    ap.add_argument("--verbose", action="store_true", help="print every --recovery case")
     args = ap.parse_args()
     jit.load()
     print(f"kernels: {'compiled' if jit.active() else 'NumPy'}")
+    if args.atlas is not None and args.recovery:
+        kinds = args.kinds.split(",")
+        if not set(kinds) <= set(RECOVERY_KINDS):
+            ap.error(f"--kinds: choose from {', '.join(RECOVERY_KINDS)}")
+        fourbar_recovery(open_atlas(args.atlas, verify=False), args.recovery, args.seed, kinds,
+                         args.verbose)  # fmt: skip
+        return
     if args.atlas is not None and args.sixbar_recovery:
         sixbar_recovery(open_atlas(args.atlas, verify=False), args.sixbar_recovery)
         return

@@ -42,6 +42,7 @@ INTERNAL_MODULES = {
     "machdyn.synthesis.descriptor": "curve descriptors inside path_from_atlas",
     "machdyn.synthesis.geometry": "points and lines inside the synthesis functions",
     "machdyn.synthesis.refine": "least-squares refinement inside path_from_atlas",
+    "machdyn.synthesis.valley": "the final polish of a refinement inside path_from_atlas",
 }
 
 
@@ -1153,7 +1154,7 @@ def _add_atlas(c, fn, meth, targets) -> None:
     meth("machdyn.synthesis:Atlas.entries", _tiny_atlas, index=[0, 5, 399])
     meth("machdyn.synthesis:Atlas.nearest", _tiny_atlas, descriptor=_tiny_atlas().desc[0][3], k=3)
     c["machdyn.synthesis:Atlas.nearest"].accepts["client"] = {"none"}
-    meth("machdyn.synthesis:Atlas.pool", _tiny_atlas, size=10)
+    meth("machdyn.synthesis:Atlas.pool", _tiny_atlas, size=10, draw=1)
 
 
 def _add_general(c, fn, meth) -> None:

@@ -153,3 +153,29 @@ def test_a_slider_crank_with_a_long_crank_keeps_to_its_arc():
     np.testing.assert_allclose(
         m.points["B"][:2].real, a * np.cos(th[:2]) + np.sqrt(b * b - (a * np.sin(th[:2])) ** 2)
     )
+
+
+def test_a_slider_driven_slider_crank_keeps_its_block_on_the_drawn_side():
+    # driven at the block, d ∈ [b − a, a + b] = [0.15, 0.25] on the drawn side; at d = −0.2
+    # the dyad closes again (the crank turned over, the block left of O2): the other circuit
+    a, b, t0 = 0.05, 0.2, 1.2
+    A = a * np.exp(1j * t0)
+    x = a * math.cos(t0) + math.sqrt(b * b - (a * math.sin(t0)) ** 2)
+    lk = (
+        Linkage({"O2": 0j, "A": A, "B": x + 0j})
+        .ground("O2")
+        .link("crank", "O2", "A")
+        .link("rod", "A", "B")
+        .link("piston", "B")
+        .slider("piston", "ground", "B", direction=0.0, name="guide")
+        .drive("guide")
+    )
+    d = np.array([0.2, 0.1, -0.2, 0.16, 0.249])
+    m = lk.solve(d)
+    assert m.ok.tolist() == [True, False, False, True, True]
+    assert "another circuit" in m.reason[2] and "[0.15, 0.25]" in m.reason[2]
+    # the crank angle from the cosine law on the drawn (upper) side
+    ok = m.ok
+    expect = np.arccos((a * a + d[ok] ** 2 - b * b) / (2 * a * d[ok]))
+    got = np.exp(1j * m.theta["crank"][ok])  # angles run on along a sweep (not wrapped)
+    np.testing.assert_allclose(got, np.exp(1j * expect), atol=1e-12)

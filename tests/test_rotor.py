@@ -181,8 +181,7 @@ def test_cli_balance_rotor_prints_bearing_loads_before_and_after(capsys):
     args = ["balance", "rotor", "--mass", "0.2,0.06,0,0.1", "--mass", "0.15,0.05,90,0.35"]
     args += ["--plane-a", "0", "--plane-b", "0.4", "--bearings=-0.1,0.5", "--omega", "40"]
     assert main([*args, "--json"]) == 0
-    out = capsys.readouterr().out
-    loads = json.loads(out[out.index('{\n  "omega"') :])["loads"]
+    loads = json.loads(capsys.readouterr().out)["bearing_loads"]["loads"]  # one document
     # by hand: centrifugal forces 0.2·0.06·40² = 19.2 at 0° (z 0.1), 0.15·0.05·40² = 12 at
     # 90° (z 0.35); lever rule over the bearings at −0.1 and 0.5: B = (19.2·0.2 + 12j·0.45)/0.6
     b = complex(19.2 * 0.2, 12 * 0.45) / 0.6

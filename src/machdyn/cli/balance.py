@@ -103,8 +103,14 @@ def _phasor(magnitude: float, angle_deg: float) -> complex:
     return magnitude * complex(math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
 
 
-def _report(result: TwoPlaneBalance, radius_a: float | None, radius_b: float | None, as_json: bool):
-    rows = {
+def _report(
+    result: TwoPlaneBalance,
+    radius_a: float | None,
+    radius_b: float | None,
+    as_json: bool,
+    bearing_loads: dict | None = None,
+):
+    rows: dict = {
         "plane": ["A", "B"],
         "z": [result.plane_a, result.plane_b],
         "mR": [abs(result.mR_a), abs(result.mR_b)],
@@ -112,8 +118,8 @@ def _report(result: TwoPlaneBalance, radius_a: float | None, radius_b: float | N
     }
     if radius_a is not None:
         rows["mass"] = list(result.masses(radius_a, radius_b))
-    if as_json:
-        print(dumps(rows))
+    if as_json:  # one document: the bearing loads (if asked) under their own key
+        print(dumps(rows if bearing_loads is None else {**rows, "bearing_loads": bearing_loads}))
         return
     columns = list(rows)
     print_table("Correction masses", columns, [list(r) for r in zip(*rows.values(), strict=True)])
@@ -228,13 +234,20 @@ def rotor(
     except InputError as exc:
         field = "--bearings" if exc.field.startswith("z_") else "--omega"
         raise InputError(field, exc.message) from None
-    _report(result, radius_a, radius_b, as_json)
-    _bearing_loads(rotor_, result, z_a, z_b, omega, as_json)
+    loads = _bearing_loads(rotor_, result, z_a, z_b, omega)
+    _report(result, radius_a, radius_b, as_json, loads if as_json else None)
+    if not as_json:
+        print(f"Bearing loads at omega = {omega:g} rad/s: the force of the rotor on each bearing")
+        print_table(
+            "(phase from the rotor's zero line)",
+            ["", "bearing", "|F|", "phase_deg"],
+            loads["loads"],
+        )
 
 
 def _bearing_loads(
-    rotor: Rotor, fix: TwoPlaneBalance, z_a: float, z_b: float, omega: float, as_json: bool
-) -> None:
+    rotor: Rotor, fix: TwoPlaneBalance, z_a: float, z_b: float, omega: float
+) -> dict:
     """Bearing loads of the rotor at omega (rotor angle 0), before and after the correction."""
     corrected = rotor.with_masses(
         [abs(fix.mR_a), abs(fix.mR_b)],
@@ -251,15 +264,7 @@ def _bearing_loads(
                 load = 0j
             phase = math.degrees(math.atan2(load.imag, load.real)) % 360.0
             rows.append([label, name, abs(load), phase])
-    if as_json:
-        print(dumps({"omega": omega, "bearings": [z_a, z_b], "loads": rows}))
-        return
-    print(f"Bearing loads at omega = {omega:g} rad/s: the force of the rotor on each bearing")
-    print_table(
-        "(phase from the rotor's zero line)",
-        ["", "bearing", "|F|", "phase_deg"],
-        rows,
-    )
+    return {"omega": omega, "bearings": [z_a, z_b], "loads": rows}
 
 
 @balance_app.command("bearings")

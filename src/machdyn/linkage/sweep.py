@@ -287,28 +287,34 @@ def solve_closed(
             mine = reason == info.texts[g][0]
             reason[mine] = f"{info.texts[g][0]} ({where})"
     if away is not None:
-        lo, hi, g = arc
+        lo, hi, g, period = arc
+        span = (
+            f"[{math.degrees(lo):.5g}°, {math.degrees(hi):.5g}°]"
+            if period is not None
+            else f"[{lo:.6g}, {hi:.6g}]"
+        )
         reason[away] = (
             f"{info.texts[g][2]} is on another circuit at this input: the drawn mechanism "
-            f"reaches {lk._drivers[0]} in [{math.degrees(lo):.5g}°, {math.degrees(hi):.5g}°] "
-            "only (it would have to be taken apart)"
+            f"reaches {lk._drivers[0]} in {span} only (it would have to be taken apart)"
         )
     return _motion(lk, out, info, vals, shape, ok, reason, order)
 
 
-def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple[float, float, int] | None:
-    """The arc of a lone angle driver that the drawn pose can reach, when it is not a turn.
+def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
+    """The range of a lone driver that the drawn pose can reach, when it is not everything.
 
-    Every closed-form group keeps its drawn assembly sign, but a driver angle
-    whose groups close on a *separate* arc (a Grashof four-bar whose coupler is
-    the shortest link, driven at a rocker: two mirror arcs) puts the linkage on
-    its other circuit there, which no motion of the drawn mechanism reaches.
-    Only the groups placed straight from the driver are asked (for them the
-    closing arcs are the circuits exactly). Returns ``(lo, hi, group)`` — the
-    arc around the drawn value (edges refined by bisection) and the group that
-    stops closing at its ends — or None when they close over the whole turn
-    (or for several drivers, a length driver, or a group the closed forms do
-    not cover).
+    Every closed-form group keeps its drawn assembly sign, but a driver value
+    whose groups close on a *separate* range (a Grashof four-bar whose coupler
+    is the shortest link, driven at a rocker: two mirror arcs; a slider-crank
+    driven at its slider: the block on the other side of the crank's pivot)
+    puts the linkage on its other circuit there, which no motion of the drawn
+    mechanism reaches. Only the groups placed straight from the driver are
+    asked (for them the closing ranges are the circuits exactly). Returns
+    ``(lo, hi, group, period)`` — the range around the drawn value (edges
+    refined by bisection; ±inf where a length driver's groups close beyond ±10
+    typical lengths), the group that stops closing at its ends, and 2π for an
+    angle (None for a length) — or None when they close everywhere (or for
+    several drivers, or a group the closed forms do not cover).
     """
     if "circuit" in model.cache:
         return model.cache["circuit"]  # type: ignore[return-value]
@@ -317,45 +323,66 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple[float, float, int
     arc = None
     driver = lk._drivers[0] if len(lk._drivers) == 1 else None
     if (
-        driver in info.angle_drivers
+        driver is not None
         and model.program.steps
         and not any(isinstance(s, General) for s in model.program.steps)
     ):
         # only the groups placed straight from the driver: where they close does not hang
         # on another dyad's assembly, which a toggle could switch on the way (then the
-        # closing arcs of the drawn signs would not be the circuits)
+        # closing ranges of the drawn signs would not be the circuits)
         kinds = [g.kind for g in model.groups]
-        first = [not any(kinds[h] != "driver" for h in dep) for dep in model.program.deps]
+        first = np.array([not any(kinds[h] != "driver" for h in d) for d in model.program.deps])
 
-        def failing(theta: np.ndarray) -> np.ndarray:
-            _, codes = model.program.run([[theta, 0.0, 0.0, 0.0]], theta.size, 0, False)
-            return (codes == NO_ASSEMBLY) & np.array(first)[:, None]  # (groups, samples)
+        wall = driver in lk._actuators  # an actuator's length stays > 0
 
-        t0, n = float(info.start[0]), 720
-        theta = t0 + np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-        bad = failing(theta).any(axis=0)
-        if bad.any() and not bad[0]:
-            k_hi, k_lo = int(np.argmax(bad)), int(n - 1 - np.argmax(bad[::-1]))
-            below = theta - 2.0 * np.pi  # the lower end, approached from t0 downwards
-            a = np.array([theta[k_hi - 1], below[k_lo + 1] if k_lo + 1 < n else t0])  # closes
-            b = np.array([theta[k_hi], below[k_lo]])  # does not
-            for _ in range(40):  # both ends at once, to 2e-14 rad
-                mid = 0.5 * (a + b)
-                fails = failing(mid).any(axis=0)
-                a, b = np.where(fails, a, mid), np.where(fails, mid, b)
-            hi, lo = (float(v) for v in a)
-            group = int(np.argmax(failing(theta[k_hi : k_hi + 1])[:, 0]))
-            # a gap narrower than the grid's half degree is not seen: such arcs join
-            if hi - lo < 2.0 * np.pi - 1e-9:
-                arc = (lo, hi, group)
+        def failing(x: np.ndarray) -> np.ndarray:
+            with np.errstate(all="ignore"):
+                _, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
+            out = (codes == NO_ASSEMBLY) & first[:, None]  # (groups, samples)
+            if wall:
+                out[0] |= x <= 0.0
+            return out
+
+        t0 = float(info.start[0])
+        period = 2.0 * np.pi if driver in info.angle_drivers else None
+        if period is not None:  # a turn from the drawn angle, the lower end reached below it
+            n = 720
+            up = t0 + np.linspace(0.0, period, n, endpoint=False)
+            down = t0 - np.linspace(0.0, period, n, endpoint=False)
+        else:  # ±10 typical lengths each way
+            n = 721
+            up = t0 + np.linspace(0.0, 10.0 * float(info.scale[0]), n)
+            down = t0 - np.linspace(0.0, 10.0 * float(info.scale[0]), n)
+        bad_up, bad_down = failing(up).any(axis=0), failing(down).any(axis=0)
+        if (bad_up.any() or bad_down.any()) and not bad_up[0]:
+            ends, group = [], None
+            for x, bad in ((up, bad_up), (down, bad_down)):
+                if not bad.any():
+                    ends.append(math.copysign(math.inf, x[-1] - t0))
+                    continue
+                k = int(np.argmax(bad))
+                if group is None:
+                    group = int(np.argmax(failing(x[k : k + 1])[:, 0]))
+                a, b = x[k - 1], x[k]  # a closes, b does not
+                for _ in range(40):  # to 1e-12 of the step
+                    mid = 0.5 * (a + b)
+                    a, b = (a, mid) if failing(np.array([mid])).any() else (mid, b)
+                ends.append(float(a))
+            hi, lo = ends
+            if period is None or hi - lo < period - 1e-9:
+                arc = (lo, hi, group, period)
     model.cache["circuit"] = arc
     return arc
 
 
-def _off_circuit(arc: tuple[float, float, int], theta: np.ndarray, codes: np.ndarray):
-    """The samples assembled outside the drawn arc, on the other circuit (None: none)."""
-    lo, hi, _ = arc
-    away = np.remainder(theta - lo, 2.0 * np.pi) > (hi - lo) + 1e-9 * (1.0 + abs(hi))
+def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
+    """The samples assembled outside the drawn range, on the other circuit (None: none)."""
+    lo, hi, _, period = arc
+    if period is None:
+        tol = 1e-9 * (1.0 + max(abs(v) for v in (lo, hi) if math.isfinite(v)))
+        away = (theta < lo - tol) | (theta > hi + tol)
+    else:
+        away = np.remainder(theta - lo, period) > (hi - lo) + 1e-9 * (1.0 + abs(hi))
     if not away.any():
         return None
     away &= ~(codes == NO_ASSEMBLY).any(axis=0)  # in the gap between: "does not close" stays

@@ -60,6 +60,7 @@ from .path import PathSynthesis, _mu_min
 from .placed import PlacedFourBar
 from .refine import refine
 from .sixbar import SIXBAR_DTYPE
+from .valley import polish
 
 # Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
 # open_atlas, path_from_atlas, curve_descriptor, ...); the fuzz suite fuzzes those.
@@ -84,8 +85,21 @@ SIXBAR_POLISH = 600
 SIXBAR_POLISH_MAX = 24
 #: A six-bar whose RMS distance is below this share of the size meets the targets.
 SIXBAR_MET = 1e-12
+#: Untimed targets: most fits polished while none meets the targets to this share of
+#: their size (see _polished_untimed).
+UNTIMED_POLISH_MAX = 4
+UNTIMED_MET = 1e-9
+#: Untimed targets: most rounds of retrieval (each a fresh pool) while none is met.
+UNTIMED_ROUNDS = 3
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
+#: Open targets: best arc fits re-scored on the target points, samples of each curve
+#: for that, and rounds of the re-fit (see _fit_to_points); the arc fit takes every
+#: ARC_STRIDE-th of a curve's samples.
+RESCORE = 200
+ARC_STRIDE = 2
+DENSE = 720
+ICP_ROUNDS = 3
 #: A best result farther than this (over the target's size) means no entry came near.
 NEAR = 0.05
 #: Random four-bars beyond the atlas's proportions (link lengths from 1/50 to 50 crank
@@ -190,15 +204,25 @@ class Atlas:
         for_slices(run, len(self))
         return parts
 
-    def pool(self, size: int = OPEN_POOL, *, crank: bool = True) -> np.ndarray:
-        """Flat indices of up to ``size`` entries spread evenly over the atlas."""
+    def pool(self, size: int = OPEN_POOL, *, crank: bool = True, draw: int = 0) -> np.ndarray:
+        """Flat indices of up to ``size`` entries spread evenly over the atlas.
+
+        ``draw`` 1, 2, … shifts the pool along the atlas by a golden-ratio share
+        of its step (mod 1): each a different pool, spread as evenly.
+        """
         size = integer("size", size, minimum=1, maximum=10**9)
         crank = boolean("crank", crank)
-        key = (size, crank)
+        draw = integer("draw", draw, minimum=0, maximum=10**6)
+        key = (size, crank, draw)
         if key not in self._pools:  # the same pool every time: computed once
             allowed = np.flatnonzero(np.concatenate(self._crank)) if crank else np.arange(len(self))
             if allowed.size > size:
-                allowed = allowed[np.linspace(0, allowed.size - 1, size).astype(np.int64)]
+                if draw == 0:
+                    at = np.linspace(0, allowed.size - 1, size)
+                else:
+                    step = (allowed.size - 1) / max(size - 1, 1)
+                    at = np.arange(size) * step + (draw * 0.6180339887498949) % 1.0 * step
+                allowed = allowed[np.minimum(at, allowed.size - 1).astype(np.int64)]
             self._pools[key] = allowed
         return self._pools[key].copy()
 
@@ -464,22 +488,21 @@ def path_from_atlas(
                             refine_count, client, start)  # fmt: skip
     if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
         refine_count *= 4
-    if timing is None:
-        entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
-        count = max(1, refine_count // 4) if {6, 8} & fixed.keys() else refine_count
-        wide, placed = _retrieve_wide(atlas, pts, closed, crank, count)
-        entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
-        starts = [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
-    else:
-        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
-    t1 = time.perf_counter()
     options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,
                    pivot_box=pivot_box)  # fmt: skip
-    fits = _screened(starts, pts, options)
-    # the few best go on until they converge (the rest rarely overtake them)
-    for i in range(min(POLISH, len(fits))):
-        more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
-        fits[i] = more if more.rms <= fits[i].rms else fits[i]
+    if timing is None:
+        fits, t1 = _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client,
+                                 options)  # fmt: skip
+    else:
+        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
+        t1 = time.perf_counter()
+        fits = _screened(starts, pts, options)
+        # the few best go on until they converge (the rest rarely overtake them)
+        for i in range(min(POLISH, len(fits))):
+            more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
+            fits[i] = more if more.rms <= fits[i].rms else fits[i]
+            if fits[i].rms > UNTIMED_MET * size:  # a short arc's sloppy valley (valley.py)
+                fits[i] = polish(fits[i], pts, **options)
     results = []
     for fit in fits:
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
@@ -532,6 +555,71 @@ def _screened(starts, pts, options) -> list:
         fits[i] = more if more.rms <= f.rms else f
     fits.sort(key=lambda f: f.rms)
     return fits
+
+
+def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, options):
+    """Refined fits for untimed targets, best first, and the time retrieval ended.
+
+    Round 0: the entries nearest the target (:func:`_retrieve`) and the wide
+    rows (:func:`_retrieve_wide`). While no fit meets the targets to
+    :data:`UNTIMED_MET` of their size, up to :data:`UNTIMED_ROUNDS` − 1 more
+    rounds take a fresh pool of the atlas (:meth:`Atlas.pool`, ``round``) and
+    match the targets as an arc (a closed target opened at its widest gap: a
+    spline through unevenly spread points of a closed path can be far from the
+    curve between them, so its descriptor misleads the retrieval).
+    """
+    fixed = options["fixed"]
+    count = max(1, refine_count // 4) if {6, 8} & fixed.keys() else refine_count
+    entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
+    wide, placed = _retrieve_wide(atlas, pts, closed, crank, count)
+    entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
+    t1 = time.perf_counter()
+    fits, met = _polished_untimed(_screened(_untimed_starts(entries, transforms, pts), pts,
+                                            options), pts, options, UNTIMED_POLISH_MAX)  # fmt: skip
+    man = atlas.manifest
+    arc = pts
+    if closed:  # the targets as an arc: from the far side of the widest gap round to its near side
+        gap = int(np.argmax(np.abs(np.roll(pts, -1) - pts)))
+        arc = np.roll(pts, -(gap + 1))
+    for r in range(1, UNTIMED_ROUNDS):
+        if met:
+            break
+        rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank, draw=r))
+        curves = even_curves(rows, man.circuit_samples, man.samples)
+        entries, transforms = _arc_starts(rows, curves, arc, refine_count)
+        more, met = _polished_untimed(_screened(_untimed_starts(entries, transforms, pts), pts,
+                                                options), pts, options, POLISH, 100)  # fmt: skip
+        fits = sorted(fits + more, key=lambda f: f.rms)
+    return fits, t1
+
+
+def _untimed_starts(entries, transforms, pts) -> list:
+    return [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
+
+
+def _polished_untimed(fits, pts, options, most, nfev=400) -> tuple[list, bool]:
+    """The best fits polished down their valleys (:func:`~machdyn.synthesis.valley.polish`).
+
+    Untimed targets on a short arc make a sloppy problem whose exact fits lie at
+    the ends of long curved valleys. :data:`POLISH` fits are refined on (``nfev``
+    steps of :func:`refine`, which keeps the bounds) and then polished, and more
+    (up to ``most``) while none meets the targets to :data:`UNTIMED_MET` of
+    their size on one assembly. Returns the fits (best first) and whether one met.
+    """
+    size = float(np.max(np.abs(pts - pts.mean())))
+    fits = list(fits)
+    met = False
+    for i in range(min(most, len(fits))):
+        if i >= POLISH and met:
+            break
+        f = fits[i]
+        more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, **options)  # bounds kept
+        f = more if more.rms <= f.rms else f
+        if f.rms > UNTIMED_MET * size:
+            f = polish(f, pts, **options)
+        fits[i] = f
+        met = met or (f.rms <= UNTIMED_MET * size and np.ptp(f.branch) == 0)
+    return sorted(fits, key=lambda f: f.rms), met
 
 
 def _constraints(O2, theta1, absolute_timing, max_length, pivot_box, timing, atlas):
@@ -624,13 +712,89 @@ def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=N
         curves = even_curves(rows, man.circuit_samples, man.samples)
         transforms, residual = align_closed(even, curves)
     else:
-        idx = atlas.pool(OPEN_POOL, crank=crank)
-        rows = atlas.entries(idx)
-        curves = even_curves(rows, man.circuit_samples, man.samples)
-        target = interpolate_open(pts, 24)
-        transforms, residual = align_partial(target, curves)
+        rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank))
+        return _arc_starts(rows, even_curves(rows, man.circuit_samples, man.samples), pts,
+                           refine_count)  # fmt: skip
     order = np.argsort(residual)[:refine_count]
     return rows[order], transforms[order]
+
+
+def _arc_starts(rows, curves, pts, count):
+    """The ``count`` rows whose curves pass nearest an open target, and their placements.
+
+    Every curve is first fitted arc-wise (:func:`align_partial`), then the
+    :data:`RESCORE` best are re-fitted to the points themselves
+    (:func:`_fit_to_points`) and ranked by that.
+    """
+    # a coarse arc fit is enough to pick the curves to re-fit: every other sample (half
+    # the work of all 128)
+    target = interpolate_open(pts, 24)
+    transforms, residual = align_partial(target, curves[:, ::ARC_STRIDE])
+    order = np.argsort(residual)[:RESCORE]
+    rows, transforms = rows[order], transforms[order]
+    transforms, miss = _fit_to_points(rows, transforms, pts)
+    order = np.argsort(miss)[:count]
+    return rows[order], transforms[order]
+
+
+def _fit_to_points(rows, transforms, pts, rounds: int = ICP_ROUNDS):
+    """Placements ``(h, t)`` of atlas curves re-fitted to the target points themselves.
+
+    :func:`~machdyn.synthesis.descriptor.align_partial` matches evenly spaced
+    samples of the target's spline to evenly spaced samples of an arc whose
+    extent is one of a few fractions of the curve: its misfit has a floor of
+    about 1.5 % of the size, below which it cannot rank entries (measured on
+    open arcs: the entries nearest the exact linkage score no better than
+    hundreds of others). Here each target is matched to its nearest point of
+    the placed curve (on the segment between two of :data:`DENSE` samples), the
+    rotation, scale and offset are re-fitted to those pairs (closed form), and
+    this is repeated ``rounds`` times (iterative closest point).
+
+    Returns the new transforms (N, 2) and the RMS point-to-curve misses over
+    the size (N,).
+    """
+    f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
+    Q, _ = circuit_points(f["r1"], 1.0, f["r3"], f["r4"], f["p"], f["delta"],
+                          rows["circuit"].astype(float), DENSE)  # fmt: skip
+    Q = np.where(np.isfinite(Q), Q, np.inf)
+    size = float(np.max(np.abs(pts - pts.mean())))
+    a0 = pts - pts.mean()
+    h, t = transforms[:, 0].copy(), transforms[:, 1].copy()
+    for _ in range(rounds):
+        near = _nearest_on(Q, h, t, pts)  # (N, K) in the curves' own frames
+        bm = near.mean(axis=1, keepdims=True)
+        b0 = near - bm
+        v = np.sum(np.abs(b0) ** 2, axis=1)
+        hn = np.sum(np.conj(b0) * a0[None, :], axis=1) / np.where(v > 0, v, np.inf)
+        good = np.isfinite(hn) & (hn != 0)
+        h, t = np.where(good, hn, h), np.where(good, pts.mean() - hn * bm[:, 0], t)
+    near, i = _nearest_on(Q, h, t, pts, index=True)
+    miss = np.sqrt(np.mean(np.abs(t[:, None] + h[:, None] * near - pts[None, :]) ** 2, axis=1))
+    miss = np.where(np.isfinite(miss), miss / size, np.inf)
+    # a rocker's circuit runs on both assemblies (sign of sin u): targets met on both
+    # need a pass through a toggle, a branch defect that no refinement mends: last
+    side = np.sign(np.sin(2 * np.pi * i / DENSE))
+    mixed = (rows["barker"] > 2) & (np.ptp(side, axis=1) > 0)
+    return np.column_stack([h, t]), np.where(mixed, miss + 1.0, miss)
+
+
+def _nearest_on(Q, h, t, pts, index=False):
+    """Nearest point to each target of each polygon ``t + h·Q`` (N, M), in Q's frame (N, K).
+
+    ``index``: also return the nearest sample of each (N, K).
+    """
+    w = (pts[None, :] - t[:, None]) / np.where(h != 0, h, 1.0)[:, None]  # (N, K)
+    n = np.arange(Q.shape[0])[:, None]
+    i = np.argmin(np.abs(Q[:, None, :] - w[:, :, None]), axis=2)  # nearest sample (N, K)
+    m = Q.shape[1]
+    best = Q[n, i]
+    for a, b in ((Q[n, i], Q[n, (i + 1) % m]), (Q[n, (i - 1) % m], Q[n, i])):  # its two edges
+        seg = b - a
+        den = np.where(np.abs(seg) > 0, np.abs(seg) ** 2, np.inf)
+        u = np.clip(np.real((w - a) * np.conj(seg)) / den, 0.0, 1.0)
+        c = a + u * seg
+        best = np.where(np.abs(w - c) < np.abs(w - best), c, best)
+    return (best, i) if index else best
 
 
 @functools.lru_cache(maxsize=2)
@@ -657,11 +821,10 @@ def _retrieve_wide(atlas: Atlas, pts, closed, crank, refine_count):
     man = atlas.manifest
     rows = _wide_rows(crank)
     curves = _wide_curves(crank, man.circuit_samples, man.samples)
-    if closed:
-        even = resample_closed(interpolate_closed(pts, 8 * man.samples), man.samples)
-        transforms, residual = align_closed(even, curves)
-    else:
-        transforms, residual = align_partial(interpolate_open(pts, 24), curves)
+    if not closed:
+        return _arc_starts(rows, curves, pts, refine_count)
+    even = resample_closed(interpolate_closed(pts, 8 * man.samples), man.samples)
+    transforms, residual = align_closed(even, curves)
     order = np.argsort(residual)[:refine_count]
     return rows[order], transforms[order]
 
