@@ -359,7 +359,9 @@ def main() -> None:
     at = open_atlas(args.atlas, verify=False)
     print(f"atlas: {len(at):,} entries; load average {os.getloadavg()[0]:.2f} "
           f"on {os.cpu_count()} CPUs")  # fmt: skip
-    path_from_atlas(load_cases()["case5"]["targets"][:-1], at, n=1)  # warm-up (imports)
+    warm = load_cases()["case5"]["targets"][:-1]
+    path_from_atlas(warm, at, n=1)  # warm-up (imports, compiled kernels), untimed and timed
+    path_from_atlas(warm, at, n=1, timing=np.radians(20.0) * np.arange(warm.size))
     seeds = list(range(args.seed, args.seed + max(1, args.seeds)))
     wanted = [c for c in args.cases.split(",") if c]
     for name, case in load_cases().items():

@@ -547,13 +547,15 @@ def _screened(starts, pts, options) -> list:
     polished to convergence afterwards); this halves the refinement time of a query
     with many starts (prescribed timing or placement: four times :data:`REFINE`).
     """
-    fits = [refine(*first, pts, max_nfev=SCREEN_NFEV, **options)
+    solver = "lm" if options.get("timing") is not None else "trf"
+    fits = [refine(*first, pts, max_nfev=SCREEN_NFEV, solver=solver, **options)
             for first in starts if first is not None]  # fmt: skip
     fits.sort(key=lambda f: f.rms)
     keep = max(REFINE, int(np.ceil(SCREEN_KEEP * len(fits))))
     for i in range(min(keep, len(fits))):
         f = fits[i]
-        more = refine(f.x, f.theta, f.branch, pts, max_nfev=REFINE_NFEV - SCREEN_NFEV, **options)
+        more = refine(f.x, f.theta, f.branch, pts, max_nfev=REFINE_NFEV - SCREEN_NFEV,
+                      solver=solver, **options)  # fmt: skip
         fits[i] = more if more.rms <= f.rms else f
     fits.sort(key=lambda f: f.rms)
     return fits

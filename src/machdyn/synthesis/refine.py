@@ -113,9 +113,13 @@ def coupler_and_jacobian(
 
 def _constraints(lengths: np.ndarray, cos_mu: float, crank: bool, scale: float) -> np.ndarray:
     """Violations (≥ 0) of the crank and transmission-angle requirements, dimensionless."""
-    r1, r2, r3, r4 = lengths
     if not crank:
         return np.zeros(0)
+    return np.array(_violations(*(float(v) for v in lengths), cos_mu, scale))
+
+
+def _violations(r1: float, r2: float, r3: float, r4: float, cos_mu: float, scale: float) -> list:
+    """:func:`_constraints` on plain floats (the Jacobian's differences call it 8 times)."""
     out = [
         max(0.0, abs(r3 - r4) - abs(r1 - r2)) / scale,
         max(0.0, r1 + r2 - r3 - r4) / scale,
@@ -123,19 +127,21 @@ def _constraints(lengths: np.ndarray, cos_mu: float, crank: bool, scale: float) 
     for dgl in (abs(r1 - r2), r1 + r2):
         c = (r3 * r3 + r4 * r4 - dgl * dgl) / (2.0 * r3 * r4)
         out.append(max(0.0, abs(c) - cos_mu))
-    return np.array(out)
+    return out
 
 
 def _constraint_slopes(lengths: np.ndarray, cos_mu: float, scale: float) -> np.ndarray:
     """Central differences (4 × 4) of :func:`_constraints` in the lengths (crank required)."""
     h = 1e-7 * scale
+    base = [float(v) for v in lengths]
     out = np.empty((4, 4))
     for j in range(4):
-        e = np.zeros(4)
-        e[j] = h
-        hi = _constraints(lengths + e, cos_mu, True, scale)
-        lo = _constraints(lengths - e, cos_mu, True, scale)
-        out[:, j] = (hi - lo) / (2 * h)
+        up, down = base.copy(), base.copy()
+        up[j] += h
+        down[j] -= h
+        hi = _violations(*up, cos_mu, scale)
+        lo = _violations(*down, cos_mu, scale)
+        out[:, j] = [(a - b) / (2 * h) for a, b in zip(hi, lo, strict=True)]
     return out
 
 
@@ -161,6 +167,65 @@ def _evaluator(compiled: bool | None):
     return evaluate
 
 
+def _levenberg_marquardt(z, free, lo, hi, max_nfev, problem) -> int:
+    """Levenberg–Marquardt within bounds, in place on ``z``; the status (0: out of steps).
+
+    ``problem(z) → (r, J)``. Marquardt's scaling (the largest column norms of J
+    seen so far) and Nielsen's damping update; a variable at a bound whose
+    gradient points out of the box is held for the step, and the step is cut
+    back onto the box. Each evaluation counts against ``max_nfev``. Status 1: no
+    gradient left; 2: relative decrease of the cost below :data:`_TOL`; 3: step
+    below it (or the damping beyond any use).
+    """
+    r, J = problem(z)
+    cost = 0.5 * float(r @ r)
+    if not np.isfinite(cost):
+        return 0
+    D2 = np.zeros(z.size)
+    lam, nu, nfev = 1e-3, 2.0, 1
+    while nfev < max_nfev:
+        g = J.T @ r
+        A = J.T @ J
+        D2 = np.maximum(D2, np.diag(A))
+        act = free & ~((z <= lo) & (g > 0)) & ~((z >= hi) & (g < 0))
+        if not np.any(act) or not np.max(np.abs(g[act])) > 0.0:
+            return 1
+        M = A + np.diag(lam * np.maximum(D2, 1e-24 * max(float(np.max(D2)), 1e-300)))
+        M[~act, :] = 0.0
+        M[:, ~act] = 0.0
+        M[~act, ~act] = 1.0
+        try:
+            step = np.linalg.solve(M, np.where(act, -g, 0.0))
+        except np.linalg.LinAlgError:
+            return 0
+        trial = np.where(free, np.clip(z + step, lo, hi), z)
+        p = trial - z
+        pred = -(float(g @ p) + 0.5 * float(p @ A @ p))
+        r_new, J_new = problem(trial)
+        nfev += 1
+        cost_new = 0.5 * float(r_new @ r_new)
+        actual = cost - cost_new if np.isfinite(cost_new) else -np.inf
+        if pred > 0 and actual > 1e-4 * pred:
+            z[:] = trial
+            r, J, old, cost = r_new, J_new, cost, cost_new
+            lam *= max(1.0 / 3.0, 1.0 - (2.0 * actual / pred - 1.0) ** 3)
+            nu = 2.0
+            if actual <= _TOL * old:
+                return 2
+            if np.sqrt(p @ p) <= _TOL * (_TOL + np.sqrt(z @ z)):
+                return 3
+        else:
+            lam *= nu
+            nu *= 2.0
+            if lam > 1e20:
+                return 3
+    return 0
+
+
+#: Convergence tolerances of the refinement (scipy's xtol, ftol, gtol; the LM's too).
+_TOL = 1e-13
+
+
 def refine(
     x0: np.ndarray,
     theta0: np.ndarray,
@@ -176,6 +241,7 @@ def refine(
     pivot_box: tuple[float, float, float, float] | None = None,
     weight: float = _W_CONSTRAINT,
     compiled: bool | None = None,
+    solver: str = "trf",
 ) -> Refined:
     """Refine a placed four-bar so its coupler curve passes through ``targets``.
 
@@ -207,6 +273,10 @@ def refine(
         Evaluate the coupler points and their derivatives with the compiled
         kernel (:func:`machdyn.synthesis._atlas_kernels.coupler_jacobian`);
         None: when :mod:`machdyn.jit` has the compiled kernels loaded.
+    solver : {"trf", "lm"}
+        scipy's trust-region reflective least squares, or this module's
+        Levenberg–Marquardt (:func:`_levenberg_marquardt`: several times less
+        overhead per step; the synthesis screens timed starts with it).
 
     Examples
     --------
@@ -281,15 +351,20 @@ def refine(
         z[free] = y
         return z
 
-    try:
-        sol = least_squares(
-            lambda y: residual(full(y)), z0[free], jac=lambda y: jacobian(full(y))[:, free],
-            bounds=(lo[free], hi[free]), method="trf", x_scale="jac",
-            max_nfev=max_nfev, xtol=1e-13, ftol=1e-13, gtol=1e-13,
-        )  # fmt: skip
-        z, ok = full(sol.x), bool(sol.status > 0)
-    except (ValueError, np.linalg.LinAlgError):
-        z, ok = z0, False
+    if solver == "lm":
+        z = z0.copy()
+        problem = lambda z: (residual(z), jacobian(z))  # noqa: E731
+        ok = _levenberg_marquardt(z, free, lo, hi, max_nfev, problem) > 0
+    else:
+        try:
+            sol = least_squares(
+                lambda y: residual(full(y)), z0[free], jac=lambda y: jacobian(full(y))[:, free],
+                bounds=(lo[free], hi[free]), method="trf", x_scale="jac",
+                max_nfev=max_nfev, xtol=_TOL, ftol=_TOL, gtol=_TOL,
+            )  # fmt: skip
+            z, ok = full(sol.x), bool(sol.status > 0)
+        except (ValueError, np.linalg.LinAlgError):
+            z, ok = z0, False
     G = at(z)[0]
     rms = float(np.sqrt(np.mean(np.abs(G - targets) ** 2)))
     return Refined(z[:9].copy(), np.asarray(angles(z), dtype=float), branch, rms, ok)
