@@ -507,6 +507,20 @@ def path_from_atlas(
             fits[i] = more if more.rms <= fits[i].rms else fits[i]
             if fits[i].rms > UNTIMED_MET * size:  # a short arc's sloppy valley (valley.py)
                 fits[i] = polish(fits[i], pts, **options)
+        fits.sort(key=lambda f: f.rms)
+        # an open arc met by no start: fresh pools of the atlas (a closed timed target's
+        # nearest entries by shape are already in; an arc's are not)
+        for r in range(1, TIMED_ROUNDS if not closed else 1):
+            if fits and fits[0].rms <= UNTIMED_MET * size:
+                break
+            rows = atlas.entries(atlas.pool(TIMED_POOL, crank=True, draw=r))
+            more = _screened(_timed_starts(rows, pts, timing, refine_count, fixed), pts, options)
+            for i in range(min(POLISH, len(more))):
+                m = refine(more[i].x, more[i].theta, more[i].branch, pts, max_nfev=400, **options)
+                more[i] = m if m.rms <= more[i].rms else more[i]
+                if more[i].rms > UNTIMED_MET * size:
+                    more[i] = polish(more[i], pts, **options)
+            fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     for fit in fits:
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
@@ -870,6 +884,8 @@ def _start_untimed(row, tr, pts):
 
 #: Entries scanned for timed targets, and crank angles tried for the first target.
 TIMED_POOL = 5_000
+#: Timed open targets: most rounds of retrieval (each a fresh pool) while none is met.
+TIMED_ROUNDS = 2
 TIMED_GRID = 60
 
 
