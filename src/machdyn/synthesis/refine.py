@@ -226,6 +226,55 @@ def _levenberg_marquardt(z, free, lo, hi, max_nfev, problem) -> int:
 _TOL = 1e-13
 
 
+def _problem(targets, branch, timing, crank: bool, cos_mu: float, scale: float, weight: float,
+             compiled: bool | None):  # fmt: skip
+    """The refinement's unknowns → angles, residuals, Jacobian and the evaluation (cached).
+
+    Unknowns ``z``: the nine design numbers, then ``θ0`` (with ``timing``: the
+    angles are ``θ0 + Δ_k``) or each target's ``θ_k``. Rows: the misses over the
+    size (x, then y), the assembly penalty, and with ``crank`` the crank and
+    transmission-angle violations, weighted by ``weight``. The Jacobian has a
+    column for every unknown (select the free ones).
+    """
+    k = targets.size
+    timed = timing is not None
+
+    def angles(z: np.ndarray) -> np.ndarray:
+        return z[9] + timing if timed else z[9:]
+
+    evaluate = _evaluator(compiled)
+    last: list = [None, None]  # the design last evaluated and its values (trf asks twice)
+
+    def at(z: np.ndarray):
+        if last[0] is None or not np.array_equal(last[0], z):
+            last[0], last[1] = z.copy(), evaluate(z[:9], angles(z), branch)
+        return last[1]
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        G, _, _, excess = at(z)
+        d = (G - targets) / scale
+        pen = weight * np.maximum(excess, 0.0)
+        con = weight * _constraints(z[:4], cos_mu, crank, scale)
+        return np.concatenate([d.real, d.imag, pen, con])
+
+    rows = np.arange(k)
+
+    def jacobian(z: np.ndarray) -> np.ndarray:
+        _, J, jt, _ = at(z)
+        out = np.zeros((3 * k + (4 if crank else 0), z.size))
+        out[:k, :9], out[k : 2 * k, :9] = J.real / scale, J.imag / scale
+        if timed:
+            out[:k, 9], out[k : 2 * k, 9] = jt.real / scale, jt.imag / scale
+        else:
+            out[rows, 9 + rows], out[k + rows, 9 + rows] = jt.real / scale, jt.imag / scale
+        # rows of the crank and transmission-angle constraints: by differences (rarely active)
+        if crank:
+            out[3 * k :, :4] = weight * _constraint_slopes(z[:4], cos_mu, scale)
+        return out
+
+    return angles, residual, jacobian, at
+
+
 def refine(
     x0: np.ndarray,
     theta0: np.ndarray,
@@ -299,38 +348,8 @@ def refine(
     nvar = 9 + (1 if timed else k)
     z0 = np.concatenate([x0, [theta0[0] - timing[0]] if timed else theta0])
 
-    def angles(z: np.ndarray) -> np.ndarray:
-        return z[9] + timing if timed else z[9:]
-
-    evaluate = _evaluator(compiled)
-    last: list = [None, None]  # the design last evaluated and its values (trf asks twice)
-
-    def at(z: np.ndarray):
-        if last[0] is None or not np.array_equal(last[0], z):
-            last[0], last[1] = z.copy(), evaluate(z[:9], angles(z), branch)
-        return last[1]
-
-    def residual(z: np.ndarray) -> np.ndarray:
-        G, _, _, excess = at(z)
-        d = (G - targets) / scale
-        pen = weight * np.maximum(excess, 0.0)
-        con = weight * _constraints(z[:4], cos_mu, crank, scale)
-        return np.concatenate([d.real, d.imag, pen, con])
-
-    rows = np.arange(k)
-
-    def jacobian(z: np.ndarray) -> np.ndarray:
-        _, J, jt, _ = at(z)
-        out = np.zeros((2 * k + k + (4 if crank else 0), nvar))
-        out[:k, :9], out[k : 2 * k, :9] = J.real / scale, J.imag / scale
-        if timed:
-            out[:k, 9], out[k : 2 * k, 9] = jt.real / scale, jt.imag / scale
-        else:
-            out[rows, 9 + rows], out[k + rows, 9 + rows] = jt.real / scale, jt.imag / scale
-        # rows of the crank and transmission-angle constraints: by differences (rarely active)
-        if crank:
-            out[3 * k :, :4] = weight * _constraint_slopes(z[:4], cos_mu, scale)
-        return out
+    angles, residual, jacobian, at = _problem(targets, branch, timing, crank, cos_mu, scale,
+                                              weight, compiled)  # fmt: skip
 
     lo = np.full(nvar, -np.inf)
     lo[:4] = 1e-6 * scale

@@ -32,9 +32,7 @@ import numpy as np
 from .refine import (
     _W_CONSTRAINT,
     Refined,
-    _constraint_slopes,
-    _constraints,
-    _evaluator,
+    _problem,
     coupler_and_jacobian,
 )
 
@@ -92,36 +90,11 @@ def polish(
         free[i] = False
         z[i] = value
 
-    def angles(z: np.ndarray) -> np.ndarray:
-        return z[9] + timing if timed else z[9:]
-
-    evaluate = _evaluator(None)  # the compiled kernel when loaded
-    last: list = [None, None]  # the point last evaluated and its values
-
-    def at(z: np.ndarray):
-        if last[0] is None or not np.array_equal(last[0], z):
-            last[0], last[1] = z.copy(), evaluate(z[:9], angles(z), branch)
-        return last[1]
-
-    def residual(z: np.ndarray) -> np.ndarray:
-        G, _, _, excess = at(z)
-        d = (G - targets) / scale
-        pen = _W_CONSTRAINT * np.maximum(excess, 0.0)
-        con = _W_CONSTRAINT * _constraints(z[:4], cos_mu, crank, scale)
-        return np.concatenate([d.real, d.imag, pen, con])
+    angles, residual, full_jacobian, _ = _problem(targets, branch, timing, crank, cos_mu, scale,
+                                                  _W_CONSTRAINT, None)  # fmt: skip
 
     def jacobian(z: np.ndarray) -> np.ndarray:
-        _, J, jt, _ = at(z)
-        out = np.zeros((3 * k + (4 if crank else 0), z.size))
-        out[:k, :9], out[k : 2 * k, :9] = J.real / scale, J.imag / scale
-        if timed:
-            out[:k, 9], out[k : 2 * k, 9] = jt.real / scale, jt.imag / scale
-        else:
-            idx = np.arange(k)
-            out[idx, 9 + idx], out[k + idx, 9 + idx] = jt.real / scale, jt.imag / scale
-        if crank:  # the crank rows by central differences (as refine does)
-            out[3 * k :, :4] = _W_CONSTRAINT * _constraint_slopes(z[:4], cos_mu, scale)
-        return out[:, free]
+        return full_jacobian(z)[:, free]
 
     def allowed(z: np.ndarray) -> bool:
         if np.any(z[:4] <= 0.0) or z[4] < 0.0:
