@@ -168,3 +168,19 @@ def test_coulomb_wedging_of_two_sliders_is_each_slider_cranks_own():
     good = f.ok
     assert good.sum() > theta.size // 3
     np.testing.assert_allclose(f.driver["crank"][good], (one.T12 + two.T12)[good], rtol=1e-9)
+
+
+def test_coulomb_friction_at_rest_with_no_acceleration_is_the_frictionless_answer():
+    """Standing still (ω2 = 0, α2 = 0) no slip is impending from the motion, so the guide's
+    friction is zero and the forces are the frictionless ones — also where the normal
+    force is negative (the block pressed on the guide's other side), which every set of
+    signs must then accept rather than call self-locking."""
+    lk, _ = issue_slider_crank()
+    theta = np.radians([30.0, 60.0, 120.0, 200.0, 300.0])
+    m = lk.solve(theta, velocity=0.0)
+    load = [("block", "B", -50.0)]
+    f = lk.forces(m, gravity=9.81, coulomb={"guide": 0.3}, external_forces=load)
+    smooth = lk.forces(m, gravity=9.81, external_forces=load)
+    assert f.ok.all() and (smooth.normal["guide"] < 0).any()
+    np.testing.assert_allclose(f.driver["crank"], smooth.driver["crank"], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(f.sliders["guide"], smooth.sliders["guide"], rtol=1e-12, atol=1e-12)

@@ -559,12 +559,22 @@ def _forces(
         slides = [np.abs(flat(np.nan_to_num(r))) for r in motion.length_rate.values()]
         return length * np.max(rates, axis=0) + np.max([np.zeros(n_s), *slides], axis=0)
 
-    def consistent(x_: np.ndarray, signs: Mapping[str, np.ndarray]) -> np.ndarray:
-        """Samples where each slider's normal force has the sign its friction was given."""
+    def normal(x_: np.ndarray, m: str) -> np.ndarray:
+        return x_[:, labels.index(("normal", m))]
+
+    def sign_of(N: np.ndarray) -> np.ndarray:
+        return np.where(N < 0, -1.0, 1.0)
+
+    def consistent(x_: np.ndarray, signs: Mapping[str, np.ndarray], idle) -> np.ndarray:
+        """Samples where each slider's normal force has the sign its friction was given.
+
+        ``idle[m]``: the samples where slider ``m`` has no friction (μ = 0, or at rest
+        with no acceleration): any sign of its normal force agrees there.
+        """
         agree = np.ones(n_s, bool)
         for m, s_m in signs.items():
-            N = x_[:, labels.index(("normal", m))]
-            agree &= (np.where(N < 0, -1.0, 1.0) == s_m) & np.isfinite(N)
+            N = normal(x_, m)
+            agree &= ((sign_of(N) == s_m) | idle[m]) & np.isfinite(N)
         return agree
 
     def every_sign(slipping: Mapping[str, tuple], singular: np.ndarray) -> tuple:
@@ -575,7 +585,7 @@ def _forces(
         friction vanishes (μ = 0, or at rest with no acceleration) counts with + only.
         """
         names = [m for m, (mu, _) in slipping.items() if mu]
-        live = {m: slipping[m][1] != 0 for m in names}
+        idle = {m: slipping[m][1] == 0 for m in names}
         count = np.zeros(n_s, int)
         x_one = np.full((n_s, n_eq), np.nan)
         singular_one = np.zeros(n_s, bool)
@@ -584,9 +594,9 @@ def _forces(
             signs = {m: np.full(n_s, p) for m, p in zip(names, pattern, strict=True)}
             build({m: -mu * signs.get(m, 1.0) * sv for m, (mu, sv) in slipping.items()})
             x_p, singular_p = solve_system()
-            agree = consistent(x_p, signs)
+            agree = consistent(x_p, signs, idle)
             for m, p in zip(names, pattern, strict=True):
-                agree &= live[m] | (p > 0)  # no friction there: the sign is no choice
+                agree &= ~idle[m] | (p > 0)  # no friction there: the sign is no choice
             count += agree
             x_one[agree] = x_p[agree]
             singular_one[agree] = singular_p[agree]
@@ -604,6 +614,7 @@ def _forces(
         iteration does; a sample wedges where those signs all agree.
         """
         wedged = np.zeros(n_s, bool)
+        idle = {m: (sv_m == 0) | (mu_m == 0) for m, (mu_m, sv_m) in slipping.items()}
         for n, (mu, sv) in slipping.items():
             if not mu:
                 continue
@@ -612,12 +623,10 @@ def _forces(
             for _ in range(8):
                 build({m: -mu_m * other[m] * sv_m for m, (mu_m, sv_m) in slipping.items()})
                 x_other, _ = solve_system()
-                agree = consistent(x_other, other) & (sv != 0)
-                agree &= x_other[:, labels.index(("normal", n))] != 0
+                agree = consistent(x_other, other, idle) & (sv != 0) & (normal(x_other, n) != 0)
                 for m in slipping:
                     if m != n:
-                        N = x_other[:, labels.index(("normal", m))]
-                        other[m] = np.where(N < 0, -1.0, 1.0)
+                        other[m] = sign_of(normal(x_other, m))
                 if agree.all():
                     break
             wedged |= agree
@@ -647,15 +656,15 @@ def _forces(
     elif slipping:
         # the sign of N is unknown beforehand: start from the smooth solution and
         # re-solve with the signs found until they agree (the notes' ±μN)
-        sign_n = {n: np.where(x[:, labels.index(("normal", n))] < 0, -1.0, 1.0) for n in slipping}
+        sign_n = {n: sign_of(normal(x, n)) for n in slipping}
         for _ in range(8):
             kappa = {n: -mu * sign_n[n] * sv for n, (mu, sv) in slipping.items()}
             build(kappa)
             x, singular = solve_system()
             friction_bad[:] = False
             for n in slipping:
-                N = x[:, labels.index(("normal", n))]
-                new = np.where(N < 0, -1.0, 1.0)
+                N = normal(x, n)
+                new = sign_of(N)
                 wrong = (new != sign_n[n]) & np.isfinite(N) & (np.abs(N) > 0)
                 friction_bad |= wrong
                 sign_n[n] = new
