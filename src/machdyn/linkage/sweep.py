@@ -349,11 +349,13 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
             n = 720
             up = t0 + np.linspace(0.0, period, n, endpoint=False)
             down = t0 - np.linspace(0.0, period, n, endpoint=False)
+            bad_up = failing(up).any(axis=0)
+            bad_down = np.roll(bad_up[::-1], 1)  # down[k] is up[n - k] less a turn
         else:  # ±10 typical lengths each way
             n = 721
             up = t0 + np.linspace(0.0, 10.0 * float(info.scale[0]), n)
             down = t0 - np.linspace(0.0, 10.0 * float(info.scale[0]), n)
-        bad_up, bad_down = failing(up).any(axis=0), failing(down).any(axis=0)
+            bad_up, bad_down = failing(up).any(axis=0), failing(down).any(axis=0)
         if (bad_up.any() or bad_down.any()) and not bad_up[0]:
             ends, group = [], None
             for x, bad in ((up, bad_up), (down, bad_down)):
