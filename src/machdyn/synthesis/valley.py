@@ -29,12 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .refine import (
-    _W_CONSTRAINT,
-    Refined,
-    _problem,
-    coupler_and_jacobian,
-)
+from .refine import _W_CONSTRAINT, Refined, _problem
 
 # Internal to machdyn.synthesis (used by path_from_atlas).
 __all__: list[str] = []
@@ -90,8 +85,8 @@ def polish(
         free[i] = False
         z[i] = value
 
-    angles, residual, full_jacobian, _ = _problem(targets, branch, timing, crank, cos_mu, scale,
-                                                  _W_CONSTRAINT, None)  # fmt: skip
+    angles, residual, full_jacobian, at = _problem(targets, branch, timing, crank, cos_mu, scale,
+                                                   _W_CONSTRAINT, None)  # fmt: skip
 
     def jacobian(z: np.ndarray) -> np.ndarray:
         return full_jacobian(z)[:, free]
@@ -107,7 +102,7 @@ def polish(
         return True
 
     z = _descend(z, free, residual, jacobian, allowed, iterations, 2 * k)
-    G = coupler_and_jacobian(z[:9], angles(z), branch)[0]
+    G = at(z)[0]  # (the evaluation the last step made)
     rms = float(np.sqrt(np.mean(np.abs(G - targets) ** 2)))
     if not rms < fit.rms:
         return fit
