@@ -90,7 +90,7 @@ SIXBAR_LONG = (2, 6000)
 #: A six-bar whose RMS distance is below this share of the size meets the targets.
 SIXBAR_MET = 1e-12
 #: Untimed targets: most fits polished while none meets the targets to this share of
-#: their size (see _polished_untimed).
+#: their size (see _polished).
 UNTIMED_POLISH_MAX = 4
 UNTIMED_MET = 1e-9
 #: Untimed targets: most rounds of retrieval (each a fresh pool) while none is met.
@@ -500,26 +500,16 @@ def path_from_atlas(
     else:
         starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
         t1 = time.perf_counter()
-        fits = _screened(starts, pts, options)
         # the few best go on until they converge (the rest rarely overtake them)
-        for i in range(min(POLISH, len(fits))):
-            more = refine(fits[i].x, fits[i].theta, fits[i].branch, pts, max_nfev=400, **options)
-            fits[i] = more if more.rms <= fits[i].rms else fits[i]
-            if fits[i].rms > UNTIMED_MET * size:  # a short arc's sloppy valley (valley.py)
-                fits[i] = polish(fits[i], pts, **options)
-        fits.sort(key=lambda f: f.rms)
+        fits, met = _polished(_screened(starts, pts, options), pts, options, POLISH)
         # an open arc met by no start: fresh pools of the atlas (a closed timed target's
         # nearest entries by shape are already in; an arc's are not)
         for r in range(1, TIMED_ROUNDS if not closed else 1):
-            if fits and fits[0].rms <= UNTIMED_MET * size:
+            if met:
                 break
             rows = atlas.entries(atlas.pool(TIMED_POOL, crank=True, draw=r))
             more = _screened(_timed_starts(rows, pts, timing, refine_count, fixed), pts, options)
-            for i in range(min(POLISH, len(more))):
-                m = refine(more[i].x, more[i].theta, more[i].branch, pts, max_nfev=400, **options)
-                more[i] = m if m.rms <= more[i].rms else more[i]
-                if more[i].rms > UNTIMED_MET * size:
-                    more[i] = polish(more[i], pts, **options)
+            more, met = _polished(more, pts, options, POLISH)
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     for fit in fits:
@@ -592,7 +582,7 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     wide, placed = _retrieve_wide(atlas, pts, closed, crank, count)
     entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
     t1 = time.perf_counter()
-    fits, met = _polished_untimed(_screened(_untimed_starts(entries, transforms, pts), pts,
+    fits, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
                                             options), pts, options, UNTIMED_POLISH_MAX)  # fmt: skip
     man = atlas.manifest
     arc = pts
@@ -605,7 +595,7 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
         rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank, draw=r))
         curves = even_curves(rows, man.circuit_samples, man.samples)
         entries, transforms = _arc_starts(rows, curves, arc, refine_count)
-        more, met = _polished_untimed(_screened(_untimed_starts(entries, transforms, pts), pts,
+        more, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
                                                 options), pts, options, POLISH, 100)  # fmt: skip
         fits = sorted(fits + more, key=lambda f: f.rms)
     return fits, t1
@@ -615,11 +605,11 @@ def _untimed_starts(entries, transforms, pts) -> list:
     return [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
 
 
-def _polished_untimed(fits, pts, options, most, nfev=400) -> tuple[list, bool]:
+def _polished(fits, pts, options, most, nfev=400) -> tuple[list, bool]:
     """The best fits polished down their valleys (:func:`~machdyn.synthesis.valley.polish`).
 
-    Untimed targets on a short arc make a sloppy problem whose exact fits lie at
-    the ends of long curved valleys. :data:`POLISH` fits are refined on (``nfev``
+    Targets on a short arc (untimed above all) make a sloppy problem whose exact
+    fits lie at the ends of long curved valleys. :data:`POLISH` fits are refined on (``nfev``
     steps of :func:`refine`, which keeps the bounds) and then polished, and more
     (up to ``most``) while none meets the targets to :data:`UNTIMED_MET` of
     their size on one assembly. Returns the fits (best first) and whether one met.
