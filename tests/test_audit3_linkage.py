@@ -128,23 +128,28 @@ def test_sensitivity_and_tolerance_of_the_drawn_linkage_refuse_the_other_circuit
     assert mc.failed == 0
 
 
-def test_a_slider_crank_with_a_long_crank_keeps_to_its_arc():
-    # crank a = 2 longer than the rod b = 1 on a slide through O2: the rod reaches the slide
-    # for |a sin θ| ≤ b, two arcs (around 0° and around 180°): the other one is the other
-    # circuit. Drawn at θ = 10°.
-    a, b = 2.0, 1.0
-    t0 = math.radians(10.0)
+def in_line_slider_crank(a: float, b: float, t0: float, driver: str) -> Linkage:
+    """Crank ``a``, rod ``b``, block on a slide along x through O2, drawn at crank angle
+    ``t0`` with the block right of the crank pin; driven at ``driver`` (crank or guide)."""
     A = a * np.exp(1j * t0)
     x = a * math.cos(t0) + math.sqrt(b * b - (a * math.sin(t0)) ** 2)
-    lk = (
+    return (
         Linkage({"O2": 0j, "A": A, "B": x + 0j})
         .ground("O2")
         .link("crank", "O2", "A")
         .link("rod", "A", "B")
         .link("block", "B")
         .slider("block", "ground", "B", 0.0, name="guide")
-        .drive("crank")
+        .drive(driver)
     )
+
+
+def test_a_slider_crank_with_a_long_crank_keeps_to_its_arc():
+    # crank a = 2 longer than the rod b = 1 on a slide through O2: the rod reaches the slide
+    # for |a sin θ| ≤ b, two arcs (around 0° and around 180°): the other one is the other
+    # circuit. Drawn at θ = 10°.
+    a, b = 2.0, 1.0
+    lk = in_line_slider_crank(a, b, math.radians(10.0), "crank")
     edge = math.degrees(math.asin(b / a))  # 30°
     th = np.radians([0.0, 20.0, edge + 5, 180.0, 200.0])
     m = lk.solve(th)
@@ -158,18 +163,8 @@ def test_a_slider_crank_with_a_long_crank_keeps_to_its_arc():
 def test_a_slider_driven_slider_crank_keeps_its_block_on_the_drawn_side():
     # driven at the block, d ∈ [b − a, a + b] = [0.15, 0.25] on the drawn side; at d = −0.2
     # the dyad closes again (the crank turned over, the block left of O2): the other circuit
-    a, b, t0 = 0.05, 0.2, 1.2
-    A = a * np.exp(1j * t0)
-    x = a * math.cos(t0) + math.sqrt(b * b - (a * math.sin(t0)) ** 2)
-    lk = (
-        Linkage({"O2": 0j, "A": A, "B": x + 0j})
-        .ground("O2")
-        .link("crank", "O2", "A")
-        .link("rod", "A", "B")
-        .link("piston", "B")
-        .slider("piston", "ground", "B", direction=0.0, name="guide")
-        .drive("guide")
-    )
+    a, b = 0.05, 0.2
+    lk = in_line_slider_crank(a, b, 1.2, "guide")
     d = np.array([0.2, 0.1, -0.2, 0.16, 0.249])
     m = lk.solve(d)
     assert m.ok.tolist() == [True, False, False, True, True]
