@@ -38,6 +38,17 @@ def browser():
         yield b
 
 
+@pytest.fixture(scope="module")
+def studio(tmp_path_factory):
+    """A studio server per test module, on a free port, saving to a fresh design file."""
+    from machdyn.studio.server import Studio
+
+    s = Studio(tmp_path_factory.mktemp("studio") / "design.toml", port=0)
+    s.start()
+    yield s
+    s.stop()
+
+
 @pytest.fixture(scope="module", params=["numpy", "compiled"])
 def backend(request: pytest.FixtureRequest):
     """Run every test of a module twice: NumPy kernels, then the compiled (numba) ones."""

@@ -22,26 +22,16 @@ import pytest
 
 from machdyn.studio.analysis import analyse
 from machdyn.studio.document import normalise
-from machdyn.studio.server import Studio
 from machdyn.studio.templates import TEMPLATES, template
 
 G0 = 9.80665  # standard gravity: the document says gravity = true
 
 
-@pytest.fixture(scope="module")
-def server(tmp_path_factory):
-    file = tmp_path_factory.mktemp("audit3") / "design.toml"
-    s = Studio(file, port=0)
-    s.start()
-    yield s
-    s.stop()
-
-
-def post(server, call, body=None, raw=None):
+def post(studio, call, body=None, raw=None):
     data = raw if raw is not None else json.dumps(body).encode()
-    headers = {"Content-Type": "application/json", "Host": f"127.0.0.1:{server.port}"}
+    headers = {"Content-Type": "application/json", "Host": f"127.0.0.1:{studio.port}"}
     req = urllib.request.Request(
-        f"http://127.0.0.1:{server.port}/api/{call}", data=data, headers=headers, method="POST"
+        f"http://127.0.0.1:{studio.port}/api/{call}", data=data, headers=headers, method="POST"
     )
     try:
         with urllib.request.urlopen(req, timeout=120) as r:
@@ -115,9 +105,9 @@ def test_slider_crank_template_columns_equal_the_closed_form_and_power_balance()
     close(col["T_crank [N*m]"], power / w, 2e-5)
 
 
-def test_the_server_answers_what_the_library_computes(server):
+def test_the_server_answers_what_the_library_computes(studio):
     doc = normalise(template("four-bar"))
-    status, answer = post(server, "analyse", {"doc": doc, "samples": 36})
+    status, answer = post(studio, "analyse", {"doc": doc, "samples": 36})
     assert status == 200
     direct = analyse(doc, samples=36)
     assert answer["names"] == direct["names"]
@@ -145,19 +135,19 @@ def test_the_server_answers_what_the_library_computes(server):
 
 
 @pytest.mark.parametrize("name", list(TEMPLATES))
-def test_every_template_round_trips_through_save_export_and_open(server, name):
-    status, answer = post(server, "template", {"name": name})
+def test_every_template_round_trips_through_save_export_and_open(studio, name):
+    status, answer = post(studio, "template", {"name": name})
     assert status == 200
     doc = answer["doc"]
-    status, saved = post(server, "save", {"doc": doc})
+    status, saved = post(studio, "save", {"doc": doc})
     assert status == 200 and saved["saved"] == "design.toml"
-    status, session = post(server, "session", {})
+    status, session = post(studio, "session", {})
     assert status == 200 and session["error"] is None and session["doc"] == doc
     for fmt, ending in (("toml", ".toml"), ("json", ".json")):
-        status, data = post(server, "export", {"doc": doc, "format": fmt})
+        status, data = post(studio, "export", {"doc": doc, "format": fmt})
         assert status == 200
         text = data.decode() if isinstance(data, bytes) else json.dumps(data)
-        status, opened = post(server, "open", {"text": text, "name": f"x{ending}"})
+        status, opened = post(studio, "open", {"text": text, "name": f"x{ending}"})
         assert status == 200 and opened["doc"] == doc, fmt
 
 
@@ -201,8 +191,8 @@ BAD = [
 
 
 @pytest.mark.parametrize(("call", "body", "key"), BAD)
-def test_bad_requests_are_4xx_with_a_message(server, call, body, key):
-    status, answer = post(server, call, body)
+def test_bad_requests_are_4xx_with_a_message(studio, call, body, key):
+    status, answer = post(studio, call, body)
     assert 400 <= status < 500, (status, answer)
     assert isinstance(answer, dict) and answer["error"] and "Traceback" not in answer["error"]
     if key is not None:
@@ -219,25 +209,25 @@ def test_bad_requests_are_4xx_with_a_message(server, call, body, key):
         (lambda p: p["links"].__setitem__("crank", {"points": ["O2", "Q"]}), ".crank"),
     ],
 )
-def test_a_bad_document_is_refused_naming_its_key(server, change, key):
+def test_a_bad_document_is_refused_naming_its_key(studio, change, key):
     # NaN is sent as the bare token Python's json writes: the server reads it, the spec refuses
-    status, answer = post(server, "analyse", {"doc": _with(change), "samples": 24})
+    status, answer = post(studio, "analyse", {"doc": _with(change), "samples": 24})
     assert status == 200 and "refused" in answer, answer
     assert key in answer.get("key", "") or key.strip(".").split(".")[-1] in answer["refused"]
 
 
 @pytest.mark.parametrize("samples", [0, 7, 20_001, 10**400, -1, 3.5, True])
-def test_sample_counts_out_of_range_are_named(server, samples):
+def test_sample_counts_out_of_range_are_named(studio, samples):
     raw = json.dumps({"doc": _doc()})[:-1] + f', "samples": {json.dumps(samples)}}}'
-    status, answer = post(server, "analyse", raw=raw.encode())
+    status, answer = post(studio, "analyse", raw=raw.encode())
     assert status in (200, 422), answer
     text = answer.get("refused") or answer.get("error")
     assert "samples" in text and "Traceback" not in text
 
 
-def test_unknown_calls_methods_and_bodies(server):
-    assert post(server, "explode", {})[0] == 404
-    assert post(server, "analyse", raw=b"{not json")[0] == 400
-    assert post(server, "analyse", raw=b"[1, 2]")[0] == 400
-    status, answer = post(server, "analyse", raw=b"\xff\xfe")
+def test_unknown_calls_methods_and_bodies(studio):
+    assert post(studio, "explode", {})[0] == 404
+    assert post(studio, "analyse", raw=b"{not json")[0] == 400
+    assert post(studio, "analyse", raw=b"[1, 2]")[0] == 400
+    status, answer = post(studio, "analyse", raw=b"\xff\xfe")
     assert status == 400 and "JSON" in answer["error"]

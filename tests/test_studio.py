@@ -22,22 +22,13 @@ from machdyn.studio.server import BODY_LIMIT, Studio
 from machdyn.studio.templates import TEMPLATES, template
 
 
-@pytest.fixture(scope="module")
-def server(tmp_path_factory):
-    file = tmp_path_factory.mktemp("studio") / "design.toml"
-    s = Studio(file, port=0)
-    s.start()
-    yield s
-    s.stop()
-
-
-def request(server, call, body, *, headers=None, method="POST", raw=None):
+def request(studio, call, body, *, headers=None, method="POST", raw=None):
     """(status, parsed JSON or bytes) of one request to the studio."""
     data = raw if raw is not None else json.dumps(body).encode()
-    h = {"Content-Type": "application/json", "Host": f"127.0.0.1:{server.port}"}
+    h = {"Content-Type": "application/json", "Host": f"127.0.0.1:{studio.port}"}
     h.update(headers or {})
     req = urllib.request.Request(
-        f"http://127.0.0.1:{server.port}/api/{call}", data=data, headers=h, method=method
+        f"http://127.0.0.1:{studio.port}/api/{call}", data=data, headers=h, method=method
     )
     try:
         with urllib.request.urlopen(req, timeout=60) as r:
@@ -50,83 +41,83 @@ def request(server, call, body, *, headers=None, method="POST", raw=None):
 
 
 # ------------------------------------------------------------------ security and bad input
-def test_only_loopback_and_the_studios_own_host_and_origin(server):
-    assert server.url.startswith("http://127.0.0.1:")
-    status, answer = request(server, "session", {}, headers={"Host": "evil.example:80"})
+def test_only_loopback_and_the_studios_own_host_and_origin(studio):
+    assert studio.url.startswith("http://127.0.0.1:")
+    status, answer = request(studio, "session", {}, headers={"Host": "evil.example:80"})
     assert status == 403 and "Host" in answer["error"]
-    status, answer = request(server, "session", {}, headers={"Origin": "http://evil.example"})
+    status, answer = request(studio, "session", {}, headers={"Origin": "http://evil.example"})
     assert status == 403 and "evil.example" in answer["error"]
-    status, _ = request(server, "session", {}, headers={"Sec-Fetch-Site": "cross-site"})
+    status, _ = request(studio, "session", {}, headers={"Sec-Fetch-Site": "cross-site"})
     assert status == 403
-    own = {"Origin": f"http://localhost:{server.port}", "Host": f"localhost:{server.port}"}
-    status, answer = request(server, "session", {}, headers=own)
+    own = {"Origin": f"http://localhost:{studio.port}", "Host": f"localhost:{studio.port}"}
+    status, answer = request(studio, "session", {}, headers=own)
     assert status == 200 and answer["file"] == "design.toml"
     # the page itself is refused to a rebound name too
-    req = urllib.request.Request(server.url, headers={"Host": "attacker.test"})
+    req = urllib.request.Request(studio.url, headers={"Host": "attacker.test"})
     with pytest.raises(urllib.error.HTTPError) as err:
         urllib.request.urlopen(req, timeout=10)
     assert err.value.code == 403
 
 
-def test_bodies_json_and_methods_are_checked_with_a_message(server):
-    status, answer = request(server, "analyse", None, raw=b"{not json")
+def test_bodies_json_and_methods_are_checked_with_a_message(studio):
+    status, answer = request(studio, "analyse", None, raw=b"{not json")
     assert status == 400 and "not valid JSON" in answer["error"]
-    status, answer = request(server, "analyse", None, raw=b"[1, 2]")
+    status, answer = request(studio, "analyse", None, raw=b"[1, 2]")
     assert status == 400 and "object" in answer["error"]
     big = b'{"doc": "' + b"x" * (BODY_LIMIT + 10) + b'"}'
-    status, answer = request(server, "analyse", None, raw=big)
+    status, answer = request(studio, "analyse", None, raw=big)
     assert status == 413 and "too large" in answer["error"]
-    status, answer = request(server, "session", {}, headers={"Content-Type": "text/plain"})
+    status, answer = request(studio, "session", {}, headers={"Content-Type": "text/plain"})
     assert status == 415
-    status, answer = request(server, "nosuchcall", {})
+    status, answer = request(studio, "nosuchcall", {})
     assert status == 404 and "nosuchcall" in answer["error"]
-    status, answer = request(server, "session", None, method="GET", raw=b"")
+    status, answer = request(studio, "session", None, method="GET", raw=b"")
     assert status == 405
 
 
-def test_a_document_the_reader_refuses_names_the_key(server):
+def test_a_document_the_reader_refuses_names_the_key(studio):
     doc = template("four-bar")
     doc["linkage"]["fourbar"]["links"]["crank"]["mass"] = "3 m"
-    status, answer = request(server, "analyse", {"doc": doc})
+    status, answer = request(studio, "analyse", {"doc": doc})
     assert status == 200  # an answer: this design cannot be analysed, and why
     assert "mass" in answer["refused"] and "a mass" in answer["refused"]
     assert answer["key"].endswith("links.crank.mass")
-    status, answer = request(server, "export", {"doc": doc, "format": "csv"})
+    status, answer = request(studio, "export", {"doc": doc, "format": "csv"})
     assert status == 422 and answer["key"].endswith("links.crank.mass")
-    status, answer = request(server, "analyse", {"doc": doc, "samples": "many"})
+    status, answer = request(studio, "analyse", {"doc": doc, "samples": "many"})
     assert status == 422 and answer["key"] == "samples"
 
 
-def test_a_server_exception_is_a_message_and_a_log_line(server, caplog):
-    server.calls["boom"] = (lambda body: 1 / 0, False)
+def test_a_server_exception_is_a_message_and_a_log_line(studio, caplog):
+    studio.calls["boom"] = (lambda body: 1 / 0, False)
     try:
         with caplog.at_level("ERROR", logger="machdyn.studio"):
-            status, answer = request(server, "boom", {})
+            status, answer = request(studio, "boom", {})
     finally:
-        del server.calls["boom"]
+        del studio.calls["boom"]
     assert status == 500 and "ZeroDivisionError" in answer["error"]
     assert any("boom failed" in r.getMessage() for r in caplog.records)
 
 
-def test_save_writes_only_the_file_given_and_session_reads_it_back(server):
+def test_save_writes_only_the_file_given_and_session_reads_it_back(studio):
     doc = normalise(template("watt"))
-    status, answer = request(server, "save", {"doc": doc})
+    status, answer = request(studio, "save", {"doc": doc})
     assert status == 200 and answer["saved"] == "design.toml"
-    assert server.file.read_text().startswith("machdyn = 1")
-    status, answer = request(server, "session", {})
+    assert studio.file.read_text().startswith("machdyn = 1")
+    status, answer = request(studio, "session", {})
     assert answer["doc"] == doc
     bare = Studio(None, port=0)
     with pytest.raises(InputError, match="without a file"):
         bare.calls["save"][0]({"doc": doc})
 
 
-def test_an_analysis_answer_carries_server_timing(server):
+def test_an_analysis_answer_carries_server_timing(studio):
     """Server-Timing: the analysis' wall time and its worker thread's CPU time (benchmark)."""
     body = json.dumps({"doc": template("four-bar"), "samples": 36}).encode()
     req = urllib.request.Request(
-        f"http://127.0.0.1:{server.port}/api/analyse",
+        f"http://127.0.0.1:{studio.port}/api/analyse",
         data=body,
-        headers={"Content-Type": "application/json", "Host": f"127.0.0.1:{server.port}"},
+        headers={"Content-Type": "application/json", "Host": f"127.0.0.1:{studio.port}"},
         method="POST",
     )
     with urllib.request.urlopen(req, timeout=60) as r:

@@ -25,16 +25,6 @@ from machdyn.synthesis import three_position
 pytestmark = pytest.mark.slow
 
 
-@pytest.fixture(scope="module")
-def studio(tmp_path_factory):
-    from machdyn.studio.server import Studio
-
-    s = Studio(tmp_path_factory.mktemp("studio") / "design.toml", port=0)
-    s.start()
-    yield s
-    s.stop()
-
-
 @pytest.fixture
 def page(browser, studio):
     p = Page(browser, width=1400, height=860)
