@@ -93,8 +93,17 @@ SIXBAR_MET = 1e-12
 #: their size (see _polished).
 UNTIMED_POLISH_MAX = 4
 UNTIMED_MET = 1e-9
-#: Untimed targets: most rounds of retrieval (each a fresh pool) while none is met.
+#: Untimed targets: fits just past Grashof's change point re-refined before they land on it,
+#: per linkage asked for (the rest, worse ranked, are landed as they are).
+UNTIMED_BOUNDARY = 2
+#: Untimed: refinement steps of each polished fit before its valley polish (round 0, later).
+UNTIMED_NFEV = (100, 100)
+#: Untimed targets: most rounds of retrieval (each a fresh pool) while none is met, and
+#: only while the best fit's largest miss lies between UNTIMED_ENOUGH and UNTIMED_FAR of
+#: the size (see _worth_a_round).
 UNTIMED_ROUNDS = 3
+UNTIMED_ENOUGH = 3e-7
+UNTIMED_FAR = 1e-3
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: Open targets: best arc fits re-scored on the target points, samples of each curve
@@ -512,11 +521,15 @@ def path_from_atlas(
             more, met = _polished(more, pts, options, POLISH)
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
-    for fit in fits:
+    for i, fit in enumerate(fits):
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
-            # just past the change point: hold the crank harder, then land on it
-            more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4, **options)
-            fit = _onto_grashof(more if more.rms <= 2 * fit.rms else fit, pts)
+            # just past the change point: hold the crank harder (untimed: only the fits
+            # that can be among the n chosen; the others are landed as they are), then land
+            if timing is not None or i < UNTIMED_BOUNDARY * n:
+                more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4,
+                              **options)  # fmt: skip
+                fit = more if more.rms <= 2 * fit.rms else fit
+            fit = _onto_grashof(fit, pts)
         res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
         if res is not None:
             results.append(res)
@@ -583,22 +596,50 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
     t1 = time.perf_counter()
     fits, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                            options), pts, options, UNTIMED_POLISH_MAX)  # fmt: skip
+                                            options), pts, options, UNTIMED_POLISH_MAX,
+                          UNTIMED_NFEV[0])  # fmt: skip
     man = atlas.manifest
     arc = pts
     if closed:  # the targets as an arc: from the far side of the widest gap round to its near side
         gap = int(np.argmax(np.abs(np.roll(pts, -1) - pts)))
         arc = np.roll(pts, -(gap + 1))
     for r in range(1, UNTIMED_ROUNDS):
-        if met:
+        if met or not _worth_a_round(fits, pts, closed):
             break
         rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank, draw=r))
         curves = even_curves(rows, man.circuit_samples, man.samples)
         entries, transforms = _arc_starts(rows, curves, arc, refine_count)
         more, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                                options), pts, options, POLISH, 100)  # fmt: skip
+                                                options), pts, options, POLISH,
+                              UNTIMED_NFEV[1])  # fmt: skip
         fits = sorted(fits + more, key=lambda f: f.rms)
     return fits, t1
+
+
+def _worth_a_round(fits, pts, closed) -> bool:
+    """Whether another pool may still improve the best untimed fit.
+
+    Not when its largest miss (at its own input angles) is within
+    :data:`UNTIMED_ENOUGH` of the size on one assembly (the targets are met as
+    far as an engineer can tell; sloppy valleys often stall there, short of
+    :data:`UNTIMED_MET`), nor, for an open target, when it misses by more than
+    :data:`UNTIMED_FAR` (no four-bar traces the path: of 40 random crank-rocker
+    arcs, none missed by more than 1e-4 after the first round, and fresh pools
+    do not bring a path no four-bar traces nearer; the query keeps to its time
+    budget). A closed target's first round can be misled by its descriptor
+    (unevenly spread points): its later rounds, arc by arc, stay.
+    """
+    from .refine import coupler_and_jacobian
+
+    if not fits:
+        return True
+    best = fits[0]
+    size = float(np.max(np.abs(pts - pts.mean())))
+    G = coupler_and_jacobian(best.x, best.theta, best.branch)[0]
+    worst = float(np.max(np.abs(G - pts))) / size
+    if worst <= UNTIMED_ENOUGH and np.ptp(best.branch) == 0:
+        return False
+    return closed or worst <= UNTIMED_FAR
 
 
 def _untimed_starts(entries, transforms, pts) -> list:
