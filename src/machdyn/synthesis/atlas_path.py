@@ -512,11 +512,11 @@ def path_from_atlas(
             more, met = _polished(more, pts, options, POLISH)
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
-    for fit in fits:
+    for fit in _unique(fits, size):
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
             # just past the change point: hold the crank harder, then land on it
             more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4, **options)
-            fit = _onto_grashof(more if more.rms <= 2 * fit.rms else fit, pts)
+            fit = _onto_grashof(more if more.rms <= 2 * fit.rms else fit, pts, options)
         res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
         if res is not None:
             results.append(res)
@@ -1063,13 +1063,17 @@ def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesi
     )
 
 
+#: Steps of the refinement along a change point (see _onto_grashof).
+GRASHOF_NFEV = 60
+
+
 def _grashof_excess(x) -> float:
     """``s + l − p − q`` of the lengths ``x[:4]`` (positive: not Grashof)."""
     srt = np.sort(np.asarray(x[:4], float))
     return float(srt[0] + srt[3] - srt[1] - srt[2])
 
 
-def _onto_grashof(fit, pts):
+def _onto_grashof(fit, pts, options=None):
     """A fit that breaks Grashof's condition by a hair, moved onto the change point.
 
     The refinement holds link 2 a crank by a penalty, so an optimum on the
@@ -1078,19 +1082,40 @@ def _onto_grashof(fit, pts):
     crank. The longest link is shortened by that excess (at most 1e-4 of the
     links' sum): the linkage lands on the change point, whose shortest link turns
     fully, and its coupler point moves little (near a change point, some ten times the
-    excess).
+    excess). With the refinement's ``options``, it is then refined along the
+    change point (``l = p + q − s`` held: :data:`GRASHOF_NFEV` steps of
+    :func:`refine`'s Levenberg–Marquardt), kept if that lowers its misses.
     """
     from .refine import Refined, coupler_and_jacobian
 
     lengths = np.asarray(fit.x[:4], float)
     excess = _grashof_excess(lengths)
-    if not 0.0 < excess <= 1e-4 * lengths.sum():
+    near = abs(excess) <= 1e-4 * lengths.sum()
+    if not near or (excess <= 0.0 and options is None):
         return fit
     x = fit.x.copy()
-    x[int(np.argmax(lengths))] -= excess
-    G = coupler_and_jacobian(x, fit.theta, fit.branch)[0]
-    rms = float(np.sqrt(np.mean(np.abs(G - pts) ** 2)))
-    return Refined(x, fit.theta, fit.branch, rms, fit.success)
+    onto = fit
+    if excess > 0.0:
+        x[int(np.argmax(lengths))] -= excess
+        G = coupler_and_jacobian(x, fit.theta, fit.branch)[0]
+        rms = float(np.sqrt(np.mean(np.abs(G - pts) ** 2)))
+        onto = Refined(x, fit.theta, fit.branch, rms, fit.success)
+    if options is None:
+        return onto
+    order = np.argsort(lengths)  # s, p, q, l: s + l − p − q = 0 held by one of them
+    sign = np.array([1.0, -1.0, -1.0, 1.0])[np.argsort(order)]
+    top = options.get("max_length")
+    top = np.inf if top is None else top
+    # the length solved for: the longest whose result keeps the length bound (the
+    # others keep it by the refinement's bounds)
+    for tied in (int(i) for i in order[::-1] if x[i] < top * (1 - 1e-9)):
+        c = np.where(np.arange(4) == tied, 0.0, -sign / sign[tied])
+        more = refine(x, fit.theta, fit.branch, pts, max_nfev=GRASHOF_NFEV, solver="lm",
+                      tie=(tied, c), **options)  # fmt: skip
+        if 0.0 < more.x[tied] <= top:
+            good = _grashof_excess(more.x) <= max(_grashof_excess(x), 0.0)
+            return more if good and more.rms < onto.rms else onto
+    return onto
 
 
 def _in_order(theta: np.ndarray, closed: bool, timing) -> bool:
@@ -1103,6 +1128,26 @@ def _in_order(theta: np.ndarray, closed: bool, timing) -> bool:
     back = float(np.sum(np.mod(-steps, full)))
     limit = full + 1e-6
     return fwd <= limit or back <= limit
+
+
+def _unique(fits: list, size: float) -> list:
+    """``fits`` (best first) less the copies of one linkage (its best-converged copy stays).
+
+    A copy is within :data:`SAME` of a better fit in every design number (lengths
+    and pivot over the size, angles in radians) and on the same assemblies.
+    """
+    kept: list = []
+    keys: list[np.ndarray] = []
+    for f in fits:
+        key = np.concatenate([f.x[[0, 1, 2, 3, 4, 6, 7]] / size, f.x[[5, 8]], f.branch])
+        if all(np.max(np.abs(key - k)) > SAME for k in keys):
+            kept.append(f)
+            keys.append(key)
+    return kept
+
+
+#: Refined fits closer than this (see _unique) are one linkage.
+SAME = 1e-6
 
 
 def _distinct(results: list[PathSynthesis], n: int, size: float) -> list[PathSynthesis]:
