@@ -16,7 +16,14 @@ from numba import njit
 
 from .._kernels import _unit_vectors, sincos
 
-__all__ = ["coupler_jacobian", "even_circuit_curves", "sixbar_coupler", "timed_scores"]
+__all__ = [
+    "bound_rows",
+    "coupler_jacobian",
+    "even_circuit_curves",
+    "lm_refine",
+    "sixbar_coupler",
+    "timed_scores",
+]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -459,3 +466,49 @@ def lm_refine(z, free, lo, hi, max_nfev, tol, targets, branch, timing, timed, cr
             if lam > 1e20:
                 return 3
     return 0
+
+
+@njit(cache=True, nogil=True, error_model="numpy", fastmath=True)
+def head_rows(desc, cols, head, tail):  # pragma: no cover - compiled
+    """The query's first-stage table of one chunk: ``head`` (N, m) and ``tail`` (N,).
+
+    ``head[i]`` is ``desc[i, cols]``, ``tail[i]`` the norm of row i's other
+    columns (summed in float64, in any order: within 1e-15 of the squares' sum).
+    """
+    n, w = desc.shape
+    m = cols.size
+    for i in range(n):
+        total = 0.0
+        for j in range(w):
+            total += np.float64(desc[i, j]) * np.float64(desc[i, j])
+        for j in range(m):
+            x = desc[i, cols[j]]
+            head[i, j] = x
+            total -= np.float64(x) * np.float64(x)
+        tail[i] = math.sqrt(max(total, 0.0))
+
+
+@njit(cache=True, nogil=True, error_model="numpy", fastmath=True)
+def bound_rows(head, tail, allowed, use_allowed, qh, qt, floor, out):  # pragma: no cover
+    """Rows whose score bound beats ``floor``, into ``out``; returns how many.
+
+    The first stage of :func:`machdyn.synthesis.atlas_path.bounded_topk`:
+    ``max_v (q_h,v · head[i] + |q_t,v| tail_i)`` for each (allowed) row, in
+    float32 (its rounding, some 1e-6, is within the caller's slack). Tested
+    against the bound written out in float64.
+    """
+    n, m = head.shape
+    nv = qh.shape[0]
+    count = 0
+    for i in range(n):
+        t = tail[i]
+        top = np.float32(-np.inf)
+        for v in range(nv):
+            acc = t * qt[v]
+            for j in range(m):
+                acc += head[i, j] * qh[v, j]
+            top = max(top, acc)
+        if top > floor and (not use_allowed or allowed[i]):
+            out[count] = i
+            count += 1
+    return count
