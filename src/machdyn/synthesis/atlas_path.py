@@ -311,8 +311,9 @@ def chunk_topk(
     return rows, score[rows]
 
 
-#: Descriptor columns of the query's first stage (see Atlas._local_topk), and the slack of
-#: its bound over a float32 score (the rounding of a 32-term float32 product is below 1e-5).
+#: Descriptor columns of the query's first stage (see Atlas._local_topk; its compiled
+#: kernel is written for 4), and the slack of its bound over a float32 score (the
+#: rounding of a 32-term float32 product is below 1e-5).
 HEAD = 4
 BOUND_SLACK = 1e-4
 
@@ -704,10 +705,15 @@ def _polished(fits, pts, options, most, nfev=400) -> tuple[list, bool]:
     size = float(np.max(np.abs(pts - pts.mean())))
     fits = list(fits)
     met = False
+    done: list[np.ndarray] = []
     for i in range(min(most, len(fits))):
         if i >= POLISH and met:
             break
         f = fits[i]
+        key = _design_key(f, size)
+        if any(np.max(np.abs(key - k)) <= SAME for k in done):
+            continue  # a copy of a fit polished already (see _unique)
+        done.append(key)
         more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, **options)  # bounds kept
         f = more if more.rms <= f.rms else f
         if f.rms > UNTIMED_MET * size:
@@ -1002,12 +1008,21 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
 
 def _timed_starts(rows, pts, timing, refine_count, fixed):
     """The ``refine_count`` best timed starts among ``rows`` (both mirror images)."""
+    from .._parallel import for_slices
+
     grid = np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
     th = grid[:, None] + timing[None, :]  # (G, K)
     O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
     table = _angle_table(th)
-    blocks = [_timed_fits(rows[lo : lo + TIMED_BLOCK], table, pts, O2, fixed.get(8))
-              for lo in range(0, rows.size, TIMED_BLOCK)]  # fmt: skip
+    parts: dict[int, list] = {}
+
+    def run(sl: slice) -> None:  # each thread a run of rows (the fit kernels release the GIL)
+        parts[sl.start] = [_timed_fits(rows[lo : min(lo + TIMED_BLOCK, sl.stop)], table, pts,
+                                       O2, fixed.get(8))
+                           for lo in range(sl.start, sl.stop, TIMED_BLOCK)]  # fmt: skip
+
+    for_slices(run, rows.size, minimum=2 * TIMED_BLOCK)
+    blocks = [b for start in sorted(parts) for b in parts[start]]
     # (2, rows) each, flattened: all entries as stored, then all mirrored
     score, g, hh, off = (np.concatenate(x, axis=1).ravel() for x in zip(*blocks, strict=True))
     mirror = np.repeat([1.0, -1.0], rows.size)
@@ -1231,7 +1246,7 @@ def _unique(fits: list, size: float) -> list:
     kept: list = []
     keys: list[np.ndarray] = []
     for f in fits:
-        key = np.concatenate([f.x[[0, 1, 2, 3, 4, 6, 7]] / size, f.x[[5, 8]], f.branch])
+        key = _design_key(f, size)
         if all(np.max(np.abs(key - k)) > SAME for k in keys):
             kept.append(f)
             keys.append(key)
@@ -1240,6 +1255,11 @@ def _unique(fits: list, size: float) -> list:
 
 #: Refined fits closer than this (see _unique) are one linkage.
 SAME = 1e-6
+
+
+def _design_key(f, size: float) -> np.ndarray:
+    """A fit's design numbers (lengths and pivot over the size, angles) and assemblies."""
+    return np.concatenate([f.x[[0, 1, 2, 3, 4, 6, 7]] / size, f.x[[5, 8]], f.branch])
 
 
 def _distinct(results: list[PathSynthesis], n: int, size: float) -> list[PathSynthesis]:
