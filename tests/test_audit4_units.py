@@ -333,3 +333,274 @@ def test_rev_is_a_unit_as_the_docs_and_the_frequency_hint_say(tmp_path, capsys):
     bad.write_text(us_file().replace("omega2 = 200.0", 'omega2 = "3.3 Hz"'))
     assert main(["run", str(bad)]) == 1
     assert "rev/s" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------
+# Every kind of quantity with bare numbers: the same parts in US units and in SI
+# ---------------------------------------------------------------------------
+
+KIND_SI = {  # one US unit of each kind in SI, written here (bare numbers of the US file)
+    "length": IN,
+    "mass": LB,
+    "force": LBF,
+    "torque": LBF * IN,
+    "angle": math.pi / 180,
+    "angular_velocity": RPM,
+    "inertia": LB * IN * IN,
+    "stiffness": LBF / IN,  # force/length
+    "damping": LBF / IN,  # force·time/length
+    "torsional": LBF * IN,  # torque/rad and torque·time/rad: rates never in degrees
+}
+UNIT_SI = {"in": IN, "lbf": LBF, "lb": LB, "s": 1.0, "deg": math.pi / 180, "rad": 1.0}
+UNIT_SI |= {"rpm": RPM, "N": 1.0, "m": 1.0, "kg": 1.0}
+US_TABLE = (
+    '[units]\nlength = "in"\nmass = "lb"\nforce = "lbf"\ntorque = "lbf*in"\nangle = "deg"\n'
+    'angular_velocity = "rpm"\n'
+)
+SI_TABLE = '[units]\nlength = "m"\nmass = "kg"\nforce = "N"\nangle = "rad"\n'
+
+
+def unit_factor(unit: str) -> float:
+    """SI value of one ``unit`` (``lbf*in``, ``in/s^2``, ``lb*in``) from UNIT_SI."""
+    num, *den = unit.split("/")
+    f = 1.0
+    for part, sign in [(num, 1)] + [(d, -1) for d in den]:
+        for tok in part.split("*"):
+            name, _, p = tok.partition("^")
+            f *= UNIT_SI[name] ** (sign * (int(p) if p else 1))
+    return f
+
+
+def quantity(si: bool):
+    def q(value, kind):
+        if isinstance(value, list):
+            return "[" + ", ".join(q(v, kind) for v in value) + "]"
+        return repr(float(value) * KIND_SI[kind]) if si else repr(float(value))
+
+    return q
+
+
+def slider_cranks(q) -> str:
+    return f"""
+[slider_crank.e]
+crank = {q(2, "length")}
+coupler = {q(8, "length")}
+offset = {q(0.4, "length")}
+[slider_crank.e.motion]
+theta2 = [0, {q(360, "angle")}, {q(30, "angle")}]
+omega2 = {q(3000, "angular_velocity")}
+alpha2 = 40
+[slider_crank.e.link2]
+mass = {q(2.2, "mass")}
+inertia = {q(4, "inertia")}
+cg = {q(0.8, "length")}
+[slider_crank.e.link3]
+mass = {q(4.4, "mass")}
+inertia = {q(18, "inertia")}
+cg = {q([4, 0.2], "length")}
+[slider_crank.e.link4]
+mass = {q(3.3, "mass")}
+[slider_crank.e.loads]
+force4 = {q(-450, "force")}
+friction = "viscous"
+beta = {q(0.3, "damping")}
+torques = {{ link3 = {q(12, "torque")} }}
+[inverted_slider_crank.i]
+crank = {q(4, "length")}
+ground = {q(12, "length")}
+offset = {q(1, "length")}
+[inverted_slider_crank.i.motion]
+theta2 = [0, {q(360, "angle")}, {q(45, "angle")}]
+omega2 = {q(60, "angular_velocity")}
+[inverted_slider_crank.i.link2]
+mass = {q(2.0, "mass")}
+inertia = {q(5, "inertia")}
+cg = {q(2, "length")}
+[inverted_slider_crank.i.link3]
+mass = {q(1.0, "mass")}
+inertia = {q(1, "inertia")}
+[inverted_slider_crank.i.link4]
+mass = {q(6.0, "mass")}
+inertia = {q(80, "inertia")}
+cg = {q([6, 0.5], "length")}
+[inverted_slider_crank.i.loads]
+torque4 = {q(-100, "torque")}
+friction = "viscous"
+beta = {q(0.5, "damping")}
+"""
+
+
+def drawn_linkage(q) -> str:
+    pts = {"A": [1, 1.5], "B": [6, 4], "O4": [7, 0], "P": [3, 4], "E": [11, 1], "S": [2, -3]}
+    points = "".join(f"{k} = {q(v, 'length')}\n" for k, v in pts.items())
+    return f"""
+[linkage.m]
+ground = ["O2", "O4", "S"]
+drive = ["crank"]
+report = ["P", "E"]
+[linkage.m.points]
+O2 = [0, 0]
+{points}[linkage.m.links.crank]
+points = ["O2", "A"]
+mass = {q(2, "mass")}
+inertia = {q(3, "inertia")}
+cg = {q(0.9, "length")}
+[linkage.m.links.coupler]
+points = ["A", "B", "P"]
+mass = {q(4, "mass")}
+inertia = {q(20, "inertia")}
+cg = "P"
+[linkage.m.links.rocker]
+points = ["O4", "B"]
+mass = {q(3, "mass")}
+inertia = {q(15, "inertia")}
+cg = {q([2, 0.3], "length")}
+[linkage.m.links.rod]
+points = ["B", "E"]
+mass = {q(1, "mass")}
+inertia = {q(5, "inertia")}
+cg = {q(2.5, "length")}
+[linkage.m.links.block]
+points = ["E"]
+mass = {q(1.5, "mass")}
+inertia = {q(0.5, "inertia")}
+[linkage.m.sliders.guide]
+block = "block"
+on = "ground"
+at = "E"
+direction = {q(10, "angle")}
+[linkage.m.springs.gas]
+start = "S"
+end = "P"
+stiffness = {q(30, "stiffness")}
+free_length = {q(5, "length")}
+damping = {q(0.8, "damping")}
+preload = {q(-20, "force")}
+[linkage.m.torsion_springs.hinge]
+at = "O4"
+stiffness = {q(40, "torsional")}
+free_angle = {q(15, "angle")}
+damping = {q(2, "torsional")}
+[[linkage.m.forces]]
+link = "coupler"
+at = "P"
+force = [{q(10, "force")}, {q(-25, "force")}]
+[linkage.m.torques]
+rocker = {q(-60, "torque")}
+[linkage.m.friction.guide]
+viscous = {q(0.4, "damping")}
+[linkage.m.motion.crank]
+sweep = [{q(56.31, "angle")}, {q(100, "angle")}, {q(5, "angle")}]
+velocity = {q(120, "angular_velocity")}
+acceleration = 3
+"""
+
+
+def cam_and_rotor(q) -> str:
+    segments = [("rise", "cycloidal", 0.5, 90), ("dwell", None, 0, 90)]
+    segments += [("fall", "modified_sine", 0.5, 120), ("dwell", None, 0, 60)]
+    seg = ""
+    for motion, law, lift, beta in segments:
+        seg += f'[[cam.c.segment]]\nmotion = "{motion}"\nbeta = {q(beta, "angle")}\n'
+        if law:
+            seg += f'law = "{law}"\nlift = {q(lift, "length")}\n'
+    return f"""
+[cam.c]
+speed = {q(300, "angular_velocity")}
+points = 720
+step = {q(30, "angle")}
+max_pressure_angle = {q(30, "angle")}
+[cam.c.follower]
+type = "roller"
+prime_radius = {q(1.5, "length")}
+roller_radius = {q(0.25, "length")}
+eccentricity = {q(0.1, "length")}
+{seg}[rotor.r]
+planes = {q([0, 16], "length")}
+radii = {q([2, 2], "length")}
+speed = {q(1500, "angular_velocity")}
+bearings = {q([-2, 18], "length")}
+[[rotor.r.mass]]
+mass = {q(0.5, "mass")}
+radius = {q(2.5, "length")}
+angle = {q(30, "angle")}
+z = {q(4, "length")}
+[[rotor.r.mass]]
+mass = {q(0.7, "mass")}
+radius = {q(2, "length")}
+angle = {q(150, "angle")}
+z = {q(9, "length")}
+"""
+
+
+def _in_si(label: str, values) -> np.ndarray:
+    unit = label[label.rindex("[") + 1 : -1]
+    return np.asarray(values, dtype=float) * unit_factor(unit)
+
+
+@pytest.mark.parametrize("parts", [slider_cranks, drawn_linkage, cam_and_rotor])
+def test_every_kind_of_bare_number_in_us_units_equals_si(tmp_path, capsys, parts):
+    """Stiffness (force/length), damping (force·time/length), torsional stiffness and
+    damping (per radian even in a degree file), inertia, preload, friction, loads, cam
+    lift and speed, rotor masses: every labelled output of the US file, converted by the
+    factors written here, equals the SI file's."""
+    out = {}
+    for name, si, table in (("us", False, US_TABLE), ("si", True, SI_TABLE)):
+        path = tmp_path / f"{name}.toml"
+        path.write_text("machdyn = 1\ngravity = true\n" + table + parts(quantity(si)))
+        assert main(["run", str(path), "--json"]) == 0
+        out[name] = json.loads(capsys.readouterr().out)["parts"]
+    compared = 0
+    for part, us in out["us"].items():
+        si = out["si"][part]
+        for tname, ta in us["tables"].items():
+            tb = si["tables"][tname]
+            for ca, cb in zip(ta["columns"], tb["columns"], strict=True):
+                assert ca.split(" [")[0] == cb.split(" [")[0]
+                if "[" not in ca:
+                    continue
+                a = _in_si(ca, [r[ta["columns"].index(ca)] for r in ta["rows"]])
+                b = _in_si(cb, [r[tb["columns"].index(cb)] for r in tb["rows"]])
+                np.testing.assert_allclose(
+                    a, b, rtol=1e-10, atol=1e-12 * np.abs(b).max(), err_msg=ca
+                )
+                compared += 1
+        for (ka, va), (kb, vb) in zip(us["summary"].items(), si["summary"].items(), strict=True):
+            if "[" in ka and not isinstance(va, str):
+                # round-off (bearing loads after a perfect balance) compared absolutely
+                np.testing.assert_allclose(_in_si(ka, va), _in_si(kb, vb), rtol=1e-10, atol=1e-12)
+                compared += 1
+    assert compared >= 20
+
+
+def test_slider_crank_point_on_the_rod_is_tabulated(tmp_path, capsys):
+    """docs/spec.md: slider_crank `point = { p, delta }` "a point on the rod" — the
+    model computed it but `machdyn run` printed no table of it (the four-bar prints
+    its coupler point). P = A + p e^{j(arg(B − A) + δ)}, written here."""
+    a, b, c, p, delta = 2.0, 8.0, 0.4, 3.0, 20.0
+    text = (
+        "machdyn = 1\n" + US_TABLE + f"[slider_crank.e]\ncrank = {a}\ncoupler = {b}\n"
+        f"offset = {c}\npoint = {{ p = {p}, delta = {delta} }}\n"
+        '[slider_crank.e.motion]\ntheta2 = [0, 360, 30]\nomega2 = "10 rad/s"\n'
+    )
+    path = tmp_path / "sc.toml"
+    path.write_text(text)
+    assert main(["run", str(path), "--json"]) == 0
+    table = json.loads(capsys.readouterr().out)["parts"]["e"]["tables"]["point"]
+    theta2 = np.radians(column(table, "theta2 [deg]"))
+    A = a * np.exp(1j * theta2)
+    B = A.real + np.sqrt(b * b - (c - A.imag) ** 2) + 1j * c
+    P = A + p * np.exp(1j * (np.angle(B - A) + math.radians(delta)))
+    np.testing.assert_allclose(column(table, "P_x [in]"), P.real, atol=1e-12)
+    np.testing.assert_allclose(column(table, "P_y [in]"), P.imag, atol=1e-12)
+    # its velocity: dP/dθ2 · ω2 by central differences of the closed form (h = 1e-6)
+    h = 1e-6
+
+    def point(t):
+        A = a * np.exp(1j * t)
+        B = A.real + np.sqrt(b * b - (c - A.imag) ** 2) + 1j * c
+        return A + p * np.exp(1j * (np.angle(B - A) + math.radians(delta)))
+
+    V = (point(theta2 + h) - point(theta2 - h)) / (2 * h) * 10.0
+    np.testing.assert_allclose(column(table, "VP_x [in/s]"), V.real, atol=1e-6)
+    np.testing.assert_allclose(column(table, "VP_y [in/s]"), V.imag, atol=1e-6)
