@@ -229,3 +229,35 @@ def test_inverted_slidercrank_centres_give_the_differenced_rates(form):
         r_in, r_out = 1.3, 0.4
         ma = ics.mechanical_advantage(2, 4, r_in, r_out)
         np.testing.assert_allclose(ma, (r_in / r_out) / w4, rtol=1e-7)
+
+
+def test_fourbar_centrodes_by_line_meets_and_rolling_without_slip():
+    """Centrodes of the coupler (3) on the ground (Norton §6.5): the fixed one is the
+    locus of I13 = O2A ∩ O4B, the moving one the same points in the coupler's frame
+    (origin A, x toward B); rolling without slip, equal arcs pass the contact on both."""
+    from machdyn import FourBar
+    from machdyn.centrodes import centrodes
+
+    r1, r2, r3, r4 = 8.0, 4.0, 7.0, 6.0
+    fb = FourBar(r1, r2, r3, r4)
+    theta2 = np.radians(np.linspace(40, 120, 4001))
+    c = centrodes(fb, theta2, 3)
+    A = r2 * np.exp(1j * theta2)
+    d = np.abs(r1 - A)
+    x = (r3**2 - r4**2 + d**2) / (2 * d)
+    B = A + (r1 - A) / d * (x + 1j * np.sqrt(r3**2 - x**2))
+    assert np.abs(fb.solve(theta2).B - B).max() < 1e-12
+    u, v = A, B - r1  # directions of O2A and O4B
+    s = ((r1 - 0) * np.conj(v)).imag / (u * np.conj(v)).imag
+    I13 = s * u
+    assert c.ok.all()
+    np.testing.assert_allclose(c.fixed, I13, atol=1e-9 * r1)
+    e3 = (B - A) / r3
+    np.testing.assert_allclose(c.moving, (I13 - A) / e3, atol=1e-9 * r1)
+    # equal arc lengths (the rolling condition), to the polygon's O(h²) error
+    arc_fixed = np.abs(np.diff(c.fixed)).sum()
+    arc_moving = np.abs(np.diff(c.moving)).sum()
+    assert arc_moving == pytest.approx(arc_fixed, rel=1e-6)
+    # the moving frame: rotation θ3 and origin A in the ground frame
+    np.testing.assert_allclose(np.exp(1j * c.angle), e3, atol=1e-12)
+    np.testing.assert_allclose(c.origin, A, atol=1e-12)
