@@ -142,9 +142,11 @@ def registry() -> Any:
     import pint
 
     try:
-        return pint.UnitRegistry(cache_folder=":auto:")
+        ureg = pint.UnitRegistry(cache_folder=":auto:")
     except Exception:  # pragma: no cover - a read-only or unusable cache folder
-        return pint.UnitRegistry()
+        ureg = pint.UnitRegistry()
+    ureg.define("rev = revolution")  # pint knows 'revolution' and 'rpm', not 'rev' (rev/s)
+    return ureg
 
 
 def _kind(kind: Any) -> Kind:
