@@ -424,6 +424,15 @@ def _run_slider(part: Part, machine: Machine, results: dict) -> PartResult:
     }
     title = f"Kinematics of {part.name}, {_rates_title(machine, omega2, alpha2)}"
     out.tables.append(_kin_table("kinematics", title, cols))
+    if m.coupler is not None:
+        cols = {
+            "theta2": (m.theta2, "angle"),
+            **_xy("P", m.coupler, "length"),
+            **_xy("VP", m.coupler_velocity, "velocity"),
+            **_xy("AP", m.coupler_acceleration, "acceleration"),
+            **_flags(m),
+        }
+        out.tables.append(_kin_table("point", f"Point P on the rod of {part.name}", cols))
     masses = _masses(v, (2, 3, 4))
     if masses is not None:
         loads = v.get("loads", {})
@@ -446,7 +455,7 @@ def _run_slider(part: Part, machine: Machine, results: dict) -> PartResult:
         cols = {"theta2": (m.theta2, "angle"), "T12": (f.T12, "torque")}
         for name in ("F12", "F32", "F43", "F14"):
             cols |= _xy(name, getattr(f, name), "force")
-        cols |= _flags(f)
+        cols |= {"M_shaking": (f.shaking_moment, "torque"), **_flags(f)}
         out.tables.append(_kin_table("forces", f"Forces on {part.name}", cols))
         out.torque = (theta2, np.asarray(f.T12), omega2)
     _flag_lines(out, machine, m.theta2, m.ok, m.reason)
