@@ -379,6 +379,8 @@ def refine(
         z[free] = y
         return z
 
+    if tie is not None and solver != "lm":
+        raise ValueError("tie needs solver='lm'")
     tied, tie_c = (-1, np.zeros(4)) if tie is None else (int(tie[0]), np.asarray(tie[1], float))
     if tied >= 0:
         free[tied] = False
