@@ -287,6 +287,29 @@ def _external(loads: dict, links: tuple[int, ...]) -> dict[str, Any]:
     return out
 
 
+def _in_own_frame(
+    v: dict, masses: dict, external: dict, gravity: float | None
+) -> tuple[dict[str, Any], float]:
+    """A four-bar's loads in its own frame (x along O2 → O4) and the gravity to pass.
+
+    Unplaced: as given. Placed (``O2``/``theta1``, a synthesis result): the file's
+    force vectors are in the plane, and gravity acts along the plane's −y — turned by
+    e^{−jθ1} it becomes a point load ``m g`` at each centre of mass (gravity then 0).
+    """
+    g = float(gravity or 0.0)
+    if "theta1" not in v:
+        return external, g  # O2 alone only translates: directions are the plane's
+    back = complex(np.exp(-1j * v["theta1"]))
+    forces = [(k, at, back * F) for k, at, F in external.get("external_forces", [])]
+    if g:
+        weights = zip((2, 3, 4), masses["mass"], masses["cg"], strict=True)
+        forces += [(k, cg, -1j * g * mass * back) for k, mass, cg in weights if mass]
+    out = dict(external)
+    if forces:
+        out["external_forces"] = forces
+    return out, 0.0
+
+
 def _kin_table(name: str, title: str, cols: dict[str, tuple[Any, str | None]]) -> ResultTable:
     return ResultTable(
         name,
@@ -374,17 +397,7 @@ def _run_fourbar(part: Part, machine: Machine, results: dict) -> PartResult:
     masses = _masses(v, (2, 3, 4))
     if masses is not None:
         loads = v.get("loads", {})
-        external = _external(loads, (2, 3, 4))
-        g = machine.gravity or 0.0
-        if placed:  # the file's forces and gravity turned into the four-bar's frame
-            back = np.conj(turn)
-            forces = [(k, at, back * F) for k, at, F in external.get("external_forces", [])]
-            if g:
-                weights = zip((2, 3, 4), masses["mass"], masses["cg"], strict=True)
-                forces += [(k, cg, -1j * g * mass * back) for k, mass, cg in weights if mass]
-                g = 0.0
-            if forces:
-                external["external_forces"] = forces
+        external, g = _in_own_frame(v, masses, _external(loads, (2, 3, 4)), machine.gravity)
         f = fb.dynamics(
             theta2,
             omega2,
