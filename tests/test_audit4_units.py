@@ -349,15 +349,37 @@ KIND_SI = {  # one US unit of each kind in SI, written here (bare numbers of the
     "inertia": LB * IN * IN,
     "stiffness": LBF / IN,  # force/length
     "damping": LBF / IN,  # force·time/length
-    "torsional": LBF * IN,  # torque/rad and torque·time/rad: rates never in degrees
+    "torsional": LBF * IN,  # torque/rad: rates never in degrees
+    "torsional_damping": LBF * IN,  # torque·time/rad
+    "angular_acceleration": 1.0,  # rad/s²: never degrees
 }
+# an odd coherent system: mm, g, ms (its force unit g·mm/ms² is 1 N), outputs in kN, N·m
+ODD_SI = {
+    "length": 1e-3,
+    "mass": 1e-3,
+    "force": 1e3,
+    "torque": 1.0,
+    "angle": math.pi / 180,
+    "angular_velocity": RPM,
+    "inertia": 1e-3 * 1e-6,
+    "stiffness": 1e3 / 1e-3,
+    "damping": 1e3 * 1e-3 / 1e-3,
+    "torsional": 1.0,
+    "torsional_damping": 1e-3,
+    "angular_acceleration": 1e6,  # rad/ms²
+}
+ONE_SI = dict.fromkeys(KIND_SI, 1.0)
 UNIT_SI = {"in": IN, "lbf": LBF, "lb": LB, "s": 1.0, "deg": math.pi / 180, "rad": 1.0}
-UNIT_SI |= {"rpm": RPM, "N": 1.0, "m": 1.0, "kg": 1.0}
+UNIT_SI |= {"rpm": RPM, "N": 1.0, "m": 1.0, "kg": 1.0, "mm": 1e-3, "g": 1e-3, "ms": 1e-3, "kN": 1e3}
 US_TABLE = (
     '[units]\nlength = "in"\nmass = "lb"\nforce = "lbf"\ntorque = "lbf*in"\nangle = "deg"\n'
     'angular_velocity = "rpm"\n'
 )
 SI_TABLE = '[units]\nlength = "m"\nmass = "kg"\nforce = "N"\nangle = "rad"\n'
+ODD_TABLE = (
+    '[units]\nlength = "mm"\nmass = "g"\ntime = "ms"\nforce = "kN"\ntorque = "N*m"\n'
+    'angle = "deg"\nangular_velocity = "rpm"\n'
+)
 
 
 def unit_factor(unit: str) -> float:
@@ -371,11 +393,13 @@ def unit_factor(unit: str) -> float:
     return f
 
 
-def quantity(si: bool):
+def quantity(system: dict):
+    """Writes a value given in US units as a bare number of ``system`` (SI per unit)."""
+
     def q(value, kind):
         if isinstance(value, list):
             return "[" + ", ".join(q(v, kind) for v in value) + "]"
-        return repr(float(value) * KIND_SI[kind]) if si else repr(float(value))
+        return repr(float(value) * KIND_SI[kind] / system[kind])
 
     return q
 
@@ -389,7 +413,7 @@ offset = {q(0.4, "length")}
 [slider_crank.e.motion]
 theta2 = [0, {q(360, "angle")}, {q(30, "angle")}]
 omega2 = {q(3000, "angular_velocity")}
-alpha2 = 40
+alpha2 = {q(40, "angular_acceleration")}
 [slider_crank.e.link2]
 mass = {q(2.2, "mass")}
 inertia = {q(4, "inertia")}
@@ -480,7 +504,7 @@ preload = {q(-20, "force")}
 at = "O4"
 stiffness = {q(40, "torsional")}
 free_angle = {q(15, "angle")}
-damping = {q(2, "torsional")}
+damping = {q(2, "torsional_damping")}
 [[linkage.m.forces]]
 link = "coupler"
 at = "P"
@@ -492,7 +516,7 @@ viscous = {q(0.4, "damping")}
 [linkage.m.motion.crank]
 sweep = [{q(56.31, "angle")}, {q(100, "angle")}, {q(5, "angle")}]
 velocity = {q(120, "angular_velocity")}
-acceleration = 3
+acceleration = {q(3, "angular_acceleration")}
 """
 
 
@@ -539,15 +563,17 @@ def _in_si(label: str, values) -> np.ndarray:
 
 
 @pytest.mark.parametrize("parts", [slider_cranks, drawn_linkage, cam_and_rotor])
-def test_every_kind_of_bare_number_in_us_units_equals_si(tmp_path, capsys, parts):
+@pytest.mark.parametrize(("table", "system"), [(US_TABLE, KIND_SI), (ODD_TABLE, ODD_SI)])
+def test_every_kind_of_bare_number_in_us_units_equals_si(tmp_path, capsys, parts, table, system):
     """Stiffness (force/length), damping (force·time/length), torsional stiffness and
     damping (per radian even in a degree file), inertia, preload, friction, loads, cam
-    lift and speed, rotor masses: every labelled output of the US file, converted by the
-    factors written here, equals the SI file's."""
+    lift and speed, rotor masses: every labelled output of the US file (and of a file in
+    mm, g, ms with outputs in kN), converted by the factors written here, equals the SI
+    file's."""
     out = {}
-    for name, si, table in (("us", False, US_TABLE), ("si", True, SI_TABLE)):
+    for name, units, factors in (("us", table, system), ("si", SI_TABLE, ONE_SI)):
         path = tmp_path / f"{name}.toml"
-        path.write_text("machdyn = 1\ngravity = true\n" + table + parts(quantity(si)))
+        path.write_text("machdyn = 1\ngravity = true\n" + units + parts(quantity(factors)))
         assert main(["run", str(path), "--json"]) == 0
         out[name] = json.loads(capsys.readouterr().out)["parts"]
     compared = 0
