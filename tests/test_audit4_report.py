@@ -214,3 +214,34 @@ def test_gear_trains_report_speeds_and_torques_by_hand(gears_page):
     assert t_sun == 1.0 and t_ring == pytest.approx(-t_sun / R)
     assert t_arm == pytest.approx(-(1 - R) * t_ring)
     assert t_sun * 100 + t_ring * w_ring + t_arm * -200 == pytest.approx(0, abs=1e-9)
+
+
+def test_placed_fourbar_report_applies_gravity_along_the_plane(tmp_path, capsys):
+    """A four-bar placed at θ1 = 90° (its ground line vertical) under gravity: its report's
+    T12 extremes equal those of the same linkage drawn with its ground line along +x
+    and gravity along +x of that frame, i.e. a point load m g (−j e^{−jθ1}) = −m g at
+    each centre of mass, here computed by ``fourbar_dynamics`` with those loads."""
+    fb = FourBar(R1, R2, R3, R4)
+    text = (
+        'machdyn = 1\ngravity = true\n[units]\nlength = "m"\nmass = "kg"\n'
+        f"[fourbar.f]\nr1 = {R1}\nr2 = {R2}\nr3 = {R3}\nr4 = {R4}\ntheta1 = 90\n"
+        '[fourbar.f.motion]\ntheta2 = [0, 359, 1]\nomega2 = "2 rad/s"\n'
+        + "".join(
+            f"[fourbar.f.link{k}]\nmass = {m}\ninertia = {i}\ncg = [{c.real}, {c.imag}]\n"
+            for k, m, i, c in zip((2, 3, 4), MASS, INERTIA, (complex(c) for c in CG), strict=True)
+        )
+    )
+    path = tmp_path / "placed.toml"
+    path.write_text(text)
+    assert main(["report", str(path), "-o", str(tmp_path / "p.html")]) == 0
+    capsys.readouterr()
+    page = page_text(tmp_path / "p.html")
+    theta2 = np.radians(np.arange(360.0))
+    weights = [
+        (k, complex(c), -9.80665 * m + 0j) for k, m, c in zip((2, 3, 4), MASS, CG, strict=True)
+    ]
+    f = fourbar_dynamics(
+        fb, theta2, 2.0, 0.0, mass=MASS, inertia=INERTIA, cg=CG, external_forces=weights
+    )
+    t_max, at_max = grab(page, r"T12 largest NUM N·m at θ2 = NUM°", 2)
+    assert close(t_max, f.T12.max()) and at_max == np.argmax(f.T12)

@@ -196,8 +196,27 @@ def _fourbar_positions(theta2, side):
     return B, G, {2: theta2, 3: np.unwrap(t3), 4: np.unwrap(t4)}
 
 
-def test_driving_torque_by_power_balance_from_the_us_file(tmp_path, capsys):
-    us = run_json(tmp_path, capsys, "us", us_file())
+PLACED = {  # a placed four-bar (synthesis results): O2 (in) and the ground line's angle (deg)
+    "local": None,
+    "placed": ((3.0, -2.0), 30.0),
+}
+
+
+@pytest.mark.parametrize("placement", PLACED)
+def test_driving_torque_by_power_balance_from_the_us_file(tmp_path, capsys, placement):
+    """T12 by power balance with gravity along the plane's −y. Placed at θ1 = 30° the
+    run applied gravity along the four-bar's own −y (normal to O2O4): T12 was that of
+    the unplaced linkage (e.g. 22.4 instead of 272.7 N·mm for a 80-40-70-60 mm press),
+    and its coupler point and forces were printed in the four-bar's frame."""
+    text = us_file()
+    turn, o2 = 1.0 + 0j, 0j
+    if PLACED[placement]:
+        (x, y), theta1 = PLACED[placement]
+        text = text.replace(
+            "[fourbar.f.motion]", f"O2 = [{x}, {y}]\ntheta1 = {theta1}\n[fourbar.f.motion]"
+        )
+        turn, o2 = np.exp(1j * math.radians(theta1)), complex(x, y) * IN
+    us = run_json(tmp_path, capsys, "us", text)
     theta2 = np.radians(column(us["tables"]["kinematics"], "theta2 [deg]"))
     T12 = column(us["tables"]["forces"], "T12 [lbf*in]") * LBF * IN
     theta4_us = np.radians(column(us["tables"]["kinematics"], "theta4 [deg]"))
@@ -225,11 +244,25 @@ def test_driving_torque_by_power_balance_from_the_us_file(tmp_path, capsys):
         m, inertia = m_lb * LB, i_lb * LB * IN * IN
         v, a = derivs(G[link])
         w, al = derivs(th[link])
-        power += m * (a * np.conj(v)).real + inertia * al * w + m * G0 * v.imag
+        v_plane = turn * v  # the centre of mass's velocity in the plane: gravity along its −y
+        power += m * (a * np.conj(v)).real + inertia * al * w + m * G0 * v_plane.imag
     w4, _ = derivs(th[4])
     T4 = TORQUE4 * LBF * IN
     want = (power - T4 * w4) / w2
     np.testing.assert_allclose(T12, want, rtol=1e-7, atol=1e-7 * np.abs(want).max())
+    # the coupler point in the plane: O2 + e^{jθ1} (A + p e^{j(θ3 + δ)}), written here
+    t3 = np.radians(column(us["tables"]["kinematics"], "theta3 [deg]"))
+    local = R["r2"] * IN * np.exp(1j * theta2) + P * IN * np.exp(1j * (t3 + math.radians(DELTA)))
+    P_plane = o2 + turn * local
+    coupler = us["tables"]["coupler"]
+    np.testing.assert_allclose(column(coupler, "P_x [in]") * IN, P_plane.real, atol=1e-12)
+    np.testing.assert_allclose(column(coupler, "P_y [in]") * IN, P_plane.imag, atol=1e-12)
+    # the ground's vertical reactions carry the weight and the vertical inertia forces
+    forces = us["tables"]["forces"]
+    lift = (column(forces, "F12_y [lbf]") + column(forces, "F14_y [lbf]")) * LBF
+    inertia_y = sum(m * LB * (turn * derivs(G[k])[1]).imag for k, (m, _, _) in LINKS.items())
+    weight = sum(m for m, _, _ in LINKS.values()) * LB * G0
+    np.testing.assert_allclose(lift, weight + inertia_y, rtol=1e-7, atol=1e-7 * weight)
 
 
 def gear_file(pitch: str, torque: str, units: str) -> str:
