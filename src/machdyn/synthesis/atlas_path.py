@@ -610,14 +610,16 @@ def path_from_atlas(
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     for i, fit in enumerate(_unique(fits, size)):
+        # untimed: only the fits that can be among the n chosen are refined at the change
+        # point; the others (a path no four-bar meets leaves dozens there) only land on it
+        onto = options if timing is not None or i < UNTIMED_BOUNDARY * n else None
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
-            # just past the change point: hold the crank harder (untimed: only the fits
-            # that can be among the n chosen; the others are landed as they are), then land
-            if timing is not None or i < UNTIMED_BOUNDARY * n:
+            # just past the change point: hold the crank harder, then land on it
+            if onto is not None:
                 more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4,
                               **options)  # fmt: skip
                 fit = more if more.rms <= 2 * fit.rms else fit
-            fit = _onto_grashof(fit, pts, options)
+            fit = _onto_grashof(fit, pts, onto)
         res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
         if res is not None:
             results.append(res)
