@@ -122,6 +122,29 @@ def test_a_motor_too_weak_to_start_is_a_stall_with_its_deficit(capsys, tmp_path)
     static = FB.dynamics(math.radians(60.0), 0.0, 0.0, gravity=9.80665, **MASSES).T12
     assert summary["status"] == "stall"
     assert summary["stall: the motor's deficit [N*m]"] == pytest.approx(float(static) - 0.001)
+    # the message words the efforts in the file's output units too, not the model's own
+    message = summary["message"]
+    assert "the motor cannot start at theta2 = 60 deg: it gives 0.001 N*m at zero speed" in message
+    assert f"where the load needs {float(static):.6g} N*m" in message
+
+
+def test_a_stall_message_words_its_efforts_in_the_output_units(capsys, tmp_path):
+    # in mm and g a torque's own unit is g*mm^2/s^2 (1e-9 N*m): the message must not
+    # print that number under the file's output unit, N*mm
+    weak = '[fourbar.hw6.simulate]\nmotor = { kind = "dc", stall_torque = "1e-9 N*m", '
+    weak += "no_load_speed = 10 }\nt_end = 1\ntheta0 = 60\n"
+    path = _file(tmp_path, weak)
+    text = Path(path).read_text(encoding="utf-8").replace('length = "m"', 'length = "mm"')
+    Path(path).write_text(text.replace('mass = "kg"', 'mass = "g"'), encoding="utf-8")
+    status, out, err = cli(capsys, "simulate", path, "--json")
+    assert status == 0, err
+    summary = json.loads(out)["parts"]["hw6"]["summary"]
+    (label,) = [k for k in summary if k.startswith("stall: the motor's deficit")]
+    unit = label[label.index("[") + 1 : -1]
+    message = summary["message"]
+    assert unit == "N*mm"
+    assert "it gives 1e-06 N*mm at zero speed" in message  # 1e-9 N*m = 1e-6 N*mm
+    assert f"(a deficit of {summary[label]:.6g} {unit})" in message
 
 
 def test_bad_command_lines(capsys):
@@ -207,3 +230,34 @@ def test_a_linkage_tolerance_with_an_unknown_dimension_is_one_line(capsys, tmp_p
     status, out, err = cli(capsys, "tolerance", str(path), "--samples", "10")
     assert status == 1 and out == "" and err.count("\n") == 1
     assert "unknown dimension 'C-E'" in err and "O6-D" in err
+
+
+def test_a_plot_of_a_file_shows_its_output_units(capsys, tmp_path):
+    from machdyn.draw.simulation import plot_simulation
+    from machdyn.simulate import ConstantTorque
+    from machdyn.units import UnitSystem
+
+    # a run in mm, g and s: its torques are in g*mm^2/s^2 = 1e-9 N*m = 1e-6 N*mm
+    fb = machdyn.FourBar(80.0, 40.0, 70.0, 60.0)
+    run = machdyn.simulate(fb, ConstantTorque(2e6), mass=(200.0, 300.0, 250.0),
+                           inertia=(3e4, 1.2e5, 7.5e4), cg=(20.0, 35.0, 30.0),
+                           t_end=0.05)  # fmt: skip
+    units = UnitSystem(length="mm", mass="g", time="s", force="N", angular_velocity="rpm")
+    fig = plot_simulation(run, units=units, title="in mm")
+    q, w, effort = (ax.lines[0].get_ydata() for ax in fig.axes[:3])
+    assert [ax.get_ylabel() for ax in fig.axes] == [
+        "theta2 [deg]",
+        "omega [rpm]",
+        "motor torque [N*mm]",
+    ]
+    np.testing.assert_allclose(effort, run.motor_torque * 1e-6, rtol=1e-12)
+    np.testing.assert_allclose(w, run.omega * 60.0 / (2.0 * math.pi), rtol=1e-12)
+    np.testing.assert_allclose(q, np.degrees(run.theta), rtol=1e-12)
+    assert fig._suptitle.get_text() == "in mm"
+    with pytest.raises(machdyn.errors.InputError, match=r"units: must be a machdyn\.units"):
+        plot_simulation(run, units="mm")
+    # and the command line draws a file's run with them
+    png = tmp_path / "run.png"
+    status, out, err = cli(capsys, "simulate", EXAMPLE, "--plot", str(png))
+    assert status == 0, err
+    assert png.stat().st_size > 10_000 and f"wrote {png}" in out

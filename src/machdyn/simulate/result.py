@@ -31,6 +31,9 @@ class Event:
     deficit : float
         For a stall: the effort the load needs minus what the motor gives
         at zero speed (> 0); otherwise 0.
+    given, need : float
+        For a stall: the motor's effort at zero speed and the effort that
+        would hold the load there; otherwise 0.
     """
 
     kind: str
@@ -39,6 +42,8 @@ class Event:
     omega: float
     message: str
     deficit: float = 0.0
+    given: float = 0.0
+    need: float = 0.0
 
     def __str__(self) -> str:
         return f"t = {self.t:.6g}: {self.kind}: {self.message}"
@@ -215,11 +220,14 @@ class Simulation(Summarized):
             }
         )
 
-    def plot(self, fig: Any = None) -> Any:
-        """Angle, speed and motor torque against time (:mod:`machdyn.draw.simulation`)."""
+    def plot(self, fig: Any = None, units: Any = None, title: str | None = None) -> Any:
+        """Angle, speed and motor effort against time (:mod:`machdyn.draw.simulation`).
+
+        ``units``: a machine file's :class:`~machdyn.units.UnitSystem`, to show its output units.
+        """
         from ..draw.simulation import plot_simulation
 
-        return plot_simulation(self, fig=fig)
+        return plot_simulation(self, fig=fig, units=units, title=title)
 
     def __str__(self) -> str:
         lines = [f"simulated {self.t[-1]:.6g} s: {self.message}"]
