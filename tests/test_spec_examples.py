@@ -204,6 +204,21 @@ def test_press_example_refers_parts_to_each_other():
     assert s["omega_avg [rpm]"] == pytest.approx(360.0, rel=1e-12)
 
 
+def test_a_flywheel_takes_the_whole_turn_whatever_its_part_prints(tmp_path):
+    # the press printed over a quarter turn only, in 30° steps: its flywheel is the same
+    text = (EXAMPLES / "press.toml").read_text(encoding="utf-8")
+    assert "theta2 = [0, 360, 5]" in text
+    (tmp_path / "quarter.toml").write_text(
+        text.replace("theta2 = [0, 360, 5]", "theta2 = [0, 90, 30]")
+    )
+    machine, results = run("press.toml")
+    quarter = load_machine(tmp_path / "quarter.toml")
+    quarter_results = quarter.run()
+    assert len(table(quarter, quarter_results, "press", "forces")["T12 [N*m]"]) == 4
+    whole = summary(machine, results, "crank")
+    np.testing.assert_equal(summary(quarter, quarter_results, "crank"), whole)
+
+
 def test_the_cam_command_reads_a_machine_file(tmp_path, capsys):
     """``machdyn cam --program`` takes the cam part of a machine file (DXF in the file's unit)."""
     import json
