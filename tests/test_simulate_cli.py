@@ -122,6 +122,29 @@ def test_a_motor_too_weak_to_start_is_a_stall_with_its_deficit(capsys, tmp_path)
     static = FB.dynamics(math.radians(60.0), 0.0, 0.0, gravity=9.80665, **MASSES).T12
     assert summary["status"] == "stall"
     assert summary["stall: the motor's deficit [N*m]"] == pytest.approx(float(static) - 0.001)
+    # the message words the efforts in the file's output units too, not the model's own
+    message = summary["message"]
+    assert "the motor cannot start at theta2 = 60 deg: it gives 0.001 N*m at zero speed" in message
+    assert f"where the load needs {float(static):.6g} N*m" in message
+
+
+def test_a_stall_message_words_its_efforts_in_the_output_units(capsys, tmp_path):
+    # in mm and g a torque's own unit is g*mm^2/s^2 (1e-9 N*m): the message must not
+    # print that number under the file's output unit, N*mm
+    weak = '[fourbar.hw6.simulate]\nmotor = { kind = "dc", stall_torque = "1e-9 N*m", '
+    weak += "no_load_speed = 10 }\nt_end = 1\ntheta0 = 60\n"
+    path = _file(tmp_path, weak)
+    text = Path(path).read_text(encoding="utf-8").replace('length = "m"', 'length = "mm"')
+    Path(path).write_text(text.replace('mass = "kg"', 'mass = "g"'), encoding="utf-8")
+    status, out, err = cli(capsys, "simulate", path, "--json")
+    assert status == 0, err
+    summary = json.loads(out)["parts"]["hw6"]["summary"]
+    (label,) = [k for k in summary if k.startswith("stall: the motor's deficit")]
+    unit = label[label.index("[") + 1 : -1]
+    message = summary["message"]
+    assert unit == "N*mm"
+    assert "it gives 1e-06 N*mm at zero speed" in message  # 1e-9 N*m = 1e-6 N*mm
+    assert f"(a deficit of {summary[label]:.6g} {unit})" in message
 
 
 def test_bad_command_lines(capsys):

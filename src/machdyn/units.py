@@ -130,6 +130,11 @@ _NUMBER = re.compile(
 )
 
 
+# units machdyn adds to pint's; the on-disk memo (_Memo) is keyed by them too, so a memo
+# written before a definition changed is not read
+_DEFINITIONS = ("rev = revolution",)  # pint knows 'revolution' and 'rpm', not 'rev' (rev/s)
+
+
 @cache
 def registry() -> Any:
     """The one pint ``UnitRegistry`` of machdyn (created on first use, cached on disk).
@@ -142,9 +147,12 @@ def registry() -> Any:
     import pint
 
     try:
-        return pint.UnitRegistry(cache_folder=":auto:")
+        ureg = pint.UnitRegistry(cache_folder=":auto:")
     except Exception:  # pragma: no cover - a read-only or unusable cache folder
-        return pint.UnitRegistry()
+        ureg = pint.UnitRegistry()
+    for line in _DEFINITIONS:
+        ureg.define(line)
+    return ureg
 
 
 def _kind(kind: Any) -> Kind:
@@ -343,7 +351,8 @@ class _Memo:
     Importing pint and building its registry costs about 0.15 s, a quarter of
     the cold-start budget of ``machdyn run``; a file's units are nearly always
     the same few, so their factors and dimensions are remembered in
-    ``$XDG_CACHE_HOME/machdyn/units.json`` (keyed by pint's installed files) and
+    ``$XDG_CACHE_HOME/machdyn/units-*.json`` (keyed by pint's installed files and
+    machdyn's own unit definitions) and
     pint is imported only for a unit not seen before. ``MACHDYN_UNIT_CACHE=off``
     disables the file.
     """
@@ -363,9 +372,12 @@ class _Memo:
         found = importlib.util.find_spec("pint")
         if found is None or not found.origin:
             return None
+        import zlib
+
         stamp = int(os.stat(found.origin).st_mtime)
+        ours = zlib.crc32("\n".join(_DEFINITIONS).encode())
         home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-        return Path(home) / "machdyn" / f"units-{stamp}.json"
+        return Path(home) / "machdyn" / f"units-{stamp}-{ours:08x}.json"
 
     def table(self, name: str) -> dict:
         if self.data is None:

@@ -81,13 +81,37 @@ def _motor(spec: dict | None) -> Any:
     return ConstantTorque(spec["torque"], **options)
 
 
-def _simulation_result(part: Any, run: Any) -> Any:
+def _stall_in_units(event: Any, units: Any, run: Any) -> str:
+    """A stall's message with its efforts (and a slider's position) in the file's output units.
+
+    :mod:`machdyn.simulate` words it in the model's internal units, which a machine
+    file in mm, say, does not show (0.3 N·m would read 300000).
+    """
+    effort = "torque" if run.angular else "force"
+    unit = units.display(effort)
+
+    def shown(value: float) -> str:
+        return f"{float(units.show(effort, value)):.6g} {unit}".rstrip()
+
+    verb = "cannot start" if event.message.startswith("the motor cannot start") else "stalls"
+    kind = "angle" if run.angular else "length"
+    where = f"{float(units.show(kind, event.theta)):.6g} {units.display(kind)}".rstrip()
+    return (
+        f"the motor {verb} at {run.coordinate} = {where}: it gives {shown(event.given)} "
+        f"at zero speed where the load needs {shown(event.need)} "
+        f"(a deficit of {shown(event.deficit)})"
+    )
+
+
+def _simulation_result(part: Any, run: Any, units: Any) -> Any:
     from ..spec._run import PartResult, ResultTable, Summary
 
     out = PartResult(part, objects={"simulation": run})
+    worded = {e.message: _stall_in_units(e, units, run) for e in run.events
+              if e.kind == "stall"}  # fmt: skip
     out.summary += [
         Summary("status", run.status),
-        Summary("message", run.message),
+        Summary("message", worded.get(run.message, run.message)),
         Summary("table", run.table),
         Summary("duration", float(run.t[-1]), "time"),
         Summary("added inertia (flywheel, motor)", run.added_inertia, "inertia"),
@@ -123,7 +147,7 @@ def _simulation_result(part: Any, run: Any) -> Any:
             "t": np.array([e.t for e in ev]),
             "theta2": np.array([e.theta for e in ev]),
             "omega2": np.array([e.omega for e in ev]),
-            "message": np.array([e.message for e in ev]),
+            "message": np.array([worded.get(e.message, e.message) for e in ev]),
         }
         kinds = {"event": None, "t": "time", "theta2": kind, "omega2": rate, "message": None}
         out.tables.append(ResultTable("events", f"Events of {part.name}", columns, kinds))
@@ -193,7 +217,7 @@ def simulate_command(
         matplotlib.use("Agg")
         fig = run.plot().figure
         fig.savefig(plot, dpi=120)
-    _emit(machine, _simulation_result(p, run), file, json, csv_out)
+    _emit(machine, _simulation_result(p, run, machine.units), file, json, csv_out)
     if plot is not None and not (json or csv_out):
         print(f"wrote {plot}")
 

@@ -284,7 +284,8 @@ class Dyad:
             if isinstance(a, RArm):
                 vec = B - b0[0]
                 coef.append(1j * vec)
-                e.append(vec / np.abs(vec) if a.driver >= 0 else vec / a.length)
+                with np.errstate(invalid="ignore"):  # NaN where the dyad does not close
+                    e.append(vec / np.abs(vec) if a.driver >= 0 else vec / a.length)
                 x.append([])
             else:
                 coef.append(uh)

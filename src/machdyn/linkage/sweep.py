@@ -272,8 +272,10 @@ def solve_closed(
         )
     arc = _circuit(lk, model, info)
     away = None if arc is None else _off_circuit(arc, U[0], out.codes)
+    stuck = None
     if away is not None:  # poses of the drawn groups' other circuit: not this mechanism's
-        out.codes[arc[2], away] = NO_ASSEMBLY
+        stuck = (out.codes == NO_ASSEMBLY).any(axis=1)  # groups that really do not close
+        out.codes[np.ix_(arc[2], away)] = NO_ASSEMBLY
         out.clean = False
     # the usual case: every group assembled, away from toggles
     clean = out.clean if out.clean is not None else not out.codes.any()
@@ -281,40 +283,57 @@ def solve_closed(
         ok, reason = _clean(n)
     else:
         ok, reason = _flags(out, model, info, n)
-    for g in () if clean else np.flatnonzero((out.codes == NO_ASSEMBLY).any(axis=1)):
+        if stuck is None:
+            stuck = (out.codes == NO_ASSEMBLY).any(axis=1)
+    for g in () if clean else np.flatnonzero(stuck):
         where = _reach(lk, model, info, int(g))
         if where:
             mine = reason == info.texts[g][0]
             reason[mine] = f"{info.texts[g][0]} ({where})"
     if away is not None:
-        lo, hi, g, period = arc
-        span = (
-            f"[{math.degrees(lo):.5g}°, {math.degrees(hi):.5g}°]"
-            if period is not None
-            else f"[{lo:.6g}, {hi:.6g}]"
-        )
-        reason[away] = (
-            f"{info.texts[g][2]} is on another circuit at this input: the drawn mechanism "
-            f"reaches {lk._drivers[0]} in {span} only (it would have to be taken apart)"
-        )
+        reason[away] = _away_text(lk, model, info, arc)
     return _motion(lk, out, info, vals, shape, ok, reason, order)
+
+
+def _away_text(lk: Linkage, model: _Model, info: _Info, arc: tuple) -> str:
+    """The reason of a sample outside the drawn range ``arc`` (see :func:`_circuit`)."""
+    lo, hi, groups, period = arc
+    span = (
+        f"[{math.degrees(lo):.5g}°, {math.degrees(hi):.5g}°]"
+        if period is not None
+        else f"[{lo:.6g}, {hi:.6g}]"
+    )
+    if len(groups) == 1:
+        who = f"{info.texts[groups[0]][2]} is"
+    else:  # a different group stops closing at each end
+        names = [model.groups[g].name for g in groups]
+        who = f"{names[0]} (at {lk._drivers[0]}'s upper end) and {names[1]} (lower end) are"
+    return (
+        f"{who} on another circuit at this input: the drawn mechanism reaches "
+        f"{lk._drivers[0]} in {span} only (it would have to be taken apart)"
+    )
 
 
 def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     """The range of a lone driver that the drawn pose can reach, when it is not everything.
 
     Every closed-form group keeps its drawn assembly sign, but a driver value
-    whose groups close on a *separate* range (a Grashof four-bar whose coupler
-    is the shortest link, driven at a rocker: two mirror arcs; a slider-crank
-    driven at its slider: the block on the other side of the crank's pivot)
-    puts the linkage on its other circuit there, which no motion of the drawn
-    mechanism reaches. Only the groups placed straight from the driver are
-    asked (for them the closing ranges are the circuits exactly). Returns
-    ``(lo, hi, group, period)`` — the range around the drawn value (edges
-    refined by bisection; ±inf where a length driver's groups close beyond ±10
-    typical lengths), the group that stops closing at its ends, and 2π for an
-    angle (None for a length) — or None when they close everywhere (or for
-    several drivers, or a group the closed forms do not cover).
+    at which the groups close on a *separate* range (a Grashof four-bar whose
+    coupler is the shortest link, driven at a rocker: two mirror arcs; a
+    slider-crank driven at its slider: the block on the other side of the
+    crank's pivot; the second loop of a Watt II six-bar closing on two arcs of
+    the first loop's rocker swing) puts the linkage on its other circuit there,
+    which no motion of the drawn mechanism reaches: moving the driver from the
+    drawing, the mechanism stops where the first of its groups stops closing
+    (a toggle), so what it reaches is the connected range around the drawn
+    value on which *every* group closes. Returns ``(lo, hi, groups, period)``
+    — that range (edges refined by bisection; ±inf where a length driver's
+    groups close beyond ±10 typical lengths), the first group (in solving
+    order) that stops closing at its upper and at its lower end, and 2π for an
+    angle (None for a length) — or None when the groups close everywhere. Not
+    asked (None): several drivers (the reachable set is a region of the
+    drivers' space, not a range; nothing is flagged) and a group the closed
+    forms do not cover (the vector-loop core follows its own circuit).
     """
     if "circuit" in model.cache:
         return model.cache["circuit"]  # type: ignore[return-value]
@@ -327,18 +346,16 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
         and model.program.steps
         and not any(isinstance(s, General) for s in model.program.steps)
     ):
-        # only the groups placed straight from the driver: where they close does not hang
-        # on another dyad's assembly, which a toggle could switch on the way (then the
-        # closing ranges of the drawn signs would not be the circuits)
-        kinds = [g.kind for g in model.groups]
-        first = np.array([not any(kinds[h] != "driver" for h in d) for d in model.program.deps])
-
         wall = driver in lk._actuators  # an actuator's length stays > 0
 
         def failing(x: np.ndarray) -> np.ndarray:
+            """Per group and sample: the group does not close.
+
+            (A group after one that does not close is placed from NaN: it does not either.)
+            """
             with np.errstate(all="ignore"):
                 _, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
-            out = (codes == NO_ASSEMBLY) & first[:, None]  # (groups, samples)
+            out = codes == NO_ASSEMBLY  # (groups, samples)
             if wall:
                 out[0] |= x <= 0.0
             return out
@@ -357,24 +374,34 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
             down = t0 - np.linspace(0.0, 10.0 * float(info.scale[0]), n)
             bad_up, bad_down = failing(up).any(axis=0), failing(down).any(axis=0)
         if (bad_up.any() or bad_down.any()) and not bad_up[0]:
-            ends, group = [], None
-            for x, bad in ((up, bad_up), (down, bad_down)):
-                if not bad.any():
-                    ends.append(math.copysign(math.inf, x[-1] - t0))
-                    continue
-                k = int(np.argmax(bad))
-                if group is None:
-                    group = int(np.argmax(failing(x[k : k + 1])[:, 0]))
-                a, b = x[k - 1], x[k]  # a closes, b does not
-                for _ in range(40):  # to 1e-12 of the step
-                    mid = 0.5 * (a + b)
-                    a, b = (a, mid) if failing(np.array([mid])).any() else (mid, b)
-                ends.append(float(a))
-            hi, lo = ends
-            if period is None or hi - lo < period - 1e-9:
-                arc = (lo, hi, group, period)
+            arc = _ends(t0, period, up, down, bad_up, bad_down, failing)
     model.cache["circuit"] = arc
     return arc
+
+
+def _ends(t0, period, up, down, bad_up, bad_down, failing) -> tuple | None:
+    """Bisect the first failing sample of each scan (both at once) to the range's ends."""
+    a, b, k_up, k_down = [], [], int(np.argmax(bad_up)), int(np.argmax(bad_down))
+    for x, bad, k in ((up, bad_up, k_up), (down, bad_down, k_down)):
+        a.append(x[k - 1] if bad.any() else x[-1])  # a closes, b does not
+        b.append(x[k] if bad.any() else x[-1])
+    a, b = np.array(a), np.array(b)
+    for _ in range(40):  # to 1e-12 of the step
+        mid = 0.5 * (a + b)
+        fails = failing(mid).any(axis=0)
+        a, b = np.where(fails, a, mid), np.where(fails, mid, b)
+    first = failing(b)  # the first group (solving order) not closing just past each end
+    ends, groups = [], []
+    for i, (x, bad) in enumerate(((up, bad_up), (down, bad_down))):
+        if bad.any():
+            ends.append(float(a[i]))
+            groups.append(int(np.argmax(first[:, i])))
+        else:
+            ends.append(math.copysign(math.inf, x[-1] - t0))
+    hi, lo = ends
+    if period is not None and hi - lo >= period - 1e-9:
+        return None
+    return lo, hi, tuple(dict.fromkeys(groups)), period
 
 
 def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):

@@ -49,7 +49,7 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
     >>> sorted(part_options(m.parts["hw6"], m))  # doctest: +SKIP
     ['cg', 'gravity', 'inertia', 'mass', 'omega2', 'units']
     """
-    from ..spec._fourbar import _external, _masses, input_motion
+    from ..spec._fourbar import _external, _in_own_frame, _masses, input_motion
 
     v, kind = part.values, part.kind
     options: dict[str, Any] = {"units": machine.units}
@@ -62,7 +62,8 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         masses = _masses(v, (2, 3, 4))
         if masses is not None:
             loads = v.get("loads", {})
-            options |= masses | _external(loads, (2, 3, 4)) | {"gravity": gravity}
+            external, g = _in_own_frame(v, masses, _external(loads, (2, 3, 4)), gravity)
+            options |= masses | external | {"gravity": g}
             options["load_torque4"] = loads.get("torque4", 0.0)
     elif kind == "slider_crank":
         masses = _masses(v, (2, 3, 4))

@@ -263,7 +263,7 @@ class Runner:
                 f"{torque:.6g} at zero speed where the load needs {need:.6g} "
                 f"(a deficit of {deficit:.6g})"
             )
-            self.events.append(Event("stall", t, q, 0.0, what, deficit))
+            self.events.append(Event("stall", t, q, 0.0, what, deficit, torque, need))
             return "stall", what
         if moving:
             what = f"the speed reversed at {self.plant.label} = {_show(q, self.plant)}"

@@ -31,6 +31,9 @@ class Event:
     deficit : float
         For a stall: the effort the load needs minus what the motor gives
         at zero speed (> 0); otherwise 0.
+    given, need : float
+        For a stall: the motor's effort at zero speed and the effort that
+        would hold the load there; otherwise 0.
     """
 
     kind: str
@@ -39,6 +42,8 @@ class Event:
     omega: float
     message: str
     deficit: float = 0.0
+    given: float = 0.0
+    need: float = 0.0
 
     def __str__(self) -> str:
         return f"t = {self.t:.6g}: {self.kind}: {self.message}"

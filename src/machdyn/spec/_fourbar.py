@@ -287,6 +287,29 @@ def _external(loads: dict, links: tuple[int, ...]) -> dict[str, Any]:
     return out
 
 
+def _in_own_frame(
+    v: dict, masses: dict, external: dict, gravity: float | None
+) -> tuple[dict[str, Any], float]:
+    """A four-bar's loads in its own frame (x along O2 → O4) and the gravity to pass.
+
+    Unplaced: as given. Placed (``O2``/``theta1``, a synthesis result): the file's
+    force vectors are in the plane, and gravity acts along the plane's −y — turned by
+    e^{−jθ1} it becomes a point load ``m g`` at each centre of mass (gravity then 0).
+    """
+    g = float(gravity or 0.0)
+    if "theta1" not in v:
+        return external, g  # O2 alone only translates: directions are the plane's
+    back = complex(np.exp(-1j * v["theta1"]))
+    forces = [(k, at, back * F) for k, at, F in external.get("external_forces", [])]
+    if g:
+        weights = zip((2, 3, 4), masses["mass"], masses["cg"], strict=True)
+        forces += [(k, cg, -1j * g * mass * back) for k, mass, cg in weights if mass]
+    out = dict(external)
+    if forces:
+        out["external_forces"] = forces
+    return out, 0.0
+
+
 def _kin_table(name: str, title: str, cols: dict[str, tuple[Any, str | None]]) -> ResultTable:
     return ResultTable(
         name,
@@ -336,8 +359,12 @@ def _run_fourbar(part: Part, machine: Machine, results: dict) -> PartResult:
                 f"toggle: links {tg.links[0]}-{tg.links[1]} {tg.kind}{side}", tg.theta2, "angle"
             )
         )
-    if "O2" in v or "theta1" in v:
-        o2 = complex(v.get("O2", 0j))
+    # placed (a synthesis result): the model works in its own frame (x along O2 → O4);
+    # positions and forces are shown in the plane's (global = O2 + e^{jθ1}·local), the
+    # file's loads are read in it and gravity acts along the plane's −y
+    placed = "O2" in v or "theta1" in v
+    o2, turn = complex(v.get("O2", 0j)), complex(np.exp(1j * v.get("theta1", 0.0)))
+    if placed:
         out.summary.append(Summary("placed: O2", [o2.real, o2.imag], "length"))
         out.summary.append(Summary("placed: theta1", v.get("theta1", 0.0), "angle"))
     good = m.ok & np.isfinite(m.mu)
@@ -361,30 +388,31 @@ def _run_fourbar(part: Part, machine: Machine, results: dict) -> PartResult:
     if m.coupler is not None:
         cols = {
             "theta2": (m.theta2, "angle"),
-            **_xy("P", m.coupler, "length"),
-            **_xy("VP", m.coupler_velocity, "velocity"),
-            **_xy("AP", m.coupler_acceleration, "acceleration"),
+            **_xy("P", o2 + turn * m.coupler, "length"),
+            **_xy("VP", turn * m.coupler_velocity, "velocity"),
+            **_xy("AP", turn * m.coupler_acceleration, "acceleration"),
             **_flags(m),
         }
         out.tables.append(_kin_table("coupler", f"Coupler point P of {part.name}", cols))
     masses = _masses(v, (2, 3, 4))
     if masses is not None:
         loads = v.get("loads", {})
+        external, g = _in_own_frame(v, masses, _external(loads, (2, 3, 4)), machine.gravity)
         f = fb.dynamics(
             theta2,
             omega2,
             alpha2,
             form=form,
             branch=v.get("branch"),
-            gravity=machine.gravity or 0.0,
+            gravity=g,
             load_torque4=loads.get("torque4", 0.0),
             **masses,
-            **_external(loads, (2, 3, 4)),
+            **external,
         )
         out.objects["forces"] = f
         cols = {"theta2": (m.theta2, "angle"), "T12": (f.T12, "torque")}
         for name in ("F12", "F32", "F43", "F14"):
-            cols |= _xy(name, getattr(f, name), "force")
+            cols |= _xy(name, turn * getattr(f, name), "force")
         cols |= {"M_shaking": (f.shaking_moment, "torque"), **_flags(f)}
         out.tables.append(_kin_table("forces", f"Forces on {part.name}", cols))
         out.torque = (theta2, np.asarray(f.T12), omega2)
@@ -424,6 +452,15 @@ def _run_slider(part: Part, machine: Machine, results: dict) -> PartResult:
     }
     title = f"Kinematics of {part.name}, {_rates_title(machine, omega2, alpha2)}"
     out.tables.append(_kin_table("kinematics", title, cols))
+    if m.coupler is not None:
+        cols = {
+            "theta2": (m.theta2, "angle"),
+            **_xy("P", m.coupler, "length"),
+            **_xy("VP", m.coupler_velocity, "velocity"),
+            **_xy("AP", m.coupler_acceleration, "acceleration"),
+            **_flags(m),
+        }
+        out.tables.append(_kin_table("point", f"Point P on the rod of {part.name}", cols))
     masses = _masses(v, (2, 3, 4))
     if masses is not None:
         loads = v.get("loads", {})
@@ -446,7 +483,7 @@ def _run_slider(part: Part, machine: Machine, results: dict) -> PartResult:
         cols = {"theta2": (m.theta2, "angle"), "T12": (f.T12, "torque")}
         for name in ("F12", "F32", "F43", "F14"):
             cols |= _xy(name, getattr(f, name), "force")
-        cols |= _flags(f)
+        cols |= {"M_shaking": (f.shaking_moment, "torque"), **_flags(f)}
         out.tables.append(_kin_table("forces", f"Forces on {part.name}", cols))
         out.torque = (theta2, np.asarray(f.T12), omega2)
     _flag_lines(out, machine, m.theta2, m.ok, m.reason)

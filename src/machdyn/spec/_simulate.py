@@ -30,7 +30,7 @@ def dynamics_options(part: Any, machine: Any) -> dict[str, Any] | None:
 
     The keyword arguments of ``dynamics`` and :func:`machdyn.simulate`; None without masses.
     """
-    from ._fourbar import _external, _masses
+    from ._fourbar import _external, _in_own_frame, _masses
 
     v = part.values
     masses = _masses(v, (2, 3, 4))
@@ -48,7 +48,10 @@ def dynamics_options(part: Any, machine: Any) -> dict[str, Any] | None:
             "mu": loads.get("mu", 0.0),
             "beta": loads.get("beta", 0.0),
         }
-    return out | masses | _external(loads, (2, 3, 4))
+    external = _external(loads, (2, 3, 4))
+    if part.kind == "fourbar":
+        external, out["gravity"] = _in_own_frame(v, masses, external, out["gravity"])
+    return out | masses | external
 
 
 def simulated_k(machine: Any, source: str, result: Any) -> float | str:
