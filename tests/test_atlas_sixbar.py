@@ -193,7 +193,7 @@ def test_untimed_refinement_converges_where_the_rocker_turns(compiled):
             x0 = x.copy()
             x0[3:] *= 1 + 0.01 * rng.uniform(-1, 1, 12)
             x0[:3] += 0.01 * rng.uniform(-1, 1, 3) * np.array([size, size, 1.0])
-            xc, thc, rms = refine_sixbar(x0, theta, fixed, targets, iterations=600, compiled=True)
+            xc, thc, _ = refine_sixbar(x0, theta, fixed, targets, iterations=600, compiled=True)
             assert np.max(_placed_distance(xc, thc, fixed, targets)) <= 1e-6 * size
 
 
@@ -388,7 +388,7 @@ def test_a_later_round_of_timed_starts_scans_a_grid_turned_half_a_step(atlas6, c
     for round_, offset in ((0, 0.0), (1, 0.5)):
         starts = sixbar_starts(atlas6, targets, theta - theta[0], True, 40, 8, None, True, round_)
         assert len(starts) >= 8
-        for x0, th0, _ in starts:
+        for _, th0, _ in starts:
             np.testing.assert_allclose(np.diff(th0), np.diff(theta), atol=1e-12)  # as timed
             assert abs(np.mod(th0[0] / step, 1.0) - offset) < 1e-9
 
