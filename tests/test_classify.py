@@ -91,3 +91,45 @@ def test_fourbar_loops_of_drawn_linkages():
     assert fourbar_loops(sc) == ()
     with pytest.raises(InputError, match="lk"):
         fourbar_loops("not a linkage")
+
+
+# Barker's table (the notes' Table 2, rows 9–14; Norton, Design of Machinery, Table 2-4):
+# s + l = p + q is its own row group, "change point", apart from Grashof (<) and
+# non-Grashof (>). Norton's §2.14 writes Grashof's condition s + l ≤ p + q and calls the
+# equality "special-case Grashof"; machdyn follows the notes' three rows, and every place
+# that names the condition must say the same of the same lengths, also when they are typed
+# with decimals whose sums differ in binary (0.4 + 0.5 ≠ 0.2 + 0.7 by one unit in the last
+# place).
+@pytest.mark.parametrize("scale", [1.0, 0.1, 0.01, 0.3])
+@pytest.mark.parametrize(("lengths", "code", "cranks"), ROWS)
+def test_every_place_names_the_condition_of_barkers_row(lengths, code, cranks, scale):
+    from machdyn import FourBar
+
+    L = tuple(scale * r for r in lengths)
+    want = {"G": "grashof", "R": "non-grashof", "C": "change point"}[code[0]]
+    c = classify(*L)
+    assert (c.code, c.condition, c.cranks) == (code, want, cranks)
+    assert c.is_grashof == is_grashof(*L) == (want == "grashof")
+    fb = FourBar(*L)
+    assert (fb.barker_class, fb.is_grashof, fb.cranks) == (code, want == "grashof", cranks)
+
+
+@pytest.mark.parametrize(
+    ("lengths", "shown"),
+    [
+        ((0.4, 0.2, 0.5, 0.7), "special Grashof (change point)"),  # 0.2 + 0.7 vs 0.4 + 0.5
+        ((0.3, 0.2, 0.4, 0.5), "special Grashof (change point)"),  # the 2, 3, 4, 5 of §2.14
+        ((0.4, 0.2, 0.5, 0.69), "Grashof"),
+        ((0.4, 0.2, 0.5, 0.71), "non-Grashof"),
+    ],
+)
+def test_the_four_bar_report_names_the_condition_barkers_table_gives(lengths, shown):
+    import re
+
+    from machdyn import FourBar
+    from machdyn.report import report
+
+    html = report(FourBar(*lengths))
+    row = re.search(r"s \+ l = [^<]*", html)[0]
+    assert row.endswith(f": {shown}"), row
+    assert classify(*lengths).code in html

@@ -230,3 +230,34 @@ def test_a_linkage_tolerance_with_an_unknown_dimension_is_one_line(capsys, tmp_p
     status, out, err = cli(capsys, "tolerance", str(path), "--samples", "10")
     assert status == 1 and out == "" and err.count("\n") == 1
     assert "unknown dimension 'C-E'" in err and "O6-D" in err
+
+
+def test_a_plot_of_a_file_shows_its_output_units(capsys, tmp_path):
+    from machdyn.draw.simulation import plot_simulation
+    from machdyn.simulate import ConstantTorque
+    from machdyn.units import UnitSystem
+
+    # a run in mm, g and s: its torques are in g*mm^2/s^2 = 1e-9 N*m = 1e-6 N*mm
+    fb = machdyn.FourBar(80.0, 40.0, 70.0, 60.0)
+    run = machdyn.simulate(fb, ConstantTorque(2e6), mass=(200.0, 300.0, 250.0),
+                           inertia=(3e4, 1.2e5, 7.5e4), cg=(20.0, 35.0, 30.0),
+                           t_end=0.05)  # fmt: skip
+    units = UnitSystem(length="mm", mass="g", time="s", force="N", angular_velocity="rpm")
+    fig = plot_simulation(run, units=units, title="in mm")
+    q, w, effort = (ax.lines[0].get_ydata() for ax in fig.axes[:3])
+    assert [ax.get_ylabel() for ax in fig.axes] == [
+        "theta2 [deg]",
+        "omega [rpm]",
+        "motor torque [N*mm]",
+    ]
+    np.testing.assert_allclose(effort, run.motor_torque * 1e-6, rtol=1e-12)
+    np.testing.assert_allclose(w, run.omega * 60.0 / (2.0 * math.pi), rtol=1e-12)
+    np.testing.assert_allclose(q, np.degrees(run.theta), rtol=1e-12)
+    assert fig._suptitle.get_text() == "in mm"
+    with pytest.raises(machdyn.errors.InputError, match=r"units: must be a machdyn\.units"):
+        plot_simulation(run, units="mm")
+    # and the command line draws a file's run with them
+    png = tmp_path / "run.png"
+    status, out, err = cli(capsys, "simulate", EXAMPLE, "--plot", str(png))
+    assert status == 0, err
+    assert png.stat().st_size > 10_000 and f"wrote {png}" in out

@@ -12,7 +12,13 @@ other two lengths:
 
 Change-point linkages (``s + l = p + q``) are recognised to a relative tolerance
 of :data:`CHANGE_POINT_RTOL` of the total length, so lengths typed with a
-finite number of digits (``6, 4, 3, 5``) classify as the user intends.
+finite number of digits (``6, 4, 3, 5``, or ``0.4, 0.2, 0.5, 0.7`` whose sums
+differ in binary) classify as the user intends. Norton (§2.14) writes the
+Grashof condition ``s + l ≤ p + q`` and calls the equality "special-case
+Grashof"; machdyn follows Barker's table of the notes, where it is its own row
+group: ``condition == "change point"``, :func:`is_grashof` False, and the
+links that turn fully (``cranks``) those of the Grashof row with the same
+shortest link (the four-bar report says "special Grashof (change point)").
 """
 
 from __future__ import annotations

@@ -103,12 +103,16 @@ def _stall_in_units(event: Any, units: Any, run: Any) -> str:
     )
 
 
+def _worded(run: Any, units: Any) -> dict[str, str]:
+    """Each stall's message in the file's output units, by the message machdyn gave."""
+    return {e.message: _stall_in_units(e, units, run) for e in run.events if e.kind == "stall"}
+
+
 def _simulation_result(part: Any, run: Any, units: Any) -> Any:
     from ..spec._run import PartResult, ResultTable, Summary
 
     out = PartResult(part, objects={"simulation": run})
-    worded = {e.message: _stall_in_units(e, units, run) for e in run.events
-              if e.kind == "stall"}  # fmt: skip
+    worded = _worded(run, units)
     out.summary += [
         Summary("status", run.status),
         Summary("message", worded.get(run.message, run.message)),
@@ -215,7 +219,8 @@ def simulate_command(
         import matplotlib
 
         matplotlib.use("Agg")
-        fig = run.plot().figure
+        title = _worded(run, machine.units).get(run.message, run.message)
+        fig = run.plot(units=machine.units, title=title)
         fig.savefig(plot, dpi=120)
     _emit(machine, _simulation_result(p, run, machine.units), file, json, csv_out)
     if plot is not None and not (json or csv_out):

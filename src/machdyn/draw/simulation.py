@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..errors import InputError
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
@@ -25,11 +27,15 @@ _MARKS = {
 }
 
 
-def plot_simulation(sim: Any, *, fig: Figure | None = None) -> Figure:
+def plot_simulation(
+    sim: Any, *, fig: Figure | None = None, units: Any = None, title: str | None = None
+) -> Figure:
     """θ, ω and the motor's effort of a :class:`~machdyn.simulate.Simulation` against time.
 
     Angles in degrees, speeds in rad/s (per the model's time unit); a linear
-    driver's travel and speed in its length unit. Events (stall, reversal,
+    driver's travel and speed in its length unit. With ``units`` (a machine
+    file's :class:`~machdyn.units.UnitSystem`) every axis is in its output units
+    and labelled with them. Events (stall, reversal,
     toggle, steady state, a switching motor or load) are marked and labelled
     on the speed panel; the steady-state band ``ω_min … ω_max`` of the last
     cycle is shaded.
@@ -40,6 +46,10 @@ def plot_simulation(sim: Any, *, fig: Figure | None = None) -> Figure:
         From :func:`machdyn.simulate`.
     fig : matplotlib Figure, optional
         An empty figure to draw in.
+    units : UnitSystem, optional
+        The model's units (internal) and the units to show (output).
+    title : str, optional
+        The figure's title; the simulation's message by default.
 
     Returns
     -------
@@ -61,31 +71,62 @@ def plot_simulation(sim: Any, *, fig: Figure | None = None) -> Figure:
     """
     import matplotlib.pyplot as plt
 
+    from ..units import UnitSystem
+
+    if units is not None and not isinstance(units, UnitSystem):
+        raise InputError("units", f"must be a machdyn.units.UnitSystem or None, got {units!r}")
     if fig is None:
         fig = plt.figure(figsize=(7.0, 6.5))
     axes = fig.subplots(3, 1, sharex=True)
     name = sim.coordinate
-    theta = np.degrees(sim.theta) if sim.angular else sim.theta
-    axes[0].plot(sim.t, theta, color="C0")
-    axes[0].set_ylabel(f"{name} [deg]" if sim.angular else name)
-    axes[1].plot(sim.t, sim.omega, color="C1")
-    axes[1].set_ylabel("omega [rad/s]" if sim.angular else f"{name} rate")
-    axes[2].plot(sim.t, sim.motor_torque, color="C2")
-    axes[2].set_ylabel("motor torque" if sim.angular else "motor force")
-    axes[2].set_xlabel("t [s]")
+    if sim.angular:
+        kinds = {"q": "angle", "w": "angular_velocity", "effort": "torque"}
+        names = {"q": name, "w": "omega", "effort": "motor torque"}
+    else:
+        kinds = {"q": "length", "w": "velocity", "effort": "force"}
+        names = {"q": name, "w": f"{name} rate", "effort": "motor force"}
+    kinds["t"], names["t"] = "time", "t"
+
+    def shown(what: str, value: Any) -> Any:
+        value = np.asarray(value, dtype=float)
+        if units is not None:
+            return units.show(kinds[what], value)
+        return np.degrees(value) if kinds[what] == "angle" else value
+
+    def label(what: str) -> str:
+        if units is not None:
+            return units.label(names[what], kinds[what])
+        bare = {"angle": " [deg]", "angular_velocity": " [rad/s]", "time": " [s]"}
+        return names[what] + bare.get(kinds[what], "")
+
+    t = shown("t", sim.t)
+    for ax, what, value, color in zip(axes, ("q", "w", "effort"),
+                                      (sim.theta, sim.omega, sim.motor_torque),
+                                      ("C0", "C1", "C2"), strict=True):  # fmt: skip
+        ax.plot(t, shown(what, value), color=color)
+        ax.set_ylabel(label(what))
+    axes[2].set_xlabel(label("t"))
     if sim.steady is not None and sim.cycles.size >= 2:
         s = sim.steady
-        axes[1].axhspan(s.omega_min, s.omega_max, color="C1", alpha=0.15, lw=0)
-        axes[1].axhline(s.omega_avg, color="C1", lw=0.8, ls="--")
+        low, high, avg = (float(shown("w", v)) for v in (s.omega_min, s.omega_max, s.omega_avg))
+        axes[1].axhspan(low, high, color="C1", alpha=0.15, lw=0)
+        axes[1].axhline(avg, color="C1", lw=0.8, ls="--")
         axes[1].annotate(
-            f"k = {s.k:.3g}", (sim.cycles[-1], s.omega_max), ha="right", va="bottom", fontsize=8
+            f"k = {s.k:.3g}",
+            (float(shown("t", sim.cycles[-1])), high),
+            xytext=(-14, 3),  # clear of the last event's label
+            textcoords="offset points",
+            ha="right",
+            va="bottom",
+            fontsize=8,
         )
     for event in sim.events:
         marker = _MARKS.get(event.kind, "*")
-        axes[1].plot([event.t], [event.omega], marker=marker, color="k", ls="none")
-        axes[1].annotate(event.kind, (event.t, event.omega), xytext=(3, 3),
+        at = (float(shown("t", event.t)), float(shown("w", event.omega)))
+        axes[1].plot([at[0]], [at[1]], marker=marker, color="k", ls="none")
+        axes[1].annotate(event.kind, at, xytext=(3, 3),
                          textcoords="offset points", fontsize=8)  # fmt: skip
     for ax in axes:
         ax.grid(True, lw=0.3)
-    fig.suptitle(sim.message, fontsize=9)
+    fig.suptitle(sim.message if title is None else title, fontsize=9)
     return fig

@@ -375,11 +375,11 @@ def _class_sections(page: Page, c: _Case, kind: str, span: str, mu_limit_deg: fl
     fb = c.fb
     L = sorted(fb.lengths)
     s_l, p_q = L[0] + L[3], L[1] + L[2]
-    grashof = (
-        "Grashof"
-        if s_l < p_q
-        else ("special Grashof (change point)" if s_l == p_q else "non-Grashof")
-    )
+    grashof = {  # classify's condition: s + l = p + q to its tolerance, as Barker's table
+        "grashof": "Grashof",
+        "change point": "special Grashof (change point)",
+        "non-grashof": "non-Grashof",
+    }[fb.classification.condition]
     cranks = ", ".join(f"link {n}" for n in fb.cranks) or "none"
     page.section(
         "class",

@@ -220,11 +220,14 @@ class Simulation(Summarized):
             }
         )
 
-    def plot(self, fig: Any = None) -> Any:
-        """Angle, speed and motor torque against time (:mod:`machdyn.draw.simulation`)."""
+    def plot(self, fig: Any = None, units: Any = None, title: str | None = None) -> Any:
+        """Angle, speed and motor effort against time (:mod:`machdyn.draw.simulation`).
+
+        ``units``: a machine file's :class:`~machdyn.units.UnitSystem`, to show its output units.
+        """
         from ..draw.simulation import plot_simulation
 
-        return plot_simulation(self, fig=fig)
+        return plot_simulation(self, fig=fig, units=units, title=title)
 
     def __str__(self) -> str:
         lines = [f"simulated {self.t[-1]:.6g} s: {self.message}"]
