@@ -283,10 +283,11 @@ def pso(case: dict, seconds: float, seed: int) -> float:
 
 def compare(case: dict, at, seeds: list[int], pso_on: bool) -> None:
     """machdyn, then the swarm given machdyn's wall time, once per seed (interleaved)."""
-    runs, swarm = [], []
+    runs, swarm, split = [], [], []
     for seed in seeds:
         res, seconds, cpu = run_machdyn(case, at)
         runs.append((seconds, cpu))
+        split.append((res.seconds["retrieve"], res.seconds["refine"]))
         if pso_on:
             try:
                 swarm.append(pso(case, seconds, seed))
@@ -303,9 +304,10 @@ def compare(case: dict, at, seeds: list[int], pso_on: bool) -> None:
     note = f"  [{'; '.join(broken)}]" if broken else ""
     verdict = "<= best published" if sse <= best * (1 + 1e-9) else "WORSE than published"
     wall, cpu = np.median(runs, axis=0)
+    fetch, fit = np.median(split, axis=0)
     print(f"  machdyn    {'atlas + refine':52s} SSE {sse:10.3e}  {wall:5.2f} s "
-          f"({cpu:.2f} s CPU; median of {len(runs)}: {', '.join(f'{w:.2f}' for w, _ in runs)} s)"
-          f"  {verdict}{note}")  # fmt: skip
+          f"({cpu:.2f} s CPU; median of {len(runs)}: {', '.join(f'{w:.2f}' for w, _ in runs)} s;"
+          f" retrieve {fetch:.3f} s, refine {fit:.3f} s)  {verdict}{note}")  # fmt: skip
     if swarm:
         ratio = np.array(swarm) / max(sse, 1e-300)
         print(f"  pylinkage  {'PSO, same wall time, seeds ' + str(seeds[0]) + '+':52s} SSE "

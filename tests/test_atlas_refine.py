@@ -103,3 +103,55 @@ def test_levenberg_marquardt_keeps_the_bounds_and_descends(backend, timed):
         assert r.rms <= last  # more steps never end higher (only improving steps are taken)
         last = r.rms
     assert last < 0.05 * start
+
+
+@pytest.mark.parametrize("x", DESIGNS)
+@pytest.mark.parametrize("timed", [False, True])
+def test_compiled_levenberg_marquardt_takes_the_numpy_loops_steps(x, timed):
+    """The LM's compiled loop (``_atlas_kernels.lm_refine``) against the NumPy loop.
+
+    A few steps from the same start, with the bounds, the crank rows and a held
+    pivot: the same design to rounding (the two evaluators differ in their last
+    bits, which a few steps amplify by the problem's conditioning).
+    """
+    if not jit.load():
+        pytest.skip(f"compiled kernels unavailable: {jit.reason()}")
+    rng = np.random.default_rng(5)
+    th = np.sort(rng.uniform(0, 2 * np.pi, 9))
+    targets = _placed_point(x, th, 1.0) + 0.01 * np.abs(x[:4]).max() * rng.standard_normal(9)
+    x0 = x * (1 + 0.03 * rng.standard_normal(9))
+    kw = dict(crank=True, mu_min=0.3, max_length=1.02 * np.abs(x[:5]).max(),
+              fixed={6: x[6], 7: x[7]}, timing=th - th[0] if timed else None)  # fmt: skip
+    for nfev in (2, 4):
+        got = refine(x0, th + 0.02, np.ones(9), targets, max_nfev=nfev, solver="lm",
+                     compiled=True, **kw)  # fmt: skip
+        want = refine(x0, th + 0.02, np.ones(9), targets, max_nfev=nfev, solver="lm",
+                      compiled=False, **kw)  # fmt: skip
+        np.testing.assert_allclose(got.x, want.x, rtol=1e-8, atol=1e-9)
+        np.testing.assert_allclose(got.theta, want.theta, rtol=0, atol=1e-8)
+        assert got.rms == pytest.approx(want.rms, rel=1e-8)
+        assert got.success == want.success
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_tied_length_keeps_the_change_point(compiled):
+    """``tie``: r1 held at r3 + r4 − r2 (Grashof's change point) while the rest refine.
+
+    Targets of a change-point linkage (1 + 4 = 3 + 2), by circle intersection; a start
+    perturbed along the change point slides back, and every iterate keeps r1 on it.
+    """
+    if compiled and not jit.load():
+        pytest.skip(f"compiled kernels unavailable: {jit.reason()}")
+    x = np.array([4.0, 1.0, 3.0, 2.0, 1.5, 0.4, 0.3, -0.2, 0.5])
+    th = np.linspace(0.3, 2 * np.pi, 10, endpoint=False)
+    G = _evaluate(x, th, np.ones(th.size))[0]
+    side = 1.0 if abs(_placed_point(x, th[:1], 1.0)[0] - G[0]) < 1e-9 else -1.0
+    targets = _placed_point(x, th, side)
+    x0 = x * (1 + 0.01 * np.random.default_rng(3).standard_normal(9))
+    x0[0] = x0[2] + x0[3] - x0[1]
+    c = np.array([0.0, -1.0, 1.0, 1.0])
+    r = refine(x0, th, np.ones(th.size), targets, timing=th - th[0], max_nfev=100, solver="lm",
+               tie=(0, c), compiled=compiled)  # fmt: skip
+    assert r.x[0] == pytest.approx(r.x[2] + r.x[3] - r.x[1], abs=1e-12)
+    assert r.rms <= 1e-9 * np.max(np.abs(targets - targets.mean()))
+    np.testing.assert_allclose(r.x, x, rtol=0, atol=1e-7)

@@ -257,3 +257,44 @@ def test_bad_constraints_are_refused(atlas):
         path_from_atlas(pts, atlas, max_length=-1)
     with pytest.raises(InputError, match="O2"):
         path_from_atlas(pts, atlas, O2="here")
+
+
+def test_a_fit_past_the_change_point_is_refined_along_it():
+    """With the refinement's options, the landed fit slides along the change point.
+
+    Targets: five points of a change-point linkage (1.35 + 50 = 1.36 + 49.99), by circle
+    intersection. The fit starts a hair past the change point and off the linkage;
+    landing alone keeps its misses, refining along ``s + l = p + q`` removes them.
+    """
+    from machdyn.classify import classify
+    from machdyn.synthesis.atlas_path import _grashof_excess, _onto_grashof
+    from machdyn.synthesis.refine import Refined
+
+    x = np.array([50.0, 1.35, 1.36, 49.99, 12.0, 0.4, 10.0, -3.0, 0.1])
+    theta = np.radians([30.0, 70.0, 110.0, 150.0, 190.0])
+    pts = _coupler(x[:4], (x[4], x[5]), complex(x[6], x[7]), x[8], 1.0, theta)
+    start = x + np.r_[3e-6, 0, 0, 0, 1e-4, -1e-4, 1e-4, 0, 1e-4]
+    fit = Refined(start, theta, np.ones(5), 1.0, True)
+    options = dict(timing=theta, crank=True, mu_min=0.0, fixed={9: 0.0},
+                   max_length=None, pivot_box=None)  # fmt: skip
+    landed = _onto_grashof(fit, pts)
+    moved = _onto_grashof(fit, pts, options)
+    for f in (landed, moved):
+        assert _grashof_excess(f.x) <= 1e-12 * x[:4].sum()
+        assert 2 in classify(*f.x[:4]).cranks
+    assert landed.rms > 1e-5
+    got = _coupler(moved.x[:4], (moved.x[4], moved.x[5]), complex(moved.x[6], moved.x[7]),
+                   moved.x[8], 1.0, theta)  # fmt: skip
+    assert np.max(np.abs(got - pts)) < 1e-8
+    assert moved.rms < 1e-8
+
+
+def test_copies_of_one_fit_are_refined_and_checked_once():
+    from machdyn.synthesis.atlas_path import _unique
+    from machdyn.synthesis.refine import Refined
+
+    x = np.array([5.0, 2.0, 5.0, 4.0, 3.0, 0.6, 1.0, 2.0, 0.3])
+    th, br = np.zeros(4), np.ones(4)
+    fits = [Refined(x, th, br, 1e-3, True), Refined(x + 1e-9, th, br, 2e-3, True),
+            Refined(x * 1.01, th, br, 3e-3, True), Refined(x, th, -br, 4e-3, True)]  # fmt: skip
+    assert [f.rms for f in _unique(fits, 4.0)] == [1e-3, 3e-3, 4e-3]

@@ -50,15 +50,16 @@ def threads() -> int:
     return _CPUS
 
 
-def for_slices(kernel: Callable[[slice], None], n: int) -> None:
+def for_slices(kernel: Callable[[slice], None], n: int, minimum: int = MIN_PARALLEL) -> None:
     """Call ``kernel(slice)`` over ``range(n)``, split across threads when ``n`` is large.
 
     ``kernel`` must write its results into preallocated arrays, each slice
-    touching only its own elements.
+    touching only its own elements. ``minimum``: the least ``n`` worth threads
+    (for a kernel whose items each cost much more than a sample's).
     """
     global _pool, _pool_size
     workers = threads()
-    if workers == 1 or n < MIN_PARALLEL:
+    if workers == 1 or n < minimum:
         kernel(slice(0, n))
         return
     if _pool is None or _pool_size != workers:

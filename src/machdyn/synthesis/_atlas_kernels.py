@@ -16,7 +16,14 @@ from numba import njit
 
 from .._kernels import _unit_vectors, sincos
 
-__all__ = ["coupler_jacobian", "even_circuit_curves", "sixbar_coupler", "timed_scores"]
+__all__ = [
+    "bound_rows",
+    "coupler_jacobian",
+    "even_circuit_curves",
+    "lm_refine",
+    "sixbar_coupler",
+    "timed_scores",
+]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -288,3 +295,230 @@ def sixbar_coupler(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok):  # pragma: no c
         for j in range(15):
             J[k, j] = complex(G[7, 0, j], G[7, 1, j])
         Jt[k] = complex(G[7, 0, 15], G[7, 1, 15])
+
+
+# --------------------------------------------------------------------------------------
+# the refinement's bounded Levenberg–Marquardt loop (refine(solver="lm")), whole
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _violations(r1, r2, r3, r4, cos_mu, scale, out):  # pragma: no cover - compiled
+    """:func:`machdyn.synthesis.refine._violations` into ``out`` (4,)."""
+    out[0] = max(0.0, abs(r3 - r4) - abs(r1 - r2)) / scale
+    out[1] = max(0.0, r1 + r2 - r3 - r4) / scale
+    for i in range(2):
+        dgl = abs(r1 - r2) if i == 0 else r1 + r2
+        c = (r3 * r3 + r4 * r4 - dgl * dgl) / (2.0 * r3 * r4)
+        out[2 + i] = max(0.0, abs(c) - cos_mu)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _lm_problem(z, targets, branch, timing, timed, crank, cos_mu, scale, weight, tie, tie_c, r,
+                Jm, want_jac):  # fmt: skip  # pragma: no cover - compiled
+    """Residuals ``r`` and (``want_jac``) Jacobian ``Jm`` of refine's problem at ``z``.
+
+    The compiled twin of :func:`machdyn.synthesis.refine._problem` (same rows
+    and columns). ``tie`` ≥ 0: the length ``z[tie]`` is set to ``tie_c · z[:4]``
+    first (in place) and its column folded into the others (see refine's
+    ``tie``). Returns the points ``G`` (K,) complex.
+    """
+    if tie >= 0:
+        z[tie] = tie_c[0] * z[0] + tie_c[1] * z[1] + tie_c[2] * z[2] + tie_c[3] * z[3]
+    k = targets.size
+    theta = np.empty(k)
+    for i in range(k):
+        theta[i] = z[9] + timing[i] if timed else z[9 + i]
+    G = np.empty(k, np.complex128)
+    J = np.empty((k, 9), np.complex128)
+    jt = np.empty(k, np.complex128)
+    excess = np.empty(k)
+    coupler_jacobian(z[:9], theta, branch, G, J, jt, excess)
+    for i in range(k):
+        d = (G[i] - targets[i]) / scale
+        r[i] = d.real
+        r[k + i] = d.imag
+        r[2 * k + i] = weight * max(excess[i], 0.0)
+    con = np.empty(4)
+    if crank:
+        _violations(z[0], z[1], z[2], z[3], cos_mu, scale, con)
+        for i in range(4):
+            r[3 * k + i] = weight * con[i]
+    if not want_jac:
+        return G
+    Jm[:] = 0.0
+    for i in range(k):
+        for j in range(9):
+            Jm[i, j] = J[i, j].real / scale
+            Jm[k + i, j] = J[i, j].imag / scale
+        col = 9 if timed else 9 + i
+        Jm[i, col] = jt[i].real / scale
+        Jm[k + i, col] = jt[i].imag / scale
+    if crank:  # central differences, as refine._constraint_slopes
+        h = 1e-7 * scale
+        up, down, hi, lo = np.empty(4), np.empty(4), np.empty(4), np.empty(4)
+        for j in range(4):
+            for i in range(4):
+                up[i] = z[i]
+                down[i] = z[i]
+            up[j] += h
+            down[j] -= h
+            _violations(up[0], up[1], up[2], up[3], cos_mu, scale, hi)
+            _violations(down[0], down[1], down[2], down[3], cos_mu, scale, lo)
+            for i in range(4):
+                Jm[3 * k + i, j] = weight * ((hi[i] - lo[i]) / (2 * h))
+    if tie >= 0:
+        for j in range(4):
+            if j != tie:
+                for i in range(Jm.shape[0]):
+                    Jm[i, j] += tie_c[j] * Jm[i, tie]
+    return G
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def lm_refine(z, free, lo, hi, max_nfev, tol, targets, branch, timing, timed, crank, cos_mu,
+              scale, weight, tie, tie_c, G):  # fmt: skip  # pragma: no cover - compiled
+    """:func:`machdyn.synthesis.refine._levenberg_marquardt` on refine's problem, compiled.
+
+    The same steps as the NumPy loop (tested against it), in place on ``z``;
+    writes the points at the final ``z`` to ``G`` (K,) and returns the status.
+    """
+    k = targets.size
+    n = z.size
+    rows = 3 * k + (4 if crank else 0)
+    r = np.empty(rows)
+    J = np.empty((rows, n))
+    r_new = np.empty(rows)
+    J_new = np.empty((rows, n))
+    G[:] = _lm_problem(z, targets, branch, timing, timed, crank, cos_mu, scale, weight, tie, tie_c,
+                       r, J, True)  # fmt: skip
+    cost = 0.5 * np.dot(r, r)
+    if not np.isfinite(cost):
+        return 0
+    D2 = np.zeros(n)
+    g = np.empty(n)
+    A = np.empty((n, n))
+    M = np.empty((n, n))
+    rhs = np.empty(n)
+    act = np.empty(n, np.bool_)
+    trial = np.empty(n)
+    lam, nu, nfev = 1e-3, 2.0, 1
+    while nfev < max_nfev:
+        g[:] = J.T @ r
+        A[:] = J.T @ J
+        top = 0.0
+        for i in range(n):
+            D2[i] = max(D2[i], A[i, i])
+            top = max(top, D2[i])
+        gmax = 0.0
+        for i in range(n):
+            out = (z[i] <= lo[i] and g[i] > 0) or (z[i] >= hi[i] and g[i] < 0)
+            act[i] = free[i] and not out
+            if act[i]:
+                if math.isnan(g[i]):
+                    return 1  # (NumPy's max of the active gradient is NaN then)
+                gmax = max(gmax, abs(g[i]))
+        if not gmax > 0.0:
+            return 1
+        floor = 1e-24 * max(top, 1e-300)
+        finite = True
+        for i in range(n):
+            for j in range(n):
+                M[i, j] = A[i, j] if act[i] and act[j] else 0.0
+            M[i, i] = A[i, i] + lam * max(D2[i], floor) if act[i] else 1.0
+            rhs[i] = -g[i] if act[i] else 0.0
+            for j in range(n):
+                finite = finite and np.isfinite(M[i, j])
+        if not finite:  # NumPy's solve gives NaN: a refused trial
+            nfev += 1
+            lam *= nu
+            nu *= 2.0
+            if lam > 1e20:
+                return 3
+            continue
+        try:
+            step = np.linalg.solve(M, rhs)
+        except Exception:  # singular (NumPy's LinAlgError)
+            return 0
+        for i in range(n):
+            trial[i] = min(max(z[i] + step[i], lo[i]), hi[i]) if free[i] else z[i]
+        p = trial - z
+        pred = -(np.dot(g, p) + 0.5 * np.dot(np.dot(p, A), p))
+        Gt = _lm_problem(trial, targets, branch, timing, timed, crank, cos_mu, scale, weight, tie,
+                         tie_c, r_new, J_new, True)  # fmt: skip
+        nfev += 1
+        cost_new = 0.5 * np.dot(r_new, r_new)
+        actual = cost - cost_new if np.isfinite(cost_new) else -np.inf
+        if pred > 0 and actual > 1e-4 * pred:
+            z[:] = trial
+            r[:] = r_new
+            J[:] = J_new
+            G[:] = Gt
+            old, cost = cost, cost_new
+            lam *= max(1.0 / 3.0, 1.0 - (2.0 * actual / pred - 1.0) ** 3)
+            nu = 2.0
+            if actual <= tol * old:
+                return 2
+            if math.sqrt(np.dot(p, p)) <= tol * (tol + math.sqrt(np.dot(z, z))):
+                return 3
+        else:
+            lam *= nu
+            nu *= 2.0
+            if lam > 1e20:
+                return 3
+    return 0
+
+
+@njit(cache=True, nogil=True, error_model="numpy", fastmath=True)
+def head_rows(desc, cols, head, tail):  # pragma: no cover - compiled
+    """The query's first-stage table of one chunk: ``head`` (N, m) and ``tail`` (N,).
+
+    ``head[i]`` is ``desc[i, cols]``, ``tail[i]`` the norm of row i's other
+    columns (summed in float64, in any order: within 1e-15 of the squares' sum).
+    """
+    n, w = desc.shape
+    m = cols.size
+    for i in range(n):
+        total = 0.0
+        for j in range(w):
+            total += np.float64(desc[i, j]) * np.float64(desc[i, j])
+        for j in range(m):
+            x = desc[i, cols[j]]
+            head[i, j] = x
+            total -= np.float64(x) * np.float64(x)
+        tail[i] = math.sqrt(max(total, 0.0))
+
+
+@njit(cache=True, nogil=True, error_model="numpy", fastmath=True)
+def bound_rows(head, tail, allowed, use_allowed, qh, qt, floor, out):  # pragma: no cover
+    """Rows whose score bound beats ``floor``, into ``out``; returns how many.
+
+    The first stage of :func:`machdyn.synthesis.atlas_path.bounded_topk`:
+    ``max_v (q_h,v · head[i] + |q_t,v| tail_i)`` for each (allowed) row, for 4
+    head columns and the descriptor's 4 variants (written out: twice as fast as
+    the loops), in float32 (its rounding, some 1e-6, is within the caller's
+    slack). Tested against the bound written out in float64.
+    """
+    n = head.shape[0]
+    q00, q01, q02, q03 = qh[0, 0], qh[0, 1], qh[0, 2], qh[0, 3]
+    q10, q11, q12, q13 = qh[1, 0], qh[1, 1], qh[1, 2], qh[1, 3]
+    q20, q21, q22, q23 = qh[2, 0], qh[2, 1], qh[2, 2], qh[2, 3]
+    q30, q31, q32, q33 = qh[3, 0], qh[3, 1], qh[3, 2], qh[3, 3]
+    t0, t1, t2, t3 = qt[0], qt[1], qt[2], qt[3]
+    block = 256
+    top = np.empty(block, np.float32)
+    count = 0
+    for lo in range(0, n, block):
+        w = min(n, lo + block) - lo
+        for i in range(w):  # (apart from the comparisons below: vectorises)
+            a, b, c, d = head[lo + i, 0], head[lo + i, 1], head[lo + i, 2], head[lo + i, 3]
+            t = tail[lo + i]
+            s0 = t * t0 + a * q00 + b * q01 + c * q02 + d * q03
+            s1 = t * t1 + a * q10 + b * q11 + c * q12 + d * q13
+            s2 = t * t2 + a * q20 + b * q21 + c * q22 + d * q23
+            s3 = t * t3 + a * q30 + b * q31 + c * q32 + d * q33
+            top[i] = max(max(s0, s1), max(s2, s3))
+        for i in range(w):
+            if top[i] > floor and (not use_allowed or allowed[lo + i]):
+                out[count] = lo + i
+                count += 1
+    return count

@@ -145,13 +145,16 @@ def _constraint_slopes(lengths: np.ndarray, cos_mu: float, scale: float) -> np.n
     return out
 
 
-def _evaluator(compiled: bool | None):
-    """``(x, θ, branch) → (G, dG/dx, dG/dθ, excess)``: the compiled kernel or NumPy's."""
+def _compiled(compiled: bool | None) -> bool:
+    """Whether to use the compiled kernels (None: when :mod:`machdyn.jit` has them loaded)."""
     from .. import jit
 
-    if compiled is None:
-        compiled = jit.active()
-    if not compiled:
+    return jit.active() if compiled is None else bool(compiled)
+
+
+def _evaluator(compiled: bool | None):
+    """``(x, θ, branch) → (G, dG/dx, dG/dθ, excess)``: the compiled kernel or NumPy's."""
+    if not _compiled(compiled):
         return coupler_and_jacobian
     from ._atlas_kernels import coupler_jacobian
 
@@ -291,6 +294,7 @@ def refine(
     weight: float = _W_CONSTRAINT,
     compiled: bool | None = None,
     solver: str = "trf",
+    tie: tuple[int, np.ndarray] | None = None,
 ) -> Refined:
     """Refine a placed four-bar so its coupler curve passes through ``targets``.
 
@@ -325,7 +329,12 @@ def refine(
     solver : {"trf", "lm"}
         scipy's trust-region reflective least squares, or this module's
         Levenberg–Marquardt (:func:`_levenberg_marquardt`: several times less
-        overhead per step; the synthesis screens timed starts with it).
+        overhead per step; the synthesis screens timed starts with it). With
+        the compiled kernels the LM's whole loop runs compiled
+        (:func:`machdyn.synthesis._atlas_kernels.lm_refine`, the same steps).
+    tie : (int, ndarray of 4), optional
+        ``solver="lm"`` only: the length ``x[i]`` is held at ``c · x[:4]`` (e.g. a
+        Grashof change point ``l = p + q − s``), the other lengths free.
 
     Examples
     --------
@@ -370,9 +379,32 @@ def refine(
         z[free] = y
         return z
 
+    if tie is not None and solver != "lm":
+        raise ValueError("tie needs solver='lm'")
+    tied, tie_c = (-1, np.zeros(4)) if tie is None else (int(tie[0]), np.asarray(tie[1], float))
+    if tied >= 0:
+        free[tied] = False
+    if solver == "lm" and _compiled(compiled):  # the whole loop compiled (same steps)
+        from ._atlas_kernels import lm_refine
+
+        z, G = z0.copy(), np.empty(k, dtype=complex)
+        status = lm_refine(z, free, lo, hi, int(max_nfev), _TOL, targets,
+                           np.ascontiguousarray(branch, dtype=float),
+                           np.zeros(0) if timing is None else np.ascontiguousarray(timing, float),
+                           timed, crank, cos_mu, scale, float(weight), tied, tie_c, G)  # fmt: skip
+        rms = float(np.sqrt(np.mean(np.abs(G - targets) ** 2)))
+        return Refined(z[:9].copy(), np.asarray(angles(z), dtype=float), branch, rms, status > 0)
     if solver == "lm":
         z = z0.copy()
-        problem = lambda z: (residual(z), jacobian(z))  # noqa: E731
+
+        def problem(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            if tied >= 0:  # the held length first (in place), its column into the others
+                z[tied] = float(tie_c @ z[:4])
+            r, J = residual(z), jacobian(z)
+            if tied >= 0:
+                J[:, :4] += np.outer(J[:, tied], np.where(np.arange(4) == tied, 0.0, tie_c))
+            return r, J
+
         ok = _levenberg_marquardt(z, free, lo, hi, max_nfev, problem) > 0
     else:
         try:
