@@ -163,6 +163,8 @@ def test_synthesis_example():
     np.testing.assert_allclose(
         s["r1, r2, r3, r4 [L]"], [expected.r1, expected.r2, expected.r3, expected.r4]
     )
+    # form 2 puts B on the D positions (test_synthesis_cli solves both forms to see it)
+    assert s["form (FourBar, as in the notes)"] == 2
     g = function_generator(np.log10, (1.0, 2.0), np.radians((45, 105)), np.radians((135, 225)))
     np.testing.assert_allclose(
         summary(machine, results, "log")["r1, r2, r3, r4 [L]"], [g.r1, g.r2, g.r3, g.r4], rtol=1e-12

@@ -89,6 +89,9 @@ SIXBAR_TIMED = (16, 96)
 SIXBAR_LONG = (2, 6000)
 #: A six-bar whose RMS distance is below this share of the size meets the targets.
 SIXBAR_MET = 1e-12
+#: Six-bars: a fit this near (RMS over the size) takes no more rounds of starts (its valley
+#: is polished longer instead; see sixbar_path.SIXBAR_ROUNDS).
+SIXBAR_NEAR = 1e-8
 #: Untimed targets: most fits polished while none meets the targets to this share of
 #: their size (see _polished).
 UNTIMED_POLISH_MAX = 4
@@ -754,24 +757,24 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                  start):  # fmt: skip
     """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
     from .. import jit
-    from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
+    from .sixbar_path import (
+        SIXBAR_ROUNDS,
+        SIXBAR_TIMED_NUMPY,
+        polished_sixbars,
+        refine_sixbar,
+        sixbar_result,
+        sixbar_starts,
+    )
 
     size = float(np.max(np.abs(pts - pts.mean())))
     compiled = jit.mode() != "off" and jit.load()  # one choice for the whole synthesis
-    t0 = time.perf_counter()
     # six-bars: many atlas entries draw nearly the same curve, so many are screened; timed
     # targets many more (their fit is over-determined: real local minima near the truth)
     screen, most = (SIXBAR_SCREEN, SIXBAR_POLISH_MAX) if timing is None else SIXBAR_TIMED
-    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count, client,
-                           compiled)  # fmt: skip
-    t1 = time.perf_counter()
+    rounds, long = SIXBAR_ROUNDS, SIXBAR_LONG
+    if not compiled and timing is not None:  # MACHDYN_JIT=off: the NumPy loop's smaller budget
+        (screen, most), rounds, long = SIXBAR_TIMED_NUMPY, 1, (0, 0)
     options = dict(timing=timing, compiled=compiled)
-    fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
-            for x0, th0, fx in starts]  # fmt: skip
-    fits.sort(key=lambda f: f[2])
-    # polished best first until one meets the targets (to rounding) with no defect: the
-    # screen's order is a poor guide among six-bars, whose near-fits abound, and an exact
-    # fit may be a six-bar that cannot turn its crank (the untimed fits form a family)
     checked: dict[int, Any] = {}  # the Linkage's check of the fits met so far, by id
 
     def check(fit):
@@ -780,20 +783,26 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                                                    tolerance, mu_min))  # fmt: skip
         return checked[id(fit)][1]
 
-    met = False
-    for i, (x, th, rms, fx) in enumerate(fits[: max(POLISH, most)]):
-        if i >= POLISH and met:
+    fits, met, near, seen, scan = [], False, False, set(), 0.0
+    t_begin = time.perf_counter()
+    for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
+        if met or near:
             break
-        more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
-        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
-        if fits[i][2] <= SIXBAR_MET * size:
-            res = check(fits[i])
-            met = met or (res is not None and res.ok)
+        t0 = time.perf_counter()
+        starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
+                               client, compiled, round_)  # fmt: skip
+        starts = [s for s in starts if s[0].tobytes() not in seen]
+        seen.update(s[0].tobytes() for s in starts)
+        scan += time.perf_counter() - t0
+        steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
+        more, met = polished_sixbars(starts, pts, most, check, steps, **options)
+        fits += more
+        near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
     if not met and timing is not None:  # the best crawl along narrow valleys: polish longer
-        for i in range(min(SIXBAR_LONG[0], len(fits))):
+        for i in range(min(long[0], len(fits))):
             x, th, rms, fx = fits[i]
-            more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_LONG[1], **options)
+            more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
             fits[i] = (*more, fx) if more[2] <= rms else fits[i]
     for fit in fits[:refine_count]:
         check(fit)
@@ -813,7 +822,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         f"no atlas entry comes near these targets: the best six-bar found misses by "
         f"{100 * worst:.1f} % of the targets' size"
     )  # fmt: skip
-    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
+               "total": time.perf_counter() - start}  # fmt: skip
     return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
                           seconds)  # fmt: skip
 
