@@ -227,6 +227,7 @@ def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
                 (l1, l2), chain = TOPOLOGIES[int(row["topology"])]
                 key = f"{chain} {l1}-{l2} on {int(row['on'])}"
                 misses[key] = misses.get(key, 0) + 1
+                print(f"    {label} miss: six-bar {len(errors) - 1} ({key}), {e:.1e}")
         ok = sum(e <= 1e-6 for e in errors)
         print(f"  six-bar recovery ({label}, 12 points) of {count} random six-bars: "
               f"{ok} of {count} to <= 1e-6 of the size; error median "
@@ -324,6 +325,7 @@ def main() -> None:
         metavar="N",
         help="with --atlas (a six-bar atlas): recovery rate over N random six-bars",
     )
+    ap.add_argument("--sixbar-seed", type=int, default=2026, help="of --sixbar-recovery's six-bars")
     ap.add_argument(
         "--recovery",
         type=int,
@@ -345,7 +347,8 @@ def main() -> None:
                          args.verbose)  # fmt: skip
         return
     if args.atlas is not None and args.sixbar_recovery:
-        sixbar_recovery(open_atlas(args.atlas, verify=False), args.sixbar_recovery)
+        sixbar_recovery(open_atlas(args.atlas, verify=False), args.sixbar_recovery,
+                        args.sixbar_seed)  # fmt: skip
         return
     if args.build is not None:
         t, m = timed(lambda: build_atlas(args.build, args.count, scheduler=args.scheduler,

@@ -156,15 +156,45 @@ def test_compiled_refinement_takes_the_numpy_refinement_steps(rows):
             assert rms <= 1e-10 * size
             if timing is not None:
                 np.testing.assert_allclose(np.diff(thc), np.diff(theta), atol=1e-12)
-            place = (complex(xc[0], xc[1]), xc[2], xc[4])
-            f = dict(zip(("r1", "r3", "r4"), xc[[3, 5, 6]] / xc[4], strict=True))
-            f.update(zip(("cu", "cv", "du", "dv"), xc[7:11], strict=True))
-            f.update(a=xc[11] / xc[4], b=xc[12] / xc[4], pu=xc[13], pv=xc[14], **fixed)
-            f.update(barker=0, circuit=0)
             j = refine_sixbar(xc, thc, fixed, targets, iterations=0, compiled=False)
             assert j[2] <= 1e-10 * size  # the NumPy forward mode agrees
-            got = _independent(f, thc, place, _drawn(xc, thc[0], fixed))
-            assert np.max(np.abs(got - targets)) <= 1e-9 * size
+            assert np.max(_placed_distance(xc, thc, fixed, targets)) <= 1e-9 * size
+
+
+def _placed_distance(x, theta, fixed, targets):
+    """Distances of ``targets`` to a placed design's coupler point at crank angles ``theta``,
+    by circle intersections (each dyad's assembly: the side of its drawn pose at theta[0])."""
+    place = (complex(x[0], x[1]), x[2], x[4])
+    f = dict(zip(("r1", "r3", "r4"), x[[3, 5, 6]] / x[4], strict=True))
+    f.update(zip(("cu", "cv", "du", "dv"), x[7:11], strict=True))
+    f.update(a=x[11] / x[4], b=x[12] / x[4], pu=x[13], pv=x[14], **fixed)
+    f.update(barker=0, circuit=0)
+    return np.abs(_independent(f, theta, place, _drawn(x, theta[0], fixed)) - targets)
+
+
+def test_untimed_refinement_converges_where_the_rocker_turns(compiled):
+    # Watt II "1-4" six-bars (two four-bars in series, the point on link 6) draw their curve
+    # out and back as the rocker swings: at the rocker's turns the coupler point stands still
+    # and a target's crank angle is barely felt. From the known six-bar with every design
+    # number disturbed by 1 %, the untimed refinement still meets the targets (circle
+    # intersections); with Marquardt's damping floored at rounding (1e-12) 5 of these 16
+    # starts stalled at 3e-8 to 1e-3 of the size
+    from machdyn.synthesis.sixbar_path import _design_of, refine_sixbar
+
+    rows6 = sample_sixbars(np.random.default_rng(2026), 60)[[6, 7]]  # the benchmark's six-bars
+    assert all(TOPOLOGIES[int(r["topology"])][0] == (1, 4) and r["on"] == 6 for r in rows6)
+    theta = 0.4 + np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    rng = np.random.default_rng(1)
+    for row in rows6:
+        x, fixed = _design_of(row, 1.3 * np.exp(2.1j), -0.5 + 0.8j)
+        targets = -0.5 + 0.8j + 1.3 * np.exp(2.1j) * _independent(row, theta)
+        size = np.max(np.abs(targets - targets.mean()))
+        for _ in range(8):
+            x0 = x.copy()
+            x0[3:] *= 1 + 0.01 * rng.uniform(-1, 1, 12)
+            x0[:3] += 0.01 * rng.uniform(-1, 1, 3) * np.array([size, size, 1.0])
+            xc, thc, _ = refine_sixbar(x0, theta, fixed, targets, iterations=600, compiled=True)
+            assert np.max(_placed_distance(xc, thc, fixed, targets)) <= 1e-6 * size
 
 
 def _drawn(x, theta2, fixed):
@@ -343,3 +373,39 @@ def test_a_candidate_drawn_at_a_toggle_is_dropped_not_raised(rows):
     x[11], x[12] = a, abs(j["D"] - j["C"]) - a
     pts = np.exp(1j * theta)  # any targets: the check stops before comparing with them
     assert sixbar_result(x, theta, fixed, pts, None, True, None) is None
+
+
+def test_a_later_round_of_timed_starts_scans_a_grid_turned_half_a_step(atlas6, compiled):
+    # rounds of starts (sixbar_path.SIXBAR_ROUNDS): a timed target's second round scans its
+    # pools at starting angles half a grid step from the first round's, so no start repeats
+    from machdyn.synthesis.atlas_path import TIMED_GRID
+    from machdyn.synthesis.sixbar_path import sixbar_starts
+
+    row = atlas6.entries([321])[0]
+    theta = 0.9 + np.linspace(0, 2 * np.pi, 10, endpoint=False)
+    targets = 1 + 2j + 1.5 * _independent(row, theta)
+    step = 2 * np.pi / TIMED_GRID
+    for round_, offset in ((0, 0.0), (1, 0.5)):
+        starts = sixbar_starts(atlas6, targets, theta - theta[0], True, 40, 8, None, True, round_)
+        assert len(starts) >= 8
+        for _, th0, _ in starts:
+            np.testing.assert_allclose(np.diff(th0), np.diff(theta), atol=1e-12)  # as timed
+            assert abs(np.mod(th0[0] / step, 1.0) - offset) < 1e-9
+
+
+@pytest.mark.slow
+def test_timed_recovery_without_the_compiled_kernels(atlas6):
+    # MACHDYN_JIT=off (the suite's mode): timed six-bars take the NumPy refinement's smaller
+    # budget (sixbar_path.SIXBAR_TIMED_NUMPY) and still recover a known six-bar to 1e-6 of
+    # the size, at the prescribed crank angles, measured by circle intersections
+    from machdyn import jit
+
+    assert jit.mode() == "off"
+    theta = 0.9 + np.cumsum([0.0, 0.5, 0.55, 0.45, 0.6, 0.5, 0.4, 0.65, 0.5, 0.55, 0.45, 0.6])
+    row = _known_sixbars(atlas6, 7)[0]
+    targets = 0.3 - 0.7j + 1.9 * np.exp(0.4j) * _independent(row, theta)
+    size = np.max(np.abs(targets - targets.mean()))
+    best = path_from_atlas(targets, atlas6, n=1, mu_min=0.0, timing=theta).best
+    assert np.max(_distance_to_result(best, targets)) <= 1e-6 * size
+    turned = np.angle(np.exp(1j * (best.theta2 - best.theta2[0] - (theta - theta[0]))))
+    assert np.max(np.abs(turned)) <= 1e-9

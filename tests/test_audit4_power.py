@@ -154,3 +154,38 @@ def test_an_actuator_driven_past_its_reach_is_flagged_without_a_warning():
     reach = abs(PTS["E"]) + abs(PTS["C"])
     m = lk.solve(np.array([abs(PTS["E"] - PTS["C"]), reach + 0.1]))
     assert list(m.ok) == [True, False] and "does not close" in m.reason[1]
+
+
+def test_lid_example_driver_torque_by_moments_about_the_hinge(capsys):
+    """docs/examples/lid.toml through ``machdyn linkage --at lid=45 --forces --json``:
+    one link on a hinge, so ΣM_O2 = I_O α with I_O = I_G + m c² (parallel axes), the gas
+    spring's tension k (L − L0) + c L̇ + preload pulling Q toward S, the torsion spring's
+    −k_t (θ − θ0) on the lid and the weight at the centre of mass — all written here."""
+    import json
+    from pathlib import Path
+
+    from machdyn.cli import main
+
+    lid = Path(__file__).resolve().parents[1] / "docs" / "examples" / "lid.toml"
+    assert main(["linkage", str(lid), "--at", "lid=45", "--forces", "--json"]) == 0
+    table = json.loads(capsys.readouterr().out)["parts"]["lid"]["tables"]["forces"]
+    row = dict(zip(table["columns"], table["rows"][0], strict=True))
+    th, w, al = np.radians(45.0), 0.5, 0.2  # the file's velocity and acceleration
+    m, i_g, c, g = 4.0, 0.2133, 0.4, 9.81
+    e = np.exp(1j * th)
+    G, Q, S = c * e, 0.2 * e, 0.15 - 0.3j
+    L = abs(Q - S)
+    L_dot = (1j * w * Q * np.conj((Q - S) / L)).real
+    tension = 500 * (L - 0.5) + 20 * L_dot - 150
+    m_gas = (np.conj(Q) * tension * (S - Q) / L).imag
+    tau = 2 * (th - np.radians(10))
+    m_weight = (np.conj(G) * (-1j * m * g)).imag
+    T = (i_g + m * c * c) * al - m_weight - m_gas + tau
+    assert row["T_lid [N*m]"] == pytest.approx(T, rel=1e-12)
+    assert row["T_gas [N]"] == pytest.approx(tension, rel=1e-12)
+    assert row["tau_hinge [N*m]"] == pytest.approx(tau, rel=1e-12)
+    # the hinge carries the rest: F = m a_G − weight − spring force on Q
+    a_G = (1j * al - w * w) * G
+    F = m * a_G + 1j * m * g - tension * (S - Q) / L
+    assert row["F_ground_lid_x [N]"] == pytest.approx(F.real, rel=1e-12)
+    assert row["F_ground_lid_y [N]"] == pytest.approx(F.imag, rel=1e-12)

@@ -171,7 +171,7 @@ def test_machdyn_run_sizes_a_flywheel_honestly(capsys):
     fb = machdyn.FourBar(200.0, 50.0, 180.0, 120.0)
     loads = dict(mass=(0.0, 2.0, 0.0), inertia=(0.0, 6000.0, 0.0), cg=(0.0, 90.0, 0.0),
                  gravity=9806.65, load_torque4=-20e6)  # fmt: skip
-    theta = np.radians(np.arange(0.0, 361.0, 5.0))
+    theta = np.linspace(0.0, 2.0 * np.pi, 3601)  # the flywheel's turn in 0.1° steps
     omega = 360.0 / RPM  # the gear: 1440 rpm x 18/72, rad/s (turning backwards)
     needed = fb.dynamics(theta, -omega, **loads).T12
     fw = size_flywheel(theta, needed, omega_avg=omega, k=0.02)

@@ -163,6 +163,8 @@ def test_synthesis_example():
     np.testing.assert_allclose(
         s["r1, r2, r3, r4 [L]"], [expected.r1, expected.r2, expected.r3, expected.r4]
     )
+    # form 2 puts B on the D positions (test_synthesis_cli solves both forms to see it)
+    assert s["form (FourBar, as in the notes)"] == 2
     g = function_generator(np.log10, (1.0, 2.0), np.radians((45, 105)), np.radians((135, 225)))
     np.testing.assert_allclose(
         summary(machine, results, "log")["r1, r2, r3, r4 [L]"], [g.r1, g.r2, g.r3, g.r4], rtol=1e-12
@@ -186,11 +188,37 @@ def test_press_example_refers_parts_to_each_other():
     )
     forces = table(machine, results, "press", "forces")
     np.testing.assert_allclose(forces["T12 [N*m]"], f.T12, rtol=1e-9, atol=1e-12)
-    fw = size_flywheel(theta2, f.T12, abs(w2), 0.02)
+
+    # the flywheel integrates T12 over the whole turn in fine steps, not the table's 5°:
+    # the trapezoid's ΔE is O(h²), so 3600 and 36000 steps agree to ~1e-6 (5° was 1e-3 off)
+    def inertia(steps):
+        fine = np.linspace(0.0, 2.0 * np.pi, steps + 1)
+        t12 = fb.dynamics(fine, w2, mass=(0.0, 2.0, 0.0), inertia=(0.0, 0.006, 0.0),
+                          cg=(0j, 0.09 + 0j, 0j), gravity=G0, load_torque4=-20.0).T12  # fmt: skip
+        return size_flywheel(fine, t12, abs(w2), 0.02).inertia
+
     s = summary(machine, results, "crank")
     # I in the file's units: kg*mm^2 (1 kg*m^2 = 1e6 kg*mm^2)
-    assert s["I (flywheel inertia) [kg*mm^2]"] == pytest.approx(fw.inertia * 1e6, rel=1e-9)
+    assert s["I (flywheel inertia) [kg*mm^2]"] == pytest.approx(inertia(3600) * 1e6, rel=1e-9)
+    assert s["I (flywheel inertia) [kg*mm^2]"] == pytest.approx(inertia(36000) * 1e6, rel=2e-6)
+    coarse = size_flywheel(theta2, f.T12, abs(w2), 0.02).inertia
+    assert abs(coarse / inertia(36000) - 1.0) > 1e-4  # what the 5° table alone would give
     assert s["omega_avg [rpm]"] == pytest.approx(360.0, rel=1e-12)
+
+
+def test_a_flywheel_takes_the_whole_turn_whatever_its_part_prints(tmp_path):
+    # the press printed over a quarter turn only, in 30° steps: its flywheel is the same
+    text = (EXAMPLES / "press.toml").read_text(encoding="utf-8")
+    assert "theta2 = [0, 360, 5]" in text
+    (tmp_path / "quarter.toml").write_text(
+        text.replace("theta2 = [0, 360, 5]", "theta2 = [0, 90, 30]")
+    )
+    machine, results = run("press.toml")
+    quarter = load_machine(tmp_path / "quarter.toml")
+    quarter_results = quarter.run()
+    assert len(table(quarter, quarter_results, "press", "forces")["T12 [N*m]"]) == 4
+    whole = summary(machine, results, "crank")
+    np.testing.assert_equal(summary(quarter, quarter_results, "crank"), whole)
 
 
 def test_the_cam_command_reads_a_machine_file(tmp_path, capsys):

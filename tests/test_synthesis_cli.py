@@ -32,6 +32,32 @@ def test_three_position_json():
     assert out["defects"] == []
 
 
+def test_three_position_says_the_form_that_reaches_its_positions():
+    """A FourBar with the printed lengths and form, placed at O2 and theta1, puts its
+    moving pivot B on the given D positions (to the notes' 3-decimal data); the other
+    form does not: copying the lengths needs the form too."""
+    from machdyn import FourBar
+
+    r = runner.invoke(synth_app, ["three-position", "--c", NOTES_C, "--d", NOTES_D, "--json"])
+    out = json.loads(r.output)
+    assert out["form"] in (1, 2)
+    o2 = complex(out["O2"]["x"], out["O2"]["y"])
+    d = np.array([complex(*map(float, p.split(","))) for p in NOTES_D.split(";")])
+    fb = FourBar(out["r1"], out["r2"], out["r3"], out["r4"])
+    theta2 = np.radians(out["theta2_deg"])  # from the ground line O2O4
+
+    def b_at(form):
+        m = fb.solve(theta2, form=form)
+        local = out["r2"] * np.exp(1j * m.theta2) + out["r3"] * np.exp(1j * m.theta3)
+        return o2 + np.exp(1j * np.radians(out["theta1_deg"])) * local
+
+    assert np.max(np.abs(b_at(out["form"]) - d)) < 1e-3
+    assert np.max(np.abs(b_at(3 - out["form"]) - d)) > 0.1
+    table = runner.invoke(synth_app, ["three-position", "--c", NOTES_C, "--d", NOTES_D])
+    (line,) = [ln for ln in table.output.splitlines() if "form (FourBar" in ln]
+    assert line.split()[-1] == str(out["form"])
+
+
 def test_three_position_inverted_problem():
     r = runner.invoke(
         synth_app,

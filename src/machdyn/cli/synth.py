@@ -108,6 +108,7 @@ def three_position_cmd(
     is the file's ``motion_synthesis`` part, reported as ``machdyn run`` does.
     """
     from ..synthesis import three_position, three_position_fixed_pivots
+    from ..synthesis.placed import form_of
 
     given = {"--c": c is not None, "--d": d is not None}
     given |= {"--o2": o2 is not None, "--o4": o4 is not None}
@@ -142,6 +143,7 @@ def three_position_cmd(
                     "B": s.B,
                     "theta2_deg": np.degrees(s.theta2),
                     "branch": s.branch,
+                    "form": form_of(s.branch),
                     "direction": s.direction,
                     "mu_min_deg": float(np.degrees(s.mu_min)),
                     "defects": list(s.defects),
@@ -161,6 +163,7 @@ def three_position_cmd(
                 ["r3 coupler", s.r3],
                 ["r4 output", s.r4],
                 ["Barker class", s.fourbar.barker_class],
+                ["form (FourBar, as in the notes)", form_of(s.branch)],
                 ["min transmission angle (deg)", float(np.degrees(s.mu_min))],
             ],
         )
@@ -520,10 +523,12 @@ def candidate_spec(c, title: str) -> str:
     The placement in the plane is the part's ``O2`` and ``theta1`` (global =
     O2 + e^{j theta1}·local); the worst target distance is in ``notes``.
     """
+    from ..synthesis.placed import form_of
+
     pl = c.linkage
     r1, r2, r3, r4 = pl.lengths
     p, delta = pl.fourbar.coupler
-    form = 1 if pl.branch > 0 else 2
+    form = form_of(pl.branch)
     note = (
         f"path synthesis from an atlas; assembly sign of phi12 = {pl.branch:+d}; "
         f"worst target distance {np.max(c.distance):.6g}"

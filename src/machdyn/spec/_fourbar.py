@@ -14,7 +14,7 @@ import numpy as np
 
 from ._context import Context
 from ._machine import Machine, Part, PartKind
-from ._run import PartResult, ResultTable, Summary, flagged_rows
+from ._run import PartResult, ResultTable, Summary, TorqueCurve, flagged_rows
 from ._simulate import FOURBAR_TOLERANCE, SIMULATE, SLIDER_TOLERANCE
 from ._types import (
     Choice,
@@ -398,24 +398,16 @@ def _run_fourbar(part: Part, machine: Machine, results: dict) -> PartResult:
     if masses is not None:
         loads = v.get("loads", {})
         external, g = _in_own_frame(v, masses, _external(loads, (2, 3, 4)), machine.gravity)
-        f = fb.dynamics(
-            theta2,
-            omega2,
-            alpha2,
-            form=form,
-            branch=v.get("branch"),
-            gravity=g,
-            load_torque4=loads.get("torque4", 0.0),
-            **masses,
-            **external,
-        )
+        options = dict(form=form, branch=v.get("branch"), gravity=g,
+                       load_torque4=loads.get("torque4", 0.0), **masses, **external)  # fmt: skip
+        f = fb.dynamics(theta2, omega2, alpha2, **options)
         out.objects["forces"] = f
         cols = {"theta2": (m.theta2, "angle"), "T12": (f.T12, "torque")}
         for name in ("F12", "F32", "F43", "F14"):
             cols |= _xy(name, turn * getattr(f, name), "force")
         cols |= {"M_shaking": (f.shaking_moment, "torque"), **_flags(f)}
         out.tables.append(_kin_table("forces", f"Forces on {part.name}", cols))
-        out.torque = (theta2, np.asarray(f.T12), omega2)
+        out.torque = _torque_curve(fb.dynamics, omega2, alpha2, options)
     _flag_lines(out, machine, m.theta2, m.ok, m.reason)
     return out
 
@@ -466,26 +458,17 @@ def _run_slider(part: Part, machine: Machine, results: dict) -> PartResult:
         loads = v.get("loads", {})
         masses["inertia"] = masses["inertia"][:2]
         masses["cg"] = masses["cg"][:2]
-        f = sc.dynamics(
-            theta2,
-            omega2,
-            alpha2,
-            form=form,
-            gravity=machine.gravity or 0.0,
-            load_force4=loads.get("force4", 0.0),
-            friction=loads.get("friction", "smooth"),
-            mu=loads.get("mu", 0.0),
-            beta=loads.get("beta", 0.0),
-            **masses,
-            **_external(loads, (2, 3)),
-        )
+        options = dict(form=form, gravity=machine.gravity or 0.0,
+                       load_force4=loads.get("force4", 0.0), **_friction(loads), **masses,
+                       **_external(loads, (2, 3)))  # fmt: skip
+        f = sc.dynamics(theta2, omega2, alpha2, **options)
         out.objects["forces"] = f
         cols = {"theta2": (m.theta2, "angle"), "T12": (f.T12, "torque")}
         for name in ("F12", "F32", "F43", "F14"):
             cols |= _xy(name, getattr(f, name), "force")
         cols |= {"M_shaking": (f.shaking_moment, "torque"), **_flags(f)}
         out.tables.append(_kin_table("forces", f"Forces on {part.name}", cols))
-        out.torque = (theta2, np.asarray(f.T12), omega2)
+        out.torque = _torque_curve(sc.dynamics, omega2, alpha2, options)
     _flag_lines(out, machine, m.theta2, m.ok, m.reason)
     return out
 
@@ -510,19 +493,10 @@ def _run_inverted(part: Part, machine: Machine, results: dict) -> PartResult:
     masses = _masses(v, (2, 3, 4))
     if masses is not None:
         loads = v.get("loads", {})
-        f = isc.dynamics(
-            theta2,
-            omega2,
-            alpha2,
-            form=v.get("form", 1),
-            gravity=machine.gravity or 0.0,
-            load_torque4=loads.get("torque4", 0.0),
-            friction=loads.get("friction", "smooth"),
-            mu=loads.get("mu", 0.0),
-            beta=loads.get("beta", 0.0),
-            **masses,
-            **_external(loads, (2, 3, 4)),
-        )
+        options = dict(form=v.get("form", 1), gravity=machine.gravity or 0.0,
+                       load_torque4=loads.get("torque4", 0.0), **_friction(loads), **masses,
+                       **_external(loads, (2, 3, 4)))  # fmt: skip
+        f = isc.dynamics(theta2, omega2, alpha2, **options)
         out.objects["forces"] = f
         cols = {"theta2": (m.theta2, "angle"), "T12": (f.T12, "torque")}
         for name in ("F12", "F32", "F43", "F14"):
@@ -530,9 +504,20 @@ def _run_inverted(part: Part, machine: Machine, results: dict) -> PartResult:
         cols |= {"N": (f.normal, "force"), "C43": (f.couple, "torque")}
         cols |= {"M_shaking": (f.shaking_moment, "torque"), **_flags(f)}
         out.tables.append(_kin_table("forces", f"Forces on {part.name}", cols))
-        out.torque = (theta2, np.asarray(f.T12), omega2)
+        out.torque = _torque_curve(isc.dynamics, omega2, alpha2, options)
     _flag_lines(out, machine, m.theta2, m.ok, m.reason)
     return out
+
+
+def _friction(loads: dict) -> dict[str, Any]:
+    """A slider's friction options of a part's ``[loads]``."""
+    return {"friction": loads.get("friction", "smooth"), "mu": loads.get("mu", 0.0),
+            "beta": loads.get("beta", 0.0)}  # fmt: skip
+
+
+def _torque_curve(dynamics: Any, omega2: float, alpha2: float, options: dict) -> TorqueCurve:
+    """The driving torque T12 at any crank angles, for a flywheel (same speed, loads)."""
+    return TorqueCurve(lambda theta2: dynamics(theta2, omega2, alpha2, **options).T12, omega2)
 
 
 def _refs(values: dict) -> dict[tuple, str]:

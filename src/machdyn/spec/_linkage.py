@@ -18,7 +18,7 @@ import numpy as np
 
 from ._context import Context, _show
 from ._machine import Machine, Part, PartKind
-from ._run import PartResult, ResultTable, Summary, flagged_rows
+from ._run import PartResult, ResultTable, Summary, TorqueCurve, flagged_rows
 from ._simulate import LINKAGE_TOLERANCE
 from ._types import (
     Boolean,
@@ -558,6 +558,18 @@ def driver_inputs(part: Part, machine: Machine, results: dict) -> dict[str, Driv
     return settings
 
 
+def _driver_torque(
+    lk: Any, driver: str, velocity: dict, acceleration: dict, options: dict
+) -> TorqueCurve:
+    """The lone angle driver's torque at any of its angles, for a flywheel (same loads)."""
+
+    def torque(theta: np.ndarray) -> np.ndarray:
+        m = lk.solve({driver: theta}, velocity=velocity, acceleration=acceleration)
+        return np.asarray(lk.forces(m, **options).driver[driver])
+
+    return TorqueCurve(torque, velocity[driver])
+
+
 def has_loads(part: Part) -> bool:
     """Whether the part's forces are worth computing (masses, springs or loads)."""
     lk, v = part.model, part.values
@@ -611,20 +623,21 @@ def _run(part: Part, machine: Machine, results: dict, forces: bool | None = None
         pts |= {"ok": (m.ok, None), "reason": (m.reason, None)}
         out.tables.append(_table("points", f"Points of {part.name}", pts))
     if forces if forces is not None else has_loads(part):
-        f = lk.forces(
-            m,
-            gravity=machine.gravity or 0.0,
-            external_forces=[(e["link"], e["at"], e["force"]) for e in v.get("forces", [])],
-            external_torques=dict(v.get("torques", {})),
-            viscous={k: e["viscous"] for k, e in v.get("friction", {}).items() if "viscous" in e},
-            coulomb={k: e["coulomb"] for k, e in v.get("friction", {}).items() if "coulomb" in e},
-        )
+        friction = v.get("friction", {})
+        options = {
+            "gravity": machine.gravity or 0.0,
+            "external_forces": [(e["link"], e["at"], e["force"]) for e in v.get("forces", [])],
+            "external_torques": dict(v.get("torques", {})),
+            "viscous": {k: e["viscous"] for k, e in friction.items() if "viscous" in e},
+            "coulomb": {k: e["coulomb"] for k, e in friction.items() if "coulomb" in e},
+        }
+        f = lk.forces(m, **options)
         out.objects["forces"] = f
         out.tables.append(_forces_table(part, f, angles, values))
         angle_driven = [d for d in lk.drivers if d in angles]
         if len(angle_driven) == 1 and len(lk.drivers) == 1:
             d = angle_driven[0]
-            out.torque = (values[d], np.asarray(f.driver[d]), velocity[d])
+            out.torque = _driver_torque(lk, d, velocity, acceleration, options)
         ok, reason = f.ok, f.reason
     else:
         ok, reason = m.ok, m.reason

@@ -8,7 +8,7 @@ labels them (``theta3 [deg]``) for the command line, JSON, CSV and pandas.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -19,7 +19,24 @@ from .. import units as u
 if TYPE_CHECKING:
     from ._machine import Machine, Part
 
-__all__ = ["PartResult", "ResultTable", "Summary", "rounded", "run_machine"]
+__all__ = ["PartResult", "ResultTable", "Summary", "TorqueCurve", "rounded", "run_machine"]
+
+#: Samples of the turn a flywheel integrates a part's torque over (0.1° steps): its
+#: ΔE is a trapezoid sum, O(h²), and at the 10° of a printed table it was off by ~0.1 %.
+FLYWHEEL_SAMPLES = 3600
+
+
+@dataclass(frozen=True)
+class TorqueCurve:
+    """A part's driving torque as a function of its input angle, at its input speed ``omega``."""
+
+    of: Callable[[np.ndarray], Any]
+    omega: float
+
+    def over_turn(self, samples: int = FLYWHEEL_SAMPLES) -> tuple[np.ndarray, np.ndarray]:
+        """``(theta, T)`` over one full turn of the input, ``samples`` steps."""
+        theta = np.linspace(0.0, 2.0 * np.pi, samples + 1)
+        return theta, np.asarray(self.of(theta), dtype=float)
 
 
 @dataclass
@@ -90,7 +107,8 @@ class PartResult:
 
     ``objects`` holds the library's own results (``motion``, ``forces``, ...);
     ``speed`` the output speed a part hands to the parts it drives; ``torque``
-    a ``(theta, T)`` curve over one turn of its input, with the input speed.
+    its driving torque as a function of its input angle (:class:`TorqueCurve`),
+    for a flywheel to integrate over a full turn.
     """
 
     part: Part
@@ -99,7 +117,7 @@ class PartResult:
     flagged: list[str] = field(default_factory=list)
     objects: dict[str, Any] = field(default_factory=dict)
     speed: float | None = None
-    torque: tuple[np.ndarray, np.ndarray, float] | None = None
+    torque: TorqueCurve | None = None
 
     def table(self, name: str) -> ResultTable:
         """The table called ``name``."""

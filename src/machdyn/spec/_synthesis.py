@@ -381,9 +381,12 @@ def _fourbar_summary(out: PartResult, result: Any) -> None:
 
 
 def _run_motion(part: Part, machine: Machine, results: dict) -> PartResult:
+    from ..synthesis.placed import form_of
+
     result = part.model.solve()
     out = PartResult(part, objects={"synthesis": result})
     _fourbar_summary(out, result)
+    out.summary.append(Summary("form (FourBar, as in the notes)", form_of(result.branch)))
     cols = {
         "position": np.arange(1, result.A.size + 1),
         "A_x": result.A.real,

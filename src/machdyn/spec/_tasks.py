@@ -361,7 +361,8 @@ def _run_flywheel(part: Part, machine: Machine, results: dict) -> PartResult:
                 f"{task.source!r} gives no driving torque: it needs masses (or loads) and one "
                 "angle driver turning a full cycle",
             )
-        theta, torque, omega = source.torque
+        theta, torque = source.torque.over_turn()
+        omega = source.torque.omega
     try:
         result = task.solve(theta, torque, omega)
     except InputError as exc:

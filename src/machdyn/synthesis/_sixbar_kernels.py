@@ -162,12 +162,13 @@ def _residuals(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, 
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, iterations):
+def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, floor, iterations):
     # pragma: no cover - compiled
     """:func:`machdyn.synthesis.sixbar_path.refine_sixbar`'s damped Gauss–Newton loop, compiled.
 
-    The same steps (Marquardt's scaling, Transtrum's geodesic acceleration with
-    ``h = 0.1``, λ ÷3 on success and ×4 on failure), on ``z`` in place.
+    The same steps (Marquardt's scaling with the least damping ``floor`` of the
+    largest diagonal, Transtrum's geodesic acceleration with ``h = 0.1``, λ ÷3 on
+    success and ×4 on failure), on ``z`` in place.
     """
     m, n = 2 * targets.size, z.size
     r, J = np.empty(m), np.empty((m, n))
@@ -183,7 +184,7 @@ def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, it
             top = max(top, A[i, i])
         M = A.copy()
         for i in range(n):
-            M[i, i] += lam * max(A[i, i], 1e-12 * top)
+            M[i, i] += lam * max(A[i, i], floor * top)
         v = _solve(M, -g)
         if np.all(np.isfinite(v)):  # geodesic acceleration (see sixbar_path._geodesic)
             _residuals(z + h * v, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep,

@@ -89,6 +89,9 @@ SIXBAR_TIMED = (16, 96)
 SIXBAR_LONG = (2, 6000)
 #: A six-bar whose RMS distance is below this share of the size meets the targets.
 SIXBAR_MET = 1e-12
+#: Six-bars: a fit this near (RMS over the size) takes no more rounds of starts (its valley
+#: is polished longer instead; see sixbar_path.SIXBAR_ROUNDS).
+SIXBAR_NEAR = 1e-8
 #: Untimed targets: most fits polished while none meets the targets to this share of
 #: their size (see _polished).
 UNTIMED_POLISH_MAX = 4
@@ -225,10 +228,9 @@ class Atlas:
             for c in np.flatnonzero((starts >= sl.start) & (starts < sl.stop)):
                 ok = self._crank[c] if crank else None
                 if two:
-                    head, tail = self._head_of(c)
+                    table = self._head_of(c, crank)
                 if two and np.isfinite(floor):
-                    parts[c] = bounded_topk(self.desc[c], head, tail, ok, variants, qh, qt, k,
-                                            floor)  # fmt: skip
+                    parts[c] = bounded_topk(self.desc[c], table, ok, variants, qh, qt, k, floor)
                 else:
                     parts[c] = chunk_topk(self.desc[c], ok, variants, k, floor)
                 best = np.concatenate([best, parts[c][1]])
@@ -240,30 +242,33 @@ class Atlas:
         return parts
 
     def _query_heads(self) -> tuple:
-        """The query's first stage, built at the first query: columns, heads and tail norms.
+        """The query's first stage: its columns, and each chunk's tables built so far.
 
         The :data:`HEAD` descriptor columns of most energy (in the first chunk),
-        copied for every chunk (``HEAD × 4`` bytes a row, 160 MB for 10^7 entries),
-        and the norm of each row's other columns (float32); each chunk's are built
-        by the first query that scores it (:meth:`_head_of`).
+        copied for the rows of every chunk (``HEAD × 4`` bytes a row), with the norm
+        of each row's other columns (float32): 200 MB for 10^7 entries, or 100 MB for
+        their crank rows alone (queries with ``crank``: timed targets always), each
+        built by the first such query that scores the chunk (:meth:`_head_of`).
         """
         if self._heads is None:
             first = np.asarray(self.desc[0], dtype=np.float64)
             cols = np.sort(np.argsort(-np.mean(first**2, axis=0), kind="stable")[:HEAD])
-            self._heads = (cols, [None] * len(self.desc), [None] * len(self.desc))
+            self._heads = (cols, {})
         return self._heads
 
-    def _head_of(self, c: int) -> tuple[np.ndarray, np.ndarray]:
-        """Chunk ``c``'s first-stage table (built by its first query, compiled)."""
+    def _head_of(self, c: int, crank: bool) -> tuple:
+        """Chunk ``c``'s first-stage table: head, tail and its rows (None: all), compiled."""
         from ._atlas_kernels import head_rows
 
-        cols, heads, tails = self._query_heads()
-        if heads[c] is None:
-            n = self.desc[c].shape[0]
+        cols, tables = self._query_heads()
+        if (c, crank) not in tables:
+            rows = np.flatnonzero(self._crank[c]) if crank else None
+            desc = self.desc[c] if rows is None else np.asarray(self.desc[c])[rows]
+            n = desc.shape[0]
             head, tail = np.empty((n, cols.size), np.float32), np.empty(n, np.float32)
-            head_rows(self.desc[c], cols.astype(np.int64), head, tail)
-            heads[c], tails[c] = head, tail
-        return heads[c], tails[c]
+            head_rows(desc, cols.astype(np.int64), head, tail)
+            tables[c, crank] = (head, tail, rows)
+        return tables[c, crank]
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True, draw: int = 0) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas.
@@ -327,23 +332,28 @@ HEAD = 4
 BOUND_SLACK = 1e-4
 
 
-def bounded_topk(desc, head, tail, allowed, variants, qh, qt, k: int, floor: float):
+def bounded_topk(desc, table, allowed, variants, qh, qt, k: int, floor: float):
     """:func:`chunk_topk` in two stages, for a ``floor`` already known (the same rows).
 
     Each row's score with a variant is ``q·d = q_h·d_h + q_t·d_t ≤ q_h·d_h + |q_t| |d_t|``
-    (Cauchy–Schwarz over the other columns): the bound is computed from the ``head``
-    columns and the ``tail`` norms alone (compiled:
+    (Cauchy–Schwarz over the other columns): the bound is computed from the ``table``
+    (see :meth:`Atlas._query_heads`: head columns, tail norms, and its rows: all of
+    them, or the ``allowed`` ones only) alone (compiled:
     :func:`~machdyn.synthesis._atlas_kernels.bound_rows`), and only the rows whose
     bound beats ``floor`` (less :data:`BOUND_SLACK`) are scored exactly. A loose
     bound (a quarter of the chunk passing) scores the whole chunk instead.
     """
     from ._atlas_kernels import bound_rows
 
-    n = head.shape[0]
-    rows = np.empty(n, np.int64)
-    ok = np.ones(0, bool) if allowed is None else allowed
-    count = bound_rows(head, tail, ok, allowed is not None, qh, qt, floor - BOUND_SLACK, rows)
-    rows = rows[:count]
+    head, tail, index = table
+    if head.shape[1] != 4 or qh.shape != (4, 4):
+        raise ValueError("the first stage's kernel is written for 4 columns and 4 variants")
+    n = desc.shape[0]
+    rows = np.empty(head.shape[0], np.int64)
+    check = allowed is not None and index is None
+    ok = allowed if check else np.ones(0, bool)
+    count = bound_rows(head, tail, ok, check, qh, qt, floor - BOUND_SLACK, rows)
+    rows = rows[:count] if index is None else index[rows[:count]]
     if rows.size > n // 4:
         return chunk_topk(desc, allowed, variants, k, floor)
     if rows.size == 0:
@@ -797,24 +807,24 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                  start):  # fmt: skip
     """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
     from .. import jit
-    from .sixbar_path import refine_sixbar, sixbar_result, sixbar_starts
+    from .sixbar_path import (
+        SIXBAR_ROUNDS,
+        SIXBAR_TIMED_NUMPY,
+        polished_sixbars,
+        refine_sixbar,
+        sixbar_result,
+        sixbar_starts,
+    )
 
     size = float(np.max(np.abs(pts - pts.mean())))
     compiled = jit.mode() != "off" and jit.load()  # one choice for the whole synthesis
-    t0 = time.perf_counter()
     # six-bars: many atlas entries draw nearly the same curve, so many are screened; timed
     # targets many more (their fit is over-determined: real local minima near the truth)
     screen, most = (SIXBAR_SCREEN, SIXBAR_POLISH_MAX) if timing is None else SIXBAR_TIMED
-    starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count, client,
-                           compiled)  # fmt: skip
-    t1 = time.perf_counter()
+    rounds, long = SIXBAR_ROUNDS, SIXBAR_LONG
+    if not compiled and timing is not None:  # MACHDYN_JIT=off: the NumPy loop's smaller budget
+        (screen, most), rounds, long = SIXBAR_TIMED_NUMPY, 1, (0, 0)
     options = dict(timing=timing, compiled=compiled)
-    fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
-            for x0, th0, fx in starts]  # fmt: skip
-    fits.sort(key=lambda f: f[2])
-    # polished best first until one meets the targets (to rounding) with no defect: the
-    # screen's order is a poor guide among six-bars, whose near-fits abound, and an exact
-    # fit may be a six-bar that cannot turn its crank (the untimed fits form a family)
     checked: dict[int, Any] = {}  # the Linkage's check of the fits met so far, by id
 
     def check(fit):
@@ -823,20 +833,26 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                                                    tolerance, mu_min))  # fmt: skip
         return checked[id(fit)][1]
 
-    met = False
-    for i, (x, th, rms, fx) in enumerate(fits[: max(POLISH, most)]):
-        if i >= POLISH and met:
+    fits, met, near, seen, scan = [], False, False, set(), 0.0
+    t_begin = time.perf_counter()
+    for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
+        if met or near:
             break
-        more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_POLISH, **options)
-        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
-        if fits[i][2] <= SIXBAR_MET * size:
-            res = check(fits[i])
-            met = met or (res is not None and res.ok)
+        t0 = time.perf_counter()
+        starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
+                               client, compiled, round_)  # fmt: skip
+        starts = [s for s in starts if s[0].tobytes() not in seen]
+        seen.update(s[0].tobytes() for s in starts)
+        scan += time.perf_counter() - t0
+        steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
+        more, met = polished_sixbars(starts, pts, most, check, steps, **options)
+        fits += more
+        near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
     if not met and timing is not None:  # the best crawl along narrow valleys: polish longer
-        for i in range(min(SIXBAR_LONG[0], len(fits))):
+        for i in range(min(long[0], len(fits))):
             x, th, rms, fx = fits[i]
-            more = refine_sixbar(x, th, fx, pts, iterations=SIXBAR_LONG[1], **options)
+            more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
             fits[i] = (*more, fx) if more[2] <= rms else fits[i]
     for fit in fits[:refine_count]:
         check(fit)
@@ -856,7 +872,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         f"no atlas entry comes near these targets: the best six-bar found misses by "
         f"{100 * worst:.1f} % of the targets' size"
     )  # fmt: skip
-    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
+               "total": time.perf_counter() - start}  # fmt: skip
     return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
                           seconds)  # fmt: skip
 

@@ -133,3 +133,19 @@ class PlacedFourBar:
         local = [np.where(ok, v, 0.0) for v in (a_loc, b_loc, p_loc)]  # NaN where unassembled
         out = [np.where(ok, self.to_global(v), nan) for v in local]
         return out[0], out[1], out[2], ok
+
+
+def form_of(branch: Any) -> int | str:
+    """The FourBar form (1 or 2) of assembly signs of φ12, or why there is none.
+
+    Form 1 has φ12 = θ4 − θ3 of positive sine (the path synthesis' ``branch`` +1).
+
+    Examples
+    --------
+    >>> form_of([-1, -1, -1]), form_of(1)
+    (2, 1)
+    """
+    signs = set(np.atleast_1d(np.asarray(branch)).tolist())
+    if len(signs) != 1:
+        return "none: the positions lie on both forms (a circuit or branch defect)"
+    return 1 if signs.pop() > 0 else 2

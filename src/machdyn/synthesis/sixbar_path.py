@@ -30,6 +30,13 @@ __all__: list[str] = []
 
 _NP = 15  # design numbers
 _STEEP = 1e10  # a coupler point moving this much faster than its design numbers: at a toggle
+#: The refinement's least damping of an unknown, as a share of the largest diagonal of JᵀJ
+#: (Marquardt scales each unknown's damping by its own diagonal). Without a floor well above
+#: rounding, an unknown the targets barely feel — the crank angle of a target where the
+#: coupler point stands still, at the turn of a Watt II "1-4" rocker — takes wild steps:
+#: from untimed truths disturbed by 1 %, 5 of 16 such six-bars converged with 1e-12 and
+#: 15 of 16 with 1e-6 (the 16th to 6e-11).
+DAMPING_FLOOR = 1e-6
 
 
 class _D:
@@ -62,10 +69,10 @@ def _expi(phi: _D) -> _D:
 
 
 def _rrr(C: _D, D: _D, a: _D, b: _D, sign: float) -> tuple[_D, np.ndarray]:
-    from ..linkage.dyads import rrr
+    from ..linkage.dyads import _rrr as rrr  # the engine's dyad without its input checks
 
-    pin = rrr(C.v, D.v, np.abs(a.v.real), np.abs(b.v.real), sign)  # circles: the sign is moot
-    E, ok = pin.B, pin.ok
+    # circles: the sign of a length is moot; NaN where they do not meet (as the kernel)
+    E, _, ok = rrr(C.v, D.v, np.abs(a.v.real), np.abs(b.v.real), sign)
     w1, w2 = E - C.v, E - D.v
     # Re(conj(w) dE) = rhs: [w1.re w1.im; w2.re w2.im] [dx; dy] = [r1; r2]
     r1 = a.v.real[:, None] * a.g.real + (np.conj(w1)[:, None] * C.g).real
@@ -207,7 +214,7 @@ def _compiled_loop(z, timing, targets, scale, fixed, iterations):
     timing = np.ascontiguousarray(timing if timed else np.zeros(0), dtype=float)
     return refine_loop(z.copy(), timing, timed, np.ascontiguousarray(targets, complex),
                        scale, float(fixed["s4"]), float(fixed["s6"]), l1, l2,
-                       fixed["on"] == 6, _STEEP, int(iterations))  # fmt: skip
+                       fixed["on"] == 6, _STEEP, DAMPING_FLOOR, int(iterations))  # fmt: skip
 
 
 def _loop(evaluate, z, iterations):
@@ -217,7 +224,7 @@ def _loop(evaluate, z, iterations):
     for _ in range(iterations):
         A = J.T @ J
         g = J.T @ r
-        diag = np.maximum(np.diag(A), 1e-12 * max(float(np.max(np.diag(A))), 1e-300))
+        diag = np.maximum(np.diag(A), DAMPING_FLOOR * max(float(np.max(np.diag(A))), 1e-300))
         M = A + lam * np.diag(diag)
         try:
             with np.errstate(over="ignore", invalid="ignore"):  # a wild step: refused below
@@ -373,6 +380,17 @@ SIXBAR_FINE = 96
 #: shape in units of ``retrieve``)``; each pool gives its own best starts. Spread entries
 #: start most Watt II fits, the nearest by shape most Watt I and Stephenson ones.
 SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25), (0, 60))
+#: Rounds of starts while no fit meets the targets. A later round of a timed target scans
+#: the first pool again on grids of starting angles turned by half a step (the best-scoring
+#: entries and angles change, and with them the basins the starts lie in); of an untimed
+#: target, it takes the next-best-placed entries of a retrieval :data:`SIXBAR_WIDER` times
+#: wider.
+SIXBAR_ROUNDS = 2
+SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed starts ×3
+#: Timed targets without the compiled kernels (``MACHDYN_JIT=off``, whose NumPy refinement
+#: costs ~6 times more a step): starts screened per refined candidate and most fits
+#: polished, one round, no long polish (docs/synthesis.md gives the times and rates).
+SIXBAR_TIMED_NUMPY = (4, 24)
 
 
 def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
@@ -391,11 +409,13 @@ def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, in
 
 
 def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None,
-                  compiled=False):  # fmt: skip
+                  compiled=False, round_=0):  # fmt: skip
     """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries.
 
     ``compiled``: the timed scan computes its coupler points on the compiled
     kernel (:mod:`machdyn.synthesis._sixbar_kernels`) rather than in NumPy.
+    ``round_``: the round of starts (see :data:`SIXBAR_ROUNDS`); a later round's
+    starts may repeat an earlier round's (the caller drops those).
     """
     from .atlas_path import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
@@ -403,6 +423,8 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
 
     starts = []
     if timing is None:
+        if round_:
+            retrieve, refine_count = retrieve * SIXBAR_WIDER[0], refine_count * SIXBAR_WIDER[1]
         rows, transforms = _retrieve(atlas, pts, closed, True, retrieve, refine_count, client)
         u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
         local = sixbar_points(rows, u)[0]
@@ -424,11 +446,12 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     # starts lie in different basins (the timed fit is over-determined: near the truth it
     # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    for size, k in SIXBAR_TIMED_POOLS:
+    for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]:
         idx = near[: k * retrieve]
         if size:
             idx = np.union1d(atlas.pool(size, crank=True), idx)
-        for i, h, t, g0, mirror in _timed_best(atlas, idx, timing, pts, refine_count, compiled):
+        best = _timed_best(atlas, idx, timing, pts, refine_count, compiled, shift=0.5 * round_)
+        for i, h, t, g0, mirror in best:
             if (i, mirror) not in seen:
                 seen.add((i, mirror))
                 x0, fixed = _design_of(atlas.entries(np.array([i]))[0], h, t, mirror)
@@ -436,11 +459,41 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     return starts
 
 
-def _timed_best(atlas, idx, timing, pts, count, compiled=False):
+def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=False):
+    """Fits ``(x, θ, rms, fixed)`` from ``starts``, screened and polished; whether one is met.
+
+    Every start is refined 30 steps; then the fits are polished (``steps`` more)
+    best first — up to
+    ``most`` of them — until one meets the targets to rounding and ``check(fit)``
+    (the Linkage's) finds no defect: the screen's order is a poor guide among
+    six-bars, whose near-fits abound, and an exact fit may be a six-bar that
+    cannot turn its crank (the untimed fits form a family).
+    """
+    from .atlas_path import POLISH, SIXBAR_MET
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    options = dict(timing=timing, compiled=compiled)
+    fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
+            for x0, th0, fx in starts]  # fmt: skip
+    fits.sort(key=lambda f: f[2])
+    met = False
+    for i, (x, th, rms, fx) in enumerate(fits[: max(POLISH, most)]):
+        if i >= POLISH and met:
+            break
+        more = refine_sixbar(x, th, fx, pts, iterations=steps, **options)
+        fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+        if fits[i][2] <= SIXBAR_MET * size:
+            res = check(fits[i])
+            met = met or (res is not None and res.ok)
+    return fits, met
+
+
+def _timed_best(atlas, idx, timing, pts, count, compiled=False, shift=0.0):
     """The ``count`` best timed placements of entries ``idx``: (index, h, t, θ0, mirror).
 
     Coarse to fine: every entry at :data:`SIXBAR_COARSE` starting angles, the best
-    :data:`SIXBAR_FINE` of each direction again at every one of ``TIMED_GRID`` angles.
+    :data:`SIXBAR_FINE` of each direction again at every one of ``TIMED_GRID`` angles;
+    both grids turned by ``shift`` of their step.
     """
     from .atlas_path import TIMED_GRID
 
@@ -448,9 +501,11 @@ def _timed_best(atlas, idx, timing, pts, count, compiled=False):
     found = []
     for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
         coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
+        coarse = coarse + shift * coarse[1]
         score = _timed_scan(rows, coarse, timing, pts, mirror, compiled)[0]
         pick = np.argsort(-score)[:SIXBAR_FINE]
         grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+        grid = grid + shift * grid[1]
         score, hh, off, g = _timed_scan(rows[pick], grid, timing, pts, mirror, compiled)
         found += [(score[j], int(idx[pick[j]]), hh[j], off[j], grid[g[j]], mirror)
                   for j in range(pick.size)]  # fmt: skip
