@@ -219,10 +219,9 @@ class Atlas:
             for c in np.flatnonzero((starts >= sl.start) & (starts < sl.stop)):
                 ok = self._crank[c] if crank else None
                 if two:
-                    head, tail = self._head_of(c)
+                    table = self._head_of(c, crank)
                 if two and np.isfinite(floor):
-                    parts[c] = bounded_topk(self.desc[c], head, tail, ok, variants, qh, qt, k,
-                                            floor)  # fmt: skip
+                    parts[c] = bounded_topk(self.desc[c], table, ok, variants, qh, qt, k, floor)
                 else:
                     parts[c] = chunk_topk(self.desc[c], ok, variants, k, floor)
                 best = np.concatenate([best, parts[c][1]])
@@ -234,30 +233,33 @@ class Atlas:
         return parts
 
     def _query_heads(self) -> tuple:
-        """The query's first stage, built at the first query: columns, heads and tail norms.
+        """The query's first stage: its columns, and each chunk's tables built so far.
 
         The :data:`HEAD` descriptor columns of most energy (in the first chunk),
-        copied for every chunk (``HEAD × 4`` bytes a row, 160 MB for 10^7 entries),
-        and the norm of each row's other columns (float32); each chunk's are built
-        by the first query that scores it (:meth:`_head_of`).
+        copied for the rows of every chunk (``HEAD × 4`` bytes a row), with the norm
+        of each row's other columns (float32): 200 MB for 10^7 entries, or 100 MB for
+        their crank rows alone (queries with ``crank``: timed targets always), each
+        built by the first such query that scores the chunk (:meth:`_head_of`).
         """
         if self._heads is None:
             first = np.asarray(self.desc[0], dtype=np.float64)
             cols = np.sort(np.argsort(-np.mean(first**2, axis=0), kind="stable")[:HEAD])
-            self._heads = (cols, [None] * len(self.desc), [None] * len(self.desc))
+            self._heads = (cols, {})
         return self._heads
 
-    def _head_of(self, c: int) -> tuple[np.ndarray, np.ndarray]:
-        """Chunk ``c``'s first-stage table (built by its first query, compiled)."""
+    def _head_of(self, c: int, crank: bool) -> tuple:
+        """Chunk ``c``'s first-stage table: head, tail and its rows (None: all), compiled."""
         from ._atlas_kernels import head_rows
 
-        cols, heads, tails = self._query_heads()
-        if heads[c] is None:
-            n = self.desc[c].shape[0]
+        cols, tables = self._query_heads()
+        if (c, crank) not in tables:
+            rows = np.flatnonzero(self._crank[c]) if crank else None
+            desc = self.desc[c] if rows is None else np.asarray(self.desc[c])[rows]
+            n = desc.shape[0]
             head, tail = np.empty((n, cols.size), np.float32), np.empty(n, np.float32)
-            head_rows(self.desc[c], cols.astype(np.int64), head, tail)
-            heads[c], tails[c] = head, tail
-        return heads[c], tails[c]
+            head_rows(desc, cols.astype(np.int64), head, tail)
+            tables[c, crank] = (head, tail, rows)
+        return tables[c, crank]
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True, draw: int = 0) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas.
@@ -321,23 +323,28 @@ HEAD = 4
 BOUND_SLACK = 1e-4
 
 
-def bounded_topk(desc, head, tail, allowed, variants, qh, qt, k: int, floor: float):
+def bounded_topk(desc, table, allowed, variants, qh, qt, k: int, floor: float):
     """:func:`chunk_topk` in two stages, for a ``floor`` already known (the same rows).
 
     Each row's score with a variant is ``q·d = q_h·d_h + q_t·d_t ≤ q_h·d_h + |q_t| |d_t|``
-    (Cauchy–Schwarz over the other columns): the bound is computed from the ``head``
-    columns and the ``tail`` norms alone (compiled:
+    (Cauchy–Schwarz over the other columns): the bound is computed from the ``table``
+    (see :meth:`Atlas._query_heads`: head columns, tail norms, and its rows: all of
+    them, or the ``allowed`` ones only) alone (compiled:
     :func:`~machdyn.synthesis._atlas_kernels.bound_rows`), and only the rows whose
     bound beats ``floor`` (less :data:`BOUND_SLACK`) are scored exactly. A loose
     bound (a quarter of the chunk passing) scores the whole chunk instead.
     """
     from ._atlas_kernels import bound_rows
 
-    n = head.shape[0]
-    rows = np.empty(n, np.int64)
-    ok = np.ones(0, bool) if allowed is None else allowed
-    count = bound_rows(head, tail, ok, allowed is not None, qh, qt, floor - BOUND_SLACK, rows)
-    rows = rows[:count]
+    head, tail, index = table
+    if head.shape[1] != 4 or qh.shape != (4, 4):
+        raise ValueError("the first stage's kernel is written for 4 columns and 4 variants")
+    n = desc.shape[0]
+    rows = np.empty(head.shape[0], np.int64)
+    check = allowed is not None and index is None
+    ok = allowed if check else np.ones(0, bool)
+    count = bound_rows(head, tail, ok, check, qh, qt, floor - BOUND_SLACK, rows)
+    rows = rows[:count] if index is None else index[rows[:count]]
     if rows.size > n // 4:
         return chunk_topk(desc, allowed, variants, k, floor)
     if rows.size == 0:
