@@ -334,3 +334,30 @@ def test_an_open_target_no_four_bar_meets_takes_one_round_and_reports_its_best(
     assert miss > atlas_path.UNTIMED_FAR
     assert draws == [0]  # the first pool only: the query kept to its budget
     assert np.max(best.distance) / size == pytest.approx(miss, rel=1e-3)  # reported as measured
+
+
+@pytest.mark.parametrize(
+    ("miss", "closed", "another_round"),
+    [(1e-8, False, False), (1e-5, False, True), (1e-2, False, False), (1e-2, True, True),
+     (1e-8, True, False)],
+)  # fmt: skip
+def test_more_pool_rounds_only_between_met_and_far(miss, closed, another_round):
+    # a fit whose points are a known four-bar's (by circle intersection, written in the
+    # tests), and targets that are those points with one moved by `miss` of their size
+    from tests.test_synthesis_path_atlas import _coupler
+
+    from machdyn.synthesis.atlas_path import _worth_a_round
+    from machdyn.synthesis.refine import Refined, coupler_and_jacobian
+
+    x = np.array([5.0, 2.0, 5.0, 4.0, 3.0, 0.6, 1.0, 2.0, 0.3])
+    th = np.linspace(0.5, 2.5, 9)
+    branch = np.ones(9)
+    own = coupler_and_jacobian(x, th, branch)[0]
+    P = {s: _coupler(x[:4], x[4:6], complex(*x[6:8]), x[8], s, th) for s in (1.0, -1.0)}
+    P = min(P.values(), key=lambda p: np.abs(p - own).max())  # the fit's assembly
+    size = np.max(np.abs(P - P.mean()))
+    assert np.abs(own - P).max() < 1e-9 * size  # the fit passes through P
+    targets = P.copy()
+    targets[4] += miss * size * np.exp(0.4j)
+    rms = np.sqrt(np.mean(np.abs(P - targets) ** 2))
+    assert _worth_a_round([Refined(x, th, branch, rms, True)], targets, closed) is another_round
