@@ -305,3 +305,32 @@ def test_a_fit_just_past_the_change_point_lands_on_it_with_its_crank():
     # only the longest link changed, by the excess
     assert np.count_nonzero(moved.x != x) == 1 and abs(moved.x[0] - 50.0) == pytest.approx(3e-6)
     assert 0 < moved.rms < 100 * 3e-6  # moved, but by little
+
+
+def test_an_open_target_no_four_bar_meets_takes_one_round_and_reports_its_best(
+    small_atlas, monkeypatch
+):
+    # 15 points on a full wave of a sine: no coupler curve follows it (its best misses by ~10 %),
+    # so the best fit misses by more than UNTIMED_FAR after the first round: no fresh pool drawn
+    from tests.test_synthesis_path_atlas import _curve_distance
+
+    from machdyn.synthesis import atlas_path
+
+    at = open_atlas(small_atlas)
+    draws = []
+    pool = atlas_path.Atlas.pool
+
+    def counted(self, *args, **kw):
+        draws.append(kw.get("draw", 0))
+        return pool(self, *args, **kw)
+
+    monkeypatch.setattr(atlas_path.Atlas, "pool", counted)
+    x = np.linspace(-1.0, 1.0, 15)
+    targets = 2 - 1j + x + 0.3j * np.sin(2 * np.pi * x)
+    size = np.max(np.abs(targets - targets.mean()))
+    res = atlas_path.path_from_atlas(targets, at, closed=False, n=1, mu_min=0.0)
+    best = res.best if res.candidates else res.rejected[0]
+    miss = _curve_distance(best, targets).max() / size  # measured apart from the synthesis
+    assert miss > atlas_path.UNTIMED_FAR
+    assert draws == [0]  # the first pool only: the query kept to its budget
+    assert np.max(best.distance) / size == pytest.approx(miss, rel=1e-3)  # reported as measured

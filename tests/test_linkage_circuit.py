@@ -278,3 +278,26 @@ def test_studio_sensitivity_and_tolerance_see_the_downstream_flag():
     far = within(x, (other[0] + 0.01, other[1] - 0.01))
     assert far.any() and not ok[far].any()
     assert ok[within(x, (mine[0] + 0.01, mine[1] - 0.01))].all()
+
+
+def test_two_drivers_flag_only_where_a_group_does_not_close():
+    # a five-bar with two cranks (M = 2): what the drawing reaches is a region of the two
+    # angles, not a range, and the check does not ask (docs/linkage.md): every sample where
+    # the dyad closes on its drawn side, |A − D| < 3 + 3, is solved and ok
+    O5 = 6.0 + 0j
+    A, D = 2.0 * np.exp(1j * np.radians(70)), O5 + 2.0 * np.exp(1j * np.radians(110))
+    C = circle_meet(A, 3.0, D, 3.0)
+    lk = Linkage({"O2": 0j, "O5": O5, "A": A, "D": D, "C": C}).ground("O2", "O5")
+    lk.link("2", "O2", "A").link("3", "A", "C").link("4", "D", "C").link("5", "O5", "D")
+    lk.drive("2", "5")
+    t2, t5 = np.meshgrid(np.linspace(0, 2 * np.pi, 37), np.linspace(0, 2 * np.pi, 37))
+    m = lk.solve({"2": t2, "5": t5})
+    A_t, D_t = 2.0 * np.exp(1j * t2), O5 + 2.0 * np.exp(1j * t5)
+    gap = np.abs(A_t - D_t)
+    closes = gap < 6.0
+    assert 0 < closes.sum() < closes.size
+    far = np.abs(gap - 6.0) > 1e-6
+    assert (m.ok == closes)[far].all()
+    assert not any("another circuit" in r for r in m.reason.ravel())
+    C_t = circle_meet(A_t[closes], 3.0, D_t[closes], 3.0)
+    np.testing.assert_allclose(m.points["C"][closes], C_t, atol=1e-9)

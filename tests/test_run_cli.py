@@ -171,3 +171,32 @@ def test_a_reader_that_stops_early_ends_the_run_quietly():
     err = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 1
     assert err == ""
+
+
+def test_fourbar_of_a_placed_part_gives_its_coupler_point_in_the_plane(capsys, tmp_path):
+    """HW 6 placed at O2 = (1, 2), O2 -> O4 at 30 deg: A and B by circles in the plane,
+    P = A + p e^{j(angle AB + delta)}; the angles stay measured from O2 -> O4."""
+    from closed_forms import circle_meet
+
+    text = Path(HW6).read_text(encoding="utf-8")
+    placed = text.replace("r1 = 8 ", "O2 = [1, 2]\ntheta1 = 30\nr1 = 8 ", 1)
+    (tmp_path / "placed.toml").write_text(placed, encoding="utf-8")
+    assert (
+        main(["fourbar", "--spec", str(tmp_path / "placed.toml"), "--theta2", "50", "--json"]) == 0
+    )
+    data = json.loads(capsys.readouterr().out)
+    row = data["kinematics"][0]
+    o2, t1 = 1 + 2j, math.radians(30.0)
+    o4 = o2 + 8 * np.exp(1j * t1)
+    a = o2 + 4 * np.exp(1j * (t1 + math.radians(50.0)))
+
+    def theta3_deg(b):  # from the ground line O2 -> O4
+        return math.degrees(np.angle((b - a) * np.exp(-1j * t1)))
+
+    sides = (circle_meet(a, 7, o4, 6, s) for s in (1, -1))
+    (b,) = [b for b in sides if abs(theta3_deg(b) - row["theta3_deg"]) < 1e-6]
+    p = a + 5 * np.exp(1j * (np.angle(b - a) + math.radians(30.0)))
+    assert complex(row["P"]["x"], row["P"]["y"]) == pytest.approx(complex(p), abs=1e-9)
+    assert data["placed"]["theta1_deg"] == pytest.approx(30.0)
+    assert main(["fourbar", "--spec", str(tmp_path / "placed.toml"), "--theta2", "50"]) == 0
+    assert "placed O2 = (1, 2), theta1 = 30 deg" in capsys.readouterr().out

@@ -133,6 +133,10 @@ def _print(payload: dict[str, Any]) -> None:
             f"  toggle theta2 = {t['theta2_deg']:9.4f} deg: links {t['links'][0]} and "
             f"{t['links'][1]} {t['kind']}" + (f" (branch {t['branch']:+d})" if t["branch"] else "")
         )
+    if "placed" in payload:
+        o2, theta1 = payload["placed"]["O2"], payload["placed"]["theta1_deg"]
+        print(f"  placed O2 = ({o2.real:g}, {o2.imag:g}), theta1 = {theta1:g} deg: P and AP in "
+              "the plane's frame, angles from O2 -> O4")  # fmt: skip
     mu = payload["min_transmission_angle_deg"]
     print(f"  min transmission angle mu = {mu['mu']:.4f} deg at theta2 = {mu['theta2']:.4f} deg")
     rows = []
@@ -262,12 +266,27 @@ def _from_spec(spec: Path, part: str | None) -> dict[str, Any]:
         "form": chosen.values.get("form"),
         "unit": None if machine.units.is_unit_free else machine.units.length,
     }
+    if "O2" in chosen.values or "theta1" in chosen.values:  # placed: P in the plane's frame
+        out["placed"] = (complex(chosen.values.get("O2", 0j)), chosen.values.get("theta1", 0.0))
     if "theta2" in motion:
         out["theta2"] = np.degrees(motion["theta2"].values)
     for key in ("omega2", "alpha2"):  # rad per the file's time unit
         if key in motion:
             out[key] = motion[key]
     return out
+
+
+def _place(payload: dict[str, Any], o2: complex, theta1: float) -> None:
+    """A placed four-bar (a file's ``O2``, ``theta1``): its coupler point in the plane's frame.
+
+    The angles stay measured from O2 → O4, as in ``machdyn run`` (docs/spec.md).
+    """
+    turn = complex(np.exp(1j * theta1))
+    payload["placed"] = {"O2": o2, "theta1_deg": float(np.degrees(theta1))}
+    for row in payload["kinematics"]:
+        if "P" in row:
+            row["P"] = o2 + turn * row["P"]
+            row["AP"] = turn * row["AP"]
 
 
 def _write_csv(payload: dict[str, Any], path: Path, unit: str | None) -> None:
@@ -375,6 +394,8 @@ def fourbar(
     lengths = file.get("lengths", given)
     point = _parse_coupler(coupler) if coupler is not None else file.get("coupler")
     payload = analyse(*lengths, grid, form, omega, alpha, point)
+    if "placed" in file:
+        _place(payload, *file["placed"])
     if csv_out is not None:
         _write_csv(payload, csv_out, file.get("unit"))
     if json:

@@ -97,8 +97,17 @@ SIXBAR_NEAR = 1e-8
 #: their size (see _polished).
 UNTIMED_POLISH_MAX = 4
 UNTIMED_MET = 1e-9
-#: Untimed targets: most rounds of retrieval (each a fresh pool) while none is met.
+#: Untimed targets: fits just past Grashof's change point re-refined before they land on it,
+#: per linkage asked for (the rest, worse ranked, are landed as they are).
+UNTIMED_BOUNDARY = 2
+#: Untimed: refinement steps of each polished fit before its valley polish (round 0, later).
+UNTIMED_NFEV = (100, 100)
+#: Untimed targets: most rounds of retrieval (each a fresh pool) while none is met, and
+#: only while the best fit's largest miss lies between UNTIMED_ENOUGH and UNTIMED_FAR of
+#: the size (see _worth_a_round).
 UNTIMED_ROUNDS = 3
+UNTIMED_ENOUGH = 3e-7
+UNTIMED_FAR = 1e-3
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: Open targets: best arc fits re-scored on the target points, samples of each curve
@@ -220,10 +229,9 @@ class Atlas:
             for c in np.flatnonzero((starts >= sl.start) & (starts < sl.stop)):
                 ok = self._crank[c] if crank else None
                 if two:
-                    head, tail = self._head_of(c)
+                    table = self._head_of(c, crank)
                 if two and np.isfinite(floor):
-                    parts[c] = bounded_topk(self.desc[c], head, tail, ok, variants, qh, qt, k,
-                                            floor)  # fmt: skip
+                    parts[c] = bounded_topk(self.desc[c], table, ok, variants, qh, qt, k, floor)
                 else:
                     parts[c] = chunk_topk(self.desc[c], ok, variants, k, floor)
                 best = np.concatenate([best, parts[c][1]])
@@ -235,30 +243,33 @@ class Atlas:
         return parts
 
     def _query_heads(self) -> tuple:
-        """The query's first stage, built at the first query: columns, heads and tail norms.
+        """The query's first stage: its columns, and each chunk's tables built so far.
 
         The :data:`HEAD` descriptor columns of most energy (in the first chunk),
-        copied for every chunk (``HEAD × 4`` bytes a row, 160 MB for 10^7 entries),
-        and the norm of each row's other columns (float32); each chunk's are built
-        by the first query that scores it (:meth:`_head_of`).
+        copied for the rows of every chunk (``HEAD × 4`` bytes a row), with the norm
+        of each row's other columns (float32): 200 MB for 10^7 entries, or 100 MB for
+        their crank rows alone (queries with ``crank``: timed targets always), each
+        built by the first such query that scores the chunk (:meth:`_head_of`).
         """
         if self._heads is None:
             first = np.asarray(self.desc[0], dtype=np.float64)
             cols = np.sort(np.argsort(-np.mean(first**2, axis=0), kind="stable")[:HEAD])
-            self._heads = (cols, [None] * len(self.desc), [None] * len(self.desc))
+            self._heads = (cols, {})
         return self._heads
 
-    def _head_of(self, c: int) -> tuple[np.ndarray, np.ndarray]:
-        """Chunk ``c``'s first-stage table (built by its first query, compiled)."""
+    def _head_of(self, c: int, crank: bool) -> tuple:
+        """Chunk ``c``'s first-stage table: head, tail and its rows (None: all), compiled."""
         from ._atlas_kernels import head_rows
 
-        cols, heads, tails = self._query_heads()
-        if heads[c] is None:
-            n = self.desc[c].shape[0]
+        cols, tables = self._query_heads()
+        if (c, crank) not in tables:
+            rows = np.flatnonzero(self._crank[c]) if crank else None
+            desc = self.desc[c] if rows is None else np.asarray(self.desc[c])[rows]
+            n = desc.shape[0]
             head, tail = np.empty((n, cols.size), np.float32), np.empty(n, np.float32)
-            head_rows(self.desc[c], cols.astype(np.int64), head, tail)
-            heads[c], tails[c] = head, tail
-        return heads[c], tails[c]
+            head_rows(desc, cols.astype(np.int64), head, tail)
+            tables[c, crank] = (head, tail, rows)
+        return tables[c, crank]
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True, draw: int = 0) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas.
@@ -322,23 +333,28 @@ HEAD = 4
 BOUND_SLACK = 1e-4
 
 
-def bounded_topk(desc, head, tail, allowed, variants, qh, qt, k: int, floor: float):
+def bounded_topk(desc, table, allowed, variants, qh, qt, k: int, floor: float):
     """:func:`chunk_topk` in two stages, for a ``floor`` already known (the same rows).
 
     Each row's score with a variant is ``q·d = q_h·d_h + q_t·d_t ≤ q_h·d_h + |q_t| |d_t|``
-    (Cauchy–Schwarz over the other columns): the bound is computed from the ``head``
-    columns and the ``tail`` norms alone (compiled:
+    (Cauchy–Schwarz over the other columns): the bound is computed from the ``table``
+    (see :meth:`Atlas._query_heads`: head columns, tail norms, and its rows: all of
+    them, or the ``allowed`` ones only) alone (compiled:
     :func:`~machdyn.synthesis._atlas_kernels.bound_rows`), and only the rows whose
     bound beats ``floor`` (less :data:`BOUND_SLACK`) are scored exactly. A loose
     bound (a quarter of the chunk passing) scores the whole chunk instead.
     """
     from ._atlas_kernels import bound_rows
 
-    n = head.shape[0]
-    rows = np.empty(n, np.int64)
-    ok = np.ones(0, bool) if allowed is None else allowed
-    count = bound_rows(head, tail, ok, allowed is not None, qh, qt, floor - BOUND_SLACK, rows)
-    rows = rows[:count]
+    head, tail, index = table
+    if head.shape[1] != 4 or qh.shape != (4, 4):
+        raise ValueError("the first stage's kernel is written for 4 columns and 4 variants")
+    n = desc.shape[0]
+    rows = np.empty(head.shape[0], np.int64)
+    check = allowed is not None and index is None
+    ok = allowed if check else np.ones(0, bool)
+    count = bound_rows(head, tail, ok, check, qh, qt, floor - BOUND_SLACK, rows)
+    rows = rows[:count] if index is None else index[rows[:count]]
     if rows.size > n // 4:
         return chunk_topk(desc, allowed, variants, k, floor)
     if rows.size == 0:
@@ -604,11 +620,17 @@ def path_from_atlas(
             more, met = _polished(more, pts, options, POLISH)
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
-    for fit in _unique(fits, size):
+    for i, fit in enumerate(_unique(fits, size)):
+        # untimed: only the fits that can be among the n chosen are refined at the change
+        # point; the others (a path no four-bar meets leaves dozens there) only land on it
+        onto = options if timing is not None or i < UNTIMED_BOUNDARY * n else None
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
             # just past the change point: hold the crank harder, then land on it
-            more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4, **options)
-            fit = _onto_grashof(more if more.rms <= 2 * fit.rms else fit, pts, options)
+            if onto is not None:
+                more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4,
+                              **options)  # fmt: skip
+                fit = more if more.rms <= 2 * fit.rms else fit
+            fit = _onto_grashof(fit, pts, onto)
         res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
         if res is not None:
             results.append(res)
@@ -675,22 +697,50 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
     t1 = time.perf_counter()
     fits, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                            options), pts, options, UNTIMED_POLISH_MAX)  # fmt: skip
+                                            options), pts, options, UNTIMED_POLISH_MAX,
+                          UNTIMED_NFEV[0])  # fmt: skip
     man = atlas.manifest
     arc = pts
     if closed:  # the targets as an arc: from the far side of the widest gap round to its near side
         gap = int(np.argmax(np.abs(np.roll(pts, -1) - pts)))
         arc = np.roll(pts, -(gap + 1))
     for r in range(1, UNTIMED_ROUNDS):
-        if met:
+        if met or not _worth_a_round(fits, pts, closed):
             break
         rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank, draw=r))
         curves = even_curves(rows, man.circuit_samples, man.samples)
         entries, transforms = _arc_starts(rows, curves, arc, refine_count)
         more, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                                options), pts, options, POLISH, 100)  # fmt: skip
+                                                options), pts, options, POLISH,
+                              UNTIMED_NFEV[1])  # fmt: skip
         fits = sorted(fits + more, key=lambda f: f.rms)
     return fits, t1
+
+
+def _worth_a_round(fits, pts, closed) -> bool:
+    """Whether another pool may still improve the best untimed fit.
+
+    Not when its largest miss (at its own input angles) is within
+    :data:`UNTIMED_ENOUGH` of the size on one assembly (the targets are met as
+    far as an engineer can tell; sloppy valleys often stall there, short of
+    :data:`UNTIMED_MET`), nor, for an open target, when it misses by more than
+    :data:`UNTIMED_FAR` (no four-bar traces the path: of 40 random crank-rocker
+    arcs, none missed by more than 1e-4 after the first round, and fresh pools
+    do not bring a path no four-bar traces nearer; the query keeps to its time
+    budget). A closed target's first round can be misled by its descriptor
+    (unevenly spread points): its later rounds, arc by arc, stay.
+    """
+    from .refine import coupler_and_jacobian
+
+    if not fits:
+        return True
+    best = fits[0]
+    size = float(np.max(np.abs(pts - pts.mean())))
+    G = coupler_and_jacobian(best.x, best.theta, best.branch)[0]
+    worst = float(np.max(np.abs(G - pts))) / size
+    if worst <= UNTIMED_ENOUGH and np.ptp(best.branch) == 0:
+        return False
+    return closed or worst <= UNTIMED_FAR
 
 
 def _untimed_starts(entries, transforms, pts) -> list:
