@@ -85,7 +85,8 @@ SIXBAR_POLISH = 600
 SIXBAR_POLISH_MAX = 24
 #: Six-bars with prescribed timing: starts screened per refined candidate, most fits polished.
 SIXBAR_TIMED = (16, 96)
-#: Timed six-bars: when none meets the targets, the best few fits polished this many steps more.
+#: Six-bars: when none meets the targets, the best few fits polished this many steps more
+#: (compiled kernels only; untimed too since a Watt II 1-4 fit at 3.8e-6 crawled to 3e-14).
 SIXBAR_LONG = (2, 6000)
 #: A six-bar whose RMS distance is below this share of the size meets the targets.
 SIXBAR_MET = 1e-12
@@ -821,9 +822,9 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     # six-bars: many atlas entries draw nearly the same curve, so many are screened; timed
     # targets many more (their fit is over-determined: real local minima near the truth)
     screen, most = (SIXBAR_SCREEN, SIXBAR_POLISH_MAX) if timing is None else SIXBAR_TIMED
-    rounds, long = SIXBAR_ROUNDS, SIXBAR_LONG
+    rounds, long = SIXBAR_ROUNDS, SIXBAR_LONG if compiled else (0, 0)
     if not compiled and timing is not None:  # MACHDYN_JIT=off: the NumPy loop's smaller budget
-        (screen, most), rounds, long = SIXBAR_TIMED_NUMPY, 1, (0, 0)
+        (screen, most), rounds = SIXBAR_TIMED_NUMPY, 1
     options = dict(timing=timing, compiled=compiled)
     checked: dict[int, Any] = {}  # the Linkage's check of the fits met so far, by id
 
@@ -849,7 +850,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         fits += more
         near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
-    if not met and timing is not None:  # the best crawl along narrow valleys: polish longer
+    if not met:  # the best crawl along narrow valleys: polish longer
         for i in range(min(long[0], len(fits))):
             x, th, rms, fx = fits[i]
             more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
