@@ -361,3 +361,10 @@ def test_more_pool_rounds_only_between_met_and_far(miss, closed, another_round):
     targets[4] += miss * size * np.exp(0.4j)
     rms = np.sqrt(np.mean(np.abs(P - targets) ** 2))
     assert _worth_a_round([Refined(x, th, branch, rms, True)], targets, closed) is another_round
+    # the same fit through the targets out of their order along the curve cannot be an
+    # answer (the checks reject it): met, it stops no round; only an open target that even
+    # this nearest fit misses by more than 1e-3 of its size takes no more
+    swap = [0, 1, 2, 3, 5, 4, 6, 7, 8]
+    out_of_order = Refined(x, th[swap], branch, rms, True)
+    far_open = not closed and miss > 1e-3
+    assert _worth_a_round([out_of_order], targets[swap], closed) is (not far_open)
