@@ -718,6 +718,11 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     return fits, t1
 
 
+#: An open target the nearest untimed fit traces this closely (as a share of its size), but
+#: only out of order or across assemblies, takes no more pool rounds.
+UNTIMED_TRACED = 1e-5
+
+
 def _worth_a_round(fits, pts, closed) -> bool:
     """Whether another pool may still improve the best untimed fit.
 
@@ -749,8 +754,9 @@ def _worth_a_round(fits, pts, closed) -> bool:
     # (a near fit through them out of order is rejected by the checks anyway)
     best = next((f for f in fits if np.ptp(f.branch) == 0 and _in_order(f.theta, closed, None)),
                 None)  # fmt: skip
-    if best is None:
-        return True
+    if best is None:  # none can be an answer: an open target traced only out of order (or
+        # across assemblies) by the nearest fit is traced so by fresh pools too (a zigzag)
+        return closed or worst(fits[0]) > UNTIMED_TRACED
     miss = worst(best)
     return miss > UNTIMED_ENOUGH and (closed or miss <= UNTIMED_FAR)
 
