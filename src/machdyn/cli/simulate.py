@@ -87,20 +87,16 @@ def _stall_in_units(event: Any, units: Any, run: Any) -> str:
     :mod:`machdyn.simulate` words it in the model's internal units, which a machine
     file in mm, say, does not show (0.3 N·m would read 300000).
     """
+    from ..simulate._integrate import stall_words
+
+    def shown(kind: str, value: float) -> str:
+        return f"{float(units.show(kind, value)):.6g} {units.display(kind)}".rstrip()
+
     effort = "torque" if run.angular else "force"
-    unit = units.display(effort)
-
-    def shown(value: float) -> str:
-        return f"{float(units.show(effort, value)):.6g} {unit}".rstrip()
-
     verb = "cannot start" if event.message.startswith("the motor cannot start") else "stalls"
-    kind = "angle" if run.angular else "length"
-    where = f"{float(units.show(kind, event.theta)):.6g} {units.display(kind)}".rstrip()
-    return (
-        f"the motor {verb} at {run.coordinate} = {where}: it gives {shown(event.given)} "
-        f"at zero speed where the load needs {shown(event.need)} "
-        f"(a deficit of {shown(event.deficit)})"
-    )
+    where = f"{run.coordinate} = {shown('angle' if run.angular else 'length', event.theta)}"
+    given, need, deficit = (shown(effort, v) for v in (event.given, event.need, event.deficit))
+    return stall_words(verb, where, given, need, deficit)
 
 
 def _worded(run: Any, units: Any) -> dict[str, str]:

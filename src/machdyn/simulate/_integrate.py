@@ -258,11 +258,8 @@ class Runner:
         if pushes and (math.copysign(1.0, torque) != new):
             deficit = abs(need - torque)
             verb = "cannot start" if moving == 0.0 else "stalls"
-            what = (
-                f"the motor {verb} at {self.plant.label} = {_show(q, self.plant)}: it gives "
-                f"{torque:.6g} at zero speed where the load needs {need:.6g} "
-                f"(a deficit of {deficit:.6g})"
-            )
+            where = f"{self.plant.label} = {_show(q, self.plant)}"
+            what = stall_words(verb, where, f"{torque:.6g}", f"{need:.6g}", f"{deficit:.6g}")
             self.events.append(Event("stall", t, q, 0.0, what, deficit, torque, need))
             return "stall", what
         if moving:
@@ -436,6 +433,14 @@ def parabola_peak(x: np.ndarray, y: np.ndarray, i: int) -> tuple[float, float]:
             if abs(s) <= 1.0:
                 return float(x[i] + s * (x[1] - x[0])), float(y1 - 0.25 * (y0 - y2) * s)
     return float(x[i]), float(y[i])
+
+
+def stall_words(verb: str, where: str, given: str, need: str, deficit: str) -> str:
+    """A stall's message from its parts, already worded (numbers with their units, if any)."""
+    return (
+        f"the motor {verb} at {where}: it gives {given} at zero speed where the load needs "
+        f"{need} (a deficit of {deficit})"
+    )
 
 
 def _show(q: float, plant: Any) -> str:
