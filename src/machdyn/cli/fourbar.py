@@ -247,6 +247,7 @@ def _print_inversions(payload: dict[str, Any]) -> None:
 def _from_spec(spec: Path, part: str | None) -> dict[str, Any]:
     """Lengths, coupler point, form and motion of a machine file's four-bar part."""
     from ..spec import load_machine
+    from ..spec._fourbar import placement
 
     machine = load_machine(spec)
     names = [p.name for p in machine.parts.values() if p.kind == "fourbar"]
@@ -266,8 +267,9 @@ def _from_spec(spec: Path, part: str | None) -> dict[str, Any]:
         "form": chosen.values.get("form"),
         "unit": None if machine.units.is_unit_free else machine.units.length,
     }
-    if "O2" in chosen.values or "theta1" in chosen.values:  # placed: P in the plane's frame
-        out["placed"] = (complex(chosen.values.get("O2", 0j)), chosen.values.get("theta1", 0.0))
+    placed = placement(chosen.values)
+    if placed is not None:  # P in the plane's frame
+        out["placed"] = placed
     if "theta2" in motion:
         out["theta2"] = np.degrees(motion["theta2"].values)
     for key in ("omega2", "alpha2"):  # rad per the file's time unit

@@ -34,7 +34,8 @@ from ._types import (
 
 __all__ = ["PART_KINDS"]
 
-#: A full turn of a crank, sampled for `run` and for a flywheel's torque curve.
+#: A full turn of a crank, sampled for `run`'s tables (a flywheel takes finer steps:
+#: :data:`~machdyn.spec._run.FLYWHEEL_SAMPLES`).
 FULL_TURN = Grid(0.0, 2.0 * np.pi, np.radians(10.0))
 
 
@@ -287,6 +288,16 @@ def _external(loads: dict, links: tuple[int, ...]) -> dict[str, Any]:
     return out
 
 
+def placement(v: dict) -> tuple[complex, float] | None:
+    """``(O2, theta1)`` of a four-bar placed in the plane (a synthesis result), else None.
+
+    Global = O2 + e^{jθ1}·local; either key alone places it (the other 0).
+    """
+    if "O2" not in v and "theta1" not in v:
+        return None
+    return complex(v.get("O2", 0j)), float(v.get("theta1", 0.0))
+
+
 def _in_own_frame(
     v: dict, masses: dict, external: dict, gravity: float | None
 ) -> tuple[dict[str, Any], float]:
@@ -362,11 +373,12 @@ def _run_fourbar(part: Part, machine: Machine, results: dict) -> PartResult:
     # placed (a synthesis result): the model works in its own frame (x along O2 → O4);
     # positions and forces are shown in the plane's (global = O2 + e^{jθ1}·local), the
     # file's loads are read in it and gravity acts along the plane's −y
-    placed = "O2" in v or "theta1" in v
-    o2, turn = complex(v.get("O2", 0j)), complex(np.exp(1j * v.get("theta1", 0.0)))
+    placed = placement(v)
+    o2, theta1 = placed or (0j, 0.0)
+    turn = complex(np.exp(1j * theta1))
     if placed:
         out.summary.append(Summary("placed: O2", [o2.real, o2.imag], "length"))
-        out.summary.append(Summary("placed: theta1", v.get("theta1", 0.0), "angle"))
+        out.summary.append(Summary("placed: theta1", theta1, "angle"))
     good = m.ok & np.isfinite(m.mu)
     if good.any():
         out.summary.append(
