@@ -748,7 +748,8 @@ def _worth_a_round(fits, pts, closed) -> bool:
     def worst(f) -> float:
         return float(np.max(np.abs(coupler_and_jacobian(f.x, f.theta, f.branch)[0] - pts))) / size
 
-    if not closed and worst(fits[0]) > UNTIMED_FAR:  # not even the nearest fit comes near
+    nearest = worst(fits[0])
+    if not closed and nearest > UNTIMED_FAR:  # not even the nearest fit comes near
         return False
     # the best fit that can be an answer: one assembly, the targets in order along the curve
     # (a near fit through them out of order is rejected by the checks anyway)
@@ -756,7 +757,7 @@ def _worth_a_round(fits, pts, closed) -> bool:
                 None)  # fmt: skip
     if best is None:  # none can be an answer: an open target traced only out of order (or
         # across assemblies) by the nearest fit is traced so by fresh pools too (a zigzag)
-        return closed or worst(fits[0]) > UNTIMED_TRACED
+        return closed or nearest > UNTIMED_TRACED
     miss = worst(best)
     return miss > UNTIMED_ENOUGH and (closed or miss <= UNTIMED_FAR)
 
