@@ -85,7 +85,10 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
                 if key in loads:
                     options[key] = loads[key]
     elif kind == "linkage":
+        from ..spec._linkage import loads as linkage_loads
+
         options["gravity"] = gravity
+        options |= linkage_loads(part)
         lk = part.model
         first = v.get("motion", {}).get(lk.drivers[0]) if lk.drivers else None
         if first is not None:  # a DriverSetting, in the model's units (radians)
