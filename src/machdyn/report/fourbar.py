@@ -199,9 +199,15 @@ class _Case:
     external_torques: Any
     k: float | None
     where: str = "θ2"
+    placement: tuple[complex, float] | None = None
 
     def at(self, j: int) -> str:
         return f"{self.where} = {np.degrees(self.th[j]):.1f}°"
+
+    @property
+    def turn(self) -> complex:
+        """e^{jθ1}: the four-bar's own frame (x along O2 → O4) turned into the plane's."""
+        return 1.0 + 0j if self.placement is None else complex(np.exp(1j * self.placement[1]))
 
 
 def fourbar_report(fb: FourBar, *, title: str | None = None, **options: Any) -> Page:
@@ -230,8 +236,15 @@ def fourbar_sections(
     motion: FourBarMotion | None = None,
     units: Any = None,
     length_unit: str | None = None,
+    placement: tuple[complex, float] | None = None,
 ) -> str:
-    """Add a four-bar's sections to ``page``; returns its first line."""
+    """Add a four-bar's sections to ``page``; returns its first line.
+
+    ``placement`` ``(O2, theta1)`` places the four-bar in the plane (a synthesis
+    result: global = O2 + e^{jθ1}·local): the drawing and the force directions are
+    the plane's; θ2–θ4 stay measured from O2 → O4 and the loads are given as
+    :meth:`FourBar.dynamics` takes them (its own frame).
+    """
     th = fourbar_sweep(fb, form, n)
     m = motion if motion is not None else fb.solve(th, omega2, form=form)
     th = np.ravel(m.theta2)
@@ -254,6 +267,7 @@ def fourbar_sections(
         external_forces,
         external_torques,
         k,
+        placement=None if placement is None else (complex(placement[0]), float(placement[1])),
     )
     rng = fb.input_range(form)
     kind = "crank" if rng.full_turn else "rocker"
@@ -349,6 +363,9 @@ def _model_section(page: Page, c: _Case, rng: Any) -> None:
         rows.append(("coupler point p", u.text("length", fb.coupler[0], 6), "p"))
         rows.append(("coupler point δ", fmt(np.degrees(fb.coupler[1]), 6) + "°", "delta_deg"))
     rows.append(("form (circuit)", str(c.form), "form"))
+    if c.placement is not None:
+        rows.append(("placed: O2", _xy(u, c.placement[0]), "placed_O2"))
+        rows.append(("placed: θ1", fmt(np.degrees(c.placement[1]), 6) + "°", "placed_theta1"))
     rows.append(("input speed ω2", u.text("angular_velocity", c.omega2), "omega2"))
     curve = None
     if fb.coupler is not None:
@@ -361,14 +378,31 @@ def _model_section(page: Page, c: _Case, rng: Any) -> None:
         form=c.form,
     )
     s = fourbar_scene(fb, frames, coupler_curve=curve, closed=rng.full_turn)
+    placed = ""
+    if c.placement is not None:
+        s = _in_plane(s, *c.placement)
+        placed = (
+            " Placed in the plane: global = O2 + e^(jθ1)·local, forces in the plane's x, y;"
+            " θ2–θ4 from O2 → O4."
+        )
     page.section(
         "model",
         "The model and its drawing",
         page.table(rows)
         + widget(s, fps=30)
         + '<p class="remark">The drawing plays the solved poses (lengths in '
-        f"{esc(u.unit('length'))}, y up); the slider picks a pose.</p>",
+        f"{esc(u.unit('length'))}, y up); the slider picks a pose.{placed}</p>",
     )
+
+
+def _in_plane(s: Any, O2: complex, theta1: float) -> Any:
+    """A four-bar scene (own frame) moved to its place: z → O2 + e^{jθ1} z."""
+    from dataclasses import replace
+
+    turn = complex(np.exp(1j * theta1))
+    curves = tuple(replace(cv, points=O2 + turn * np.asarray(cv.points)) for cv in s.curves)
+    angles = {k: v + theta1 for k, v in s.angles.items()}
+    return replace(s, xy=O2 + turn * s.xy, curves=curves, angles=angles)
 
 
 def _class_sections(page: Page, c: _Case, kind: str, span: str, mu_limit_deg: float) -> None:
@@ -498,7 +532,7 @@ def _force_sections(page: Page, c: _Case, f: Any) -> Any:
     u, th = c.u, c.th
     ok = np.ravel(f.ok)
     rows = []
-    pins = {"F12": f.F12, "F32": f.F32, "F43": f.F43, "F14": f.F14}
+    pins = {k: c.turn * getattr(f, k) for k in ("F12", "F32", "F43", "F14")}  # the plane's
     for name, F in pins.items():
         mag = np.where(ok, np.abs(F), np.nan)
         j = int(np.nanargmax(mag))
@@ -591,8 +625,8 @@ def _balancing_section(page: Page, c: _Case, f: Any) -> None:
         external_torques=c.external_torques,
     )
     shaking = shaking_charts(
-        f.shaking_force,
-        fb_bal.shaking_force,
+        c.turn * f.shaking_force,
+        c.turn * fb_bal.shaking_force,
         moment_before=f.shaking_moment,
         moment_after=fb_bal.shaking_moment,
         theta=c.th,

@@ -49,7 +49,7 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
     >>> sorted(part_options(m.parts["hw6"], m))  # doctest: +SKIP
     ['cg', 'gravity', 'inertia', 'mass', 'omega2', 'units']
     """
-    from ..spec._fourbar import _external, _in_own_frame, _masses, input_motion
+    from ..spec._fourbar import _external, _in_own_frame, _masses, input_motion, placement
 
     v, kind = part.values, part.kind
     options: dict[str, Any] = {"units": machine.units}
@@ -59,6 +59,8 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         options["omega2"] = omega2
         options["form"] = v.get("form", 1)
     if kind == "fourbar":
+        if placement(v) is not None:
+            options["placement"] = placement(v)
         masses = _masses(v, (2, 3, 4))
         if masses is not None:
             loads = v.get("loads", {})
