@@ -164,9 +164,10 @@ def test_loop_jerks_equal_time_differences_of_accelerations(kind, seed):
     assert m1.ok.all() and m2.ok.all(), (m1.reason, m2.reason)
     # the pose at t = 0 is the drawn one (the assembly the test built)
     for var, value in guess.items():
-        assert abs(np.angle(np.exp(1j * (m1.positions[var][2] - value)))) < 1e-9 or abs(
-            m1.positions[var][2] - value
-        ) < 1e-9, (var, m1.positions[var][2], value)
+        assert (
+            abs(np.angle(np.exp(1j * (m1.positions[var][2] - value)))) < 1e-9
+            or abs(m1.positions[var][2] - value) < 1e-9
+        ), (var, m1.positions[var][2], value)
     levels = ("positions", "velocity", "acceleration", "jerk")
     pts = ("points", "point_velocity", "point_acceleration", "point_jerk")
 
