@@ -229,3 +229,101 @@ def test_path_synthesis_drawing_puts_pivots_and_coupler_point_in_the_plane(found
         step = 2 * np.pi / 720 * (r2 + r3 + p)  # how far a point moves between poses, at most
         for z, d in zip(targets(), np.ravel(cand.distance), strict=True):
             assert np.min(np.abs(C - z)) <= d + step
+
+
+TOLERANCED = """
+machdyn = 1
+gravity = true
+[units]
+length = "mm"
+[fourbar.f]
+r1 = 80.0
+r2 = 30.0
+r3 = 70.0
+r4 = 60.0
+coupler = { p = 50.0, delta = "30 deg" }
+O2 = [20.0, -10.0]
+theta1 = "40 deg"
+[fourbar.f.motion]
+theta2 = [0, 330, 30]
+omega2 = "10 rad/s"
+[fourbar.f.link2]
+mass = "0.1 kg"
+inertia = "100 kg*mm^2"
+cg = 15.0
+[fourbar.f.link3]
+mass = "0.3 kg"
+inertia = "500 kg*mm^2"
+cg = [35.0, 5.0]
+[fourbar.f.link4]
+mass = "0.2 kg"
+inertia = "300 kg*mm^2"
+cg = 30.0
+[fourbar.f.tolerance]
+r2 = 0.05
+samples = 200
+"""
+
+
+def _placed_power_balance(th2):
+    """T12 (N·mm) and P (mm) of TOLERANCED by circle intersection in the plane and the power
+    balance T ω = Σ m (v·a + g v_y) + I ω α (SI), velocities by five-point differences."""
+    O2, t1, w = 20 - 10j, np.radians(40.0), 10.0
+    O4 = O2 + 80 * np.exp(1j * t1)
+
+    def pose(t):
+        A = O2 + 30 * np.exp(1j * (t + t1))
+        d = O4 - A
+        L = np.abs(d)
+        a = (70**2 - 60**2 + L**2) / (2 * L)
+        B = A + (a + 1j * np.sqrt(70**2 - a**2)) * d / L  # form 1: B left of A → O4
+        e2, e3, e4 = (A - O2) / 30, (B - A) / 70, (B - O4) / 60
+        G = (O2 + 15 * e2, A + (35 + 5j) * e3, O4 + 30 * e4)
+        P = A + 50 * np.exp(1j * np.radians(30)) * e3
+        return G, (np.angle(e2), np.angle(e3), np.angle(e4)), P
+
+    h = 1e-3
+    poses = [pose(th2 + k * h) for k in (-2, -1, 0, 1, 2)]
+    power = 0.0
+    for i, (m, inertia) in enumerate(((0.1, 100e-6), (0.3, 500e-6), (0.2, 300e-6))):
+        z = [p[0][i] * 1e-3 for p in poses]
+        q = np.unwrap(np.array([p[1][i] for p in poses]), axis=0)
+        v = (z[0] - 8 * z[1] + 8 * z[3] - z[4]) / (12 * h) * w
+        acc = (-z[0] + 16 * z[1] - 30 * z[2] + 16 * z[3] - z[4]) / (12 * h * h) * w * w
+        wq = (q[0] - 8 * q[1] + 8 * q[3] - q[4]) / (12 * h) * w
+        aq = (-q[0] + 16 * q[1] - 30 * q[2] + 16 * q[3] - q[4]) / (12 * h * h) * w * w
+        power = power + m * ((np.conj(v) * acc).real + 9.80665 * v.imag) + inertia * wq * aq
+    return power / w * 1e3, poses[2][2]
+
+
+def test_tolerance_of_a_placed_fourbar_nominals_are_the_planes(tmp_path, capsys):
+    """``machdyn tolerance`` printed P_nominal in the four-bar's own frame and T12_nominal
+    with no gravity at all for a placed four-bar (−0.33 N·mm where 122.6 is right)."""
+    path = tmp_path / "tol.toml"
+    path.write_text(TOLERANCED, encoding="utf-8")
+    assert main(["tolerance", str(path), "--json"]) == 0
+    tables = json.loads(capsys.readouterr().out)["parts"]["f"]["tables"]
+    cols = {}
+    for table in tables.values():
+        for i, c in enumerate(table["columns"]):
+            cols[c] = np.array([row[i] for row in table["rows"]], dtype=object)
+    th2 = np.radians(cols["theta2 [deg]"].astype(float))
+    T, P = _placed_power_balance(th2)
+    got = cols["T12_nominal [N*m]"].astype(float) * 1e3 if "T12_nominal [N*m]" in cols else None
+    got = cols["T12_nominal [N*mm]"].astype(float) if got is None else got
+    np.testing.assert_allclose(got, T, rtol=0, atol=1e-6 * np.abs(T).max())
+    Px = cols["P_nominal_x [mm]"].astype(float)
+    Py = cols["P_nominal_y [mm]"].astype(float)
+    np.testing.assert_allclose(Px + 1j * Py, P, rtol=0, atol=1e-9 * 80)
+
+
+def test_tolerance_leaves_out_a_t12_without_the_files_loads(tmp_path, capsys):
+    """A four-bar's [[loads.force]] and loads.torques cannot enter the tolerance's T12: it
+    printed a T12 without them; now no T12, and a warning saying why (geometry kept)."""
+    text = TOLERANCED + "[[fourbar.f.loads.force]]\nlink = 3\nat = [10.0, 0.0]\n"
+    path = tmp_path / "tol.toml"
+    path.write_text(text + "force = [0.0, -5.0]\n", encoding="utf-8")
+    assert main(["tolerance", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "T12 of f" not in out and "theta4 of f" in out
+    assert "T12 is not toleranced" in out
