@@ -72,7 +72,7 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         if masses is not None:
             loads = v.get("loads", {})
             masses["inertia"], masses["cg"] = masses["inertia"][:2], masses["cg"][:2]
-            options |= masses | {"gravity": gravity}
+            options |= masses | {"gravity": gravity} | _external(loads, (2, 3))
             options["load_force4"] = loads.get("force4", 0.0)
             for key in ("friction", "mu", "beta"):
                 if key in loads:
@@ -81,7 +81,7 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         masses = _masses(v, (2, 3, 4))
         if masses is not None:
             loads = v.get("loads", {})
-            options |= masses | {"gravity": gravity}
+            options |= masses | {"gravity": gravity} | _external(loads, (2, 3, 4))
             options["load_torque4"] = loads.get("torque4", 0.0)
             for key in ("friction", "mu", "beta"):
                 if key in loads:
