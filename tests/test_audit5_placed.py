@@ -327,3 +327,27 @@ def test_tolerance_leaves_out_a_t12_without_the_files_loads(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "T12 of f" not in out and "theta4 of f" in out
     assert "T12 is not toleranced" in out
+
+
+def test_studio_dxf_of_a_candidate_has_its_pin_holes_at_the_planes_points(found, tmp_path):
+    ezdxf = pytest.importorskip("ezdxf")
+    from machdyn.studio.exports import export
+
+    res, studio = found
+    doc = studio["candidates"][0]["doc"]
+    pl = res.candidates[0].linkage
+    A, B, P, _ = pl.pose(float(np.ravel(res.candidates[0].theta2)[0]))
+    where = {"O2": complex(pl.O2), "O4": complex(pl.O4), "A": complex(A), "B": complex(B)}
+    where["P"] = complex(P)
+    (tmp_path / "c.dxf").write_bytes(export(doc, "dxf").data)
+    holes = [
+        (e.dxf.layer, complex(e.dxf.center.x, e.dxf.center.y))
+        for e in ezdxf.readfile(tmp_path / "c.dxf").modelspace()
+        if e.dxftype() == "CIRCLE"
+    ]
+    links = {"link_crank": "O2 A", "link_coupler": "A B P", "link_rocker": "O4 B"}
+    links["ground"] = "O2 O4"
+    for layer, names in links.items():
+        centres = [z for lay, z in holes if lay == layer]
+        for name in names.split():
+            assert min(abs(z - where[name]) for z in centres) < 1e-9 * abs(pl.lengths[0]), name
