@@ -181,3 +181,67 @@ def test_loop_jerks_equal_time_differences_of_accelerations(kind, seed):
     _compare(var(1), m1, m2, h, "acceleration")
     _compare(point(2), m1, m2, h, "point jerk")
     _compare(point(1), m1, m2, h, "point acceleration")
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_fivebar_with_two_moving_inputs_jerks(seed):
+    """A five-bar driven at both cranks, each with its own ω, α and jerk."""
+    rng = np.random.default_rng(7100 + seed)
+    for _ in range(20):
+        O5 = rng.uniform(3.0, 6.0)
+        t2, t5 = rng.uniform(0, 2 * np.pi, 2)
+        A = rng.uniform(1.0, 2.5) * np.exp(1j * t2)
+        D = O5 + rng.uniform(1.0, 2.5) * np.exp(1j * t5)
+        B = complex(*rng.uniform(-2.0, 7.0, 2))
+        s = (
+            LoopSystem()
+            .vector("R1", O5, 0.0)
+            .vector("R2", abs(A), "theta2")
+            .vector("R3", abs(B - A), "theta3")
+            .vector("R4", abs(B - D), "theta4")
+            .vector("R5", abs(D - O5), "theta5")
+            .loop("R2 + R3 - R4 - R5 - R1")
+            .point("B = R2 + R3")
+            .inputs("theta2", "theta5")
+        )
+        guess = {"theta3": np.angle(B - A), "theta4": np.angle(B - D)}
+        motion = [(t2, *rng.uniform(-3, 3, 1), *rng.uniform(-9, 9, 1), *rng.uniform(-40, 40, 1))]
+        motion.append(
+            (t5, *rng.uniform(-3, 3, 1), *rng.uniform(-9, 9, 1), *rng.uniform(-40, 40, 1))
+        )
+
+        def solve(h, motion=motion, s=s, guess=guess):
+            t = h * np.arange(-2.0, 3.0)
+            names = ("theta2", "theta5")
+            q = {
+                n: q0 + w * t + a * t**2 / 2 + J * t**3 / 6
+                for n, (q0, w, a, J) in zip(names, motion, strict=True)
+            }
+            return s.solve(
+                q,
+                guess,
+                velocity={
+                    n: w + a * t + J * t**2 / 2
+                    for n, (_, w, a, J) in zip(names, motion, strict=True)
+                },
+                acceleration={n: a + J * t for n, (_, _, a, J) in zip(names, motion, strict=True)},
+                jerk={n: np.full(t.shape, J) for n, (*_, J) in zip(names, motion, strict=True)},
+                continuation=bool(seed % 2),
+            )
+
+        h = 2e-3
+        m1, m2 = solve(h), solve(h / 2)
+        if m1.ok.all() and m2.ok.all():
+            break
+    assert m1.ok.all() and m2.ok.all()
+
+    def var(level):
+        levels = ("positions", "velocity", "acceleration", "jerk")
+        return lambda m, k: {v: np.ravel(getattr(m, levels[level + k])[v]) for v in guess}
+
+    def point(level):
+        levels = ("points", "point_velocity", "point_acceleration", "point_jerk")
+        return lambda m, k: {"B": np.ravel(getattr(m, levels[level + k])["B"])}
+
+    _compare(var(2), m1, m2, h, "jerk")
+    _compare(point(2), m1, m2, h, "point jerk")
