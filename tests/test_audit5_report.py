@@ -550,3 +550,24 @@ def test_report_of_slider_parts_has_their_point_loads_and_torques(kind, tmp_path
     for key in ("power balance", "equilibrium of each link", "momentum: shaking force and moment"):
         (value,) = grab(page, rf"{key} NUM ")
         assert value < 1e-8, key
+
+
+def test_studio_columns_are_the_newton_euler_ones(watt):
+    """The studio's plotted driver torque and pin forces of the loaded Watt six-bar."""
+    import tomllib
+
+    from machdyn.studio.analysis import analyse
+    from machdyn.studio.document import normalise
+
+    _, path = watt
+    doc = normalise(tomllib.loads(path.read_text(encoding="utf-8")))
+    out = analyse(doc, samples=72)
+    assert all(out["ok"]) and out["has_forces"]
+    col = out["columns"]
+    t = np.radians(np.asarray(col["theta_crank [deg]"], float))
+    T, pins, _, _ = newton_euler(t)
+    # the studio sends 7 significant digits of each column's largest value
+    np.testing.assert_allclose(col["T_crank [N*mm]"], T, rtol=0, atol=2e-6 * np.abs(T).max())
+    F = pins["ground", "crank"]
+    np.testing.assert_allclose(col["F_ground_crank_x [N]"], F.real, atol=2e-6 * np.abs(F).max())
+    np.testing.assert_allclose(col["F_ground_crank_y [N]"], F.imag, atol=2e-6 * np.abs(F).max())
