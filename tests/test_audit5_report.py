@@ -571,3 +571,92 @@ def test_studio_columns_are_the_newton_euler_ones(watt):
     F = pins["ground", "crank"]
     np.testing.assert_allclose(col["F_ground_crank_x [N]"], F.real, atol=2e-6 * np.abs(F).max())
     np.testing.assert_allclose(col["F_ground_crank_y [N]"], F.imag, atol=2e-6 * np.abs(F).max())
+
+
+GRCR = """
+machdyn = 1
+[fourbar.g]
+r1 = 6.0
+r2 = 7.0
+r3 = 2.0
+r4 = 8.0
+form = 1
+branch = {branch}
+[fourbar.g.motion]
+theta2 = {{ values = [{values}] }}
+[fourbar.g.link2]
+mass = 1.0
+cg = 3.0
+[fourbar.g.link3]
+mass = 0.5
+[fourbar.g.link4]
+mass = 1.0
+cg = 4.0
+"""
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_report_of_a_grcr_takes_the_files_branch(branch, tmp_path, capsys):
+    """A GRCR (6, 7, 2, 8) part with ``branch = -1`` (what synthesis writes for one half of
+    its circuit) was reported on branch +1: T12 extremes 2115 / −2687 printed where the
+    file's branch gives 1097 / −4646. T12 here by the power balance on the assembly run
+    prints (its θ3 picks the circle intersection), positions by circle intersections."""
+    r1, r2, r3, r4 = 6.0, 7.0, 2.0, 8.0
+    lo = np.arccos((r1**2 + r2**2 - (r4 - r3) ** 2) / (2 * r1 * r2))  # links 3, 4 folded
+    hi = np.arccos((r1**2 + r2**2 - (r4 + r3) ** 2) / (2 * r1 * r2))  # extended
+    margin = 0.02 * (hi - lo)  # the report's sweep: the rocker's range less 2 % at each end
+    th = np.linspace(lo + margin, hi - margin, 360)
+    values = ", ".join(f"{v!r}" for v in np.degrees(th).tolist())
+    path = tmp_path / "grcr.toml"
+    path.write_text(GRCR.format(branch=branch, values=values), encoding="utf-8")
+    assert main(["run", str(path), "--json"]) == 0
+    tables = json.loads(capsys.readouterr().out)["parts"]["g"]["tables"]
+    kin, frc = tables["kinematics"], tables["forces"]
+    th3 = np.radians([row[kin["columns"].index("theta3 [deg]")] for row in kin["rows"]])
+    T_run = np.array([row[frc["columns"].index("T12 [F*L]")] for row in frc["rows"]], float)
+
+    def pose(t, near):
+        A = r2 * np.exp(1j * t)
+        d = r1 - A
+        L = np.abs(d)
+        a = (r3**2 - r4**2 + L**2) / (2 * L)
+        both = [A + (a + s * 1j * np.sqrt(r3**2 - a**2)) * d / L for s in (1, -1)]
+        B = np.where(np.abs(both[0] - near) < np.abs(both[1] - near), both[0], both[1])
+        return [3 * A / r2, A, r1 + 4 * (B - r1) / r4], B
+
+    B0 = r2 * np.exp(1j * th) + r3 * np.exp(1j * th3)
+    h = 1e-4
+    z = [pose(th + k * h, B0)[0] for k in (-2, -1, 0, 1, 2)]
+    T = 0.0
+    for i, m in enumerate((1.0, 0.5, 1.0)):
+        zi = [p[i] for p in z]
+        v = (zi[0] - 8 * zi[1] + 8 * zi[3] - zi[4]) / (12 * h)
+        a = (-zi[0] + 16 * zi[1] - 30 * zi[2] + 16 * zi[3] - zi[4]) / (12 * h * h)
+        T = T + m * (np.conj(v) * a).real  # ω2 = 1
+    np.testing.assert_allclose(T_run, T, rtol=0, atol=1e-5 * np.abs(T).max())
+    out = tmp_path / "grcr.html"
+    assert main(["report", str(path), "-o", str(out)]) == 0
+    page = page_text(out)
+    for label, j in (("largest", int(np.argmax(T))), ("smallest", int(np.argmin(T)))):
+        value, where = grab(page, rf"T12 {label} NUM torque units at θ2 = NUM°")
+        assert shown(value, T[j]) and abs(where - np.degrees(th[j])) < 0.06, (label, value, T[j])
+
+
+def test_tolerance_of_a_grcr_takes_the_files_branch(tmp_path, capsys):
+    """``machdyn tolerance`` of the GRCR with ``branch = -1`` analysed branch +1: its
+    theta3_nominal is now run's θ3, which closes the loop on the file's assembly."""
+    th = np.radians([60.0, 70.0, 80.0, 90.0])
+    text = GRCR.format(branch=-1, values=", ".join(f"{v!r}" for v in np.degrees(th).tolist()))
+    path = tmp_path / "grcr.toml"
+    path.write_text(text + "[fourbar.g.tolerance]\nr2 = 0.01\nsamples = 50\n", encoding="utf-8")
+    assert main(["run", str(path), "--json"]) == 0
+    kin = json.loads(capsys.readouterr().out)["parts"]["g"]["tables"]["kinematics"]
+    th3 = np.array([row[kin["columns"].index("theta3 [deg]")] for row in kin["rows"]], float)
+    th4 = np.array([row[kin["columns"].index("theta4 [deg]")] for row in kin["rows"]], float)
+    A = 7.0 * np.exp(1j * th)  # run's angles close the loop (6, 7, 2, 8)
+    B = A + 2.0 * np.exp(1j * np.radians(th3))
+    np.testing.assert_allclose(B, 6.0 + 8.0 * np.exp(1j * np.radians(th4)), atol=1e-3)
+    assert main(["tolerance", str(path), "--json"]) == 0
+    tab = json.loads(capsys.readouterr().out)["parts"]["g"]["tables"]["theta3"]
+    nominal = [row[tab["columns"].index("theta3_nominal [deg]")] for row in tab["rows"]]
+    np.testing.assert_allclose(np.mod(nominal, 360.0), np.mod(th3, 360.0), atol=1e-3)

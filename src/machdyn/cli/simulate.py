@@ -342,9 +342,9 @@ def tolerance_command(
             note = "T12 is not toleranced: its [[loads.force]]/loads.torques are not taken here"
         else:
             dyn = _fourbar_torque_options(p, machine, placed)
-    form = p.values.get("form", 1)
-    t = tolerance(p.model, spec, theta2, form=form, scheduler=scheduler, workers=workers,
-                  **options, **dyn)  # fmt: skip
+    form, branch = p.values.get("form", 1), p.values.get("branch")  # (branch: GRCR/GRRC)
+    t = tolerance(p.model, spec, theta2, form=form, branch=branch, scheduler=scheduler,
+                  workers=workers, **options, **dyn)  # fmt: skip
     result = _tolerance_result(p, t, placed)
     if note:
         result.flagged.append(f"warning: {note}")

@@ -200,6 +200,7 @@ class _Case:
     k: float | None
     where: str = "θ2"
     placement: tuple[complex, float] | None = None
+    branch: int | None = None
 
     def at(self, j: int) -> str:
         return f"{self.where} = {np.degrees(self.th[j]):.1f}°"
@@ -237,16 +238,18 @@ def fourbar_sections(
     units: Any = None,
     length_unit: str | None = None,
     placement: tuple[complex, float] | None = None,
+    branch: int | None = None,
 ) -> str:
     """Add a four-bar's sections to ``page``; returns its first line.
 
     ``placement`` ``(O2, theta1)`` places the four-bar in the plane (a synthesis
     result: global = O2 + e^{jθ1}·local): the drawing and the force directions are
     the plane's; θ2–θ4 stay measured from O2 → O4 and the loads are given as
-    :meth:`FourBar.dynamics` takes them (its own frame).
+    :meth:`FourBar.dynamics` takes them (its own frame). ``branch`` (a GRCR or
+    GRRC, as :meth:`FourBar.solve` takes it) picks the half of the form's circuit.
     """
     th = fourbar_sweep(fb, form, n)
-    m = motion if motion is not None else fb.solve(th, omega2, form=form)
+    m = motion if motion is not None else fb.solve(th, omega2, form=form, branch=branch)
     th = np.ravel(m.theta2)
     u = _units(fb, units, length_unit)
     if mass is not None:
@@ -268,6 +271,7 @@ def fourbar_sections(
         external_torques,
         k,
         placement=None if placement is None else (complex(placement[0]), float(placement[1])),
+        branch=branch,
     )
     rng = fb.input_range(form)
     kind = "crank" if rng.full_turn else "rocker"
@@ -293,6 +297,7 @@ def fourbar_sections(
             inertia=inertia,
             cg=cg,
             form=form,
+            branch=branch,
             gravity=case.gravity,
             load_torque4=load_torque4,
             external_forces=external_forces,
@@ -376,6 +381,7 @@ def _model_section(page: Page, c: _Case, rng: Any) -> None:
         np.linspace(c.th[0], c.th[-1], 120) if not rng.full_turn else c.th[:: max(1, n // 120)],
         c.omega2,
         form=c.form,
+        branch=c.branch,
     )
     s = fourbar_scene(fb, frames, coupler_curve=curve, closed=rng.full_turn)
     placed = ""
@@ -490,7 +496,7 @@ def _class_sections(page: Page, c: _Case, kind: str, span: str, mu_limit_deg: fl
         c.m.theta2, c.m.mu, ok=c.m.assembled, limit_deg=mu_limit_deg
     ).to_svg()
     page.section("angles", "Fundamental angles φij and transmission angle μ", body)
-    ma = fb.mechanical_advantage(c.th, form=c.form)
+    ma = fb.mechanical_advantage(c.th, form=c.form, branch=c.branch)
     finite = np.isfinite(ma)
     mag = np.abs(np.where(finite, ma, np.nan))
     if finite.any():
@@ -619,6 +625,7 @@ def _balancing_section(page: Page, c: _Case, f: Any) -> None:
         inertia=inertia_b,
         cg=cg_b,
         form=c.form,
+        branch=c.branch,
         gravity=c.gravity,
         load_torque4=c.load_torque4,
         external_forces=c.external_forces,

@@ -58,6 +58,8 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         _, omega2, _ = input_motion(part, machine, results or {})
         options["omega2"] = omega2
         options["form"] = v.get("form", 1)
+        if v.get("branch") is not None:  # a GRCR/GRRC four-bar's half of its circuit
+            options["branch"] = v["branch"]
     if kind == "fourbar":
         if placement(v) is not None:
             options["placement"] = placement(v)
