@@ -660,3 +660,41 @@ def test_tolerance_of_a_grcr_takes_the_files_branch(tmp_path, capsys):
     tab = json.loads(capsys.readouterr().out)["parts"]["g"]["tables"]["theta3"]
     nominal = [row[tab["columns"].index("theta3_nominal [deg]")] for row in tab["rows"]]
     np.testing.assert_allclose(np.mod(nominal, 360.0), np.mod(th3, 360.0), atol=1e-3)
+
+
+def test_report_self_checks_read_loads_as_the_dynamics_do():
+    """``PointLoad`` records and ``(x, y)`` points are loads the dynamics take; the reports'
+    self-checks unpacked them as triples of a complex point (a TypeError: FourBar.report with
+    a PointLoad failed). A slider block's torque is carried by its guide (as documented in
+    ``slidercrank_dynamics``), not left unbalanced on the block."""
+    import re
+
+    from machdyn import FourBar, SliderCrank
+    from machdyn.dynamics import PointLoad
+    from machdyn.linkage import Linkage
+    from machdyn.report import report
+
+    def checks(page):
+        pairs = re.findall(r"(power balance|equilibrium of each link)</td><td[^>]*>([^<]*)", page)
+        assert len(pairs) == 2
+        return [float(v) for _, v in pairs]
+
+    props = dict(mass=(1.0, 2.0, 1.5), inertia=(0.1, 0.5, 0.3), cg=(2.0, 3.0 + 0.5j, 3.0))
+    loads = dict(external_forces=[PointLoad(3, 2.0 + 0.5j, 3 - 1j)], external_torques={4: 2.0})
+    page = report(FourBar(8, 4, 7, 6), **props, gravity=9.81, **loads)
+    assert max(checks(page)) < 1e-8
+    page = report(SliderCrank(2, 6, 0.5), mass=(1, 2, 1.5), inertia=(0.1, 0.5), cg=(1, 3),
+                  external_forces=[(3, 2.0 + 0.5j, 3 - 1j), PointLoad(4, 0.2j, 1 + 0j)],
+                  external_torques={4: 2.0, 3: 1.0})  # fmt: skip
+    assert max(checks(page)) < 1e-8
+    lk = (
+        Linkage({"O2": 0, "A": 1j, "B": 3 + 0j})
+        .ground("O2")
+        .link("crank", "O2", "A", mass=1.0, inertia=0.1)
+        .link("rod", "A", "B", mass=1.0, inertia=0.1)
+        .link("block", "B")
+        .slider("block", "ground", "B", 0)
+        .drive("crank")
+    )
+    page = report(lk, external_forces=[("rod", (0.5, 0.1), 1 + 1j)], gravity=9.81)
+    assert max(checks(page)) < 1e-8

@@ -58,6 +58,31 @@ def _along(origin: np.ndarray, toward: np.ndarray, c: complex) -> np.ndarray:
     return origin + complex(c) * e
 
 
+def _applied(
+    bodies: dict[int, Body],
+    place: dict[int, Any],
+    forces: Any,
+    torques: Any,
+    one: np.ndarray,
+    length_unit: str | None = None,
+    guided: tuple[int, ...] = (),
+) -> None:
+    """The applied point loads (at points in their link's frame, ``place``) and torques.
+
+    Read as the dynamics read them (triples or ``PointLoad``, quantities converted);
+    torques on a ``guided`` link (a slider-crank's block) are carried by its guide.
+    """
+    from ..dynamics import _point_loads, _torques, unit_system
+
+    units = unit_system(length_unit)
+    for load in _point_loads(forces, units):
+        at = place[load.link](load.point) * one
+        bodies[load.link].load(np.ravel(load.force) * one + 0j, at, "external")
+    for link, torque in _torques(torques, units):
+        if link not in guided:
+            bodies[link].torque(np.ravel(torque) * one, "external")
+
+
 def _rigid(p: Any, vp: Any, ap: Any, w: Any, al: Any, q: Any) -> tuple[Any, Any]:
     """Velocity and acceleration of point ``q`` of a body through ``p`` (ω, α)."""
     return vp + 1j * w * (q - p), ap + (1j * al - w * w) * (q - p)
@@ -159,13 +184,8 @@ def fourbar_checks(
     bodies[4].load(-F43, B, "joint")
     bodies[4].load(F14, zero + O4, "ground")
     bodies[4].torque(np.ravel(load_torque4) * np.ones(th2.shape), "external")
-    for link, at, force in external_forces:
-        bodies[int(link)].load(
-            np.ravel(force) * np.ones(th2.shape), _along(*frames[int(link)], at), "external"
-        )
-    pairs = external_torques.items() if hasattr(external_torques, "items") else external_torques
-    for link, torque in pairs:
-        bodies[int(link)].torque(np.ravel(torque) * np.ones(th2.shape), "external")
+    place = {k: (lambda z, k=k: _along(*frames[k], z)) for k in (2, 3, 4)}
+    _applied(bodies, place, external_forces, external_torques, np.ones(th2.shape), fb.length_unit)
     good = ok & np.ravel(f.ok)
     power, dke, scale = power_of_loads(list(bodies.values()))
     size = rigid.size

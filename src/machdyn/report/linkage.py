@@ -165,6 +165,8 @@ def _applied(
     work on the relative slip: the slider force times the difference of the two
     links' velocities at its point (the normal part does none).
     """
+    from .._validate import point
+
     n = np.ravel(motion.ok).shape
 
     def velocity(link: str, X: np.ndarray) -> np.ndarray:
@@ -179,7 +181,7 @@ def _applied(
         X = (
             points[at][0]
             if isinstance(at, str)
-            else p0 + complex(at) * np.exp(1j * np.ravel(motion.theta[link]))
+            else p0 + point("external force point", at) * np.exp(1j * np.ravel(motion.theta[link]))
         )
         F = np.broadcast_to(np.ravel(np.asarray(F, complex)), n)
         out.forces.setdefault(link, []).append((F, X))

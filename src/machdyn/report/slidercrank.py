@@ -39,7 +39,7 @@ from .checks import (
     power_balance,
     power_of_loads,
 )
-from .fourbar import _along, _rigid, _units, flywheel_table
+from .fourbar import _along, _applied, _rigid, _units, flywheel_table
 from .page import Page, esc, fmt
 
 __all__ = [
@@ -151,8 +151,10 @@ def slidercrank_checks(
     bodies[4].load(-F43, B, "joint")
     bodies[4].load(F14, B, "ground")
     bodies[4].load(np.ravel(load_force4) * one + 0j, B, "external")
-    frames = {2: lambda z: _along(zero, A, z), 3: lambda z: _along(A, B, z), 4: lambda z: B + z}
-    _applied(bodies, frames, external_forces, external_torques, one)
+    # the block is a particle on its slide line (a load's moment about B goes to the guide,
+    # which the model does not print): its loads act at B
+    frames = {2: lambda z: _along(zero, A, z), 3: lambda z: _along(A, B, z), 4: lambda z: B}
+    _applied(bodies, frames, external_forces, external_torques, one, sc.length_unit, (4,))
     good = ok & np.ravel(f.ok)
     power, dke, scale = power_of_loads(list(bodies.values()))
     checks.append(power_balance(power, dke, good, scale=scale))
@@ -166,19 +168,6 @@ def slidercrank_checks(
         )
     )
     return checks
-
-
-def _applied(
-    bodies: dict[int, Body], place: dict[int, Any], forces: Any, torques: Any, one: np.ndarray
-) -> None:
-    """The applied point loads (at points in their link's frame, ``place``) and torques."""
-    for link, at, force in forces:
-        bodies[int(link)].load(
-            np.ravel(force) * one + 0j, place[int(link)](complex(at)) * one, "external"
-        )
-    pairs = torques.items() if hasattr(torques, "items") else torques
-    for link, torque in pairs:
-        bodies[int(link)].torque(np.ravel(torque) * one, "external")
 
 
 def slidercrank_report(sc: SliderCrank, *, title: str | None = None, **options: Any) -> Page:
@@ -594,7 +583,7 @@ def inverted_checks(
     bodies = _inverted_bodies(points, w, e, forces, mass, inertia, cg, gravity, load_torque4)
     frames = {2: lambda z: _along(zero, A, z), 3: lambda z: A + z * e, 4: lambda z: O4 + z * e}
     _applied(dict(zip((2, 3, 4), bodies, strict=True)), frames, external_forces,
-             external_torques, one)  # fmt: skip
+             external_torques, one, isc.length_unit)  # fmt: skip
     good = ok & np.ravel(forces.ok)
     power, dke, scale = power_of_loads(bodies)
     checks.append(power_balance(power, dke, good, scale=scale))
