@@ -109,40 +109,27 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     order) that stops closing at its upper and at its lower end, and 2π for an
     angle (None for a length) — or None when the groups close everywhere. Not
     asked (None): several drivers (the reachable set is a region of the
-    drivers' space, not a range: :func:`_path_lost`) and a group the closed
-    forms do not cover (the vector-loop core follows its own circuit).
+    drivers' space, not a range: :func:`_path_lost`). A group the closed
+    forms do not cover (the vector-loop core) closes where the core, following
+    the driver from the drawing on the drawn branch, assembles it.
     """
     if "circuit" in model.cache:
         return model.cache["circuit"]  # type: ignore[return-value]
     arc = None
     driver = lk._drivers[0] if len(lk._drivers) == 1 else None
-    if (
-        driver is not None
-        and model.program.steps
-        and not any(isinstance(s, General) for s in model.program.steps)
-    ):
-        wall = driver in lk._actuators  # an actuator's length stays > 0
-
-        def failing(x: np.ndarray) -> np.ndarray:
-            """Per group and sample: the group does not close.
-
-            (A group after one that does not close is placed from NaN: it does not either.)
-            """
-            with np.errstate(all="ignore"):
-                _, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
-            out = codes == NO_ASSEMBLY  # (groups, samples)
-            if wall:
-                out[0] |= x <= 0.0
-            return out
-
+    steps = model.program.steps
+    if driver is not None and steps:
+        general = any(isinstance(s, General) for s in steps)
         t0 = float(info.start[0])
+        failing = _one_failing(model, driver in lk._actuators, t0, float(info.scale[0]), general)
         period = 2.0 * np.pi if driver in info.angle_drivers else None
         if period is not None:  # a turn from the drawn angle, the lower end reached below it
             n = 720
             up = t0 + np.linspace(0.0, period, n, endpoint=False)
             down = t0 - np.linspace(0.0, period, n, endpoint=False)
             bad_up = failing(up).any(axis=0)
-            bad_down = np.roll(bad_up[::-1], 1)  # down[k] is up[n - k] less a turn
+            # down[k] is up[n - k] less a turn (a general group: followed each way on its own)
+            bad_down = failing(down).any(axis=0) if general else np.roll(bad_up[::-1], 1)
         else:  # ±10 typical lengths each way
             n = 721
             up = t0 + np.linspace(0.0, 10.0 * float(info.scale[0]), n)
@@ -154,14 +141,56 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     return arc
 
 
+def _one_failing(model: _Model, wall: bool, t0: float, scale: float, general: bool):
+    """A function: values of the lone driver → per group and value, it does not close.
+
+    (A group after one that does not close is placed from NaN: it does not
+    either.) ``wall``: the driver is an actuator, whose length stays > 0. With a
+    ``general`` group (solved by the vector-loop core) the values are reached
+    from the drawn value ``t0`` by continuation, as a sweep would: those above
+    it in one march upwards, those below in one downwards (the core keeps the
+    drawn branch, and does not close where that branch does not exist).
+    """
+    program = model.program
+
+    def run(x: np.ndarray, follow: bool) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            _, codes = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, follow)
+        return codes == NO_ASSEMBLY
+
+    def failing(x: np.ndarray) -> np.ndarray:
+        if not general:
+            out = run(x, False)  # (groups, samples)
+        else:
+            from .sweep import _path
+
+            out = np.zeros((len(program.deps), x.size), bool)
+            for side in (x >= t0, x < t0):
+                idx = np.flatnonzero(side)
+                if idx.size:
+                    idx = idx[np.argsort(np.abs(x[idx] - t0), kind="stable")]
+                    path, tags = _path(np.array([t0]), np.array([scale]), x[idx][None, :])
+                    take = np.flatnonzero(tags < 0)
+                    out[:, idx[-1 - tags[take]]] = run(path[0], True)[:, take]
+        if wall:
+            out[0] |= x <= 0.0
+        return out
+
+    return failing
+
+
 def _ends(t0, period, up, down, bad_up, bad_down, failing) -> tuple | None:
     """Refine the first failing sample of each scan (both at once) to the range's ends."""
     a, b, k_up, k_down = [], [], int(np.argmax(bad_up)), int(np.argmax(bad_down))
     for x, bad, k in ((up, bad_up, k_up), (down, bad_down, k_down)):
         a.append(x[k - 1] if bad.any() else x[-1])  # a closes, b does not
         b.append(x[k] if bad.any() else x[-1])
-    a, b = _refine(np.array(a), np.array(b), lambda x: ~failing(x).any(axis=0), True)
-    first = failing(b)  # the first group (solving order) not closing just past each end
+    scanned = np.array(b)
+    a, b = _refine(np.array(a), scanned, lambda x: ~failing(x).any(axis=0), True)
+    # the first group (solving order) not closing just past each end (at the scanned
+    # value, should a core's Newton still close one just past a toggle)
+    past, there = np.split(failing(np.concatenate((b, scanned))), 2, axis=1)
+    first = np.where(past.any(axis=0), past, there)
     ends, groups = [], []
     for i, (x, bad) in enumerate(((up, bad_up), (down, bad_down))):
         if bad.any():
