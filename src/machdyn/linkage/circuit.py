@@ -24,6 +24,9 @@ module tells which samples the drawing reaches without that
   straight path from the drawing (angles within π of the drawn ones). The
   path is scanned in steps of :data:`H` (scaled driver units: radians, or
   typical lengths) and where it leaves narrowed 64-fold seven times.
+* **Change points** (:func:`change_points`, :func:`flips`): where a dyad's two
+  forms cross (a parallelogram four-bar in line), a sweep follows the drawn
+  form by continuity, turning that dyad's assembly sign.
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import kernel
-from .program import NO_ASSEMBLY, General
+from .program import NO_ASSEMBLY, Dyad, General, Program, RArm
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -127,7 +130,7 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
             n = 720
             up = t0 + np.linspace(0.0, period, n, endpoint=False)
             down = t0 - np.linspace(0.0, period, n, endpoint=False)
-            bad_up = failing(up).any(axis=0)
+            bad_up = (failing(up) if general else _turn(model, info)[2]).any(axis=0)
             # down[k] is up[n - k] less a turn (a general group: followed each way on its own)
             bad_down = failing(down).any(axis=0) if general else np.roll(bad_up[::-1], 1)
         else:  # ±10 typical lengths each way
@@ -139,6 +142,20 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
             arc = _ends(t0, period, up, down, bad_up, bad_down, failing)
     model.cache["circuit"] = arc
     return arc
+
+
+def _turn(model: _Model, info: _Info) -> tuple[np.ndarray, Any, np.ndarray]:
+    """A lone angle driver's turn from its drawn value (720 values), the program run over it.
+
+    Returns the values, the state and which groups do not close (groups × values);
+    shared by :func:`_circuit` and :func:`change_points` (closed-form groups only).
+    """
+    if "turn" not in model.cache:
+        x = float(info.start[0]) + np.linspace(0.0, 2.0 * np.pi, 720, endpoint=False)
+        with np.errstate(all="ignore"):
+            st, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
+        model.cache["turn"] = (x, st, codes == NO_ASSEMBLY)
+    return model.cache["turn"]  # type: ignore[return-value]
 
 
 def _one_failing(model: _Model, wall: bool, t0: float, scale: float, general: bool):
@@ -388,3 +405,120 @@ class _Scan:
         ]
         name = self.model.groups[g].name
         return f"the drivers' {path} leaves where {name} closes at {', '.join(values)}"
+
+
+# -------------------------------------------------------------- change points
+def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, float], ...]:
+    """Where a dyad passes a change point, for a lone angle driver: ``(group, value)`` pairs.
+
+    At a change point (a four-bar with ``s + l = p + q``: all its pivots in
+    line) a dyad's two circles touch while it closes on both sides: its two
+    forms (a parallelogram's and an antiparallelogram's) meet and cross there.
+    Holding the drawn assembly sign through it would go on along the *other*
+    form; the drawn form goes on smoothly (the coupler angle and its rate
+    continuous: a parallelogram's coupler stays parallel to the ground) with
+    the other sign, and that is the one a sweep follows (:func:`flips`).
+    Found once per model: each RRR dyad's margin ``min(D − |e − f|, e + f − D)``
+    (``D`` between its pivots, relative to ``e + f``) over a turn of the driver
+    (720 values), every dip that closes on both sides narrowed 32-fold seven
+    times; a change point where its least margin is within
+    :data:`machdyn.classify.CHANGE_POINT_RTOL` of zero. Values in
+    ``[drawn, drawn + 2π)``.
+    """
+    if "change points" in model.cache:
+        return model.cache["change points"]  # type: ignore[return-value]
+    from ..classify import CHANGE_POINT_RTOL
+
+    program, found = model.program, []
+    dyads = [
+        (g, s)
+        for g, s in zip(program.group_of_step, program.steps, strict=True)
+        if isinstance(s, Dyad)
+        and all(isinstance(a, RArm) and a.driver < 0 for a in (s.arm1, s.arm2))
+    ]
+    one = len(lk._drivers) == 1 and lk._drivers[0] in info.angle_drivers
+    if one and dyads and not any(isinstance(s, General) for s in program.steps):
+
+        def margins(x: np.ndarray, st: Any = None) -> np.ndarray:
+            """Per dyad and value: its margin.
+
+            NaN where its pivots meet (a kite's crank over the far pivot, where the
+            dyad turns freely: not a crossing of its forms).
+            """
+            with np.errstate(all="ignore"):
+                if st is None:
+                    st, _ = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
+                rows = []
+                for _, s in dyads:
+                    D = np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre))
+                    e, f = s.arm1.length, s.arm2.length
+                    m = np.minimum(D - abs(e - f), e + f - D) / (e + f)
+                    rows.append(np.where(1e-6 * (e + f) < D, m, np.nan))
+            return np.broadcast_to(np.array(rows), (len(dyads), x.size))
+
+        x, st, _ = _turn(model, info)
+        step = x[1] - x[0]
+        M = margins(x, st)
+        for i, (g, _) in enumerate(dyads):
+            m, before, after = M[i], np.roll(M[i], 1), np.roll(M[i], -1)
+            dip = (m <= before) & (m <= after) & (before > 0) & (after > 0) & (m < 1e-3)
+            for k in np.flatnonzero(dip):
+                lo, hi = x[k] - step, x[k] + step
+                for _ in range(7):
+                    z = np.linspace(lo, hi, 65)
+                    mz = margins(z)[i]
+                    if np.isnan(mz).all():
+                        break
+                    j = int(np.nanargmin(mz))
+                    lo, hi = z[max(j - 1, 0)], z[min(j + 1, 64)]
+                if np.isfinite(mz).any() and abs(mz[j]) <= CHANGE_POINT_RTOL:
+                    found.append((g, x[0] + float(np.remainder(z[j] - x[0], 2.0 * np.pi))))
+    model.cache["change points"] = out = tuple(found)
+    return out
+
+
+def flips(
+    lk: Linkage, model: _Model, info: _Info, x: np.ndarray, follow: bool
+) -> list[tuple[Program, np.ndarray]]:
+    """The samples past an odd number of a dyad's change points, and the program for them.
+
+    A sample's path from the drawn value crosses the change points between the
+    two (a sweep's values as given; samples solved independently take the
+    value within π of the drawn one); past an odd number of a dyad's, the
+    drawn form has the other assembly sign there. Returns ``(program, mask)``
+    per combination of dyads to flip (the program with those signs turned).
+    """
+    points = change_points(lk, model, info)
+    if not points:
+        return []
+    t0 = float(info.start[0])
+    if not follow:
+        x = x - 2.0 * np.pi * np.round((x - t0) / (2.0 * np.pi))
+    odd: dict[int, np.ndarray] = {}
+    for g, c in points:
+        turns = (x - c) / (2.0 * np.pi)
+        count = np.where(
+            x >= t0, np.maximum(0.0, np.ceil(turns)), np.maximum(0.0, -1.0 - np.floor(turns))
+        )
+        odd[g] = odd.get(g, 0) + count.astype(np.int64)
+    groups = sorted(odd)
+    pattern = np.stack([odd[g] % 2 for g in groups])  # (groups, samples)
+    out = []
+    for combo in np.unique(pattern, axis=1).T:
+        if not combo.any():
+            continue
+        mask = (pattern == combo[:, None]).all(axis=0)
+        flip = frozenset(g for g, c in zip(groups, combo, strict=True) if c)
+        key = ("flipped", flip)
+        if key not in model.cache:
+            from dataclasses import replace
+
+            program = model.program
+            steps = [
+                replace(s, sign=-s.sign) if g in flip else s
+                for g, s in zip(program.group_of_step, program.steps, strict=True)
+            ]
+            model.cache[key] = Program(program.n_links, steps, program.group_of_step,
+                                       program.deps, program.links, program.unwrap)  # fmt: skip
+        out.append((model.cache[key], mask))
+    return out
