@@ -698,3 +698,24 @@ def test_report_self_checks_read_loads_as_the_dynamics_do():
     )
     page = report(lk, external_forces=[("rod", (0.5, 0.1), 1 + 1j)], gravity=9.81)
     assert max(checks(page)) < 1e-8
+
+
+def test_report_names_a_files_input_acceleration_it_does_not_use(watt, tmp_path):
+    """``machdyn run`` takes a file's alpha2 (a driver's acceleration) into T12; the report
+    analyses a cycle at constant speed and said nothing of it (T12 229.1 N·mm at θ2 = 0 by
+    run with α2 = 200 rad/s² on the placed 80-30-70-60 press, 85.0 in the report)."""
+    from test_audit5_placed import TOLERANCED
+
+    text = TOLERANCED.replace('omega2 = "10 rad/s"', 'omega2 = "10 rad/s"\nalpha2 = "200 rad/s^2"')
+    for name, body, said in (
+        ("steady", TOLERANCED, False),
+        ("alpha", text, True),
+        ("watt", watt[1].read_text(encoding="utf-8") + 'acceleration = "50 rad/s^2"\n', True),
+    ):
+        path = tmp_path / f"{name}.toml"
+        path.write_text(body, encoding="utf-8")
+        assert main(["report", str(path), "-o", str(tmp_path / f"{name}.html")]) == 0
+        page = page_text(tmp_path / f"{name}.html")
+        assert ("(used by machdyn run) is not used here" in page) is said, name
+        if name == "alpha":
+            assert "alpha2 = 200 rad/s^2" in page

@@ -105,7 +105,49 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
 
 
 def _page_of(part: Any, machine: Any, results: dict[str, Any], **common: Any) -> Page | None:
-    """The report page of one part (None for a kind without a report of its own)."""
+    """The report page of one part (None for a kind without a report of its own).
+
+    A mechanism is reported over a cycle at its constant input speed: a file's input
+    acceleration (``alpha2``, a driver's ``acceleration``), which ``machdyn run`` uses,
+    is named in a section saying so.
+    """
+    page = _page_of_part(part, machine, results, **common)
+    if page is not None:
+        note = _unsteady(part, machine, results)
+        if note:
+            body = f'<p class="remark">{note}</p>'
+            page.sections.insert(1, ("steady", "Steady speed", body, 2))
+    return page
+
+
+def _unsteady(part: Any, machine: Any, results: dict[str, Any]) -> str:
+    """Why the report's numbers differ from ``machdyn run``'s: a file's input acceleration."""
+    from ..spec._fourbar import input_motion
+
+    units = machine.units
+    if part.kind in ("fourbar", "slider_crank", "inverted_slider_crank"):
+        alpha = input_motion(part, machine, results)[2]
+        name = "alpha2"
+    elif part.kind == "linkage" and part.model.drivers:
+        first = part.values.get("motion", {}).get(part.model.drivers[0])
+        alpha = float(first.acceleration or 0.0) if first is not None else 0.0
+        name = f"the acceleration of {part.model.drivers[0]}"
+        if part.model.drivers[0] not in part.model.links:
+            return ""  # a length driver's acceleration: not an angle's
+    else:
+        return ""
+    if not alpha:
+        return ""
+    shown = (
+        f"{units.show('angular_acceleration', alpha):.6g} {units.display('angular_acceleration')}"
+    )
+    return (
+        f"This report analyses a cycle at the constant input speed; the file's {esc(name)} = "
+        f"{esc(shown)} (used by machdyn run) is not used here."
+    )
+
+
+def _page_of_part(part: Any, machine: Any, results: dict[str, Any], **common: Any) -> Page | None:
     kind, model = part.kind, part.model
     options = part_options(part, machine, results)
     n, k, speed = common.get("n", 360), common.get("k"), common.get("speed")
