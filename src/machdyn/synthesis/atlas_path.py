@@ -829,9 +829,11 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     from .. import jit
     from .sixbar_path import (
         SIXBAR_ROUNDS,
+        SIXBAR_SCREEN_STEPS,
         SIXBAR_TIMED_NUMPY,
         polished_sixbars,
         refine_sixbar,
+        second_loop_fits,
         sixbar_result,
         sixbar_starts,
     )
@@ -853,7 +855,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                                                    tolerance, mu_min))  # fmt: skip
         return checked[id(fit)][1]
 
-    fits, met, near, seen, scan = [], False, False, set(), 0.0
+    fits, loop, met, near, seen, scan = [], [], False, False, set(), 0.0
     t_begin = time.perf_counter()
     for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
         if met or near:
@@ -865,12 +867,22 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         seen.update(s[0].tobytes() for s in starts)
         scan += time.perf_counter() - t0
         steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
-        more, met = polished_sixbars(starts, pts, most, check, steps, **options)
+        screen_steps = SIXBAR_SCREEN_STEPS[1 if round_ and timing is not None else 0]
+        more, met = polished_sixbars(starts, pts, most, check, steps, screen=screen_steps,
+                                     **options)  # fmt: skip
         fits += more
+        best = min(fits, key=lambda f: f[2], default=None)
+        if timing is None and not (met or loop) and best and best[3]["topology"] == 1:
+            # untimed Watt II 1-4 (two four-bars in series) unmet: fitted loop by loop, once
+            loop = second_loop_fits(fits, pts, compiled)
+            fits += loop
+            met = any(f[2] <= SIXBAR_MET * size and getattr(check(f), "ok", False) for f in loop)
         near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
-    if not met:  # the best crawl along narrow valleys: polish longer
-        for i in range(min(long[0], len(fits))):
+    if not met:  # the best crawl along narrow valleys: polish longer (and the best loop fit)
+        polish = list(range(min(long[0], len(fits))))
+        polish += [i for i, f in enumerate(fits) if loop and f is loop[0] and i >= long[0]]
+        for i in polish if long[0] else ():
             x, th, rms, fx = fits[i]
             more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
             fits[i] = (*more, fx) if more[2] <= rms else fits[i]
