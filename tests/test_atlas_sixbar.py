@@ -237,14 +237,10 @@ def test_a_later_timed_round_screens_its_starts_long_enough_to_rank_them(compile
     # the 160 starts of its second round on the 10^6 six-bar atlas (entries placed by the
     # timed scan; stored, as that atlas is not built here). The one start in the known
     # six-bar's basin ranks 112th after 30 steps, outside the 96 polished (the fits stop at
-    # 1.7e-5 of the size); after SIXBAR_SCREEN_STEPS[1] = 100 steps it ranks 8th and the
-    # polished fits meet the targets (circle intersections), at the prescribed crank angles
-    from machdyn.synthesis.atlas_path import SIXBAR_POLISH, SIXBAR_TIMED
-    from machdyn.synthesis.sixbar_path import (
-        SIXBAR_SCREEN_STEPS,
-        polished_sixbars,
-        sixbar_result,
-    )
+    # 1.7e-5 of the size); after 100 steps (SIXBAR_LATER_TIMED) it ranks 8th, among the 48
+    # polished, and they meet the targets (circle intersections) at the prescribed angles
+    from machdyn.synthesis.atlas_path import SIXBAR_POLISH
+    from machdyn.synthesis.sixbar_path import SIXBAR_LATER_TIMED, polished_sixbars, sixbar_result
 
     row = sample_sixbars(np.random.default_rng(2026), 60)[29]
     assert TOPOLOGIES[int(row["topology"])][0] == (3, 4) and row["on"] == 6
@@ -262,8 +258,8 @@ def test_a_later_timed_round_screens_its_starts_long_enough_to_rank_them(compile
     def check(fit):
         return sixbar_result(fit[0], fit[1], fit[3], targets, theta, True, None)
 
-    options = dict(timing=theta, compiled=True, screen=SIXBAR_SCREEN_STEPS[1])
-    most, steps = SIXBAR_TIMED[1], SIXBAR_POLISH // 2  # a later round's
+    (screen, most), steps = SIXBAR_LATER_TIMED, SIXBAR_POLISH // 2  # a later round's
+    options = dict(timing=theta, compiled=True, screen=screen)
     fits, met = polished_sixbars(starts, targets, most, check, steps, **options)
     xc, thc, _, fc = min(fits, key=lambda f: f[2])
     assert met and np.max(_placed_distance(xc, thc, fc, targets)) <= 1e-6 * size

@@ -828,8 +828,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
     from .. import jit
     from .sixbar_path import (
+        SIXBAR_LATER_TIMED,
         SIXBAR_ROUNDS,
-        SIXBAR_SCREEN_STEPS,
         SIXBAR_TIMED_NUMPY,
         polished_sixbars,
         refine_sixbar,
@@ -867,8 +867,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         seen.update(s[0].tobytes() for s in starts)
         scan += time.perf_counter() - t0
         steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
-        screen_steps = SIXBAR_SCREEN_STEPS[1 if round_ and timing is not None else 0]
-        more, met = polished_sixbars(starts, pts, most, check, steps, screen=screen_steps,
+        later = SIXBAR_LATER_TIMED if round_ and timing is not None else (30, most)
+        more, met = polished_sixbars(starts, pts, later[1], check, steps, screen=later[0],
                                      **options)  # fmt: skip
         fits += more
         best = min(fits, key=lambda f: f[2], default=None)

@@ -388,12 +388,13 @@ SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25
 #: wider.
 SIXBAR_ROUNDS = 2
 SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed starts ×3
-#: Steps every start is refined before the fits are ranked: first round, and later rounds of
-#: timed targets. Thirty steps rank poorly among six-bars' many near-fits: the one start of
-#: a missed timed Watt I 3-4 on 6 that converged ranked 452nd of 539 after 30 steps (112th
-#: of 160 in the second round), 40th (8th) after 100 and first after 300. A later round has
-#: only the first pool's starts, so it can afford to screen them longer.
-SIXBAR_SCREEN_STEPS = (30, 100)
+#: A later round of a timed target: steps every start is refined before the fits are ranked
+#: (the first round: 30), and most fits polished. Thirty steps rank poorly among six-bars'
+#: many near-fits: the one start of a missed timed Watt I 3-4 on 6 that converged ranked
+#: 452nd of 539 after 30 steps (112th of 160 in the second round), 40th (8th) after 100 and
+#: first after 300. A later round has only the first pool's starts: it can afford to screen
+#: them longer, and polishes half as many (the time of a miss stays as it was).
+SIXBAR_LATER_TIMED = (100, 48)
 #: Timed targets without the compiled kernels (``MACHDYN_JIT=off``, whose NumPy refinement
 #: costs ~6 times more a step): starts screened per refined candidate and most fits
 #: polished, one round, no long polish (docs/synthesis.md gives the times and rates).
@@ -476,7 +477,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
 
 
 def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=False,
-                     screen=SIXBAR_SCREEN_STEPS[0]):  # fmt: skip
+                     screen=30):  # fmt: skip
     """Fits ``(x, θ, rms, fixed)`` from ``starts``, screened and polished; whether one is met.
 
     Every start is refined ``screen`` steps; then the fits are polished (``steps`` more)
