@@ -517,10 +517,11 @@ def second_loop_fits(fits, pts, compiled=False) -> list:
     stall on a neighbouring second four-bar (1e-5 to 3e-3 of the size) that the
     first cannot swing to the truth. So (:data:`SIXBAR_SECOND_LOOP`): (1) the
     second four-bar of each of the best such fits is fitted to the targets alone,
-    ``φ`` at each target free (:func:`_second_loop`), the best of these further;
-    (2) for each of those a first four-bar is designed to swing it
-    (:func:`_first_loop`) and the six-bar of the two refined. Returned best
-    first; the caller checks them.
+    ``φ`` at each target free (:func:`_second_loop`); (2) for the best few of
+    these a first four-bar is designed to swing it (:func:`_first_loop`) and the
+    six-bar of the two refined. The loop fits themselves are returned too (Watt II
+    1-2 six-bars: an answer where ``φ`` turns a whole turn in the targets' order),
+    all best first; the caller checks them.
     """
     count, steps, best, rebuilt = SIXBAR_SECOND_LOOP
     wanted = sorted((f for f in fits if f[3]["topology"] == 1 and np.isfinite(f[2])),
@@ -528,8 +529,6 @@ def second_loop_fits(fits, pts, compiled=False) -> list:
     loops = [_second_loop(*f, pts, steps, compiled) for f in wanted[: count[not compiled]]]
     out = []
     for loop in sorted((lp for lp in loops if lp is not None), key=lambda lp: lp[2])[:best]:
-        # the proxy is itself a six-bar (its crank drives the second loop): an answer where
-        # φ turns a whole turn in the targets' order, as a Watt II 1-2
         out.append(loop)
         fit = _first_loop(*loop[:2], loop[3], pts, rebuilt, compiled)
         out += [fit] if fit is not None else []
