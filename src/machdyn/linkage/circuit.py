@@ -24,6 +24,9 @@ module tells which samples the drawing reaches without that
   straight path from the drawing (angles within π of the drawn ones). The
   path is scanned in steps of :data:`H` (scaled driver units: radians, or
   typical lengths) and where it leaves narrowed 64-fold seven times.
+* **Change points** (:func:`change_points`, :func:`flips`): where a dyad's two
+  forms cross (a parallelogram four-bar in line), a sweep follows the drawn
+  form by continuity, turning that dyad's assembly sign.
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import kernel
-from .program import NO_ASSEMBLY, General
+from .program import NO_ASSEMBLY, Dyad, General, Program, RArm
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -109,40 +112,27 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     order) that stops closing at its upper and at its lower end, and 2π for an
     angle (None for a length) — or None when the groups close everywhere. Not
     asked (None): several drivers (the reachable set is a region of the
-    drivers' space, not a range: :func:`_path_lost`) and a group the closed
-    forms do not cover (the vector-loop core follows its own circuit).
+    drivers' space, not a range: :func:`_path_lost`). A group the closed
+    forms do not cover (the vector-loop core) closes where the core, following
+    the driver from the drawing on the drawn branch, assembles it.
     """
     if "circuit" in model.cache:
         return model.cache["circuit"]  # type: ignore[return-value]
     arc = None
     driver = lk._drivers[0] if len(lk._drivers) == 1 else None
-    if (
-        driver is not None
-        and model.program.steps
-        and not any(isinstance(s, General) for s in model.program.steps)
-    ):
-        wall = driver in lk._actuators  # an actuator's length stays > 0
-
-        def failing(x: np.ndarray) -> np.ndarray:
-            """Per group and sample: the group does not close.
-
-            (A group after one that does not close is placed from NaN: it does not either.)
-            """
-            with np.errstate(all="ignore"):
-                _, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
-            out = codes == NO_ASSEMBLY  # (groups, samples)
-            if wall:
-                out[0] |= x <= 0.0
-            return out
-
+    steps = model.program.steps
+    if driver is not None and steps:
+        general = any(isinstance(s, General) for s in steps)
         t0 = float(info.start[0])
+        failing = _one_failing(model, driver in lk._actuators, t0, float(info.scale[0]), general)
         period = 2.0 * np.pi if driver in info.angle_drivers else None
         if period is not None:  # a turn from the drawn angle, the lower end reached below it
             n = 720
             up = t0 + np.linspace(0.0, period, n, endpoint=False)
             down = t0 - np.linspace(0.0, period, n, endpoint=False)
-            bad_up = failing(up).any(axis=0)
-            bad_down = np.roll(bad_up[::-1], 1)  # down[k] is up[n - k] less a turn
+            bad_up = (failing(up) if general else _turn(model, info)[2]).any(axis=0)
+            # down[k] is up[n - k] less a turn (a general group: followed each way on its own)
+            bad_down = failing(down).any(axis=0) if general else np.roll(bad_up[::-1], 1)
         else:  # ±10 typical lengths each way
             n = 721
             up = t0 + np.linspace(0.0, 10.0 * float(info.scale[0]), n)
@@ -154,14 +144,70 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     return arc
 
 
+def _turn(model: _Model, info: _Info) -> tuple[np.ndarray, Any, np.ndarray]:
+    """A lone angle driver's turn from its drawn value (720 values), the program run over it.
+
+    Returns the values, the state and which groups do not close (groups × values);
+    shared by :func:`_circuit` and :func:`change_points` (closed-form groups only).
+    """
+    if "turn" not in model.cache:
+        x = float(info.start[0]) + np.linspace(0.0, 2.0 * np.pi, 720, endpoint=False)
+        with np.errstate(all="ignore"):
+            st, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
+        model.cache["turn"] = (x, st, codes == NO_ASSEMBLY)
+    return model.cache["turn"]  # type: ignore[return-value]
+
+
+def _one_failing(model: _Model, wall: bool, t0: float, scale: float, general: bool):
+    """A function: values of the lone driver → per group and value, it does not close.
+
+    (A group after one that does not close is placed from NaN: it does not
+    either.) ``wall``: the driver is an actuator, whose length stays > 0. With a
+    ``general`` group (solved by the vector-loop core) the values are reached
+    from the drawn value ``t0`` by continuation, as a sweep would: those above
+    it in one march upwards, those below in one downwards (the core keeps the
+    drawn branch, and does not close where that branch does not exist).
+    """
+    program = model.program
+
+    def run(x: np.ndarray, follow: bool) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            _, codes = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, follow)
+        return codes == NO_ASSEMBLY
+
+    def failing(x: np.ndarray) -> np.ndarray:
+        if not general:
+            out = run(x, False)  # (groups, samples)
+        else:
+            from .sweep import _path
+
+            out = np.zeros((len(program.deps), x.size), bool)
+            for side in (x >= t0, x < t0):
+                idx = np.flatnonzero(side)
+                if idx.size:
+                    idx = idx[np.argsort(np.abs(x[idx] - t0), kind="stable")]
+                    path, tags = _path(np.array([t0]), np.array([scale]), x[idx][None, :])
+                    take = np.flatnonzero(tags < 0)
+                    out[:, idx[-1 - tags[take]]] = run(path[0], True)[:, take]
+        if wall:
+            out[0] |= x <= 0.0
+        return out
+
+    return failing
+
+
 def _ends(t0, period, up, down, bad_up, bad_down, failing) -> tuple | None:
     """Refine the first failing sample of each scan (both at once) to the range's ends."""
     a, b, k_up, k_down = [], [], int(np.argmax(bad_up)), int(np.argmax(bad_down))
     for x, bad, k in ((up, bad_up, k_up), (down, bad_down, k_down)):
         a.append(x[k - 1] if bad.any() else x[-1])  # a closes, b does not
         b.append(x[k] if bad.any() else x[-1])
-    a, b = _refine(np.array(a), np.array(b), lambda x: ~failing(x).any(axis=0), True)
-    first = failing(b)  # the first group (solving order) not closing just past each end
+    scanned = np.array(b)
+    a, b = _refine(np.array(a), scanned, lambda x: ~failing(x).any(axis=0), True)
+    # the first group (solving order) not closing just past each end (at the scanned
+    # value, should a core's Newton still close one just past a toggle)
+    past, there = np.split(failing(np.concatenate((b, scanned))), 2, axis=1)
+    first = np.where(past.any(axis=0), past, there)
     ends, groups = [], []
     for i, (x, bad) in enumerate(((up, bad_up), (down, bad_down))):
         if bad.any():
@@ -359,3 +405,120 @@ class _Scan:
         ]
         name = self.model.groups[g].name
         return f"the drivers' {path} leaves where {name} closes at {', '.join(values)}"
+
+
+# -------------------------------------------------------------- change points
+def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, float], ...]:
+    """Where a dyad passes a change point, for a lone angle driver: ``(group, value)`` pairs.
+
+    At a change point (a four-bar with ``s + l = p + q``: all its pivots in
+    line) a dyad's two circles touch while it closes on both sides: its two
+    forms (a parallelogram's and an antiparallelogram's) meet and cross there.
+    Holding the drawn assembly sign through it would go on along the *other*
+    form; the drawn form goes on smoothly (the coupler angle and its rate
+    continuous: a parallelogram's coupler stays parallel to the ground) with
+    the other sign, and that is the one a sweep follows (:func:`flips`).
+    Found once per model: each RRR dyad's margin ``min(D − |e − f|, e + f − D)``
+    (``D`` between its pivots, relative to ``e + f``) over a turn of the driver
+    (720 values), every dip that closes on both sides narrowed 32-fold seven
+    times; a change point where its least margin is within
+    :data:`machdyn.classify.CHANGE_POINT_RTOL` of zero. Values in
+    ``[drawn, drawn + 2π)``.
+    """
+    if "change points" in model.cache:
+        return model.cache["change points"]  # type: ignore[return-value]
+    from ..classify import CHANGE_POINT_RTOL
+
+    program, found = model.program, []
+    dyads = [
+        (g, s)
+        for g, s in zip(program.group_of_step, program.steps, strict=True)
+        if isinstance(s, Dyad)
+        and all(isinstance(a, RArm) and a.driver < 0 for a in (s.arm1, s.arm2))
+    ]
+    one = len(lk._drivers) == 1 and lk._drivers[0] in info.angle_drivers
+    if one and dyads and not any(isinstance(s, General) for s in program.steps):
+
+        def margins(x: np.ndarray, st: Any = None) -> np.ndarray:
+            """Per dyad and value: its margin.
+
+            NaN where its pivots meet (a kite's crank over the far pivot, where the
+            dyad turns freely: not a crossing of its forms).
+            """
+            with np.errstate(all="ignore"):
+                if st is None:
+                    st, _ = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
+                rows = []
+                for _, s in dyads:
+                    D = np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre))
+                    e, f = s.arm1.length, s.arm2.length
+                    m = np.minimum(D - abs(e - f), e + f - D) / (e + f)
+                    rows.append(np.where(1e-6 * (e + f) < D, m, np.nan))
+            return np.broadcast_to(np.array(rows), (len(dyads), x.size))
+
+        x, st, _ = _turn(model, info)
+        step = x[1] - x[0]
+        M = margins(x, st)
+        for i, (g, _) in enumerate(dyads):
+            m, before, after = M[i], np.roll(M[i], 1), np.roll(M[i], -1)
+            dip = (m <= before) & (m <= after) & (before > 0) & (after > 0) & (m < 1e-3)
+            for k in np.flatnonzero(dip):
+                lo, hi = x[k] - step, x[k] + step
+                for _ in range(7):
+                    z = np.linspace(lo, hi, 65)
+                    mz = margins(z)[i]
+                    if np.isnan(mz).all():
+                        break
+                    j = int(np.nanargmin(mz))
+                    lo, hi = z[max(j - 1, 0)], z[min(j + 1, 64)]
+                if np.isfinite(mz).any() and abs(mz[j]) <= CHANGE_POINT_RTOL:
+                    found.append((g, x[0] + float(np.remainder(z[j] - x[0], 2.0 * np.pi))))
+    model.cache["change points"] = out = tuple(found)
+    return out
+
+
+def flips(
+    lk: Linkage, model: _Model, info: _Info, x: np.ndarray, follow: bool
+) -> list[tuple[Program, np.ndarray]]:
+    """The samples past an odd number of a dyad's change points, and the program for them.
+
+    A sample's path from the drawn value crosses the change points between the
+    two (a sweep's values as given; samples solved independently take the
+    value within π of the drawn one); past an odd number of a dyad's, the
+    drawn form has the other assembly sign there. Returns ``(program, mask)``
+    per combination of dyads to flip (the program with those signs turned).
+    """
+    points = change_points(lk, model, info)
+    if not points:
+        return []
+    t0 = float(info.start[0])
+    if not follow:
+        x = x - 2.0 * np.pi * np.round((x - t0) / (2.0 * np.pi))
+    odd: dict[int, np.ndarray] = {}
+    for g, c in points:
+        turns = (x - c) / (2.0 * np.pi)
+        count = np.where(
+            x >= t0, np.maximum(0.0, np.ceil(turns)), np.maximum(0.0, -1.0 - np.floor(turns))
+        )
+        odd[g] = odd.get(g, 0) + count.astype(np.int64)
+    groups = sorted(odd)
+    pattern = np.stack([odd[g] % 2 for g in groups])  # (groups, samples)
+    out = []
+    for combo in np.unique(pattern, axis=1).T:
+        if not combo.any():
+            continue
+        mask = (pattern == combo[:, None]).all(axis=0)
+        flip = frozenset(g for g, c in zip(groups, combo, strict=True) if c)
+        key = ("flipped", flip)
+        if key not in model.cache:
+            from dataclasses import replace
+
+            program = model.program
+            steps = [
+                replace(s, sign=-s.sign) if g in flip else s
+                for g, s in zip(program.group_of_step, program.steps, strict=True)
+            ]
+            model.cache[key] = Program(program.n_links, steps, program.group_of_step,
+                                       program.deps, program.links, program.unwrap)  # fmt: skip
+        out.append((model.cache[key], mask))
+    return out

@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import ModelError
 from . import kernel
 from ._common import GROUND, _ref_angle, _typical_length
-from .circuit import _refine, off_circuit
+from .circuit import _refine, flips, off_circuit
 from .kernel import STEP, Outputs, Tables, has_general, run
 from .kinematics import LinkageMotion, _cg_drawn
 from .program import NO_ASSEMBLY, OK, SINGULAR, Program, blank, unwrap
@@ -272,6 +272,8 @@ def solve_closed(
             if follow and n
             else run(program, info.tables, U, order, False)
         )
+    for other, mask in flips(lk, model, info, U[0], follow and n > 0):  # past change points
+        _merge(out, run(other, info.tables, U[:, mask], order, False), mask, info, follow)
     lost = off_circuit(lk, model, info, U[0::4], out.codes, follow and n > 0)
     stuck = None
     if lost is not None:  # poses of the drawn groups' other circuit: not this mechanism's
@@ -294,6 +296,15 @@ def solve_closed(
     if lost is not None:
         reason[lost[1]] = lost[2]
     return _motion(lk, out, info, vals, shape, ok, reason, order)
+
+
+def _merge(out: Outputs, part: Outputs, mask: np.ndarray, info: _Info, follow: bool) -> None:
+    """Put the samples ``mask`` of ``part`` (the same rows) into ``out``."""
+    out.ang[:, mask], out.rot[:, mask], out.pts[:, mask] = part.ang, part.rot, part.pts
+    out.lens[:, mask], out.codes[:, mask] = part.lens, part.codes
+    out.clean = None
+    for j in info.tables.wrapped if follow else ():  # continuous across the change point
+        out.ang[j] = unwrap(out.ang[j])
 
 
 def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs:
