@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import boolean, finite_array, finite_scalar, integer, positive
+from .._validate import boolean, finite_array, finite_scalar, integer, nonnegative, positive
 from ..classify import classify
 from ..errors import InputError
 from ..fourbar import FourBar
@@ -128,6 +128,29 @@ WIDE_RANGE = (0.02, 50.0)
 WIDE_TIMED = 1_500  # of them, for timed targets whose starting angle is scanned too
 #: Minimum number of target points: a closed or open path, with prescribed timing.
 MIN_POINTS = {"closed": 5, "open": 5, "timed": 4}
+
+
+class _Deadline:
+    """When a synthesis must stop (:func:`time.perf_counter` seconds) and whether it did.
+
+    ``passed()`` is asked between stages (a pool round, a batch of polished fits,
+    one start's screening); once it answers True, ``hit`` records that the result
+    is the best found by the time limit. ``at = inf`` (no limit) never passes, so
+    a synthesis without a limit takes exactly the steps it took before.
+    """
+
+    __slots__ = ("at", "hit")
+
+    def __init__(self, at: float = np.inf) -> None:
+        self.at, self.hit = at, False
+
+    def passed(self) -> bool:
+        if not self.hit and time.perf_counter() >= self.at:
+            self.hit = True
+        return self.hit
+
+
+_NEVER = _Deadline()  # (never passes: shared by the calls without a limit)
 
 
 class Atlas:
@@ -523,6 +546,7 @@ def path_from_atlas(
     absolute_timing: bool = False,
     max_length: float | None = None,
     pivot_box: Any = None,
+    time_limit: float | None = None,
 ) -> PathCandidates:
     """Four-bars whose coupler curve passes through target points, from an atlas.
 
@@ -562,6 +586,15 @@ def path_from_atlas(
         longer than this.
     pivot_box : (xmin, ymin, xmax, ymax), optional
         Keep the crank's pivot ``O2`` inside this rectangle.
+    time_limit : float, optional
+        Wall-clock seconds for the whole call. The synthesis then stops at the
+        first stage boundary past the limit (between pool rounds, polished fits,
+        screened starts; the atlas query itself is never cut) and returns the best
+        linkages found so far, with a ``note`` that says so. It returns within
+        about the limit plus one stage (a few tens of milliseconds; a six-bar
+        round longer). At least one retrieved start is refined, so even a limit
+        of 0 returns the retrieval's best placed and checked. None (the
+        default): no limit, the same result on every run.
 
     Returns
     -------
@@ -570,11 +603,15 @@ def path_from_atlas(
     Raises
     ------
     InputError
-        Too few points, NaN, coincident points, a timing list of the wrong length.
+        Too few points, NaN, coincident points, a timing list of the wrong length,
+        a negative ``time_limit``.
     AtlasError
         The atlas is missing, from another version, unfinished or corrupted.
     """
     start = time.perf_counter()
+    if time_limit is not None:
+        time_limit = nonnegative("time_limit", time_limit, "second")
+    deadline = _NEVER if time_limit is None else _Deadline(start + time_limit)
     if not isinstance(atlas, Atlas):
         atlas = open_atlas(atlas)
     closed = boolean("closed", closed)
@@ -598,33 +635,36 @@ def path_from_atlas(
     t0 = time.perf_counter()
     if atlas.manifest.kind == "sixbar":
         return _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve,
-                            refine_count, client, start)  # fmt: skip
+                            refine_count, client, start, deadline)  # fmt: skip
     if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
         refine_count *= 4
     options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,
                    pivot_box=pivot_box)  # fmt: skip
     if timing is None:
         fits, t1 = _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client,
-                                 options)  # fmt: skip
+                                 options, deadline)  # fmt: skip
     else:
         starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
         t1 = time.perf_counter()
         # the few best go on until they converge (the rest rarely overtake them)
-        fits, met = _polished(_screened(starts, pts, options), pts, options, POLISH)
+        fits, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
+                              deadline=deadline)  # fmt: skip
         # an open arc met by no start but nearly met by one: fresh pools of the atlas (a
         # closed timed target's nearest entries by shape are already in; an arc's are not)
         for r in range(1, TIMED_ROUNDS if not closed else 1):
-            if met or not fits or fits[0].rms > TIMED_NEAR_MISS * size:
+            if met or deadline.passed() or not fits or fits[0].rms > TIMED_NEAR_MISS * size:
                 break
             rows = atlas.entries(atlas.pool(TIMED_POOL, crank=True, draw=r))
-            more = _screened(_timed_starts(rows, pts, timing, refine_count, fixed), pts, options)
-            more, met = _polished(more, pts, options, POLISH)
+            more = _screened(_timed_starts(rows, pts, timing, refine_count, fixed), pts, options,
+                             deadline)  # fmt: skip
+            more, met = _polished(more, pts, options, POLISH, deadline=deadline)
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     for i, fit in enumerate(_unique(fits, size)):
         # untimed: only the fits that can be among the n chosen are refined at the change
         # point; the others (a path no four-bar meets leaves dozens there) only land on it
         onto = options if timing is not None or i < UNTIMED_BOUNDARY * n else None
+        onto = None if deadline.passed() else onto  # past the time limit: only land on it
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
             # just past the change point: hold the crank harder, then land on it
             if onto is not None:
@@ -654,10 +694,20 @@ def path_from_atlas(
     elif not chosen:
         note = "every linkage found has a defect (see rejected)"
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    note = _limit_note(note, deadline, time_limit, seconds["total"])
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
 
 
-def _screened(starts, pts, options) -> list:
+def _limit_note(note: str, deadline: _Deadline, time_limit: float | None, total: float) -> str:
+    """``note`` with, when the synthesis stopped at its time limit, a sentence saying so."""
+    if not deadline.hit:
+        return note
+    stop = (f"stopped at the time limit ({time_limit:g} s) after {total:.2f} s: the best "
+            "linkages found by then (without the limit the search goes on)")  # fmt: skip
+    return f"{stop}; {note}" if note else stop
+
+
+def _screened(starts, pts, options, deadline: _Deadline = _NEVER) -> list:
     """Refinements of ``starts``, best first: a few steps each, then more for the best.
 
     Every start takes :data:`SCREEN_NFEV` steps; the best :data:`SCREEN_KEEP` share (at
@@ -665,13 +715,22 @@ def _screened(starts, pts, options) -> list:
     far behind after a few steps rarely overtakes the leaders (and the few best are
     polished to convergence afterwards); this halves the refinement time of a query
     with many starts (prescribed timing or placement: four times :data:`REFINE`).
+    Past the ``deadline``, the starts not yet screened are dropped (the first one is
+    always screened) and none takes more steps.
     """
     solver = "lm" if options.get("timing") is not None else "trf"
-    fits = [refine(*first, pts, max_nfev=SCREEN_NFEV, solver=solver, **options)
-            for first in starts if first is not None]  # fmt: skip
+    fits = []
+    for first in starts:
+        if first is None:
+            continue
+        if fits and deadline.passed():
+            break
+        fits.append(refine(*first, pts, max_nfev=SCREEN_NFEV, solver=solver, **options))
     fits.sort(key=lambda f: f.rms)
     keep = max(REFINE, int(np.ceil(SCREEN_KEEP * len(fits))))
     for i in range(min(keep, len(fits))):
+        if deadline.passed():
+            break
         f = fits[i]
         more = refine(f.x, f.theta, f.branch, pts, max_nfev=REFINE_NFEV - SCREEN_NFEV,
                       solver=solver, **options)  # fmt: skip
@@ -680,7 +739,8 @@ def _screened(starts, pts, options) -> list:
     return fits
 
 
-def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, options):
+def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, options,
+                  deadline: _Deadline = _NEVER):  # fmt: skip
     """Refined fits for untimed targets, best first, and the time retrieval ended.
 
     Round 0: the entries nearest the target (:func:`_retrieve`) and the wide
@@ -689,7 +749,8 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     rounds take a fresh pool of the atlas (:meth:`Atlas.pool`, ``round``) and
     match the targets as an arc (a closed target opened at its widest gap: a
     spline through unevenly spread points of a closed path can be far from the
-    curve between them, so its descriptor misleads the retrieval).
+    curve between them, so its descriptor misleads the retrieval). Past the
+    ``deadline`` (:class:`_Deadline`), no more screening, polishing or rounds.
     """
     fixed = options["fixed"]
     count = max(1, refine_count // 4) if {6, 8} & fixed.keys() else refine_count
@@ -698,22 +759,22 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
     t1 = time.perf_counter()
     fits, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                            options), pts, options, UNTIMED_POLISH_MAX,
-                          UNTIMED_NFEV[0])  # fmt: skip
+                                            options, deadline), pts, options, UNTIMED_POLISH_MAX,
+                          UNTIMED_NFEV[0], deadline)  # fmt: skip
     man = atlas.manifest
     arc = pts
     if closed:  # the targets as an arc: from the far side of the widest gap round to its near side
         gap = int(np.argmax(np.abs(np.roll(pts, -1) - pts)))
         arc = np.roll(pts, -(gap + 1))
     for r in range(1, UNTIMED_ROUNDS):
-        if met or not _worth_a_round(fits, pts, closed):
+        if met or deadline.passed() or not _worth_a_round(fits, pts, closed):
             break
         rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank, draw=r))
         curves = even_curves(rows, man.circuit_samples, man.samples)
         entries, transforms = _arc_starts(rows, curves, arc, refine_count)
         more, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                                options), pts, options, POLISH,
-                              UNTIMED_NFEV[1])  # fmt: skip
+                                                options, deadline), pts, options, POLISH,
+                              UNTIMED_NFEV[1], deadline)  # fmt: skip
         fits = sorted(fits + more, key=lambda f: f.rms)
     return fits, t1
 
@@ -766,21 +827,23 @@ def _untimed_starts(entries, transforms, pts) -> list:
     return [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
 
 
-def _polished(fits, pts, options, most, nfev=400) -> tuple[list, bool]:
+def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER
+              ) -> tuple[list, bool]:  # fmt: skip
     """The best fits polished down their valleys (:func:`~machdyn.synthesis.valley.polish`).
 
     Targets on a short arc (untimed above all) make a sloppy problem whose exact
     fits lie at the ends of long curved valleys. :data:`POLISH` fits are refined on (``nfev``
     steps of :func:`refine`, which keeps the bounds) and then polished, and more
     (up to ``most``) while none meets the targets to :data:`UNTIMED_MET` of
-    their size on one assembly. Returns the fits (best first) and whether one met.
+    their size on one assembly; none past the ``deadline``. Returns the fits (best
+    first) and whether one met.
     """
     size = float(np.max(np.abs(pts - pts.mean())))
     fits = list(fits)
     met = False
     done: list[np.ndarray] = []
     for i in range(min(most, len(fits))):
-        if i >= POLISH and met:
+        if (i >= POLISH and met) or deadline.passed():
             break
         f = fits[i]
         key = _design_key(f, size)
@@ -824,7 +887,7 @@ def _constraints(O2, theta1, absolute_timing, max_length, pivot_box, timing, atl
 
 
 def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, refine_count, client,
-                 start):  # fmt: skip
+                 start, deadline=_NEVER):  # fmt: skip
     """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
     from .. import jit
     from .sixbar_path import (
@@ -856,7 +919,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     fits, met, near, seen, scan = [], False, False, set(), 0.0
     t_begin = time.perf_counter()
     for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
-        if met or near:
+        if met or near or (round_ and deadline.passed()):
             break
         t0 = time.perf_counter()
         starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
@@ -869,7 +932,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         fits += more
         near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
-    if not met:  # the best crawl along narrow valleys: polish longer
+    if not met and not deadline.passed():  # the best crawl along narrow valleys: polish longer
         for i in range(min(long[0], len(fits))):
             x, th, rms, fx = fits[i]
             more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
@@ -894,6 +957,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     )  # fmt: skip
     seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
                "total": time.perf_counter() - start}  # fmt: skip
+    note = _limit_note(note, deadline, deadline.at - start, seconds["total"])
     return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
                           seconds)  # fmt: skip
 
