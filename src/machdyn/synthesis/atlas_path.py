@@ -862,17 +862,29 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
         if any(np.max(np.abs(key - k)) <= SAME for k in done + ends):
             continue  # a copy of a fit polished already (see _unique)
         done.append(key)
+
+        def copy(f) -> bool:  # in a minimum polished already (with tries)
+            return tries is not None and any(np.max(np.abs(_design_key(f, size) - k)) <= COPY
+                                             for k in ends)  # fmt: skip
+
+        if (
+            tries is not None
+            and i >= most
+            and copy(refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver="lm", **options))
+        ):
+            continue  # an extra try: a look with the (compiled) LM first, a hundred times cheaper
         more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, **options)  # bounds kept
-        f = more if more.rms <= f.rms else f
+        f = fits[i] = more if more.rms <= f.rms else f
+        if copy(f):
+            continue  # refined into a minimum polished already: no polish, not counted
         if f.rms > UNTIMED_MET * size:
             f = polish(f, pts, **options)
         fits[i] = f
         met = met or (f.rms <= UNTIMED_MET * size and np.ptp(f.branch) == 0)
         best = min(best, f.rms)
         if tries is not None:
-            end = _design_key(f, size)
-            distinct += all(np.max(np.abs(end - k)) > COPY for k in ends)
-            ends.append(end)
+            distinct += 1
+            ends.append(_design_key(f, size))
     return sorted(fits, key=lambda f: f.rms), met
 
 
