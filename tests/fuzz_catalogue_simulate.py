@@ -145,6 +145,7 @@ def add_sensitivity(c: dict[str, Any], fn, meth) -> None:
     c[f"{k}:sensitivity"].accepts.update(
         branch={"none"}, dimensions={"none"}, mass={"none"}, inertia={"none"}, cg={"none"}
     )
+    c[f"{k}:sensitivity"].accepts["gravity"] = {"complex"}  # a vector in the four-bar's frame
     meth(f"{k}:Sensitivity.of", _sensitivity, output="theta4", dimension="r2")
     meth(f"{k}:Sensitivity.stack_up", _sensitivity, tolerances={"r1": 0.01}, output="coupler")
     meth(f"{k}:Sensitivity.rss", _sensitivity, tolerances={"r1": 0.01}, output="theta4")
@@ -163,7 +164,8 @@ def add_tolerance(c: dict[str, Any], fn) -> None:
        inertia=(0.1, 0.5, 0.3), cg=(2.0, 3.0, 3.0), gravity=9.81, load=-1.0)  # fmt: skip
     c[k].accepts.update(
         theta2={"none"}, branch={"none"}, outputs={"none"}, scheduler={"none"}, workers={"none"},
-        seed={"zero"}, alpha2={"zero"}, gravity={"zero"}, load={"zero"}, omega2={"zero"},
+        seed={"zero"}, alpha2={"zero"}, gravity={"zero", "complex"}, load={"zero"},
+        omega2={"zero"},
     )  # fmt: skip
 
 

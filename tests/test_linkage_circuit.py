@@ -23,7 +23,7 @@ from scipy.optimize import brentq
 
 import machdyn
 from closed_forms import circle_meet
-from machdyn.linkage import Linkage, sweep
+from machdyn.linkage import Linkage, circuit
 
 # a Grashof crank-rocker: s + l = 1 + 4 < p + q = 3 + 4, the crank shortest
 R1, R2, R3, R4 = 4.0, 1.0, 4.0, 3.0  # ground O2-O4, crank, coupler, rocker
@@ -220,7 +220,7 @@ def test_a_linkage_closing_over_the_whole_turn_is_not_touched(monkeypatch):
     assert m.ok.all() and not any(m.reason)
     np.testing.assert_allclose(m.points["D"], circle_meet(watt_c(th), 6.0, O6, 5.0, 1.0),
                                atol=1e-9)  # fmt: skip
-    monkeypatch.setattr(sweep, "_circuit", lambda *a: None)  # no check at all: the same bits
+    monkeypatch.setattr(circuit, "_circuit", lambda *a: None)  # no check at all: the same bits
     bare = build().solve(th, velocity=2.0, acceleration=-1.0)
     for name in m.points:
         assert np.array_equal(m.points[name], bare.points[name])
@@ -280,24 +280,4 @@ def test_studio_sensitivity_and_tolerance_see_the_downstream_flag():
     assert ok[within(x, (mine[0] + 0.01, mine[1] - 0.01))].all()
 
 
-def test_two_drivers_flag_only_where_a_group_does_not_close():
-    # a five-bar with two cranks (M = 2): what the drawing reaches is a region of the two
-    # angles, not a range, and the check does not ask (docs/linkage.md): every sample where
-    # the dyad closes on its drawn side, |A − D| < 3 + 3, is solved and ok
-    O5 = 6.0 + 0j
-    A, D = 2.0 * np.exp(1j * np.radians(70)), O5 + 2.0 * np.exp(1j * np.radians(110))
-    C = circle_meet(A, 3.0, D, 3.0)
-    lk = Linkage({"O2": 0j, "O5": O5, "A": A, "D": D, "C": C}).ground("O2", "O5")
-    lk.link("2", "O2", "A").link("3", "A", "C").link("4", "D", "C").link("5", "O5", "D")
-    lk.drive("2", "5")
-    t2, t5 = np.meshgrid(np.linspace(0, 2 * np.pi, 37), np.linspace(0, 2 * np.pi, 37))
-    m = lk.solve({"2": t2, "5": t5})
-    A_t, D_t = 2.0 * np.exp(1j * t2), O5 + 2.0 * np.exp(1j * t5)
-    gap = np.abs(A_t - D_t)
-    closes = gap < 6.0
-    assert 0 < closes.sum() < closes.size
-    far = np.abs(gap - 6.0) > 1e-6
-    assert (m.ok == closes)[far].all()
-    assert not any("another circuit" in r for r in m.reason.ravel())
-    C_t = circle_meet(A_t[closes], 3.0, D_t[closes], 3.0)
-    np.testing.assert_allclose(m.points["C"][closes], C_t, atol=1e-9)
+# several drivers: tests/test_linkage_circuit_drivers.py

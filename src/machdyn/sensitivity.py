@@ -243,6 +243,8 @@ def sensitivity(
         Mass properties as for the model's ``dynamics``; with them ``T12`` is
         an output (by virtual work), with ``gravity`` and ``load`` (the
         external torque on link 4 of a four-bar, or force on a slider along x).
+        ``gravity``: ``g`` along −y, or (a four-bar) a complex vector in its frame
+        (placed at θ1 in a plane: ``−1j * g * exp(−1j * θ1)``).
 
     Returns
     -------
@@ -441,11 +443,11 @@ def fourbar_outputs(
 
 def _fourbar_torque(e, A, rates, w2, a2, mass, inertia, cg, gravity, load, unit, m):
     """``T12`` by virtual work, as duals (the kinematic coefficients of ``virtual_work``)."""
-    from ._validate import finite_scalar, nonnegative
+    from ._validate import finite_scalar
     from .dynamics import link_properties
 
     props = link_properties(mass, inertia, cg, unit)
-    g = nonnegative("gravity", gravity)
+    g = _gravity_vector(gravity)
     load = finite_scalar("load", load)
     e2, e3, e4 = e
     w3, w4, al3, al4, h3, h4 = rates
@@ -462,11 +464,32 @@ def _fourbar_torque(e, A, rates, w2, a2, mass, inertia, cg, gravity, load, unit,
         if mk:
             acc = origin_acc[k] + (1j * alpha[k] - omega[k] * omega[k]) * arm
             rate = origin_rate[k] + 1j * coef[k] * arm
-            force = mk * acc + 1j * (mk * g)
+            force = mk * acc - mk * g
             torque = torque + (force.conj() * rate).real
         if ik:
             torque = torque + ik * alpha[k] * coef[k]
     return torque - load * h4
+
+
+def _gravity_vector(gravity: Any) -> complex:
+    """The acceleration of gravity as a vector in the model's frame.
+
+    A number ``g ≥ 0`` acts along −y (``−j g``); a complex number is the vector itself
+    (a four-bar placed at θ1 in the plane, gravity along the plane's −y:
+    ``−j g e^{−jθ1}``).
+
+    Examples
+    --------
+    >>> _gravity_vector(9.81)
+    -9.81j
+    """
+    from ._validate import nonnegative
+
+    if isinstance(gravity, complex | np.complexfloating):
+        if not np.isfinite(gravity):
+            raise InputError("gravity", f"must be finite, got {gravity!r}")
+        return complex(gravity)
+    return -1j * nonnegative("gravity", gravity)
 
 
 def _slidercrank(sc, theta2, omega2, alpha2, form, mass, inertia, cg, gravity, load):

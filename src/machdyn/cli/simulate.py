@@ -223,7 +223,8 @@ def simulate_command(
         print(f"wrote {plot}")
 
 
-def _tolerance_result(part: Any, t: Any) -> Any:
+def _tolerance_result(part: Any, t: Any, placed: tuple[complex, float] | None = None) -> Any:
+    """The tolerance tables of a part (``placed``: a placed four-bar's O2, θ1 for its points)."""
     from ..spec._run import PartResult, ResultTable, Summary
 
     out = PartResult(part, objects={"tolerance": t})
@@ -263,8 +264,10 @@ def _tolerance_result(part: Any, t: Any) -> Any:
             "stack_up": s.worst_case,
         }
         if point:
-            columns = {"theta2": t.theta, "P_nominal_x": s.nominal.real,
-                       "P_nominal_y": s.nominal.imag, "rms": s.std, "rms_linear": s.linear_std,
+            o2, theta1 = placed or (0j, 0.0)
+            nominal = o2 + np.exp(1j * theta1) * s.nominal  # the plane's, as `machdyn run`
+            columns = {"theta2": t.theta, "P_nominal_x": nominal.real,
+                       "P_nominal_y": nominal.imag, "rms": s.std, "rms_linear": s.linear_std,
                        "max": s.high, "stack_up": s.worst_case}  # fmt: skip
         kinds = {k: kind for k in columns} | {"theta2": "angle"}
         if point:
@@ -330,15 +333,34 @@ def tolerance_command(
         raise InputError(f"{p.kind}.{p.name}.tolerance", "give the ± tolerance of some dimension")
     motion = p.values.get("motion", {})
     theta2 = motion["theta2"].values if "theta2" in motion else None
-    dyn = {}
-    if p.kind == "fourbar" and any(f"link{n}" in p.values for n in (2, 3, 4)):
-        from ..spec._fourbar import input_motion
+    from ..spec._fourbar import placement
 
-        d = _dynamics(p, machine)
-        dyn = {k: d[k] for k in ("mass", "inertia", "cg", "gravity")}
-        _, dyn["omega2"], dyn["alpha2"] = input_motion(p, machine, {})
-        dyn["load"] = d["load_torque4"]
-    form = p.values.get("form", 1)
-    t = tolerance(p.model, spec, theta2, form=form, scheduler=scheduler, workers=workers,
-                  **options, **dyn)  # fmt: skip
-    _emit(machine, _tolerance_result(p, t), file, json, csv_out)
+    dyn, placed, note = {}, placement(p.values) if p.kind == "fourbar" else None, None
+    loads = p.values.get("loads", {})
+    if p.kind == "fourbar" and any(f"link{n}" in p.values for n in (2, 3, 4)):
+        if "force" in loads or "torques" in loads:  # T12 here takes torque4 and gravity only
+            note = "T12 is not toleranced: its [[loads.force]]/loads.torques are not taken here"
+        else:
+            dyn = _fourbar_torque_options(p, machine, placed)
+    form, branch = p.values.get("form", 1), p.values.get("branch")  # (branch: GRCR/GRRC)
+    t = tolerance(p.model, spec, theta2, form=form, branch=branch, scheduler=scheduler,
+                  workers=workers, **options, **dyn)  # fmt: skip
+    result = _tolerance_result(p, t, placed)
+    if note:
+        result.flagged.append(f"warning: {note}")
+    _emit(machine, result, file, json, csv_out)
+
+
+def _fourbar_torque_options(p: Any, machine: Any, placed: Any) -> dict[str, Any]:
+    """A four-bar part's masses, speed, torque4 and gravity as ``tolerance`` takes them.
+
+    Placed (O2, θ1): gravity along the plane's −y is the vector −j g e^{−jθ1} in its frame.
+    """
+    from ..spec._fourbar import _masses, input_motion
+
+    dyn = dict(_masses(p.values, (2, 3, 4)) or {})
+    _, dyn["omega2"], dyn["alpha2"] = input_motion(p, machine, {})
+    dyn["load"] = p.values.get("loads", {}).get("torque4", 0.0)
+    g = float(machine.gravity or 0.0)
+    dyn["gravity"] = g if placed is None or not g else -1j * g * np.exp(-1j * placed[1])
+    return dyn

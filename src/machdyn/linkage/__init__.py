@@ -56,6 +56,8 @@ The package, one room per concept (``docs/linkage.md``, "The package"):
   :mod:`~machdyn.linkage.kernel` -- the linkage as a program of closed-form
   steps, its solve along a sweep, and the engines that run it (NumPy, the
   compiled kernel :mod:`machdyn._linkage_kernels`, a one-pose twin);
+* :mod:`~machdyn.linkage.circuit` -- which samples the drawing reaches (its circuit;
+  one driver's range, several drivers' paths);
 * :mod:`~machdyn.linkage.loopcompile`, :mod:`~machdyn.linkage.loopsolve` --
   vector-loop compilation for groups the closed forms do not cover, and the
   whole-linkage loop solve (``LinkageMotion.loop_motion``);

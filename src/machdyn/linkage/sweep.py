@@ -8,7 +8,8 @@ angles are not wrapped, they run continuously along a sweep. For a 1-D sweep
 the first sample and between samples further apart than :data:`STEP`, and each
 angle is unwrapped along that path, as the vector-loop core's continuation
 would follow it; samples solved independently (``continuation=False``) take
-the angle within π of the drawn one.
+the angle within π of the drawn one. Which samples the drawing reaches (its
+circuit) is :mod:`machdyn.linkage.circuit`'s.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import numpy as np
 from ..errors import ModelError
 from . import kernel
 from ._common import GROUND, _ref_angle, _typical_length
+from .circuit import _refine, flips, off_circuit
 from .kernel import STEP, Outputs, Tables, has_general, run
 from .kinematics import LinkageMotion, _cg_drawn
 from .program import NO_ASSEMBLY, OK, SINGULAR, Program, blank, unwrap
@@ -270,12 +272,13 @@ def solve_closed(
             if follow and n
             else run(program, info.tables, U, order, False)
         )
-    arc = _circuit(lk, model, info)
-    away = None if arc is None else _off_circuit(arc, U[0], out.codes)
+    for other, mask in flips(lk, model, info, U[0], follow and n > 0):  # past change points
+        _merge(out, run(other, info.tables, U[:, mask], order, False), mask, info, follow)
+    lost = off_circuit(lk, model, info, U[0::4], out.codes, follow and n > 0)
     stuck = None
-    if away is not None:  # poses of the drawn groups' other circuit: not this mechanism's
+    if lost is not None:  # poses of the drawn groups' other circuit: not this mechanism's
         stuck = (out.codes == NO_ASSEMBLY).any(axis=1)  # groups that really do not close
-        out.codes[np.ix_(arc[2], away)] = NO_ASSEMBLY
+        out.codes[lost[0]] = NO_ASSEMBLY
         out.clean = False
     # the usual case: every group assembled, away from toggles
     clean = out.clean if out.clean is not None else not out.codes.any()
@@ -290,146 +293,18 @@ def solve_closed(
         if where:
             mine = reason == info.texts[g][0]
             reason[mine] = f"{info.texts[g][0]} ({where})"
-    if away is not None:
-        reason[away] = _away_text(lk, model, info, arc)
+    if lost is not None:
+        reason[lost[1]] = lost[2]
     return _motion(lk, out, info, vals, shape, ok, reason, order)
 
 
-def _away_text(lk: Linkage, model: _Model, info: _Info, arc: tuple) -> str:
-    """The reason of a sample outside the drawn range ``arc`` (see :func:`_circuit`)."""
-    lo, hi, groups, period = arc
-    span = (
-        f"[{math.degrees(lo):.5g}°, {math.degrees(hi):.5g}°]"
-        if period is not None
-        else f"[{lo:.6g}, {hi:.6g}]"
-    )
-    if len(groups) == 1:
-        who = f"{info.texts[groups[0]][2]} is"
-    else:  # a different group stops closing at each end
-        names = [model.groups[g].name for g in groups]
-        who = f"{names[0]} (at {lk._drivers[0]}'s upper end) and {names[1]} (lower end) are"
-    return (
-        f"{who} on another circuit at this input: the drawn mechanism reaches "
-        f"{lk._drivers[0]} in {span} only (it would have to be taken apart)"
-    )
-
-
-def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
-    """The range of a lone driver that the drawn pose can reach, when it is not everything.
-
-    Every closed-form group keeps its drawn assembly sign, but a driver value
-    at which the groups close on a *separate* range (a Grashof four-bar whose
-    coupler is the shortest link, driven at a rocker: two mirror arcs; a
-    slider-crank driven at its slider: the block on the other side of the
-    crank's pivot; the second loop of a Watt II six-bar closing on two arcs of
-    the first loop's rocker swing) puts the linkage on its other circuit there,
-    which no motion of the drawn mechanism reaches: moving the driver from the
-    drawing, the mechanism stops where the first of its groups stops closing
-    (a toggle), so what it reaches is the connected range around the drawn
-    value on which *every* group closes. Returns ``(lo, hi, groups, period)``
-    — that range (edges refined by :func:`_refine`; ±inf where a length driver's
-    groups close beyond ±10 typical lengths), the first group (in solving
-    order) that stops closing at its upper and at its lower end, and 2π for an
-    angle (None for a length) — or None when the groups close everywhere. Not
-    asked (None): several drivers (the reachable set is a region of the
-    drivers' space, not a range; nothing is flagged) and a group the closed
-    forms do not cover (the vector-loop core follows its own circuit).
-    """
-    if "circuit" in model.cache:
-        return model.cache["circuit"]  # type: ignore[return-value]
-    from .program import General
-
-    arc = None
-    driver = lk._drivers[0] if len(lk._drivers) == 1 else None
-    if (
-        driver is not None
-        and model.program.steps
-        and not any(isinstance(s, General) for s in model.program.steps)
-    ):
-        wall = driver in lk._actuators  # an actuator's length stays > 0
-
-        def failing(x: np.ndarray) -> np.ndarray:
-            """Per group and sample: the group does not close.
-
-            (A group after one that does not close is placed from NaN: it does not either.)
-            """
-            with np.errstate(all="ignore"):
-                _, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
-            out = codes == NO_ASSEMBLY  # (groups, samples)
-            if wall:
-                out[0] |= x <= 0.0
-            return out
-
-        t0 = float(info.start[0])
-        period = 2.0 * np.pi if driver in info.angle_drivers else None
-        if period is not None:  # a turn from the drawn angle, the lower end reached below it
-            n = 720
-            up = t0 + np.linspace(0.0, period, n, endpoint=False)
-            down = t0 - np.linspace(0.0, period, n, endpoint=False)
-            bad_up = failing(up).any(axis=0)
-            bad_down = np.roll(bad_up[::-1], 1)  # down[k] is up[n - k] less a turn
-        else:  # ±10 typical lengths each way
-            n = 721
-            up = t0 + np.linspace(0.0, 10.0 * float(info.scale[0]), n)
-            down = t0 - np.linspace(0.0, 10.0 * float(info.scale[0]), n)
-            bad_up, bad_down = failing(up).any(axis=0), failing(down).any(axis=0)
-        if (bad_up.any() or bad_down.any()) and not bad_up[0]:
-            arc = _ends(t0, period, up, down, bad_up, bad_down, failing)
-    model.cache["circuit"] = arc
-    return arc
-
-
-def _ends(t0, period, up, down, bad_up, bad_down, failing) -> tuple | None:
-    """Refine the first failing sample of each scan (both at once) to the range's ends."""
-    a, b, k_up, k_down = [], [], int(np.argmax(bad_up)), int(np.argmax(bad_down))
-    for x, bad, k in ((up, bad_up, k_up), (down, bad_down, k_down)):
-        a.append(x[k - 1] if bad.any() else x[-1])  # a closes, b does not
-        b.append(x[k] if bad.any() else x[-1])
-    a, b = _refine(np.array(a), np.array(b), lambda x: ~failing(x).any(axis=0), True)
-    first = failing(b)  # the first group (solving order) not closing just past each end
-    ends, groups = [], []
-    for i, (x, bad) in enumerate(((up, bad_up), (down, bad_down))):
-        if bad.any():
-            ends.append(float(a[i]))
-            groups.append(int(np.argmax(first[:, i])))
-        else:
-            ends.append(math.copysign(math.inf, x[-1] - t0))
-    hi, lo = ends
-    if period is not None and hi - lo >= period - 1e-9:
-        return None
-    return lo, hi, tuple(dict.fromkeys(groups)), period
-
-
-def _refine(a: np.ndarray, b: np.ndarray, state, at_a: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Narrow brackets ``[a, b]`` (arrays) where ``state`` changes from ``at_a`` to not.
-
-    Each pass cuts every bracket in 64 and keeps the first cell where the state
-    changes, all brackets in one call of ``state``: seven passes narrow them
-    64⁷ ≈ 4·10¹² times (a bisection needs 42 calls for that).
-    """
-    k = np.linspace(0.0, 1.0, 65)
-    for _ in range(7):
-        x = a[:, None] + (b - a)[:, None] * k
-        same = state(x.ravel()).reshape(x.shape) == np.reshape(at_a, (-1, 1))
-        j = np.maximum(np.argmin(same, axis=1), 1)  # the first cell past the change
-        j = np.where(same.all(axis=1), 64, j)  # (rounding: no change seen, keep the end)
-        rows = np.arange(x.shape[0])
-        a, b = x[rows, j - 1], x[rows, j]
-    return a, b
-
-
-def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
-    """The samples assembled outside the drawn range, on the other circuit (None: none)."""
-    lo, hi, _, period = arc
-    if period is None:
-        tol = 1e-9 * (1.0 + max(abs(v) for v in (lo, hi) if math.isfinite(v)))
-        away = (theta < lo - tol) | (theta > hi + tol)
-    else:
-        away = np.remainder(theta - lo, period) > (hi - lo) + 1e-9 * (1.0 + abs(hi))
-    if not away.any():
-        return None
-    away &= ~(codes == NO_ASSEMBLY).any(axis=0)  # in the gap between: "does not close" stays
-    return away if away.any() else None
+def _merge(out: Outputs, part: Outputs, mask: np.ndarray, info: _Info, follow: bool) -> None:
+    """Put the samples ``mask`` of ``part`` (the same rows) into ``out``."""
+    out.ang[:, mask], out.rot[:, mask], out.pts[:, mask] = part.ang, part.rot, part.pts
+    out.lens[:, mask], out.codes[:, mask] = part.lens, part.codes
+    out.clean = None
+    for j in info.tables.wrapped if follow else ():  # continuous across the change point
+        out.ang[j] = unwrap(out.ang[j])
 
 
 def _follow(program: Program, info: _Info, U: np.ndarray, order: int) -> Outputs:

@@ -58,6 +58,31 @@ def _along(origin: np.ndarray, toward: np.ndarray, c: complex) -> np.ndarray:
     return origin + complex(c) * e
 
 
+def _applied(
+    bodies: dict[int, Body],
+    place: dict[int, Any],
+    forces: Any,
+    torques: Any,
+    one: np.ndarray,
+    length_unit: str | None = None,
+    guided: tuple[int, ...] = (),
+) -> None:
+    """The applied point loads (at points in their link's frame, ``place``) and torques.
+
+    Read as the dynamics read them (triples or ``PointLoad``, quantities converted);
+    torques on a ``guided`` link (a slider-crank's block) are carried by its guide.
+    """
+    from ..dynamics import _point_loads, _torques, unit_system
+
+    units = unit_system(length_unit)
+    for load in _point_loads(forces, units):
+        at = place[load.link](load.point) * one
+        bodies[load.link].load(np.ravel(load.force) * one + 0j, at, "external")
+    for link, torque in _torques(torques, units):
+        if link not in guided:
+            bodies[link].torque(np.ravel(torque) * one, "external")
+
+
 def _rigid(p: Any, vp: Any, ap: Any, w: Any, al: Any, q: Any) -> tuple[Any, Any]:
     """Velocity and acceleration of point ``q`` of a body through ``p`` (ω, α)."""
     return vp + 1j * w * (q - p), ap + (1j * al - w * w) * (q - p)
@@ -159,13 +184,8 @@ def fourbar_checks(
     bodies[4].load(-F43, B, "joint")
     bodies[4].load(F14, zero + O4, "ground")
     bodies[4].torque(np.ravel(load_torque4) * np.ones(th2.shape), "external")
-    for link, at, force in external_forces:
-        bodies[int(link)].load(
-            np.ravel(force) * np.ones(th2.shape), _along(*frames[int(link)], at), "external"
-        )
-    pairs = external_torques.items() if hasattr(external_torques, "items") else external_torques
-    for link, torque in pairs:
-        bodies[int(link)].torque(np.ravel(torque) * np.ones(th2.shape), "external")
+    place = {k: (lambda z, k=k: _along(*frames[k], z)) for k in (2, 3, 4)}
+    _applied(bodies, place, external_forces, external_torques, np.ones(th2.shape), fb.length_unit)
     good = ok & np.ravel(f.ok)
     power, dke, scale = power_of_loads(list(bodies.values()))
     size = rigid.size
@@ -199,9 +219,16 @@ class _Case:
     external_torques: Any
     k: float | None
     where: str = "θ2"
+    placement: tuple[complex, float] | None = None
+    branch: int | None = None
 
     def at(self, j: int) -> str:
         return f"{self.where} = {np.degrees(self.th[j]):.1f}°"
+
+    @property
+    def turn(self) -> complex:
+        """e^{jθ1}: the four-bar's own frame (x along O2 → O4) turned into the plane's."""
+        return 1.0 + 0j if self.placement is None else complex(np.exp(1j * self.placement[1]))
 
 
 def fourbar_report(fb: FourBar, *, title: str | None = None, **options: Any) -> Page:
@@ -230,10 +257,19 @@ def fourbar_sections(
     motion: FourBarMotion | None = None,
     units: Any = None,
     length_unit: str | None = None,
+    placement: tuple[complex, float] | None = None,
+    branch: int | None = None,
 ) -> str:
-    """Add a four-bar's sections to ``page``; returns its first line."""
+    """Add a four-bar's sections to ``page``; returns its first line.
+
+    ``placement`` ``(O2, theta1)`` places the four-bar in the plane (a synthesis
+    result: global = O2 + e^{jθ1}·local): the drawing and the force directions are
+    the plane's; θ2–θ4 stay measured from O2 → O4 and the loads are given as
+    :meth:`FourBar.dynamics` takes them (its own frame). ``branch`` (a GRCR or
+    GRRC, as :meth:`FourBar.solve` takes it) picks the half of the form's circuit.
+    """
     th = fourbar_sweep(fb, form, n)
-    m = motion if motion is not None else fb.solve(th, omega2, form=form)
+    m = motion if motion is not None else fb.solve(th, omega2, form=form, branch=branch)
     th = np.ravel(m.theta2)
     u = _units(fb, units, length_unit)
     if mass is not None:
@@ -254,6 +290,8 @@ def fourbar_sections(
         external_forces,
         external_torques,
         k,
+        placement=None if placement is None else (complex(placement[0]), float(placement[1])),
+        branch=branch,
     )
     rng = fb.input_range(form)
     kind = "crank" if rng.full_turn else "rocker"
@@ -279,6 +317,7 @@ def fourbar_sections(
             inertia=inertia,
             cg=cg,
             form=form,
+            branch=branch,
             gravity=case.gravity,
             load_torque4=load_torque4,
             external_forces=external_forces,
@@ -349,6 +388,9 @@ def _model_section(page: Page, c: _Case, rng: Any) -> None:
         rows.append(("coupler point p", u.text("length", fb.coupler[0], 6), "p"))
         rows.append(("coupler point δ", fmt(np.degrees(fb.coupler[1]), 6) + "°", "delta_deg"))
     rows.append(("form (circuit)", str(c.form), "form"))
+    if c.placement is not None:
+        rows.append(("placed: O2", _xy(u, c.placement[0]), "placed_O2"))
+        rows.append(("placed: θ1", fmt(np.degrees(c.placement[1]), 6) + "°", "placed_theta1"))
     rows.append(("input speed ω2", u.text("angular_velocity", c.omega2), "omega2"))
     curve = None
     if fb.coupler is not None:
@@ -359,16 +401,34 @@ def _model_section(page: Page, c: _Case, rng: Any) -> None:
         np.linspace(c.th[0], c.th[-1], 120) if not rng.full_turn else c.th[:: max(1, n // 120)],
         c.omega2,
         form=c.form,
+        branch=c.branch,
     )
     s = fourbar_scene(fb, frames, coupler_curve=curve, closed=rng.full_turn)
+    placed = ""
+    if c.placement is not None:
+        s = _in_plane(s, *c.placement)
+        placed = (
+            " Placed in the plane: global = O2 + e^(jθ1)·local, forces in the plane's x, y;"
+            " θ2–θ4 from O2 → O4."
+        )
     page.section(
         "model",
         "The model and its drawing",
         page.table(rows)
         + widget(s, fps=30)
         + '<p class="remark">The drawing plays the solved poses (lengths in '
-        f"{esc(u.unit('length'))}, y up); the slider picks a pose.</p>",
+        f"{esc(u.unit('length'))}, y up); the slider picks a pose.{placed}</p>",
     )
+
+
+def _in_plane(s: Any, O2: complex, theta1: float) -> Any:
+    """A four-bar scene (own frame) moved to its place: z → O2 + e^{jθ1} z."""
+    from dataclasses import replace
+
+    turn = complex(np.exp(1j * theta1))
+    curves = tuple(replace(cv, points=O2 + turn * np.asarray(cv.points)) for cv in s.curves)
+    angles = {k: v + theta1 for k, v in s.angles.items()}
+    return replace(s, xy=O2 + turn * s.xy, curves=curves, angles=angles)
 
 
 def _class_sections(page: Page, c: _Case, kind: str, span: str, mu_limit_deg: float) -> None:
@@ -456,7 +516,7 @@ def _class_sections(page: Page, c: _Case, kind: str, span: str, mu_limit_deg: fl
         c.m.theta2, c.m.mu, ok=c.m.assembled, limit_deg=mu_limit_deg
     ).to_svg()
     page.section("angles", "Fundamental angles φij and transmission angle μ", body)
-    ma = fb.mechanical_advantage(c.th, form=c.form)
+    ma = fb.mechanical_advantage(c.th, form=c.form, branch=c.branch)
     finite = np.isfinite(ma)
     mag = np.abs(np.where(finite, ma, np.nan))
     if finite.any():
@@ -498,7 +558,7 @@ def _force_sections(page: Page, c: _Case, f: Any) -> Any:
     u, th = c.u, c.th
     ok = np.ravel(f.ok)
     rows = []
-    pins = {"F12": f.F12, "F32": f.F32, "F43": f.F43, "F14": f.F14}
+    pins = {k: c.turn * getattr(f, k) for k in ("F12", "F32", "F43", "F14")}  # the plane's
     for name, F in pins.items():
         mag = np.where(ok, np.abs(F), np.nan)
         j = int(np.nanargmax(mag))
@@ -585,14 +645,15 @@ def _balancing_section(page: Page, c: _Case, f: Any) -> None:
         inertia=inertia_b,
         cg=cg_b,
         form=c.form,
+        branch=c.branch,
         gravity=c.gravity,
         load_torque4=c.load_torque4,
         external_forces=c.external_forces,
         external_torques=c.external_torques,
     )
     shaking = shaking_charts(
-        f.shaking_force,
-        fb_bal.shaking_force,
+        c.turn * f.shaking_force,
+        c.turn * fb_bal.shaking_force,
         moment_before=f.shaking_moment,
         moment_after=fb_bal.shaking_moment,
         theta=c.th,

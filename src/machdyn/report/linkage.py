@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from itertools import combinations
 from typing import Any
 
@@ -47,13 +47,23 @@ def _title(lk: Any) -> str:
 
 
 def linkage_checks(
-    lk: Any, motion: Any, x: np.ndarray, xdot: float, forces: Any = None, gravity: float = 0.0
+    lk: Any,
+    motion: Any,
+    x: np.ndarray,
+    xdot: float,
+    forces: Any = None,
+    gravity: float = 0.0,
+    loads: Mapping[str, Any] | None = None,
 ) -> list[Check]:
     """Self-checks of a linkage motion (and forces), computed apart from the solver.
 
     Velocities of the centres of mass are written here from each link's first
     point and ω (``v_G = v_p + jω(G − p)``), so the power balance tests the
     driver efforts against a kinetic energy not taken from the force assembler.
+    ``loads`` are the applied loads the forces were found with (``external_forces``,
+    ``external_torques``, and the friction of ``viscous``/``coulomb`` sliders, as
+    :meth:`Linkage.forces` takes them): their power enters the balance and they act
+    on the free bodies.
     """
     ok = np.ravel(motion.ok)
     zero = np.zeros(ok.shape, complex)
@@ -112,14 +122,82 @@ def linkage_checks(
         for e, effort in forces.elements.items():
             term = np.ravel(effort) * np.ravel(forces.element_rate[e])
             p_ext, p_abs = p_ext - term, p_abs + np.abs(term)
+        applied = _applied(lk, motion, points, links, forces, loads or {})
+        for term in applied.power:
+            p_ext, p_abs = p_ext + term, p_abs + np.abs(term)
         good = ok & np.ravel(forces.ok)
         checks.append(power_balance(p_ext, kinetic_energy_rate(bodies), good, scale=p_abs))
         free = linkage_bodies(lk, points, links, motion, forces, gravity)
+        for b in free:
+            for F, X in applied.forces.get(b.name, ()):
+                b.load(F, X, "external")
+            for T in applied.torques.get(b.name, ()):
+                b.torque(T, "external")
         Fs, Ms = np.ravel(forces.shaking_force), np.ravel(forces.shaking_moment)
         checks.append(equilibrium(free, good, rigid.size))
         checks.append(momentum(free, Fs, Ms, good, rigid.size))
         checks.append(momentum_differences(free, Fs, Ms, x, xdot, good, rigid.size))
     return checks
+
+
+@dataclass
+class _Applied:
+    """Applied loads per link (``forces``: (F, X), ``torques``: T) and their powers."""
+
+    forces: dict[str, list[tuple[np.ndarray, np.ndarray]]]
+    torques: dict[str, list[np.ndarray]]
+    power: list[np.ndarray]
+
+
+def _applied(
+    lk: Any,
+    motion: Any,
+    points: Mapping[str, tuple[np.ndarray, np.ndarray, np.ndarray]],
+    links: Mapping[str, tuple[tuple[str, ...], np.ndarray, np.ndarray]],
+    forces: Any,
+    loads: Mapping[str, Any],
+) -> _Applied:
+    """The loads of ``loads`` on each link, and the power of every one of them.
+
+    A point given in a link's frame is placed here from the link's first point and
+    angle (``X = p0 + z e^{jθ}``: the frame's x axis is the line to its second point);
+    a material point's velocity is ``v_p0 + jω(X − p0)``. A slider's friction does
+    work on the relative slip: the slider force times the difference of the two
+    links' velocities at its point (the normal part does none).
+    """
+    from .._validate import point
+
+    n = np.ravel(motion.ok).shape
+
+    def velocity(link: str, X: np.ndarray) -> np.ndarray:
+        if link not in links or link == _GROUND:
+            return np.zeros(n, complex)
+        p0, v0, _ = points[links[link][0][0]]
+        return v0 + 1j * links[link][1] * (X - p0)
+
+    out = _Applied({}, {}, [])
+    for link, at, F in loads.get("external_forces", ()):
+        p0 = points[lk.links[link].points[0]][0]
+        X = (
+            points[at][0]
+            if isinstance(at, str)
+            else p0 + point("external force point", at) * np.exp(1j * np.ravel(motion.theta[link]))
+        )
+        F = np.broadcast_to(np.ravel(np.asarray(F, complex)), n)
+        out.forces.setdefault(link, []).append((F, X))
+        out.power.append((np.conj(F) * velocity(link, X)).real)
+    torques = loads.get("external_torques") or {}
+    for link, T in torques.items() if isinstance(torques, Mapping) else torques:
+        T = np.broadcast_to(np.ravel(np.asarray(T, float)), n)
+        out.torques.setdefault(link, []).append(T)
+        out.power.append(T * links[link][1])
+    joints = {j.name: j for j in lk.joints}
+    for name in {*(loads.get("viscous") or {}), *(loads.get("coulomb") or {})}:
+        j, F = joints[name], np.ravel(forces.sliders[name])
+        X = points[j.points[0]][0]
+        slip = velocity(j.links[0], X) - velocity(j.links[1], X)
+        out.power.append((np.conj(F) * slip).real)
+    return out
 
 
 def linkage_bodies(
@@ -236,8 +314,23 @@ def linkage_report(
     length_unit: str | None = None,
     units: Any = None,
     mu_limit_deg: float = 40.0,
+    external_forces: Any = (),
+    external_torques: Any = (),
+    viscous: Mapping[str, float] | None = None,
+    coulomb: Mapping[str, float] | None = None,
 ) -> Page:
-    """Build the report page of a linkage (see :func:`machdyn.report.report`)."""
+    """Build the report page of a linkage (see :func:`machdyn.report.report`).
+
+    ``external_forces``, ``external_torques``, ``viscous`` and ``coulomb`` are the
+    applied loads, as :meth:`Linkage.forces` takes them (a machine file's
+    ``[[forces]]``, ``torques`` and ``friction``).
+    """
+    loads = {
+        "external_forces": external_forces,
+        "external_torques": external_torques,
+        "viscous": viscous or {},
+        "coulomb": coulomb or {},
+    }
     title = title or _title(lk)
     u = _units(lk, units, length_unit)
     try:
@@ -320,10 +413,12 @@ def linkage_report(
     _transmission_section(page, lk, m, (x, xs), xlabel, is_angle, mu_limit_deg)
     page.section("kinematics", "Kinematics", "".join(c.to_svg(height=240) for c in charts))
     forces = None
-    if any(link.mass > 0 or link.inertia > 0 for link in lk.links.values()):
-        forces = lk.forces(m, gravity=gravity)
+    loaded = any(link.mass > 0 or link.inertia > 0 for link in lk.links.values())
+    if loaded or lk.elements or any(loads.values()):
+        forces = lk.forces(m, gravity=gravity, **loads)
         _force_sections(page, lk, m, forces, (x, xs), xlabel, driver, u, full, velocity, k)
-        _balancing_section(page, lk, forces, (values, rates, gravity), (x, xs), xlabel, u, full)
+        run = (values, rates, gravity, loads)
+        _balancing_section(page, lk, forces, run, (x, xs), xlabel, u, full)
     else:
         page.section(
             "forces",
@@ -331,7 +426,7 @@ def linkage_report(
             '<p class="remark">No link has mass: give link masses '
             "(link(..., mass=, inertia=, cg=)) for pin forces and driver effort.</p>",
         )
-    checks = linkage_checks(lk, m, x, velocity, forces, gravity)
+    checks = linkage_checks(lk, m, x, velocity, forces, gravity, loads)
     page.section(
         "selfcheck",
         "Self-check: independent checks on this machine",
@@ -603,7 +698,7 @@ def _balancing_section(
     from ..shaking import linkage_counterweights
 
     raw, xs = x
-    values, rates, gravity = run
+    values, rates, gravity, loads = run
     bal = linkage_counterweights(lk)
     after = m_after = None
     ok = np.ravel(f.ok)
@@ -614,7 +709,7 @@ def _balancing_section(
     if bal.counterweights:
         balanced = bal.apply(lk)
         with np.errstate(all="ignore"):
-            fb = balanced.forces(balanced.solve(values, velocity=rates), gravity=gravity)
+            fb = balanced.forces(balanced.solve(values, velocity=rates), gravity=gravity, **loads)
         ok = ok & np.ravel(fb.ok)
         after = np.where(ok, np.ravel(fb.shaking_force), np.nan)
         m_after = np.where(ok, np.ravel(fb.shaking_moment), np.nan)

@@ -49,7 +49,7 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
     >>> sorted(part_options(m.parts["hw6"], m))  # doctest: +SKIP
     ['cg', 'gravity', 'inertia', 'mass', 'omega2', 'units']
     """
-    from ..spec._fourbar import _external, _in_own_frame, _masses, input_motion
+    from ..spec._fourbar import _external, _in_own_frame, _masses, input_motion, placement
 
     v, kind = part.values, part.kind
     options: dict[str, Any] = {"units": machine.units}
@@ -58,7 +58,11 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         _, omega2, _ = input_motion(part, machine, results or {})
         options["omega2"] = omega2
         options["form"] = v.get("form", 1)
+        if v.get("branch") is not None:  # a GRCR/GRRC four-bar's half of its circuit
+            options["branch"] = v["branch"]
     if kind == "fourbar":
+        if placement(v) is not None:
+            options["placement"] = placement(v)
         masses = _masses(v, (2, 3, 4))
         if masses is not None:
             loads = v.get("loads", {})
@@ -70,7 +74,7 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         if masses is not None:
             loads = v.get("loads", {})
             masses["inertia"], masses["cg"] = masses["inertia"][:2], masses["cg"][:2]
-            options |= masses | {"gravity": gravity}
+            options |= masses | {"gravity": gravity} | _external(loads, (2, 3))
             options["load_force4"] = loads.get("force4", 0.0)
             for key in ("friction", "mu", "beta"):
                 if key in loads:
@@ -79,13 +83,16 @@ def part_options(part: Any, machine: Any, results: dict[str, Any] | None = None)
         masses = _masses(v, (2, 3, 4))
         if masses is not None:
             loads = v.get("loads", {})
-            options |= masses | {"gravity": gravity}
+            options |= masses | {"gravity": gravity} | _external(loads, (2, 3, 4))
             options["load_torque4"] = loads.get("torque4", 0.0)
             for key in ("friction", "mu", "beta"):
                 if key in loads:
                     options[key] = loads[key]
     elif kind == "linkage":
+        from ..spec._linkage import loads as linkage_loads
+
         options["gravity"] = gravity
+        options |= linkage_loads(part)
         lk = part.model
         first = v.get("motion", {}).get(lk.drivers[0]) if lk.drivers else None
         if first is not None:  # a DriverSetting, in the model's units (radians)

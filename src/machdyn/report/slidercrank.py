@@ -39,7 +39,7 @@ from .checks import (
     power_balance,
     power_of_loads,
 )
-from .fourbar import _along, _rigid, _units, flywheel_table
+from .fourbar import _along, _applied, _rigid, _units, flywheel_table
 from .page import Page, esc, fmt
 
 __all__ = [
@@ -86,6 +86,8 @@ def slidercrank_checks(
     cg: Any = None,
     gravity: float = 0.0,
     load_force4: Any = 0.0,
+    external_forces: Any = (),
+    external_torques: Any = (),
 ) -> list[Check]:
     """Self-checks of a slider-crank motion (and forces), computed apart from the solver.
 
@@ -149,6 +151,10 @@ def slidercrank_checks(
     bodies[4].load(-F43, B, "joint")
     bodies[4].load(F14, B, "ground")
     bodies[4].load(np.ravel(load_force4) * one + 0j, B, "external")
+    # the block is a particle on its slide line (a load's moment about B goes to the guide,
+    # which the model does not print): its loads act at B
+    frames = {2: lambda z: _along(zero, A, z), 3: lambda z: _along(A, B, z), 4: lambda z: B}
+    _applied(bodies, frames, external_forces, external_torques, one, sc.length_unit, (4,))
     good = ok & np.ravel(f.ok)
     power, dke, scale = power_of_loads(list(bodies.values()))
     checks.append(power_balance(power, dke, good, scale=scale))
@@ -201,11 +207,14 @@ def slidercrank_sections(
     units: Any = None,
     length_unit: str | None = None,
     balance_fraction: float = 0.0,
+    external_forces: Any = (),
+    external_torques: Any = (),
 ) -> str:
     """Add a slider-crank's sections to ``page``; returns its first line.
 
     ``balance_fraction`` is the part of the reciprocating mass the crank
-    counterweight overbalances (0: the rotating masses only).
+    counterweight overbalances (0: the rotating masses only); ``external_forces``
+    and ``external_torques`` as :meth:`SliderCrank.dynamics` takes them.
     """
     u = _units(sc, units, length_unit)
     th = slidercrank_sweep(sc, n)
@@ -304,6 +313,8 @@ def slidercrank_sections(
             friction=friction,
             mu=mu,
             beta=beta,
+            external_forces=external_forces,
+            external_torques=external_torques,
         )
         fly = _slider_forces(page, sc, th, forces, u, omega2, k, rng is None)
         _slider_balancing(
@@ -324,6 +335,8 @@ def slidercrank_sections(
                 "mu": mu,
                 "beta": beta,
                 "balance_fraction": balance_fraction,
+                "external_forces": external_forces,
+                "external_torques": external_torques,
             },
         )
     else:
@@ -334,7 +347,10 @@ def slidercrank_sections(
             "inertia=(IG2, IG3), cg=(c2, c3) for pin forces, crank torque, shaking and "
             "flywheel.</p>",
         )
-    checks = slidercrank_checks(sc, m, omega2, forces, mass, inertia, cg, gravity, load_force4)
+    checks = slidercrank_checks(
+        sc, m, omega2, forces, mass, inertia, cg, gravity, load_force4,
+        external_forces, external_torques,
+    )  # fmt: skip
     if fly is not None:
         checks.append(flywheel_energy(fly.theta, fly.torque, fly))
     page.section(
@@ -506,6 +522,8 @@ def inverted_checks(
     cg: Any = None,
     gravity: float = 0.0,
     load_torque4: Any = 0.0,
+    external_forces: Any = (),
+    external_torques: Any = (),
 ) -> list[Check]:
     """Self-checks of an inverted slider-crank motion (and forces), computed apart from the solver.
 
@@ -563,6 +581,9 @@ def inverted_checks(
         return checks
     w = (w2, a2, w4, a4)
     bodies = _inverted_bodies(points, w, e, forces, mass, inertia, cg, gravity, load_torque4)
+    frames = {2: lambda z: _along(zero, A, z), 3: lambda z: A + z * e, 4: lambda z: O4 + z * e}
+    _applied(dict(zip((2, 3, 4), bodies, strict=True)), frames, external_forces,
+             external_torques, one, isc.length_unit)  # fmt: skip
     good = ok & np.ravel(forces.ok)
     power, dke, scale = power_of_loads(bodies)
     checks.append(power_balance(power, dke, good, scale=scale))
@@ -663,9 +684,15 @@ def inverted_sections(
     k: float | None = None,
     units: Any = None,
     length_unit: str | None = None,
+    external_forces: Any = (),
+    external_torques: Any = (),
     **ignored: Any,
 ) -> str:
-    """Add an inverted slider-crank's sections to ``page``; returns its first line."""
+    """Add an inverted slider-crank's sections to ``page``; returns its first line.
+
+    ``external_forces`` and ``external_torques`` as :meth:`InvertedSliderCrank.dynamics`
+    takes them.
+    """
     u = _units(isc, units, length_unit)
     th = slidercrank_sweep(isc, n)
     m = isc.solve(th, omega2, form=form)
@@ -723,6 +750,8 @@ def inverted_sections(
             friction=friction,
             mu=mu,
             beta=beta,
+            external_forces=external_forces,
+            external_torques=external_torques,
         )
         fly = _slider_forces(page, isc, th, forces, u, omega2, k, assembled.all())
         _inverted_shaking(page, th, forces, u, bool(assembled.all()))
@@ -734,7 +763,10 @@ def inverted_sections(
             "inertia=(IG2, IG3, IG4), cg=(c2, c3, c4) (block and slotted link: x along the "
             "slot) for pin forces, crank torque, shaking and flywheel.</p>",
         )
-    checks = inverted_checks(isc, m, omega2, forces, mass, inertia, cg, gravity, load_torque4)
+    checks = inverted_checks(
+        isc, m, omega2, forces, mass, inertia, cg, gravity, load_torque4,
+        external_forces, external_torques,
+    )  # fmt: skip
     if fly is not None:
         checks.append(flywheel_energy(fly.theta, fly.torque, fly))
     page.section(

@@ -582,6 +582,22 @@ def has_loads(part: Part) -> bool:
     )
 
 
+def loads(part: Part) -> dict[str, Any]:
+    """The part's applied loads as ``Linkage.forces`` takes them (for ``run`` and ``report``).
+
+    ``external_forces``, ``external_torques``, ``viscous`` and ``coulomb``; gravity is the
+    machine's.
+    """
+    v = part.values
+    friction = v.get("friction", {})
+    return {
+        "external_forces": [(e["link"], e["at"], e["force"]) for e in v.get("forces", [])],
+        "external_torques": dict(v.get("torques", {})),
+        "viscous": {k: e["viscous"] for k, e in friction.items() if "viscous" in e},
+        "coulomb": {k: e["coulomb"] for k, e in friction.items() if "coulomb" in e},
+    }
+
+
 def _run(part: Part, machine: Machine, results: dict, forces: bool | None = None) -> PartResult:
     lk, v = part.model, part.values
     settings = driver_inputs(part, machine, results)
@@ -623,14 +639,7 @@ def _run(part: Part, machine: Machine, results: dict, forces: bool | None = None
         pts |= {"ok": (m.ok, None), "reason": (m.reason, None)}
         out.tables.append(_table("points", f"Points of {part.name}", pts))
     if forces if forces is not None else has_loads(part):
-        friction = v.get("friction", {})
-        options = {
-            "gravity": machine.gravity or 0.0,
-            "external_forces": [(e["link"], e["at"], e["force"]) for e in v.get("forces", [])],
-            "external_torques": dict(v.get("torques", {})),
-            "viscous": {k: e["viscous"] for k, e in friction.items() if "viscous" in e},
-            "coulomb": {k: e["coulomb"] for k, e in friction.items() if "coulomb" in e},
-        }
+        options = {"gravity": machine.gravity or 0.0, **loads(part)}
         f = lk.forces(m, **options)
         out.objects["forces"] = f
         out.tables.append(_forces_table(part, f, angles, values))

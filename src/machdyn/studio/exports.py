@@ -227,16 +227,10 @@ def export(
     if fmt == "dxf":
         return FileAnswer(_dxf(scene, p.model, k, machine.units.length), mime, stem + end)
     from ..report import report
+    from ..report.machine import part_options
 
-    velocity = 1.0
-    setting = (p.values.get("motion") or {}).get(p.model.drivers[0])
-    if setting is not None and setting.velocity is not None:
-        velocity = float(setting.velocity)
-    page = report(
-        p.model,
-        None,
-        velocity=velocity,
-        gravity=float(machine.gravity or 0.0),
-        length_unit=machine.units.length,
-    )
+    # as `machdyn report` of the file: speed, gravity, loads and units (its own sweep)
+    options = part_options(p, machine)
+    options.pop("values", None)
+    page = report(p.model, None, **options)
     return FileAnswer(page.encode("utf-8"), mime, stem + "-report" + end)

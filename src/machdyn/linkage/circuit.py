@@ -1,0 +1,524 @@
+"""Which samples a drawn linkage reaches: the circuit of the drawing.
+
+Every closed-form group keeps its drawn assembly sign at every sample, and the
+vector-loop core keeps each general group's drawn branch (the sign of its
+determinant); but a sign is not a circuit. Where a group stops closing (a
+toggle) the mechanism stops; further on it may close again with the same sign
+on its *other* circuit, which only taking the mechanism apart reaches. This
+module tells which samples the drawing reaches without that
+(docs/linkage.md, "Circuit selection"):
+
+* **One driver** (:func:`_circuit`): the connected range of the driver around
+  its drawn value on which every group closes — any motion of the driver from
+  the drawing that stays in it; found once per model and then one comparison
+  per sample. A general group closes where the core, following the driver
+  from the drawing, assembles it.
+* **Several drivers** (:func:`_path_lost`): what the drawing reaches is a
+  region of the drivers' values, so reaching a sample depends on the path the
+  drivers take to it. For a sweep that path is the motion itself: from the
+  drawn pose straight to the first sample, then sample to sample, each
+  straight in the drivers' values (an angle within π of the drawn one on the
+  first stretch); a sample is reached when every group closes all along it to
+  that sample, and once the path has left that region no later sample is.
+  Samples solved independently (grids, ``continuation=False``) each take the
+  straight path from the drawing (angles within π of the drawn ones). The
+  path is scanned in steps of :data:`H` (scaled driver units: radians, or
+  typical lengths) and where it leaves narrowed 64-fold seven times.
+* **Change points** (:func:`change_points`, :func:`flips`): where a dyad's two
+  forms cross (a parallelogram four-bar in line), a sweep follows the drawn
+  form by continuity, turning that dyad's assembly sign.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from . import kernel
+from .program import NO_ASSEMBLY, Dyad, General, Program, RArm
+
+if TYPE_CHECKING:
+    from .builder import Linkage
+    from .sweep import _Info
+    from .topology import _Model
+
+#: Largest step of a path scan: half a degree, or 1/115 of a typical length.
+H = 2.0 * np.pi / 720
+#: Path points per program run of a scan (memory: a few MB per group).
+CHUNK = 200_000
+
+
+def off_circuit(
+    lk: Linkage, model: _Model, info: _Info, U0: np.ndarray, codes: np.ndarray, follow: bool
+) -> tuple[np.ndarray, np.ndarray, Any] | None:
+    """The samples assembled off the drawing's circuit: ``(mark, away, reason)``, or None.
+
+    ``U0`` holds the drivers' values (one row each), ``codes`` each group's
+    status per sample. ``away`` marks the samples, ``mark`` (groups × samples)
+    the groups to flag there (their links and dependants become NaN) and
+    ``reason`` is one text, or one per sample of ``away``.
+    """
+    n = codes.shape[1]
+    if len(lk._drivers) == 1:
+        arc = _circuit(lk, model, info)
+        away = None if arc is None else _off_circuit(arc, U0[0], codes)
+        if away is None:
+            return None
+        mark = np.zeros(codes.shape, bool)
+        mark[np.ix_(arc[2], away)] = True
+        return mark, away, _away_text(lk, model, info, arc)
+    steps = model.program.steps
+    if not n or not steps or any(isinstance(s, General) for s in steps):
+        return None
+    return _path_lost(lk, model, info, U0, codes, follow)
+
+
+def _away_text(lk: Linkage, model: _Model, info: _Info, arc: tuple) -> str:
+    """The reason of a sample outside the drawn range ``arc`` (see :func:`_circuit`)."""
+    lo, hi, groups, period = arc
+    span = (
+        f"[{math.degrees(lo):.5g}°, {math.degrees(hi):.5g}°]"
+        if period is not None
+        else f"[{lo:.6g}, {hi:.6g}]"
+    )
+    if len(groups) == 1:
+        who = f"{info.texts[groups[0]][2]} is"
+    else:  # a different group stops closing at each end
+        names = [model.groups[g].name for g in groups]
+        who = f"{names[0]} (at {lk._drivers[0]}'s upper end) and {names[1]} (lower end) are"
+    return (
+        f"{who} on another circuit at this input: the drawn mechanism reaches "
+        f"{lk._drivers[0]} in {span} only (it would have to be taken apart)"
+    )
+
+
+def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
+    """The range of a lone driver that the drawn pose can reach, when it is not everything.
+
+    Every closed-form group keeps its drawn assembly sign, but a driver value
+    at which the groups close on a *separate* range (a Grashof four-bar whose
+    coupler is the shortest link, driven at a rocker: two mirror arcs; a
+    slider-crank driven at its slider: the block on the other side of the
+    crank's pivot; the second loop of a Watt II six-bar closing on two arcs of
+    the first loop's rocker swing) puts the linkage on its other circuit there,
+    which no motion of the drawn mechanism reaches: moving the driver from the
+    drawing, the mechanism stops where the first of its groups stops closing
+    (a toggle), so what it reaches is the connected range around the drawn
+    value on which *every* group closes. Returns ``(lo, hi, groups, period)``
+    — that range (edges refined by :func:`_refine`; ±inf where a length driver's
+    groups close beyond ±10 typical lengths), the first group (in solving
+    order) that stops closing at its upper and at its lower end, and 2π for an
+    angle (None for a length) — or None when the groups close everywhere. Not
+    asked (None): several drivers (the reachable set is a region of the
+    drivers' space, not a range: :func:`_path_lost`). A group the closed
+    forms do not cover (the vector-loop core) closes where the core, following
+    the driver from the drawing on the drawn branch, assembles it.
+    """
+    if "circuit" in model.cache:
+        return model.cache["circuit"]  # type: ignore[return-value]
+    arc = None
+    driver = lk._drivers[0] if len(lk._drivers) == 1 else None
+    steps = model.program.steps
+    if driver is not None and steps:
+        general = any(isinstance(s, General) for s in steps)
+        t0 = float(info.start[0])
+        failing = _one_failing(model, driver in lk._actuators, t0, float(info.scale[0]), general)
+        period = 2.0 * np.pi if driver in info.angle_drivers else None
+        if period is not None:  # a turn from the drawn angle, the lower end reached below it
+            n = 720
+            up = t0 + np.linspace(0.0, period, n, endpoint=False)
+            down = t0 - np.linspace(0.0, period, n, endpoint=False)
+            bad_up = (failing(up) if general else _turn(model, info)[2]).any(axis=0)
+            # down[k] is up[n - k] less a turn (a general group: followed each way on its own)
+            bad_down = failing(down).any(axis=0) if general else np.roll(bad_up[::-1], 1)
+        else:  # ±10 typical lengths each way
+            n = 721
+            up = t0 + np.linspace(0.0, 10.0 * float(info.scale[0]), n)
+            down = t0 - np.linspace(0.0, 10.0 * float(info.scale[0]), n)
+            bad_up, bad_down = failing(up).any(axis=0), failing(down).any(axis=0)
+        if (bad_up.any() or bad_down.any()) and not bad_up[0]:
+            arc = _ends(t0, period, up, down, bad_up, bad_down, failing)
+    model.cache["circuit"] = arc
+    return arc
+
+
+def _turn(model: _Model, info: _Info) -> tuple[np.ndarray, Any, np.ndarray]:
+    """A lone angle driver's turn from its drawn value (720 values), the program run over it.
+
+    Returns the values, the state and which groups do not close (groups × values);
+    shared by :func:`_circuit` and :func:`change_points` (closed-form groups only).
+    """
+    if "turn" not in model.cache:
+        x = float(info.start[0]) + np.linspace(0.0, 2.0 * np.pi, 720, endpoint=False)
+        with np.errstate(all="ignore"):
+            st, codes = model.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
+        model.cache["turn"] = (x, st, codes == NO_ASSEMBLY)
+    return model.cache["turn"]  # type: ignore[return-value]
+
+
+def _one_failing(model: _Model, wall: bool, t0: float, scale: float, general: bool):
+    """A function: values of the lone driver → per group and value, it does not close.
+
+    (A group after one that does not close is placed from NaN: it does not
+    either.) ``wall``: the driver is an actuator, whose length stays > 0. With a
+    ``general`` group (solved by the vector-loop core) the values are reached
+    from the drawn value ``t0`` by continuation, as a sweep would: those above
+    it in one march upwards, those below in one downwards (the core keeps the
+    drawn branch, and does not close where that branch does not exist).
+    """
+    program = model.program
+
+    def run(x: np.ndarray, follow: bool) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            _, codes = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, follow)
+        return codes == NO_ASSEMBLY
+
+    def failing(x: np.ndarray) -> np.ndarray:
+        if not general:
+            out = run(x, False)  # (groups, samples)
+        else:
+            from .sweep import _path
+
+            out = np.zeros((len(program.deps), x.size), bool)
+            for side in (x >= t0, x < t0):
+                idx = np.flatnonzero(side)
+                if idx.size:
+                    idx = idx[np.argsort(np.abs(x[idx] - t0), kind="stable")]
+                    path, tags = _path(np.array([t0]), np.array([scale]), x[idx][None, :])
+                    take = np.flatnonzero(tags < 0)
+                    out[:, idx[-1 - tags[take]]] = run(path[0], True)[:, take]
+        if wall:
+            out[0] |= x <= 0.0
+        return out
+
+    return failing
+
+
+def _ends(t0, period, up, down, bad_up, bad_down, failing) -> tuple | None:
+    """Refine the first failing sample of each scan (both at once) to the range's ends."""
+    a, b, k_up, k_down = [], [], int(np.argmax(bad_up)), int(np.argmax(bad_down))
+    for x, bad, k in ((up, bad_up, k_up), (down, bad_down, k_down)):
+        a.append(x[k - 1] if bad.any() else x[-1])  # a closes, b does not
+        b.append(x[k] if bad.any() else x[-1])
+    scanned = np.array(b)
+    a, b = _refine(np.array(a), scanned, lambda x: ~failing(x).any(axis=0), True)
+    # the first group (solving order) not closing just past each end (at the scanned
+    # value, should a core's Newton still close one just past a toggle)
+    past, there = np.split(failing(np.concatenate((b, scanned))), 2, axis=1)
+    first = np.where(past.any(axis=0), past, there)
+    ends, groups = [], []
+    for i, (x, bad) in enumerate(((up, bad_up), (down, bad_down))):
+        if bad.any():
+            ends.append(float(a[i]))
+            groups.append(int(np.argmax(first[:, i])))
+        else:
+            ends.append(math.copysign(math.inf, x[-1] - t0))
+    hi, lo = ends
+    if period is not None and hi - lo >= period - 1e-9:
+        return None
+    return lo, hi, tuple(dict.fromkeys(groups)), period
+
+
+def _refine(a: np.ndarray, b: np.ndarray, state, at_a: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Narrow brackets ``[a, b]`` (arrays) where ``state`` changes from ``at_a`` to not.
+
+    Each pass cuts every bracket in 64 and keeps the first cell where the state
+    changes, all brackets in one call of ``state``: seven passes narrow them
+    64⁷ ≈ 4·10¹² times (a bisection needs 42 calls for that).
+    """
+    k = np.linspace(0.0, 1.0, 65)
+    for _ in range(7):
+        x = a[:, None] + (b - a)[:, None] * k
+        same = state(x.ravel()).reshape(x.shape) == np.reshape(at_a, (-1, 1))
+        j = np.maximum(np.argmin(same, axis=1), 1)  # the first cell past the change
+        j = np.where(same.all(axis=1), 64, j)  # (rounding: no change seen, keep the end)
+        rows = np.arange(x.shape[0])
+        a, b = x[rows, j - 1], x[rows, j]
+    return a, b
+
+
+def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
+    """The samples assembled outside the drawn range, on the other circuit (None: none)."""
+    lo, hi, _, period = arc
+    if period is None:
+        tol = 1e-9 * (1.0 + max(abs(v) for v in (lo, hi) if math.isfinite(v)))
+        away = (theta < lo - tol) | (theta > hi + tol)
+    else:
+        away = np.remainder(theta - lo, period) > (hi - lo) + 1e-9 * (1.0 + abs(hi))
+    if not away.any():
+        return None
+    away &= ~(codes == NO_ASSEMBLY).any(axis=0)  # in the gap between: "does not close" stays
+    return away if away.any() else None
+
+
+# ------------------------------------------------------------- several drivers
+def _failing(lk: Linkage, model: _Model, info: _Info):
+    """A function: driver values (drivers × m) → per group and point, it does not close."""
+    program = model.program
+    walls = [i for i, d in enumerate(lk._drivers) if d in lk._actuators]
+
+    def failing(x: np.ndarray) -> np.ndarray:
+        out = np.zeros((len(program.deps), x.shape[1]), bool)
+        for k in range(0, x.shape[1], CHUNK):
+            part = x[:, k : k + CHUNK]
+            U = np.zeros((4 * part.shape[0], part.shape[1]))
+            U[0::4] = part
+            with np.errstate(all="ignore"):
+                codes = kernel.run(program, info.tables, U, 0, False).codes
+            out[:, k : k + CHUNK] = codes == NO_ASSEMBLY
+        for i in walls:  # an actuator's length stays > 0: its group does not close
+            out[_group_of_driver(model, i)] |= x[i] <= 0.0
+        return out
+
+    return failing
+
+
+def _group_of_driver(model: _Model, d: int) -> int:
+    """The group whose step reads driver ``d`` (an actuator: the dyad with its bar)."""
+    for g, step in zip(model.program.group_of_step, model.program.steps, strict=True):
+        arms = [getattr(step, a, None) for a in ("arm1", "arm2")]
+        if getattr(step, "driver", -1) == d or any(getattr(a, "driver", -1) == d for a in arms):
+            return g
+    return 0
+
+
+def _path_lost(
+    lk: Linkage, model: _Model, info: _Info, U0: np.ndarray, codes: np.ndarray, follow: bool
+) -> tuple[np.ndarray, np.ndarray, Any] | None:
+    """Several drivers: the samples no path of the module's reaches inside where groups close.
+
+    Returns as :func:`off_circuit`.
+    """
+    n, start = U0.shape[1], info.start[:, None]
+    follow = follow and n > 1  # one pose: its path is the straight one
+    angle = np.array([d in info.angle_drivers for d in lk._drivers])[:, None]
+    turns = np.where(angle, 2.0 * np.pi * np.round((U0 - start) / (2.0 * np.pi)), 0.0)
+    ends = U0 - turns  # each sample, its angles within π of the drawn ones
+    scan = _Scan(lk, model, info)
+    at_end = (codes == NO_ASSEMBLY).any(axis=0)
+    for i, d in enumerate(lk._drivers):
+        if d in lk._actuators:
+            at_end |= ends[i] <= 0.0
+    k = np.arange(n)
+    if follow:  # the sweep's legs: drawing → sample 0 → sample 1 ...
+        along = U0 - turns[:, :1]
+        prev = np.concatenate((start, along[:, :-1]), axis=1)
+        leg_out = scan.first_out(prev, along, at_end)
+        broken = leg_out <= 1.0
+        if not broken.any():
+            return None
+        todo = np.flatnonzero(~at_end & (k >= np.argmax(broken)))
+    else:
+        todo = np.flatnonzero(~at_end)
+    straight = np.full(n, 2.0)
+    straight[todo] = scan.first_out(start, ends[:, todo], at_end[todo])
+    reached = ~at_end & (straight > 1.0)
+    if follow:  # or reached along the sweep from the last sample reached
+        last_break = np.maximum.accumulate(np.where(broken, k, -1))
+        last_seed = np.maximum.accumulate(np.where(reached, k, -1))
+        reached = ~at_end & (last_seed >= last_break)
+    away = ~at_end & ~reached
+    if not away.any():
+        return None
+    idx = np.flatnonzero(away)
+    group, where = scan.exit(np.broadcast_to(start, ends[:, idx].shape), ends[:, idx],
+                             straight[idx])  # fmt: skip
+    texts = [
+        scan.text(g, w, "straight path from the drawing to this input")
+        for g, w in zip(group, where.T, strict=True)
+    ]
+    if follow:  # and where the sweep left after the last sample it reached
+        after = np.minimum.accumulate(np.where(broken, k, n)[::-1])[::-1]  # next break from k
+        legs, inverse = np.unique(after[last_seed[idx] + 1], return_inverse=True)
+        g_leg, w_leg = scan.exit(prev[:, legs], along[:, legs], leg_out[legs])
+        w_leg += turns[:, :1]
+        sweep = [scan.text(g, w, f"path along the sweep (before sample {j})")
+                 for g, w, j in zip(g_leg, w_leg.T, legs, strict=True)]  # fmt: skip
+        texts = [f"{sweep[i]}; {t}" for i, t in zip(inverse.ravel(), texts, strict=True)]
+    mark = np.zeros(codes.shape, bool)
+    mark[group, idx] = True
+    reason = np.empty(idx.size, object)
+    word = "along them" if follow else "along it"
+    reason[:] = [f"{t}: the mechanism cannot reach this input {word} without being taken apart"
+                 for t in texts]  # fmt: skip
+    return mark, away, reason
+
+
+class _Scan:
+    """Straight stretches of the drivers' values scanned for where a group stops closing."""
+
+    def __init__(self, lk: Linkage, model: _Model, info: _Info) -> None:
+        self.lk, self.model, self.info = lk, model, info
+        self.failing = _failing(lk, model, info)
+        self.scale = info.scale[:, None]
+
+    def first_out(self, p0: np.ndarray, p1: np.ndarray, at_end: np.ndarray) -> np.ndarray:
+        """Per stretch ``p0 → p1`` (columns): where the first group stops closing.
+
+        The fraction of the stretch at its first point (steps of :data:`H`) where
+        a group does not close; 1: only at its end (``at_end``); 2: nowhere.
+        """
+        p0 = np.broadcast_to(p0, p1.shape)
+        if not p1.shape[1]:
+            return np.zeros(0)
+        count = np.ceil(np.max(np.abs(p1 - p0) / self.scale, axis=0) / H).astype(np.int64)
+        count = np.maximum(count, 1)  # count − 1 points inside each, then its end
+        leg = np.repeat(np.arange(p1.shape[1]), count - 1)
+        first = np.concatenate(([0], np.cumsum(count - 1)[:-1]))
+        inner = np.arange(leg.size) - np.repeat(first, count - 1) + 1
+        frac = inner / np.repeat(count, count - 1)
+        out = np.where(at_end, 1.0, 2.0)
+        if leg.size:
+            bad = np.flatnonzero(self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg]).any(axis=0))
+            np.minimum.at(out, leg[bad], frac[bad])
+        return out
+
+    def exit(self, p0: np.ndarray, p1: np.ndarray, out: np.ndarray):
+        """Where each stretch leaves, from its first failing fraction ``out`` (as scanned).
+
+        The first group not closing just past it, and the last values where all close.
+        """
+        count = np.maximum(np.ceil(np.max(np.abs(p1 - p0) / self.scale, axis=0) / H), 1.0)
+        a, b = np.maximum(out - 1.0 / count, 0.0), out
+        m = len(self.lk._drivers)
+
+        def closes(x: np.ndarray) -> np.ndarray:
+            f = x.reshape(p1.shape[1], -1)
+            z = p0[:, :, None] + f[None] * (p1 - p0)[:, :, None]
+            return ~self.failing(z.reshape(m, -1)).any(axis=0)
+
+        a, b = _refine(a, b, closes, True)
+        # the first group not closing just past the edge (at the scanned point, should
+        # rounding put the edge's far side back inside)
+        both = self.failing(np.concatenate((p0 + b * (p1 - p0), p0 + out * (p1 - p0)), axis=1))
+        past, scanned = both[:, : out.size], both[:, out.size :]
+        group = np.where(past.any(axis=0), np.argmax(past, axis=0), np.argmax(scanned, axis=0))
+        return group, p0 + a * (p1 - p0)
+
+    def text(self, g: int, at: np.ndarray, path: str) -> str:
+        """``group`` and where ``path`` leaves it."""
+        values = [
+            f"{d} = {math.degrees(x):.5g}°" if d in self.info.angle_drivers else f"{d} = {x:.6g}"
+            for d, x in zip(self.lk._drivers, at, strict=True)
+        ]
+        name = self.model.groups[g].name
+        return f"the drivers' {path} leaves where {name} closes at {', '.join(values)}"
+
+
+# -------------------------------------------------------------- change points
+def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, float], ...]:
+    """Where a dyad passes a change point, for a lone angle driver: ``(group, value)`` pairs.
+
+    At a change point (a four-bar with ``s + l = p + q``: all its pivots in
+    line) a dyad's two circles touch while it closes on both sides: its two
+    forms (a parallelogram's and an antiparallelogram's) meet and cross there.
+    Holding the drawn assembly sign through it would go on along the *other*
+    form; the drawn form goes on smoothly (the coupler angle and its rate
+    continuous: a parallelogram's coupler stays parallel to the ground) with
+    the other sign, and that is the one a sweep follows (:func:`flips`).
+    Found once per model: each RRR dyad's margin ``min(D − |e − f|, e + f − D)``
+    (``D`` between its pivots, relative to ``e + f``) over a turn of the driver
+    (720 values), every dip that closes on both sides narrowed 32-fold seven
+    times; a change point where its least margin is within
+    :data:`machdyn.classify.CHANGE_POINT_RTOL` of zero. Values in
+    ``[drawn, drawn + 2π)``.
+    """
+    if "change points" in model.cache:
+        return model.cache["change points"]  # type: ignore[return-value]
+    from ..classify import CHANGE_POINT_RTOL
+
+    program, found = model.program, []
+    dyads = [
+        (g, s)
+        for g, s in zip(program.group_of_step, program.steps, strict=True)
+        if isinstance(s, Dyad)
+        and all(isinstance(a, RArm) and a.driver < 0 for a in (s.arm1, s.arm2))
+    ]
+    one = len(lk._drivers) == 1 and lk._drivers[0] in info.angle_drivers
+    if one and dyads and not any(isinstance(s, General) for s in program.steps):
+
+        def margins(x: np.ndarray, st: Any = None) -> np.ndarray:
+            """Per dyad and value: its margin.
+
+            NaN where its pivots meet (a kite's crank over the far pivot, where the
+            dyad turns freely: not a crossing of its forms).
+            """
+            with np.errstate(all="ignore"):
+                if st is None:
+                    st, _ = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
+                rows = []
+                for _, s in dyads:
+                    D = np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre))
+                    e, f = s.arm1.length, s.arm2.length
+                    m = np.minimum(D - abs(e - f), e + f - D) / (e + f)
+                    rows.append(np.where(1e-6 * (e + f) < D, m, np.nan))
+            return np.broadcast_to(np.array(rows), (len(dyads), x.size))
+
+        x, st, _ = _turn(model, info)
+        step = x[1] - x[0]
+        M = margins(x, st)
+        for i, (g, _) in enumerate(dyads):
+            m, before, after = M[i], np.roll(M[i], 1), np.roll(M[i], -1)
+            dip = (m <= before) & (m <= after) & (before > 0) & (after > 0) & (m < 1e-3)
+            for k in np.flatnonzero(dip):
+                lo, hi = x[k] - step, x[k] + step
+                for _ in range(7):
+                    z = np.linspace(lo, hi, 65)
+                    mz = margins(z)[i]
+                    if np.isnan(mz).all():
+                        break
+                    j = int(np.nanargmin(mz))
+                    lo, hi = z[max(j - 1, 0)], z[min(j + 1, 64)]
+                if np.isfinite(mz).any() and abs(mz[j]) <= CHANGE_POINT_RTOL:
+                    found.append((g, x[0] + float(np.remainder(z[j] - x[0], 2.0 * np.pi))))
+    model.cache["change points"] = out = tuple(found)
+    return out
+
+
+def flips(
+    lk: Linkage, model: _Model, info: _Info, x: np.ndarray, follow: bool
+) -> list[tuple[Program, np.ndarray]]:
+    """The samples past an odd number of a dyad's change points, and the program for them.
+
+    A sample's path from the drawn value crosses the change points between the
+    two (a sweep's values as given; samples solved independently take the
+    value within π of the drawn one); past an odd number of a dyad's, the
+    drawn form has the other assembly sign there. Returns ``(program, mask)``
+    per combination of dyads to flip (the program with those signs turned).
+    """
+    points = change_points(lk, model, info)
+    if not points:
+        return []
+    t0 = float(info.start[0])
+    if not follow:
+        x = x - 2.0 * np.pi * np.round((x - t0) / (2.0 * np.pi))
+    odd: dict[int, np.ndarray] = {}
+    for g, c in points:
+        turns = (x - c) / (2.0 * np.pi)
+        count = np.where(
+            x >= t0, np.maximum(0.0, np.ceil(turns)), np.maximum(0.0, -1.0 - np.floor(turns))
+        )
+        odd[g] = odd.get(g, 0) + count.astype(np.int64)
+    groups = sorted(odd)
+    pattern = np.stack([odd[g] % 2 for g in groups])  # (groups, samples)
+    out = []
+    for combo in np.unique(pattern, axis=1).T:
+        if not combo.any():
+            continue
+        mask = (pattern == combo[:, None]).all(axis=0)
+        flip = frozenset(g for g, c in zip(groups, combo, strict=True) if c)
+        key = ("flipped", flip)
+        if key not in model.cache:
+            from dataclasses import replace
+
+            program = model.program
+            steps = [
+                replace(s, sign=-s.sign) if g in flip else s
+                for g, s in zip(program.group_of_step, program.steps, strict=True)
+            ]
+            model.cache[key] = Program(program.n_links, steps, program.group_of_step,
+                                       program.deps, program.links, program.unwrap)  # fmt: skip
+        out.append((model.cache[key], mask))
+    return out
