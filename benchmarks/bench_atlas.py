@@ -10,6 +10,8 @@ Run:
     python benchmarks/bench_atlas.py --atlas DIR --recovery 20 --seed 7
                                                    # four-bar recovery: closed, timed, open,
                                                    # open-timed targets of random crank-rockers
+    python benchmarks/bench_atlas.py --atlas DIR --hard [--repeats 3] [--time-limit 2.5]
+                                                   # awkward open targets: time per target
 
 Targets (issue 14): >= 10^7 four-bars in <= 15 min and <= 4 GB on the 2-core machine;
 linear in workers within +-20 % from 1 to 2; query on a 10^7 atlas <= 1 s; query + refine
@@ -309,6 +311,56 @@ def fourbar_recovery(at, count: int, seed: int, kinds, verbose: bool) -> None:
               f"{np.median(wall):.2f} s")  # fmt: skip
 
 
+def _hard_targets() -> dict:
+    """Awkward open targets (name -> (points, timing or None)): zigzags, straight lines,
+    circle arcs, paths no four-bar traces (a right-angled corner, a spiral), and one
+    random crank-rocker's arc at 5 and at 40 points; timed versions of some."""
+    x = np.linspace(0.0, 4.0, 13)
+    fb = PlacedFourBar(FourBar(3.0, 1.0, 3.5, 3.2, coupler=(2.0, 0.8)), 1 + 1j, 0.4, 1)
+    arc = np.exp(1j * np.linspace(0.2, 1.8, 9))  # a quarter-circle and a half
+    t40 = np.linspace(0.0, 2.5, 40)
+    corner = np.r_[np.linspace(0, 1, 6), 1 + 1j * np.linspace(0.2, 1, 5)]
+    out = {
+        "zigzag, 13 points": (x + 0.4j * (np.arange(13) % 2), None),
+        "zigzag, 7 points": (x[::2] + 0.8j * (np.arange(7) % 2), None),
+        "straight line, 6 points": (np.linspace(0, 5, 6) * np.exp(0.3j), None),
+        "straight line, 40 points": (np.linspace(0, 5, 40) * np.exp(0.3j), None),
+        "circle arc, 9 points": (arc, None),
+        "circle arc, 40 points": (np.exp(1j * np.linspace(0.2, 1.8, 40)), None),
+        "right-angled corner, 11 points": (corner, None),
+        "spiral, 15 points": ((1 + 0.15 * np.arange(15)) * np.exp(0.6j * np.arange(15)), None),
+        "four-bar arc, 5 points": (fb.pose(np.linspace(0.0, 2.5, 5))[2], None),
+        "four-bar arc, 40 points": (fb.pose(t40)[2], None),
+        "timed zigzag, 7 points": (x[::2] + 0.8j * (np.arange(7) % 2), np.linspace(0, 2, 7)),
+        "timed straight line, 6 points": (np.linspace(0, 5, 6), np.linspace(0, 1.5, 6)),
+        "timed circle arc, 9 points": (arc, np.linspace(0, 2.0, 9)),
+        "timed four-bar arc, 40 points": (fb.pose(t40)[2], t40),
+    }
+    return out
+
+
+def hard_bench(at, repeats: int, time_limit: float | None) -> None:
+    """Time and worst miss of :func:`_hard_targets` (open; ``mu_min`` 0, n = 3)."""
+    rows = []
+    for name, (pts, timing) in _hard_targets().items():
+        size = float(np.max(np.abs(pts - pts.mean())))
+        runs = [timed_cpu(lambda p=pts, t=timing: path_from_atlas(
+            p, at, closed=False, timing=t, n=3, mu_min=0.0, time_limit=time_limit))
+            for _ in range(repeats)]  # fmt: skip
+        wall, cpu = min(r[0] for r in runs), min(r[1] for r in runs)
+        res = runs[-1][2]
+        found = res.candidates or res.rejected
+        miss = float(np.max(found[0].distance)) / size if found else np.inf
+        rows.append((wall, cpu))
+        stopped = " (stopped at the limit)" if "time limit" in res.note else ""
+        print(f"    {name:32s} CPU {cpu:5.2f} s  wall {wall:5.2f} s  best miss {miss:.1e} of the "
+              f"size, {len(res.candidates)} defect-free{stopped}", flush=True)  # fmt: skip
+    wall, cpu = (np.array(c) for c in zip(*rows, strict=True))
+    print(f"  hard open targets ({len(rows)}, best of {repeats}): CPU median {np.median(cpu):.2f} "
+          f"s, max {cpu.max():.2f} s; wall median {np.median(wall):.2f} s, max {wall.max():.2f} s"
+          + (f" (time_limit {time_limit:g} s)" if time_limit is not None else ""))  # fmt: skip
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--atlas", type=Path, help="an existing atlas to query")
@@ -336,9 +388,17 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=7, help="of --recovery's random linkages")
     ap.add_argument("--kinds", default=",".join(RECOVERY_KINDS), help="of --recovery's targets")
     ap.add_argument("--verbose", action="store_true", help="print every --recovery case")
+    ap.add_argument("--hard", action="store_true", help="with --atlas: awkward open targets")
+    ap.add_argument("--repeats", type=int, default=1, help="of each --hard target (best taken)")
+    ap.add_argument("--time-limit", type=float, default=None, help="of each --hard synthesis")
     args = ap.parse_args()
     jit.load()
     print(f"kernels: {'compiled' if jit.active() else 'NumPy'}")
+    if args.atlas is not None and args.hard:
+        at = open_atlas(args.atlas, verify=False)
+        path_from_atlas(_hard_targets()["zigzag, 7 points"][0], at, closed=False)  # warm-up
+        hard_bench(at, args.repeats, args.time_limit)
+        return
     if args.atlas is not None and args.recovery:
         kinds = args.kinds.split(",")
         if not set(kinds) <= set(RECOVERY_KINDS):

@@ -1149,8 +1149,9 @@ def _add_atlas(c, fn, meth, targets) -> None:
         refine_count=1,
     )
     c["machdyn.synthesis:path_from_atlas"].accepts.update(
-        atlas={"text"}, timing={"none"}, tolerance={"none"}, client={"none"}, O2={"complex"}
-    )
+        atlas={"text"}, timing={"none"}, tolerance={"none"}, client={"none"}, O2={"complex"},
+        time_limit={"seconds"},
+    )  # fmt: skip
     meth("machdyn.synthesis:Atlas.entries", _tiny_atlas, index=[0, 5, 399])
     meth("machdyn.synthesis:Atlas.nearest", _tiny_atlas, descriptor=_tiny_atlas().desc[0][3], k=3)
     c["machdyn.synthesis:Atlas.nearest"].accepts["client"] = {"none"}

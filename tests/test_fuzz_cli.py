@@ -153,7 +153,7 @@ TEMPLATES: dict[str, list[str]] = {
         "135:225",
         "--json",
     ],
-    "synth path": [PATH_POINTS, "--atlas", ATLAS, "-n", "1", "--json"],
+    "synth path": [PATH_POINTS, "--atlas", ATLAS, "-n", "1", "--time-limit", "30", "--json"],
     "atlas build": ["OUT", "--count", "20", "--chunk-size", "20", "--no-progress"],
     "atlas info": [ATLAS],
     "spec check": [str(EXAMPLES / "fourbar.toml")],

@@ -366,6 +366,13 @@ def path_cmd(
     verify: Annotated[
         bool, typer.Option("--verify/--no-verify", help="Check the atlas's CRCs first (~1 s/GB).")
     ] = True,
+    time_limit: Annotated[
+        float | None,
+        typer.Option(
+            "--time-limit",
+            help="Seconds for the synthesis (after opening the atlas): the best found by then.",
+        ),
+    ] = None,
     json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
     spec: SpecOpt = None,
     part: PartOpt = None,
@@ -384,6 +391,7 @@ def path_cmd(
 
     given = {"POINTS": points is not None, "--open": open_path, "--timing": timing}
     given |= {"--atlas": atlas is not None, "--scheduler": scheduler is not None}
+    given |= {"--time-limit": time_limit is not None}
     if run_spec_part(spec, ("path_synthesis",), part, given=given, json=json, csv_out=csv):
         return
     _missing("POINTS", points, "a CSV of target points")
@@ -393,9 +401,12 @@ def path_cmd(
     if not 0.0 <= mu_min < 90.0:
         raise InputError("--mu-min", f"must be between 0 and 90 deg, got {mu_min:g}")
     targets, theta = read_points_csv(points, timing)
+    if time_limit is not None and not (np.isfinite(time_limit) and time_limit >= 0.0):
+        raise InputError("--time-limit", f"must be zero or positive seconds, got {time_limit:g}")
     options = dict(
-        closed=not open_path, timing=theta, n=n, crank=not no_crank, mu_min=np.radians(mu_min)
-    )
+        closed=not open_path, timing=theta, n=n, crank=not no_crank, mu_min=np.radians(mu_min),
+        time_limit=time_limit,
+    )  # fmt: skip
     opened = open_atlas(atlas or default_atlas(), verify=verify)
     if scheduler is None:
         res = path_from_atlas(targets, opened, **options)

@@ -31,7 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import boolean, finite_array, finite_scalar, integer, positive
+from .._parallel import one_blas_thread
+from .._validate import boolean, finite_array, finite_scalar, integer, nonnegative, positive
 from ..classify import classify
 from ..errors import InputError
 from ..fourbar import FourBar
@@ -128,6 +129,29 @@ WIDE_RANGE = (0.02, 50.0)
 WIDE_TIMED = 1_500  # of them, for timed targets whose starting angle is scanned too
 #: Minimum number of target points: a closed or open path, with prescribed timing.
 MIN_POINTS = {"closed": 5, "open": 5, "timed": 4}
+
+
+class _Deadline:
+    """When a synthesis must stop (:func:`time.perf_counter` seconds) and whether it did.
+
+    ``passed()`` is asked between stages (a pool round, a batch of polished fits,
+    one start's screening); once it answers True, ``hit`` records that the result
+    is the best found by the time limit. ``at = inf`` (no limit) never passes, so
+    a synthesis without a limit takes exactly the steps it took before.
+    """
+
+    __slots__ = ("at", "hit")
+
+    def __init__(self, at: float = np.inf) -> None:
+        self.at, self.hit = at, False
+
+    def passed(self) -> bool:
+        if not self.hit and time.perf_counter() >= self.at:
+            self.hit = True
+        return self.hit
+
+
+_NEVER = _Deadline()  # (never passes: shared by the calls without a limit)
 
 
 class Atlas:
@@ -505,6 +529,7 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
     return pts, timing
 
 
+@one_blas_thread
 def path_from_atlas(
     targets: Any,
     atlas: Atlas | Any,
@@ -523,6 +548,7 @@ def path_from_atlas(
     absolute_timing: bool = False,
     max_length: float | None = None,
     pivot_box: Any = None,
+    time_limit: float | None = None,
 ) -> PathCandidates:
     """Four-bars whose coupler curve passes through target points, from an atlas.
 
@@ -562,6 +588,15 @@ def path_from_atlas(
         longer than this.
     pivot_box : (xmin, ymin, xmax, ymax), optional
         Keep the crank's pivot ``O2`` inside this rectangle.
+    time_limit : float, optional
+        Wall-clock seconds for the whole call. The synthesis then stops at the
+        first stage boundary past the limit (between pool rounds, polished fits,
+        screened starts; the atlas query itself is never cut) and returns the best
+        linkages found so far, with a ``note`` that says so. It returns within
+        about the limit plus one stage (a few tens of milliseconds; a six-bar
+        round longer). At least one retrieved start is refined, so even a limit
+        of 0 returns the retrieval's best placed and checked. None (the
+        default): no limit, the same result on every run.
 
     Returns
     -------
@@ -570,11 +605,15 @@ def path_from_atlas(
     Raises
     ------
     InputError
-        Too few points, NaN, coincident points, a timing list of the wrong length.
+        Too few points, NaN, coincident points, a timing list of the wrong length,
+        a negative ``time_limit``.
     AtlasError
         The atlas is missing, from another version, unfinished or corrupted.
     """
     start = time.perf_counter()
+    if time_limit is not None:
+        time_limit = nonnegative("time_limit", time_limit, "second")
+    deadline = _NEVER if time_limit is None else _Deadline(start + time_limit)
     if not isinstance(atlas, Atlas):
         atlas = open_atlas(atlas)
     closed = boolean("closed", closed)
@@ -598,33 +637,36 @@ def path_from_atlas(
     t0 = time.perf_counter()
     if atlas.manifest.kind == "sixbar":
         return _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve,
-                            refine_count, client, start)  # fmt: skip
+                            refine_count, client, start, deadline)  # fmt: skip
     if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
         refine_count *= 4
     options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,
                    pivot_box=pivot_box)  # fmt: skip
     if timing is None:
         fits, t1 = _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client,
-                                 options)  # fmt: skip
+                                 options, deadline)  # fmt: skip
     else:
         starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
         t1 = time.perf_counter()
         # the few best go on until they converge (the rest rarely overtake them)
-        fits, met = _polished(_screened(starts, pts, options), pts, options, POLISH)
+        fits, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
+                              deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
         # an open arc met by no start but nearly met by one: fresh pools of the atlas (a
         # closed timed target's nearest entries by shape are already in; an arc's are not)
         for r in range(1, TIMED_ROUNDS if not closed else 1):
-            if met or not fits or fits[0].rms > TIMED_NEAR_MISS * size:
+            if met or deadline.passed() or not fits or fits[0].rms > TIMED_NEAR_MISS * size:
                 break
             rows = atlas.entries(atlas.pool(TIMED_POOL, crank=True, draw=r))
-            more = _screened(_timed_starts(rows, pts, timing, refine_count, fixed), pts, options)
-            more, met = _polished(more, pts, options, POLISH)
+            more = _screened(_timed_starts(rows, pts, timing, refine_count, fixed), pts, options,
+                             deadline)  # fmt: skip
+            more, met = _polished(more, pts, options, POLISH, deadline=deadline, tries=TIMED_TRIES)
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     for i, fit in enumerate(_unique(fits, size)):
         # untimed: only the fits that can be among the n chosen are refined at the change
         # point; the others (a path no four-bar meets leaves dozens there) only land on it
         onto = options if timing is not None or i < UNTIMED_BOUNDARY * n else None
+        onto = None if deadline.passed() else onto  # past the time limit: only land on it
         if crank and 0.0 < _grashof_excess(fit.x) <= 1e-4 * np.sum(fit.x[:4]):
             # just past the change point: hold the crank harder, then land on it
             if onto is not None:
@@ -654,10 +696,20 @@ def path_from_atlas(
     elif not chosen:
         note = "every linkage found has a defect (see rejected)"
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    note = _limit_note(note, deadline, time_limit, seconds["total"])
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
 
 
-def _screened(starts, pts, options) -> list:
+def _limit_note(note: str, deadline: _Deadline, time_limit: float | None, total: float) -> str:
+    """``note`` with, when the synthesis stopped at its time limit, a sentence saying so."""
+    if not deadline.hit:
+        return note
+    stop = (f"stopped at the time limit ({time_limit:g} s) after {total:.2f} s: the best "
+            "linkages found by then (without the limit the search goes on)")  # fmt: skip
+    return f"{stop}; {note}" if note else stop
+
+
+def _screened(starts, pts, options, deadline: _Deadline = _NEVER) -> list:
     """Refinements of ``starts``, best first: a few steps each, then more for the best.
 
     Every start takes :data:`SCREEN_NFEV` steps; the best :data:`SCREEN_KEEP` share (at
@@ -665,13 +717,22 @@ def _screened(starts, pts, options) -> list:
     far behind after a few steps rarely overtakes the leaders (and the few best are
     polished to convergence afterwards); this halves the refinement time of a query
     with many starts (prescribed timing or placement: four times :data:`REFINE`).
+    Past the ``deadline``, the starts not yet screened are dropped (the first one is
+    always screened) and none takes more steps.
     """
     solver = "lm" if options.get("timing") is not None else "trf"
-    fits = [refine(*first, pts, max_nfev=SCREEN_NFEV, solver=solver, **options)
-            for first in starts if first is not None]  # fmt: skip
+    fits = []
+    for first in starts:
+        if first is None:
+            continue
+        if fits and deadline.passed():
+            break
+        fits.append(refine(*first, pts, max_nfev=SCREEN_NFEV, solver=solver, **options))
     fits.sort(key=lambda f: f.rms)
     keep = max(REFINE, int(np.ceil(SCREEN_KEEP * len(fits))))
     for i in range(min(keep, len(fits))):
+        if deadline.passed():
+            break
         f = fits[i]
         more = refine(f.x, f.theta, f.branch, pts, max_nfev=REFINE_NFEV - SCREEN_NFEV,
                       solver=solver, **options)  # fmt: skip
@@ -680,7 +741,8 @@ def _screened(starts, pts, options) -> list:
     return fits
 
 
-def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, options):
+def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, options,
+                  deadline: _Deadline = _NEVER):  # fmt: skip
     """Refined fits for untimed targets, best first, and the time retrieval ended.
 
     Round 0: the entries nearest the target (:func:`_retrieve`) and the wide
@@ -689,7 +751,8 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     rounds take a fresh pool of the atlas (:meth:`Atlas.pool`, ``round``) and
     match the targets as an arc (a closed target opened at its widest gap: a
     spline through unevenly spread points of a closed path can be far from the
-    curve between them, so its descriptor misleads the retrieval).
+    curve between them, so its descriptor misleads the retrieval). Past the
+    ``deadline`` (:class:`_Deadline`), no more screening, polishing or rounds.
     """
     fixed = options["fixed"]
     count = max(1, refine_count // 4) if {6, 8} & fixed.keys() else refine_count
@@ -698,22 +761,22 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
     t1 = time.perf_counter()
     fits, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                            options), pts, options, UNTIMED_POLISH_MAX,
-                          UNTIMED_NFEV[0])  # fmt: skip
+                                            options, deadline), pts, options, UNTIMED_POLISH_MAX,
+                          UNTIMED_NFEV[0], deadline)  # fmt: skip
     man = atlas.manifest
     arc = pts
     if closed:  # the targets as an arc: from the far side of the widest gap round to its near side
         gap = int(np.argmax(np.abs(np.roll(pts, -1) - pts)))
         arc = np.roll(pts, -(gap + 1))
     for r in range(1, UNTIMED_ROUNDS):
-        if met or not _worth_a_round(fits, pts, closed):
+        if met or deadline.passed() or not _worth_a_round(fits, pts, closed):
             break
         rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank, draw=r))
         curves = even_curves(rows, man.circuit_samples, man.samples)
         entries, transforms = _arc_starts(rows, curves, arc, refine_count)
         more, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
-                                                options), pts, options, POLISH,
-                              UNTIMED_NFEV[1])  # fmt: skip
+                                                options, deadline), pts, options, POLISH,
+                              UNTIMED_NFEV[1], deadline)  # fmt: skip
         fits = sorted(fits + more, key=lambda f: f.rms)
     return fits, t1
 
@@ -766,33 +829,62 @@ def _untimed_starts(entries, transforms, pts) -> list:
     return [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
 
 
-def _polished(fits, pts, options, most, nfev=400) -> tuple[list, bool]:
+def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
+              tries: int | None = None) -> tuple[list, bool]:  # fmt: skip
     """The best fits polished down their valleys (:func:`~machdyn.synthesis.valley.polish`).
 
     Targets on a short arc (untimed above all) make a sloppy problem whose exact
     fits lie at the ends of long curved valleys. :data:`POLISH` fits are refined on (``nfev``
     steps of :func:`refine`, which keeps the bounds) and then polished, and more
     (up to ``most``) while none meets the targets to :data:`UNTIMED_MET` of
-    their size on one assembly. Returns the fits (best first) and whether one met.
+    their size on one assembly; none past the ``deadline``. With ``tries``, while
+    the best fit is a near miss (RMS within :data:`TIMED_TRIES_NEAR` of the size), a
+    fit that ends where one polished before ended (within :data:`COPY`: the same
+    local minimum, reached from another start) does not count: up to ``tries`` fits
+    are polished to find ``most`` distinct ones (timed targets, whose best-screened
+    starts can all be copies of one wrong minimum). Returns the fits (best first)
+    and whether one met.
     """
     size = float(np.max(np.abs(pts - pts.mean())))
     fits = list(fits)
     met = False
-    done: list[np.ndarray] = []
-    for i in range(min(most, len(fits))):
-        if i >= POLISH and met:
+    done: list[np.ndarray] = []  # the polished fits' keys as they started...
+    ends: list[np.ndarray] = []  # ... and as they ended (with tries)
+    distinct, best = 0, np.inf
+    for i in range(min(most if tries is None else tries, len(fits))):
+        if (i >= POLISH and met) or deadline.passed():
+            break
+        near = best <= TIMED_TRIES_NEAR * size
+        if tries is not None and (distinct >= most or (i >= most and not near)):
             break
         f = fits[i]
         key = _design_key(f, size)
-        if any(np.max(np.abs(key - k)) <= SAME for k in done):
+        if any(np.max(np.abs(key - k)) <= SAME for k in done + ends):
             continue  # a copy of a fit polished already (see _unique)
         done.append(key)
+
+        def copy(f) -> bool:  # in a minimum polished already (with tries)
+            return tries is not None and any(np.max(np.abs(_design_key(f, size) - k)) <= COPY
+                                             for k in ends)  # fmt: skip
+
+        if (
+            tries is not None
+            and i >= most
+            and copy(refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver="lm", **options))
+        ):
+            continue  # an extra try: a look with the (compiled) LM first, a hundred times cheaper
         more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, **options)  # bounds kept
-        f = more if more.rms <= f.rms else f
+        f = fits[i] = more if more.rms <= f.rms else f
+        if copy(f):
+            continue  # refined into a minimum polished already: no polish, not counted
         if f.rms > UNTIMED_MET * size:
             f = polish(f, pts, **options)
         fits[i] = f
         met = met or (f.rms <= UNTIMED_MET * size and np.ptp(f.branch) == 0)
+        best = min(best, f.rms)
+        if tries is not None:
+            distinct += 1
+            ends.append(_design_key(f, size))
     return sorted(fits, key=lambda f: f.rms), met
 
 
@@ -824,14 +916,16 @@ def _constraints(O2, theta1, absolute_timing, max_length, pivot_box, timing, atl
 
 
 def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, refine_count, client,
-                 start):  # fmt: skip
+                 start, deadline=_NEVER):  # fmt: skip
     """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
     from .. import jit
     from .sixbar_path import (
+        SIXBAR_LATER_TIMED,
         SIXBAR_ROUNDS,
         SIXBAR_TIMED_NUMPY,
         polished_sixbars,
         refine_sixbar,
+        second_loop_fits,
         sixbar_result,
         sixbar_starts,
     )
@@ -853,10 +947,10 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                                                    tolerance, mu_min))  # fmt: skip
         return checked[id(fit)][1]
 
-    fits, met, near, seen, scan = [], False, False, set(), 0.0
+    fits, loop, met, near, seen, scan = [], [], False, False, set(), 0.0
     t_begin = time.perf_counter()
     for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
-        if met or near:
+        if met or near or (round_ and deadline.passed()):
             break
         t0 = time.perf_counter()
         starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
@@ -865,12 +959,27 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         seen.update(s[0].tobytes() for s in starts)
         scan += time.perf_counter() - t0
         steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
-        more, met = polished_sixbars(starts, pts, most, check, steps, **options)
+        later = SIXBAR_LATER_TIMED if round_ and timing is not None else (30, most)
+        more, met = polished_sixbars(starts, pts, later[1], check, steps, screen=later[0],
+                                     **options)  # fmt: skip
         fits += more
+        best = min(fits, key=lambda f: f[2], default=None)
+        if (
+            timing is None
+            and not (met or loop or deadline.passed())
+            and best
+            and best[3]["topology"] == 1
+        ):
+            # untimed Watt II 1-4 (two four-bars in series) unmet: fitted loop by loop, once
+            loop = second_loop_fits(fits, pts, compiled)
+            fits += loop
+            met = any(f[2] <= SIXBAR_MET * size and getattr(check(f), "ok", False) for f in loop)
         near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
-    if not met:  # the best crawl along narrow valleys: polish longer
-        for i in range(min(long[0], len(fits))):
+    if not met and not deadline.passed():  # the best crawl along narrow valleys: polish longer
+        polish = list(range(min(long[0], len(fits))))  # (and the best loop fit)
+        polish += [i for i, f in enumerate(fits) if loop and f is loop[0] and i >= long[0]]
+        for i in polish if long[0] else ():
             x, th, rms, fx = fits[i]
             more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
             fits[i] = (*more, fx) if more[2] <= rms else fits[i]
@@ -894,6 +1003,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     )  # fmt: skip
     seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
                "total": time.perf_counter() - start}  # fmt: skip
+    note = _limit_note(note, deadline, deadline.at - start, seconds["total"])
     return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
                           seconds)  # fmt: skip
 
@@ -1055,6 +1165,14 @@ TIMED_POOL = 5_000
 TIMED_ROUNDS = 2
 TIMED_NEAR_MISS = 1e-2
 TIMED_GRID = 60
+#: Timed targets: fits polished at most (per round) to reach POLISH distinct local minima
+#: while the best is a near miss (RMS within TIMED_TRIES_NEAR of the size; see _polished).
+#: Seed 11's open-timed case 8 (bench_atlas --recovery 20): the ten best-screened starts of
+#: the first pool all ended in one minimum (RMS 2.9e-4 of the size; max miss 4.6e-4) and
+#: the eleventh met the targets; the literature's cases 3 and 4, which no four-bar meets
+#: (RMS 4e-2), keep their POLISH fits and time.
+TIMED_TRIES = 12
+TIMED_TRIES_NEAR = 1e-3
 
 
 def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None,
@@ -1335,11 +1453,19 @@ def _unique(fits: list, size: float) -> list:
 
 #: Refined fits closer than this (see _unique) are one linkage.
 SAME = 1e-6
+#: Polished fits closer than this (see _polished) ended in one local minimum.
+COPY = 1e-4
 
 
 def _design_key(f, size: float) -> np.ndarray:
-    """A fit's design numbers (lengths and pivot over the size, angles) and assemblies."""
-    return np.concatenate([f.x[[0, 1, 2, 3, 4, 6, 7]] / size, f.x[[5, 8]], f.branch])
+    """A fit's design numbers (lengths and pivot over the size, angles) and assemblies.
+
+    The angles δ and θ1 enter as their cosines and sines: a fit and its copy a turn
+    further round (θ1 and θ1 + 2π) have one key.
+    """
+    angles = f.x[[5, 8]]
+    return np.concatenate([f.x[[0, 1, 2, 3, 4, 6, 7]] / size, np.cos(angles), np.sin(angles),
+                           f.branch])  # fmt: skip
 
 
 def _distinct(results: list[PathSynthesis], n: int, size: float) -> list[PathSynthesis]:

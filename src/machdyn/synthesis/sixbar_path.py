@@ -299,7 +299,7 @@ def sixbar_linkage(x: np.ndarray, fixed: dict[str, int], theta2: float = 0.0):
     from ..linkage import Linkage
 
     P = sixbar_coupler(x, np.array([theta2]), fixed)[0]
-    pts = _joints(x, theta2, fixed)
+    pts = {k: complex(v) for k, v in _joints(x, theta2, fixed).items()}
     (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
     on = {1: [], 2: ["O2", "A"], 3: ["A", "B"], 4: ["O4", "B"]}
     on[l1] = on[l1] + ["C"]
@@ -318,19 +318,20 @@ def sixbar_linkage(x: np.ndarray, fixed: dict[str, int], theta2: float = 0.0):
 
 
 def _joints(x, theta2, fixed):
-    from ..linkage.dyads import rrr
+    """The joints of the placed six-bar at crank angles ``theta2`` (NaN where apart)."""
+    from ..linkage.dyads import _rrr as rrr  # the engine's dyad without its input checks
 
     ox, oy, th1, r1, r2, r3, r4, cu, cv, du, dv, a, b = x[:13]
     O2 = complex(ox, oy)
     e1 = np.exp(1j * th1)
     O4 = O2 + r1 * e1
-    A = O2 + r2 * e1 * np.exp(1j * theta2)
-    B = complex(rrr(A, O4, r3, r4, fixed["s4"]).B)
+    A = O2 + r2 * e1 * np.exp(1j * np.asarray(theta2, float))
+    B = rrr(A, O4, abs(r3), abs(r4), fixed["s4"])[0]
     frames = {1: (O2, O4), 2: (O2, A), 3: (A, B), 4: (O4, B)}
     (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
     C = frames[l1][0] + complex(cu, cv) * (frames[l1][1] - frames[l1][0])
     D = frames[l2][0] + complex(du, dv) * (frames[l2][1] - frames[l2][0])
-    E = complex(rrr(C, D, a, b, fixed["s6"]).B)
+    E = rrr(C, D, abs(a), abs(b), fixed["s6"])[0]
     return {"O2": O2, "O4": O4, "A": A, "B": B, "C": C, "D": D, "E": E}
 
 
@@ -387,10 +388,26 @@ SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25
 #: wider.
 SIXBAR_ROUNDS = 2
 SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed starts ×3
+#: A later round of a timed target: steps every start is refined before the fits are ranked
+#: (the first round: 30), and most fits polished. Thirty steps rank poorly among six-bars'
+#: many near-fits: the one start of a missed timed Watt I 3-4 on 6 that converged ranked
+#: 452nd of 539 after 30 steps (112th of 160 in the second round), 40th (8th) after 100 and
+#: first after 300. A later round has only the first pool's starts: it can afford to screen
+#: them longer, and polishes half as many (the time of a miss stays as it was).
+SIXBAR_LATER_TIMED = (100, 48)
 #: Timed targets without the compiled kernels (``MACHDYN_JIT=off``, whose NumPy refinement
 #: costs ~6 times more a step): starts screened per refined candidate and most fits
 #: polished, one round, no long polish (docs/synthesis.md gives the times and rates).
 SIXBAR_TIMED_NUMPY = (4, 24)
+
+
+#: Untimed Watt II six-bars with the dyad on links 1 and 4 (two four-bars in series): while
+#: none meets the targets, their second loop is fitted alone (see :func:`second_loop_fits`):
+#: the fits whose second loop is fitted (without the compiled kernels: the second number)
+#: and its steps, the best loops a six-bar is rebuilt from, and the rebuilt six-bars' steps.
+#: On the benchmark's missed six-bar the loops that converged came from fits ranked 13th
+#: and 33rd.
+SIXBAR_SECOND_LOOP = ((40, 8), 600, 4, 300)
 
 
 def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, int]]:
@@ -459,10 +476,11 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     return starts
 
 
-def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=False):
+def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=False,
+                     screen=30):  # fmt: skip
     """Fits ``(x, θ, rms, fixed)`` from ``starts``, screened and polished; whether one is met.
 
-    Every start is refined 30 steps; then the fits are polished (``steps`` more)
+    Every start is refined ``screen`` steps; then the fits are polished (``steps`` more)
     best first — up to
     ``most`` of them — until one meets the targets to rounding and ``check(fit)``
     (the Linkage's) finds no defect: the screen's order is a poor guide among
@@ -473,7 +491,7 @@ def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=F
 
     size = float(np.max(np.abs(pts - pts.mean())))
     options = dict(timing=timing, compiled=compiled)
-    fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=30, **options), fx)
+    fits = [(*refine_sixbar(x0, th0, fx, pts, iterations=screen, **options), fx)
             for x0, th0, fx in starts]  # fmt: skip
     fits.sort(key=lambda f: f[2])
     met = False
@@ -486,6 +504,103 @@ def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=F
             res = check(fits[i])
             met = met or (res is not None and res.ok)
     return fits, met
+
+
+def second_loop_fits(fits, pts, compiled=False) -> list:
+    """Untimed Watt II "1-4" six-bars fitted loop by loop: new fits ``(x, θ, rms, fixed)``.
+
+    The dyad on the ground and the rocker makes such a six-bar two four-bars in
+    series: the coupler point is the second four-bar's (ground pivots ``O4`` and
+    ``C``, input link ``O4–D`` on the rocker) at the rocker's angle ``φ``, and the
+    first four-bar only swings the rocker. Fitted as one, the crank angle of a
+    target near a turn of the rocker is barely felt (``dφ/dθ ≈ 0``), and fits
+    stall on a neighbouring second four-bar (1e-5 to 3e-3 of the size) that the
+    first cannot swing to the truth. So (:data:`SIXBAR_SECOND_LOOP`): (1) the
+    second four-bar of each of the best such fits is fitted to the targets alone,
+    ``φ`` at each target free (:func:`_second_loop`); (2) for the best few of
+    these a first four-bar is designed to swing it (:func:`_first_loop`) and the
+    six-bar of the two refined. The loop fits themselves are returned too (Watt II
+    1-2 six-bars: an answer where ``φ`` turns a whole turn in the targets' order),
+    all best first; the caller checks them.
+    """
+    count, steps, best, rebuilt = SIXBAR_SECOND_LOOP
+    wanted = sorted((f for f in fits if f[3]["topology"] == 1 and np.isfinite(f[2])),
+                    key=lambda f: f[2])  # fmt: skip
+    loops = [_second_loop(*f, pts, steps, compiled) for f in wanted[: count[not compiled]]]
+    out = []
+    for loop in sorted((lp for lp in loops if lp is not None), key=lambda lp: lp[2])[:best]:
+        out.append(loop)
+        fit = _first_loop(*loop[:2], loop[3], pts, rebuilt, compiled)
+        out += [fit] if fit is not None else []
+    return sorted(out, key=lambda f: f[2])
+
+
+def _second_loop(x, theta, rms, fixed, pts, steps, compiled):
+    """The second four-bar of a Watt II 1-4 fit refined alone: ``(x', φ, rms, fixed')``.
+
+    Posed as a Watt II "1-2" six-bar whose crank is the input link ``O4–D``
+    (``φ`` its crank angles; its own first four-bar, a dummy 1-4-4-4
+    crank-rocker, does not move the point), so the same refinement serves.
+    None where it comes apart.
+    """
+    j = _joints(x, theta, fixed)
+    O4, C, D = j["O4"], j["C"], j["D"]
+    rho = float(np.mean(np.abs(D - O4)))
+    if not (np.all(np.isfinite(D)) and rho > 0):
+        return None
+    proxy = dict(s4=1, s6=fixed["s6"], topology=0, on=fixed["on"])
+    c = (C - O4) / (4 * rho)
+    x = np.array([O4.real, O4.imag, 0.0, 4 * rho, rho, 4 * rho, 4 * rho, c.real, c.imag,
+                  1.0, 0.0, *x[11:]])  # fmt: skip
+    x, theta, rms = refine_sixbar(x, np.angle(D - O4), proxy, pts, iterations=steps,
+                                  compiled=compiled)  # fmt: skip
+    return (x, theta, rms, proxy) if np.isfinite(rms) else None
+
+
+def _first_loop(xp, phi, proxy, pts, steps, compiled):
+    """A Watt II 1-4 six-bar from a fitted second loop (:func:`_second_loop`'s), refined.
+
+    The first four-bar is a crank-rocker whose rocker (``0.6 ρ`` long) swings
+    just past the fitted ``φ`` range: its crank on the line through the rocker's
+    two end positions, half that chord long, so these are its limit positions
+    (the two-position design of a crank-rocker, Norton §3.4); on either side, in
+    either assembly. The six-bar starts at the samples of its curve nearest the
+    targets in their order; the best refined one is returned (None if none assembles).
+    """
+    j = _joints(xp, phi, proxy)
+    O4, C, D = j["O2"], j["C"], j["D"]
+    rho = float(np.mean(np.abs(D - O4)))
+    phi = np.sort(np.mod(np.angle(D - O4), 2 * np.pi))
+    gaps = np.diff(np.concatenate([phi, phi[:1] + 2 * np.pi]))
+    k = int(np.argmax(gaps))  # the swing: the circle less its widest gap between targets
+    lo, hi = float(phi[(k + 1) % phi.size]), float(phi[k] + (2 * np.pi if k + 1 < phi.size else 0))
+    if hi - lo > 0.8 * np.pi:  # no crank-rocker swings this far
+        return None
+    coupler = coupler_function(compiled)
+    u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    best = None
+    for margin in (0.05, 0.01, 0.001):  # the second loop may close only just past the targets
+        r4, swing = 0.6 * rho, margin * (hi - lo) + 1e-4
+        B1, B2 = O4 + r4 * np.exp(1j * (lo - swing)), O4 + r4 * np.exp(1j * (hi + swing))
+        r2 = abs(B2 - B1) / 2
+        r3 = r2 + 1.5 * r4
+        for side in (1.0, -1.0):
+            O2 = (B1 + B2) / 2 + side * r3 * (B2 - B1) / (2 * r2)
+            c = (C - O2) / (O4 - O2)
+            x0 = np.array([O2.real, O2.imag, np.angle(O4 - O2), abs(O4 - O2), r2, r3, r4,
+                           c.real, c.imag, rho / r4, 0.0, *xp[11:]])  # fmt: skip
+            for s4 in (1, -1):
+                fixed = dict(proxy, s4=s4, topology=1)
+                P, _, _, ok = coupler(x0, u, fixed)
+                if not ok.all():
+                    continue
+                fit = refine_sixbar(x0, u[_ordered_samples(P, pts)], fixed, pts,
+                                    iterations=steps, compiled=compiled)  # fmt: skip
+                if best is None or fit[2] < best[2]:
+                    best = (*fit, fixed)
+        if best is not None:
+            break
+    return best
 
 
 def _timed_best(atlas, idx, timing, pts, count, compiled=False, shift=0.0):
