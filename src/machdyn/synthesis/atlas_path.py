@@ -678,26 +678,42 @@ def path_from_atlas(
         if res is not None:
             results.append(res)
     t2 = time.perf_counter()
-    results.sort(key=lambda r: float(np.max(r.distance)))
+    results.sort(key=_rank)
     good = [r for r in results if r.ok]
     chosen = _distinct(good, n, size)
     rejected = tuple(r for r in results if not r.ok)[: max(n, 5)]
     best = chosen[0] if chosen else (rejected[0] if rejected else None)
     worst = float(np.max(best.distance)) / size if best is not None else np.inf
     near = worst <= NEAR
-    note = ""
-    if best is None:
-        note = "no atlas entry could be placed on these targets"
-    elif not near:
-        note = (
-            f"no atlas entry comes near these targets: the best linkage found misses by "
-            f"{100 * worst:.1f} % of the targets' size (is the path one a four-bar can trace?)"
-        )
-    elif not chosen:
+    note = _far_note(best, size, "linkage", " (is the path one a four-bar can trace?)")
+    if best is not None and near and not chosen:
         note = "every linkage found has a defect (see rejected)"
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
     note = _limit_note(note, deadline, time_limit, seconds["total"])
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+
+
+def _rank(result: PathSynthesis) -> tuple[int, float]:
+    """Sort key of a checked result: targets it cannot be assembled at, then its worst miss."""
+    distance = np.asarray(result.distance, float)
+    finite = np.isfinite(distance)
+    return int(np.count_nonzero(~finite)), float(np.max(distance, where=finite, initial=0.0))
+
+
+def _far_note(best: PathSynthesis | None, size: float, linkage: str, hint: str = "") -> str:
+    """Why no result comes near the targets ("" when the best does, within :data:`NEAR`)."""
+    if best is None:
+        return "no atlas entry could be placed on these targets"
+    distance = np.asarray(best.distance, float)
+    lost = int(np.count_nonzero(~np.isfinite(distance)))
+    if lost:  # (a distance of inf: the linkage cannot be assembled there)
+        return (f"no atlas entry comes near these targets: the best {linkage} found cannot be "
+                f"assembled at {lost} of the {distance.size} targets{hint}")  # fmt: skip
+    worst = float(np.max(distance)) / size
+    if worst <= NEAR:
+        return ""
+    return (f"no atlas entry comes near these targets: the best {linkage} found misses by "
+            f"{100 * worst:.1f} % of the targets' size{hint}")  # fmt: skip
 
 
 def _limit_note(note: str, deadline: _Deadline, time_limit: float | None, total: float) -> str:
@@ -986,7 +1002,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     for fit in fits[:refine_count]:
         check(fit)
     results = [r for _, r in checked.values() if r is not None]
-    results.sort(key=lambda r: float(np.max(r.distance)))
+    results.sort(key=_rank)
     t2 = time.perf_counter()
     chosen, rejected = [], []
     for r in results:
@@ -997,10 +1013,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     chosen = chosen[:n]
     best = chosen[0] if chosen else (rejected[0] if rejected else None)
     worst = float(np.max(best.distance)) / size if best is not None else np.inf
-    note = "" if worst <= NEAR else (
-        f"no atlas entry comes near these targets: the best six-bar found misses by "
-        f"{100 * worst:.1f} % of the targets' size"
-    )  # fmt: skip
+    note = _far_note(best, size, "six-bar")
     seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
                "total": time.perf_counter() - start}  # fmt: skip
     note = _limit_note(note, deadline, deadline.at - start, seconds["total"])
