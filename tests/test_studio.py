@@ -111,6 +111,18 @@ def test_save_writes_only_the_file_given_and_session_reads_it_back(studio):
         bare.calls["save"][0]({"doc": doc})
 
 
+def test_save_refuses_a_document_the_reader_refuses_and_leaves_the_file(studio):
+    good = normalise(template("four-bar"))
+    assert request(studio, "save", {"doc": good})[0] == 200
+    before = studio.file.read_text()
+    bad = json.loads(json.dumps(good))
+    bad["linkage"]["fourbar"]["links"]["crank"]["mass"] = -1.0
+    status, answer = request(studio, "save", {"doc": bad})
+    assert 400 <= status < 500 and "linkage.fourbar.links.crank.mass" in json.dumps(answer)
+    assert studio.file.read_text() == before
+    assert from_text(before, "design.toml") == good  # what is on disk still opens
+
+
 def test_an_analysis_answer_carries_server_timing(studio):
     """Server-Timing: the analysis' wall time and its worker thread's CPU time (benchmark)."""
     body = json.dumps({"doc": template("four-bar"), "samples": 36}).encode()

@@ -76,7 +76,11 @@ def session(file: Path | None, templates: Mapping[str, str]) -> dict[str, Any]:
 
 
 def save(file: Path | None, doc: Mapping[str, Any]) -> dict[str, Any]:
-    """Write ``doc`` as TOML to the file named on the command line (the only one written)."""
+    """Write ``doc`` as TOML to the file named on the command line (the only one written).
+
+    A document the spec reader refuses is not written (the reader's error, naming the
+    key, is raised instead): a saved file always opens again, here and in ``machdyn run``.
+    """
     from ..spec import dumps
 
     if file is None:
@@ -85,6 +89,7 @@ def save(file: Path | None, doc: Mapping[str, Any]) -> dict[str, Any]:
             "the studio was started without a file: use Download to keep the design, "
             "or start it as 'machdyn studio NAME.toml'",
         )
+    normalise(doc)  # (the file on disk is left as it was)
     text = dumps(dict(doc)) if file.suffix.lower() != ".json" else json.dumps(doc, indent=2)
     file.write_text(text, encoding="utf-8")
     return {"saved": file.name, "bytes": len(text.encode("utf-8"))}
