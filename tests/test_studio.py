@@ -123,6 +123,15 @@ def test_save_refuses_a_document_the_reader_refuses_and_leaves_the_file(studio):
     assert from_text(before, "design.toml") == good  # what is on disk still opens
 
 
+def test_asked_for_quantities_that_are_not_columns_are_listed_as_unknown():
+    every = analyse(template("four-bar"), samples=12)
+    assert every["unknown"] == [] and len(every["columns"]) == len(every["names"])
+    real = every["names"][3]
+    out = analyse(template("four-bar"), samples=12, quantities=["omega_9 [rad/s]", real, "omega_3"])
+    assert list(out["columns"]) == [real] and out["columns"][real] == every["columns"][real]
+    assert out["unknown"] == ["omega_9 [rad/s]", "omega_3"]  # (a label carries its unit)
+
+
 def test_an_analysis_answer_carries_server_timing(studio):
     """Server-Timing: the analysis' wall time and its worker thread's CPU time (benchmark)."""
     body = json.dumps({"doc": template("four-bar"), "samples": 36}).encode()

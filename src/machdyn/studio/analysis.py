@@ -408,6 +408,8 @@ def analyse(
         for an angle, ± half the drawing's size for a length.
     quantities : list of str, optional
         Labelled columns (``"omega_3 [rad/s]"``) whose values are sent; all by default.
+        Names the linkage has no column for (the page may still ask for a plot of a
+        link it has since renamed) are listed in the answer's ``unknown``.
     centres : bool
         Also the instant centres of every pair of bodies at every pose.
 
@@ -419,7 +421,8 @@ def analyse(
         ``x_label``), ``drawn`` (index of the drawn pose), ``ok``/``reason``
         per sample, ``problems`` (flagged samples by reason with their input
         ranges), ``scene`` (items and per-frame coordinates), ``names`` and
-        ``columns`` (the plottable quantities), ``centres`` if asked.
+        ``columns`` (the plottable quantities), ``unknown`` (asked-for names that
+        are not columns, in the order asked), ``centres`` if asked.
 
     Raises
     ------
@@ -483,6 +486,7 @@ def analyse(
         "columns": columns,
         "has_forces": f is not None,
         "limits": _limits(lk, m, x_shown, ok, reason),
+        "unknown": [q for q in dict.fromkeys(quantities or ()) if q not in set(names)],
     }
     if centres:
         velocity = {d: 1.0 for d in lk.drivers}
