@@ -867,6 +867,11 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
     done: list[np.ndarray] = []  # the polished fits' keys as they started...
     ends: list[np.ndarray] = []  # ... and as they ended (with tries)
     distinct, best = 0, np.inf
+
+    def copy(f) -> bool:  # in a minimum polished already (with tries)
+        return tries is not None and any(np.max(np.abs(_design_key(f, size) - k)) <= COPY
+                                         for k in ends)  # fmt: skip
+
     for i in range(min(most if tries is None else tries, len(fits))):
         if (i >= POLISH and met) or deadline.passed():
             break
@@ -878,11 +883,6 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
         if any(np.max(np.abs(key - k)) <= SAME for k in done + ends):
             continue  # a copy of a fit polished already (see _unique)
         done.append(key)
-
-        def copy(f) -> bool:  # in a minimum polished already (with tries)
-            return tries is not None and any(np.max(np.abs(_design_key(f, size) - k)) <= COPY
-                                             for k in ends)  # fmt: skip
-
         if (
             tries is not None
             and i >= most
