@@ -1185,7 +1185,7 @@ class FourBar:
         False
         """
         m = self.solve(theta2, form=form, branch=branch)
-        return fourbar_centres(self.r1, m.A, m.B, m.assembled)
+        return fourbar_centres(self.r1, m.A, m.B, m.assembled, max(self.lengths))
 
     def mechanical_advantage(
         self,
@@ -1231,7 +1231,8 @@ class FourBar:
         if method == "power":
             ratio = m.omega4  # ω4 / ω2 with ω2 = 1
         else:
-            ratio = fourbar_centres(self.r1, m.A, m.B, m.assembled).omega_ratio(2, 4)
+            centres = fourbar_centres(self.r1, m.A, m.B, m.assembled, max(self.lengths))
+            ratio = centres.omega_ratio(2, 4)
         with np.errstate(divide="ignore", invalid="ignore"):
             ma = (r_in / r_out) / ratio
         # The two dead points, alike for both methods: at a toggle of links 3 and 4

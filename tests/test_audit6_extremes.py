@@ -1,0 +1,114 @@
+"""Audit round 6: extreme-but-valid magnitudes give the answers of ordinary ones.
+
+Every closed form here is scale-free: a mechanism drawn s times larger turns
+through the same angles, its instant centres are s times farther from the
+origin, its mechanical advantage is the same. Each model is built at scales
+from 1e-200 to 1e200 (inside the ±1e250 machdyn accepts for a length) and
+checked against the same quantities derived here at scale 1: instant centres
+as the meet of two lines (Kennedy's rule, solved as a 2×2 system), the
+inverted slider-crank's slot length from the triangle O2–A–O4 (Pythagoras).
+Where a magnitude is refused, the error names the field.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from machdyn.centres import instant_centres_of
+from machdyn.errors import InputError
+from machdyn.fourbar import FourBar
+from machdyn.linkage import Linkage
+from machdyn.slidercrank import InvertedSliderCrank, SliderCrank
+
+THETA = np.radians(np.arange(5.0, 360.0, 30.0))
+SCALES = (1e-200, 1e-100, 1e12, 1e100, 1e200)
+
+
+def meet(p1: complex, d1: complex, p2: complex, d2: complex) -> complex:
+    """The point of the line p1 + t d1 that lies on the line p2 + u d2 (Cramer's rule)."""
+    det = (d1.conjugate() * d2).imag  # d1 × d2
+    t = ((p2 - p1).conjugate() * d2).imag / det
+    return p1 + t * d1
+
+
+def fourbar_i13_i24(r1, r2, r3, r4, theta2, side=-1.0):
+    """I13 on O2A and O4B; I24 on the ground line and AB; A, B by two circles (unit scale).
+
+    B is on the circles about A (radius r3) and O4 (r4), on ``side`` of the line A→O4.
+    """
+    A = r2 * np.exp(1j * theta2)
+    d = abs(A - r1)
+    along = (r3**2 - r4**2 + d**2) / (2 * d)
+    B = A + (r1 - A) / d * complex(along, side * np.sqrt(r3**2 - along**2))
+    return meet(0j, A, r1 + 0j, B - r1), meet(0j, 1 + 0j, A, B - A), B
+
+
+@pytest.mark.parametrize("s", SCALES)
+def test_fourbar_centres_scale_with_the_linkage(s):
+    # before the fix: links of 1e-100 gave NaN for I13 and I24 with ok True; 1e12 put every
+    # centre "at infinity" (the test was |P| > 1e12 in absolute units); 1e100 overflowed
+    r = (8.0, 4.0, 7.0, 6.0)
+    fb = FourBar(*(x * s for x in r))
+    drawn = complex(fb.solve(THETA[0]).B) / s  # form 1's side of A→O4 (a crank-rocker keeps it)
+    side = min((1.0, -1.0), key=lambda k: abs(fourbar_i13_i24(*r, THETA[0], k)[2] - drawn))
+    ics = fb.instant_centres(THETA)
+    assert ics.ok.all()
+    for k, t in enumerate(THETA):
+        i13, i24, B = fourbar_i13_i24(*r, t, side)
+        assert abs(ics[3, 4].point[k] / s - B) < 1e-12 * 8
+        assert abs(ics[1, 3].point[k] / s - i13) < 1e-10 * max(8, abs(i13))
+        assert abs(ics[2, 4].point[k] / s - i24) < 1e-10 * max(8, abs(i24))
+    ma = fb.mechanical_advantage(THETA, method="instant_centres")
+    same = FourBar(*r).mechanical_advantage(THETA, method="power")
+    assert np.allclose(ma, same, rtol=1e-9)
+
+
+@pytest.mark.parametrize("s", SCALES)
+def test_slider_crank_centres_scale_with_the_linkage(s):
+    a, b, c = 4.0, 12.0, 1.5
+    ics = SliderCrank(a * s, b * s, c * s).instant_centres(THETA)
+    assert ics.ok.all() and ics[1, 4].at_infinity.all()
+    for k, t in enumerate(THETA):
+        A = a * np.exp(1j * t)
+        B = complex(A.real + np.sqrt(b * b - (c - A.imag) ** 2), c)  # the block right of A
+        assert abs(ics[1, 3].point[k] / s - meet(0j, A, B, 1j)) < 1e-10 * 16
+        # I24: on the rod's line AB and on the line through O2 and I14 (normal to the slide)
+        assert abs(ics[2, 4].point[k] / s - meet(0j, 1j, A, B - A)) < 1e-10 * 16
+
+
+@pytest.mark.parametrize("s", SCALES)
+def test_inverted_slider_crank_slot_and_centres_scale_with_the_linkage(s):
+    a, d, c = 4.0, 6.0, 1.0
+    isc = InvertedSliderCrank(a * s, d * s, c * s)
+    m = isc.solve(THETA, omega2=1.0)
+    A = a * np.exp(1j * THETA)
+    b = np.sqrt(np.abs(A - d) ** 2 - c * c)  # O4A² = b² + c² (the slot offset ⟂ the slot)
+    assert m.ok.all()
+    assert np.allclose(m.b / s, b, rtol=1e-12)
+    ics = isc.instant_centres(THETA)
+    assert ics.ok.all() and np.allclose(ics[1, 4].point / s, d) and ics[3, 4].at_infinity.all()
+    for k in range(THETA.size):
+        slot = np.exp(1j * m.theta4[k])  # the normal through O4 meets O2A at I13
+        assert abs(ics[1, 3].point[k] / s - meet(0j, A[k], d + 0j, 1j * slot)) < 1e-9 * 8
+
+
+def _drawn_fourbar(s: float) -> Linkage:
+    r1, r2, r3, r4 = 8.0, 4.0, 7.0, 6.0
+    _, _, B = fourbar_i13_i24(r1, r2, r3, r4, 0.5)
+    A = r2 * np.exp(0.5j)
+    pts = {"O2": 0j, "O4": r1 * s + 0j, "A": A * s, "B": B * s}
+    lk = Linkage(pts).ground("O2", "O4").link("crank", "O2", "A").link("coupler", "A", "B")
+    return lk.link("rocker", "O4", "B").drive("crank")
+
+
+@pytest.mark.parametrize("s", [1e-45, 1e12, 1e45])
+def test_a_drawn_linkage_has_its_centres_at_any_scale(s):
+    # before the fix: a drawing 1e12 long had every centre NaN with ok True
+    theta = np.array([0.5, 0.8, 1.4])
+    ics = instant_centres_of(_drawn_fourbar(s), theta)
+    assert ics.ok.all()
+    for k, t in enumerate(theta):
+        i13, i24, _ = fourbar_i13_i24(8.0, 4.0, 7.0, 6.0, t)
+        assert abs(ics["ground", "coupler"].point[k] / s - i13) < 1e-9 * max(8, abs(i13))
+        assert abs(ics["crank", "rocker"].point[k] / s - i24) < 1e-9 * max(8, abs(i24))
