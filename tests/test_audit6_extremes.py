@@ -79,6 +79,7 @@ def test_slider_crank_centres_scale_with_the_linkage(s):
 
 @pytest.mark.parametrize("s", SCALES)
 def test_inverted_slider_crank_slot_and_centres_scale_with_the_linkage(s):
+    # before the fix: lengths above ~1e154 overflowed |S|² (b NaN, a RuntimeWarning)
     a, d, c = 4.0, 6.0, 1.0
     isc = InvertedSliderCrank(a * s, d * s, c * s)
     m = isc.solve(THETA, omega2=1.0)

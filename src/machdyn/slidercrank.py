@@ -601,14 +601,16 @@ class InvertedSliderCrank:
         a, d, c = self.a, self.d, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         S = a * e2 - d
-        b2 = np.abs(S) ** 2 - c * c
-        status = np.where(b2 >= -_CLOSE_TOL * (a + d) ** 2, OK, NOT_ASSEMBLABLE).astype(np.uint8)
+        # b² = |S|² − c², in units of the extent: squares of lengths up to 1e250 stay finite
+        b2 = np.abs(S / extent) ** 2 - (c / extent) ** 2
+        tol = _CLOSE_TOL * ((a + d) / extent) ** 2
+        status = np.where(b2 >= -tol, OK, NOT_ASSEMBLABLE).astype(np.uint8)
         if scalar and status.item() != OK:
             raise AssemblyError(
                 f"{self!r}: theta2 = {np.degrees(float(t2)):.6g} deg cannot be assembled "
                 f"(A comes closer to O4 than the slot offset {abs(c):g})"
             )
-        b = np.sqrt(np.clip(b2, 0.0, None)) * (1.0 if form == 1 else -1.0)
+        b = extent * np.sqrt(np.clip(b2, 0.0, None)) * (1.0 if form == 1 else -1.0)
         status[(status == OK) & (np.abs(b) < _TOGGLE_TOL * (a + d))] = TOGGLE
         b = np.where(status == NOT_ASSEMBLABLE, np.nan, b)
         Z = b + 1j * c
