@@ -113,3 +113,12 @@ def test_a_drawn_linkage_has_its_centres_at_any_scale(s):
         i13, i24, _ = fourbar_i13_i24(8.0, 4.0, 7.0, 6.0, t)
         assert abs(ics["ground", "coupler"].point[k] / s - i13) < 1e-9 * max(8, abs(i13))
         assert abs(ics["crank", "rocker"].point[k] / s - i24) < 1e-9 * max(8, abs(i24))
+
+
+def test_a_drawing_too_small_to_compute_is_refused_by_name():
+    # before the fix: a drawing 1e-199 across was "at a toggle" (its squared lengths underflow)
+    with pytest.raises(InputError, match=r"^points: the drawing is \S+e-200 across, below 1e-50"):
+        _drawn_fourbar(1e-200).solve(0.5)
+    m = _drawn_fourbar(1e-45).solve(np.array([0.5, 0.9]))  # just inside: computed
+    _, _, B = fourbar_i13_i24(8.0, 4.0, 7.0, 6.0, 0.9)
+    assert m.ok.all() and abs(m.points["B"][1] / 1e-45 - B) < 1e-12 * 8
