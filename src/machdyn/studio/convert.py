@@ -98,7 +98,9 @@ def _sweep(part: Any, rocker: Any = None) -> np.ndarray:
     return FULL_TURN.values
 
 
-def _drawn(solve: Any, sweep: np.ndarray, limits: tuple[float, float] | None) -> tuple[float, Any]:
+def _drawn(
+    part: Any, solve: Any, sweep: np.ndarray, limits: tuple[float, float] | None
+) -> tuple[float, Any]:
     """The input to draw at: the sweep's first assembled value clear of a toggle.
 
     Else the middle of the input's range (a rocker's sweep starts at a toggle).
@@ -113,7 +115,10 @@ def _drawn(solve: Any, sweep: np.ndarray, limits: tuple[float, float] | None) ->
         clear = mu is None or abs(np.sin(float(np.ravel(mu)[0]))) > 0.02
         if bool(np.ravel(m.ok)[0]) and clear:
             return t, m
-    raise InputError("theta2", "the mechanism cannot be assembled at any input of its sweep")
+    raise InputError(
+        f"{part.kind}.{part.name}.motion.theta2",
+        "the studio cannot draw it: it assembles at no input of this sweep (nor mid-range)",
+    )
 
 
 def _z(value: Any) -> complex:
@@ -188,7 +193,7 @@ def _fourbar(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
     rng = fb.input_range(form)
     limits = None if rng.full_turn else (rng.lo, rng.hi)
     sweep = _sweep(part, None if rng.full_turn else rng)
-    t0, m = _drawn(lambda t: fb.solve(t, 1.0, 0.0, form, branch=branch), sweep, limits)
+    t0, m = _drawn(part, lambda t: fb.solve(t, 1.0, 0.0, form, branch=branch), sweep, limits)
     local = {"O2": 0j, "O4": complex(fb.r1), "A": _z(m.A), "B": _z(m.B)}
     if fb.coupler is not None:
         local["P"] = _z(m.coupler)
@@ -229,7 +234,7 @@ def _slider_crank(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
     form = v.get("form", 1)
     limits = sc.input_range()
     sweep = _sweep(part)
-    t0, m = _drawn(lambda t: sc.solve(t, 1.0, 0.0, form), sweep, limits)
+    t0, m = _drawn(part, lambda t: sc.solve(t, 1.0, 0.0, form), sweep, limits)
     points = {"O2": 0j, "A": _z(m.A), "B": _z(m.B)}
     if sc.point is not None:
         points["P"] = _z(m.coupler)
