@@ -12,6 +12,8 @@ Where a magnitude is refused, the error names the field.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -122,3 +124,19 @@ def test_a_drawing_too_small_to_compute_is_refused_by_name():
     m = _drawn_fourbar(1e-45).solve(np.array([0.5, 0.9]))  # just inside: computed
     _, _, B = fourbar_i13_i24(8.0, 4.0, 7.0, 6.0, 0.9)
     assert m.ok.all() and abs(m.points["B"][1] / 1e-45 - B) < 1e-12 * 8
+
+
+def test_fewest_teeth_of_a_tiny_pressure_angle_are_counted_or_refused_by_name():
+    # before the fix: φ = 1e-10 rad gave 2/sin²φ = 2e20 teeth cast to int64 (a RuntimeWarning
+    # and -9223372036854775808); Norton's rack relation N = 2k/sin²φ, whole teeth, rounded up
+    from machdyn import gears
+
+    phi = 1e-5  # 2e10 teeth: still a count
+    assert gears.min_teeth_rack(phi) == math.ceil(2.0 / math.sin(phi) ** 2 - 1e-9)
+    assert gears.min_pinion_teeth(pressure_angle=phi) == gears.min_teeth_rack(phi)
+    too_small = r"^pressure_angle: is too small: the fewest teeth would be (2|1\.33)e\+20"
+    for f in (gears.min_teeth_rack, gears.min_teeth_equal_gears):
+        with pytest.raises(InputError, match=too_small):
+            f(1e-10)
+    with pytest.raises(InputError, match=too_small):
+        gears.min_pinion_teeth(pressure_angle=1e-10)
