@@ -140,3 +140,33 @@ def test_fewest_teeth_of_a_tiny_pressure_angle_are_counted_or_refused_by_name():
             f(1e-10)
     with pytest.raises(InputError, match=too_small):
         gears.min_pinion_teeth(pressure_angle=1e-10)
+
+
+@pytest.mark.parametrize("k", [1, 2, 3, 4])
+def test_a_four_bar_link_that_is_a_point_is_refused_by_name(k, capsys):
+    # before the fix: `machdyn fourbar 1e-300 4 7 6` printed a table; FourBar(6, 9, 3e-40, 8)
+    # had an input range of zero width and extrema() raised IndexError. As Linkage refuses
+    # pins drawn within 1e-12 of the drawing's size, a link at most 1e-12 of the longest is
+    # refused by its name.
+    from machdyn.cli import main
+
+    r = [6.0, 9.0, 3.0, 8.0]
+    for small in (1e-300, 9e-13):
+        r[k - 1] = small
+        with pytest.raises(InputError, match=rf"^r{k}: {small:g} is a point next to the longest"):
+            FourBar(*r)
+    assert main(["fourbar", *map(str, r)]) == 1
+    out, err = capsys.readouterr()
+    assert not out and err.strip() == err.strip().splitlines()[0] and f"r{k}: 9e-13" in err
+
+
+def test_a_tiny_coupler_above_the_floor_has_the_input_range_of_two_circles():
+    # the crank swings while A stays between r4 − r3 and r4 + r3 from O4 (law of cosines)
+    r1, r2, r3, r4 = 6.0, 9.0, 3e-9, 8.0
+    fb = FourBar(r1, r2, r3, r4)
+    ends = sorted(
+        math.acos((r1 * r1 + r2 * r2 - reach**2) / (2 * r1 * r2)) for reach in (r4 - r3, r4 + r3)
+    )
+    got = fb.input_range(1)
+    assert abs(got.lo - ends[0]) < 1e-12 and abs(got.hi - ends[1]) < 1e-12
+    assert all(np.isfinite([e.min, e.max]).all() for e in fb.extrema(form=1, n=51).values())
