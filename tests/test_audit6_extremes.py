@@ -170,3 +170,20 @@ def test_a_tiny_coupler_above_the_floor_has_the_input_range_of_two_circles():
     got = fb.input_range(1)
     assert abs(got.lo - ends[0]) < 1e-12 and abs(got.hi - ends[1]) < 1e-12
     assert all(np.isfinite([e.min, e.max]).all() for e in fb.extrema(form=1, n=51).values())
+
+
+def test_tolerance_worst_case_of_a_fast_machine_scales_as_omega_squared():
+    # before the fix: per-sample peaks were float32, so T12 deviations past 3.4e38 became inf
+    # and were dropped: the worst case was NaN (a RuntimeWarning) at omega2 = 1e20. With no
+    # gravity, load or alpha2, Newton-Euler's T12 is omega2² times the one at omega2 = 1.
+    from machdyn.tolerance import tolerance
+
+    def worst(omega2):
+        run = tolerance(
+            FourBar(8, 4, 7, 6), {"r2": 0.01, "r3": 0.02}, np.radians([10.0, 50.0]),
+            samples=20, seed=1, outputs=["T12"], omega2=omega2,
+            mass=(1.0, 2.0, 1.5), inertia=(0.1, 0.5, 0.3), cg=(2.0, 3.5, 3.0),
+        )  # fmt: skip
+        return run.outputs["T12"].worst
+
+    assert worst(1e20) == pytest.approx(1e40 * worst(1.0), rel=1e-6)
