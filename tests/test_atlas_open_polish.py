@@ -76,6 +76,16 @@ def test_near_miss_of_an_open_target_is_met_by_the_long_polish(compiled):
     assert again[0] is NEAR
 
 
+def test_long_polish_that_does_not_meet_keeps_its_start(compiled, monkeypatch):
+    """Only a met fit replaces its start (one that crawled on but missed may be worse)."""
+    import machdyn.synthesis.atlas_path as atlas_path
+
+    targets = TRUTH.pose(THETA)[2]
+    monkeypatch.setattr(atlas_path, "UNTIMED_ENOUGH", 1e-12)  # 2.7e-8 is then not met
+    fits, met = _long_polished([NEAR], targets, OPTIONS, False, [])
+    assert fits[0] is NEAR and not met
+
+
 def test_long_polish_only_with_the_compiled_kernels():
     targets = TRUTH.pose(THETA)[2]
     fits, met = _long_polished([NEAR], targets, OPTIONS, False, [])
