@@ -612,6 +612,33 @@ def path_from_atlas(
         a negative ``time_limit``.
     AtlasError
         The atlas is missing, from another version, unfinished or corrupted.
+
+    Examples
+    --------
+    A tiny atlas (a thousand four-bars; ``machdyn atlas build`` makes 10^7), and
+    twelve targets a known four-bar's coupler point passes through at crank steps
+    of 30°, the timing prescribed:
+
+    >>> import tempfile
+    >>> from machdyn.fourbar import FourBar
+    >>> from machdyn.synthesis import PlacedFourBar, build_atlas
+    >>> folder = tempfile.mkdtemp()
+    >>> _ = build_atlas(folder, 1000, chunk_size=500, progress=False)
+    >>> known = PlacedFourBar(FourBar(3.0, 1.0, 3.5, 2.5, coupler=(1.8, 0.6)), 0.5 + 0.2j, 0.3, 1)
+    >>> theta = np.radians(np.arange(0, 360, 30))
+    >>> targets = known.pose(theta)[2]
+    >>> found = path_from_atlas(targets, folder, timing=theta, n=1)
+    >>> best = found.candidates[0]
+    >>> bool(found.near), bool(np.max(best.distance) < 1e-9)
+    (True, True)
+
+    The linkage found (placed in the plane) passes through the targets at its
+    crank angles ``best.theta2``, each ``theta`` apart:
+
+    >>> bool(np.allclose(best.linkage.pose(best.theta2)[2], targets, atol=1e-9))
+    True
+    >>> bool(np.allclose(np.diff(best.theta2), np.diff(theta)))
+    True
     """
     start = time.perf_counter()
     if time_limit is not None:
@@ -1256,38 +1283,57 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
         dense = interpolate_closed(pts, 8 * man.samples)
         q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
         idx = np.union1d(idx, atlas.nearest(q, retrieve, crank=True, client=client)[0])
-    starts = []
     wide = _wide_rows(True)[: None if 9 in fixed else WIDE_TIMED]  # θ0 scanned: fewer
     held = 6 in fixed or 8 in fixed  # (refine_count was quadrupled for them)
-    for rows, count in ((atlas.entries(idx), refine_count),
-                        (wide, max(1, refine_count // 4) if held else refine_count)):  # fmt: skip
-        if rows.size:
-            starts += _timed_starts(rows, pts, timing, count, fixed)
+    groups = [(rows, count) for rows, count in (
+        (atlas.entries(idx), refine_count),
+        (wide, max(1, refine_count // 4) if held else refine_count)) if rows.size]  # fmt: skip
+    # every row scored in one call (on threads), the best starts picked group by group
+    scored = _timed_scored(np.concatenate([rows for rows, _ in groups]), pts, timing, fixed)
+    starts, lo = [], 0
+    for rows, count in groups:
+        part = tuple(x[:, lo : lo + rows.size] for x in scored)
+        starts += _timed_starts(rows, pts, timing, count, fixed, part)
+        lo += rows.size
     return starts
 
 
-def _timed_starts(rows, pts, timing, refine_count, fixed):
-    """The ``refine_count`` best timed starts among ``rows`` (both mirror images)."""
+def _timed_grid(fixed) -> np.ndarray:
+    """Starting crank angles θ0 scanned for timed targets (θ0 itself when it is held)."""
+    return np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+
+
+def _timed_scored(rows, pts, timing, fixed) -> tuple:
+    """:func:`_timed_fits` of every row (score, θ0 index, h, t; each (2, rows)), on threads."""
     from .._parallel import for_slices
 
-    grid = np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-    th = grid[:, None] + timing[None, :]  # (G, K)
+    table = _angle_table(_timed_grid(fixed)[:, None] + timing[None, :])  # (G, K) angles
     O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
-    table = _angle_table(th)
-    parts: dict[int, list] = {}
+    out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
+           np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
 
     def run(sl: slice) -> None:  # each thread a run of rows (the fit kernels release the GIL)
-        parts[sl.start] = [_timed_fits(rows[lo : min(lo + TIMED_BLOCK, sl.stop)], table, pts,
-                                       O2, fixed.get(8))
-                           for lo in range(sl.start, sl.stop, TIMED_BLOCK)]  # fmt: skip
+        for lo in range(sl.start, sl.stop, TIMED_BLOCK):
+            part = slice(lo, min(lo + TIMED_BLOCK, sl.stop))
+            for x, y in zip(out, _timed_fits(rows[part], table, pts, O2, fixed.get(8)),
+                            strict=True):  # fmt: skip
+                x[:, part] = y
 
-    for_slices(run, rows.size, minimum=2 * TIMED_BLOCK)
-    blocks = [b for start in sorted(parts) for b in parts[start]]
+    for_slices(run, rows.size, minimum=TIMED_THREADS)
+    return out
+
+
+def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None):
+    """The ``refine_count`` best timed starts among ``rows`` (both mirror images).
+
+    ``scored``: :func:`_timed_scored` of these rows, when already computed.
+    """
+    score, g, hh, off = (x.ravel() for x in scored or _timed_scored(rows, pts, timing, fixed))
     # (2, rows) each, flattened: all entries as stored, then all mirrored
-    score, g, hh, off = (np.concatenate(x, axis=1).ravel() for x in zip(*blocks, strict=True))
     mirror = np.repeat([1.0, -1.0], rows.size)
     order = np.argsort(-score)[:refine_count]
     rows2 = np.concatenate([rows, rows])
+    grid = _timed_grid(fixed)
     starts = []
     for i in order:
         row, m, h = rows2[i], mirror[i], hh[i]
@@ -1300,8 +1346,10 @@ def _timed_starts(rows, pts, timing, refine_count, fixed):
     return starts
 
 
-#: Entries whose coupler points are computed at once for timed targets.
+#: Entries scored by one call of the timed fits (NumPy: their coupler points at once), and
+#: the fewest worth threads (the compiled fits of a thousand entries take ~3 ms).
 TIMED_BLOCK = 2048
+TIMED_THREADS = 1024
 
 
 def _angle_table(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -1327,26 +1375,35 @@ def _timed_fits(rows, table, pts, O2=None, theta1=None):
     in closed form: ``t`` the offset (``O2`` when held) and ``h`` a rotation and
     scale (a scale ``s ≥ 0`` times ``e^{jθ1}`` when ``θ1`` is held). The score is
     the share of the targets' spread the fit explains. ``table``: see
-    :func:`_angle_table`.
+    :func:`_angle_table`. Compiled, the coupler points and the fits are one kernel
+    (:func:`~machdyn.synthesis._atlas_kernels.timed_scores`: the points of a few
+    entries at a time stay in cache); NumPy computes the points of all the rows
+    (:func:`~machdyn.synthesis.atlas.coupler_points`), then the fits.
     """
     from .. import jit
-    from .atlas import _kernel  # the compiled coupler-point kernel (angles shared by all rows)
+    from ..fourbar import _CLOSE_TOL
+    from .atlas import _kernel
 
     angles, ip, im = table
     f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
     circuit = rows["circuit"].astype(float)
-    Q, _ = _kernel(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"], f["delta"], angles,
-                   circuit)  # fmt: skip
     centre = pts.mean() if O2 is None else O2
     a = pts - centre
     held = np.nan if theta1 is None else float(theta1)
     out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
            np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
-    if jit.kernels(Q.size) is not None:
+    if jit.kernels(rows.size * angles.size) is not None:
         from ._atlas_kernels import timed_scores
 
-        timed_scores(Q, ip, im, a, O2 is None, held, *out)
+        # the inputs of _kernels.coupler_points, as atlas._kernel prepares them
+        lengths = np.column_stack([f["r1"], np.ones(rows.size), f["r3"], f["r4"]])
+        offsets = np.column_stack([f["p"] * np.cos(f["delta"]), f["p"] * np.sin(f["delta"]),
+                                   np.where(circuit >= 0, 1.0, -1.0)])  # fmt: skip
+        timed_scores(lengths, offsets, np.cos(angles), np.sin(angles), _CLOSE_TOL, ip, im, a,
+                     O2 is None, held, *out)  # fmt: skip
     else:
+        Q, _ = _kernel(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"], f["delta"], angles,
+                       circuit)  # fmt: skip
         _timed_scores_numpy(Q, ip, im, a, O2 is None, held, *out)
     score, g, h, qm = out
     return score, g, h, centre - h * qm
