@@ -246,8 +246,12 @@ def multistart(case: dict, count: int, seed: int = 0) -> tuple[float, np.ndarray
     return best[0], best[1], feasible
 
 
-def pso(case: dict, seconds: float, seed: int) -> float:
-    """pylinkage's particle swarm on the 10-number path objective for ``seconds``: its SSE."""
+def pso(case: dict, seconds: float, seed: int) -> tuple[float, int]:
+    """pylinkage's particle swarm on the 10-number path objective for ``seconds``.
+
+    Returns its SSE and its iterations: as many whole iterations as fit in ``seconds``
+    at the time its first (untimed) iteration took, and at least one.
+    """
     import pylinkage as pl
 
     from machdyn.synthesis.path import _BOUNDS, _BOUNDS_TIMED, _frame, _result, path_objective
@@ -278,19 +282,21 @@ def pso(case: dict, seconds: float, seed: int) -> float:
     ens = pl.particle_swarm_optimization(fitness, dummy, iterations=iters, **run)
     best = np.asarray(ens.top(1)[0].dimensions if hasattr(ens, "top") else ens[0].dimensions)
     res = _result(best, 0.0, targets, timing, scale, centre, 0.0, None)
-    return float(np.sum(res.distance**2))
+    return float(np.sum(res.distance**2)), iters
 
 
 def compare(case: dict, at, seeds: list[int], pso_on: bool) -> None:
     """machdyn, then the swarm given machdyn's wall time, once per seed (interleaved)."""
-    runs, swarm, split = [], [], []
+    runs, swarm, split, iters = [], [], [], []
     for seed in seeds:
         res, seconds, cpu = run_machdyn(case, at)
         runs.append((seconds, cpu))
         split.append((res.seconds["retrieve"], res.seconds["refine"]))
         if pso_on:
             try:
-                swarm.append(pso(case, seconds, seed))
+                sse, its = pso(case, seconds, seed)
+                swarm.append(sse)
+                iters.append(its)
             except ImportError:
                 print("  pylinkage  not installed (pip install -e '.[bench]')")
                 pso_on = False
@@ -312,7 +318,8 @@ def compare(case: dict, at, seeds: list[int], pso_on: bool) -> None:
         ratio = np.array(swarm) / max(sse, 1e-300)
         print(f"  pylinkage  {'PSO, same wall time, seeds ' + str(seeds[0]) + '+':52s} SSE "
               f"{np.median(swarm):10.3e} median, {min(swarm):.3e} best seed "
-              f"({', '.join(f'{x:.3g}' for x in swarm)})")  # fmt: skip
+              f"({', '.join(f'{x:.3g}' for x in swarm)}; iterations "
+              f"{', '.join(str(i) for i in iters)})")  # fmt: skip
         med, worst = np.median(ratio), ratio.min()
         print(f"  ratio      swarm / machdyn: median {med:.3g}x, worst {worst:.3g}x")
 
