@@ -138,3 +138,24 @@ def test_a_slider_crank_file_opens_with_what_it_keeps_and_drops(page, tmp_path):
     assert js(p, "() => window.studio.result.has_forces") is True
     p.shot("studio-22-slider-crank-file-opened")
     assert not p.errors, p.errors
+
+
+def test_an_inverted_slider_crank_file_opens_with_its_block_in_the_slot(page, tmp_path):
+    p = page
+    text = example("slider_crank.toml")
+    shaper = text[text.index("[inverted_slider_crank.shaper]") :]
+    f = tmp_path / "shaper.toml"
+    f.write_text('machdyn = 1\n[units]\nlength = "mm"\n' + shaper, encoding="utf-8")
+    open_file(p, f)
+    said = p.page.locator("#notice").inner_text()
+    assert "Opened [inverted_slider_crank.shaper] as a drawn linkage: crank O2–A" in said
+    names = p.page.locator("#canvas text.link-name").all_text_contents()
+    assert sorted(names) == ["crank", "rocker", "slider"]
+    # the slotted link points at the crank pin in every frame (offset 0): O4, S and A in line
+    r = js(p, "() => window.studio.view.scene")
+    at = {n: np.array(r["x"][i], float) + 1j * np.array(r["y"][i], float)
+          for i, n in enumerate(r["names"]) if n in ("O4", "S", "A")}  # fmt: skip
+    cross = np.imag((at["S"] - at["O4"]) * np.conj(at["A"] - at["O4"]))
+    assert np.max(np.abs(cross) / np.abs(at["S"] - at["O4"])) < 1e-3
+    p.shot("studio-23-inverted-slider-crank-file-opened")
+    assert not p.errors, p.errors

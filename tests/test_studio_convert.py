@@ -224,3 +224,39 @@ def test_a_press_driven_by_a_gear_pair_keeps_its_references_and_flywheel():
     sized = [{s.label: s.value for s in r["crank"].summary} for r in (closed, drawn)]
     assert sized[1]["I (flywheel inertia)"] == pytest.approx(sized[0]["I (flywheel inertia)"])
     assert sized[1]["omega_avg"] == pytest.approx(sized[0]["omega_avg"])
+
+
+@pytest.mark.parametrize("form, friction", [(1, 'friction = "coulomb"\nmu = 0.1'), (2, "")])
+def test_an_inverted_slider_crank_with_an_offset_slot_masses_friction_and_gravity(form, friction):
+    """Norton's inversion #3 (A − O4 = (b + jc) e^{jθ4}): the slotted link drawn through O4
+    and a point on its x axis, the block sliding in it; against InvertedSliderCrank."""
+    text = (
+        'machdyn = 1\ngravity = true\n[units]\nlength = "mm"\nmass = "kg"\ntorque = "N*m"\n'
+        f"[inverted_slider_crank.q]\ncrank = 100\nground = 260\noffset = 30\nform = {form}\n"
+        '[inverted_slider_crank.q.motion]\ntheta2 = [10, 350, 20]\nomega2 = "90 rpm"\n'
+        "[inverted_slider_crank.q.link2]\nmass = 0.4\ninertia = 300\ncg = 50\n"
+        "[inverted_slider_crank.q.link3]\nmass = 0.2\ninertia = 20\ncg = [5, 2]\n"
+        "[inverted_slider_crank.q.link4]\nmass = 1.1\ninertia = 9000\ncg = [150, 10]\n"
+        f'[inverted_slider_crank.q.loads]\ntorque4 = "-4 N*m"\n{friction}\n'
+        "[[inverted_slider_crank.q.loads.force]]\nlink = 3\nat = [4, -3]\n"
+        'force = ["5 N", "2 N"]\n'
+    )
+    closed, drawn, _, notes = both(text, "q")
+    kc, kd = closed["kinematics"], drawn["kinematics"]
+    ok = kc["ok"].astype(bool) & kd["ok"].astype(bool)
+    assert ok.all() and ok.size == 18
+    same_angle(kd["theta_rocker"], kc["theta4"], ok)
+    # the block turns with the slot (a one-point link's angle is counted from the drawing)
+    same_angle(kd["theta_slider"] - kd["theta_slider"][0], kc["theta4"] - kc["theta4"][0], ok)
+    np.testing.assert_allclose(kd["omega_rocker"], kc["omega4"], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(kd["alpha_rocker"], kc["alpha4"], rtol=1e-9, atol=1e-8)
+    # the block's travel along the slot is b's
+    np.testing.assert_allclose(kd["d_guide"] - kd["d_guide"][0], kc["b"] - kc["b"][0], atol=1e-8)
+    fc, fd = closed["forces"], drawn["forces"]
+    good = ok & fc["ok"].astype(bool) & fd["ok"].astype(bool)
+    assert good.all()
+    pairs = [("T12", "T_crank"), ("F12_x", "F_ground_crank_x"), ("F14_y", "F_ground_rocker_y")]
+    for a, b in pairs:
+        scale = np.max(np.abs(fc[a]))
+        np.testing.assert_allclose(fd[b], fc[a], rtol=0, atol=1e-8 * scale)
+    assert not [n for n in notes if n.startswith("Not kept")]

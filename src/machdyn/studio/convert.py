@@ -1,17 +1,18 @@
-"""Open ``[fourbar]`` and ``[slider_crank]`` parts in the studio: drawn as a ``[linkage]`` part.
+"""Open ``[fourbar]``, ``[slider_crank]`` and ``[inverted_slider_crank]`` parts in the studio.
 
 The studio edits drawn linkages (``[linkage.NAME]``). A file from ``machdyn synth
-path``, or one written by hand with a ``[fourbar.NAME]`` or ``[slider_crank.NAME]``
-part, is turned into the same machine drawn as a linkage: its points placed in
-one assembled pose (the part's ``form``/``branch``; a placed four-bar's ``O2`` and
-``theta1``), its links named as the textbooks name them, the coupler point traced,
-the masses, loads, gravity, the input's motion and the file's units kept. What a
-linkage part has no key for is listed in the notes the page shows (nothing is
-dropped without a word).
+path``, or one written by hand with a ``[fourbar.NAME]``, ``[slider_crank.NAME]`` or
+``[inverted_slider_crank.NAME]`` part, is turned into the same machine drawn as a
+linkage: its points placed in one assembled pose (the part's ``form``/``branch``; a
+placed four-bar's ``O2`` and ``theta1``), its links named as the textbooks name them,
+the coupler point traced, the masses, loads, gravity, the input's motion and the
+file's units kept. What a linkage part has no key for is listed in the notes the page
+shows (nothing is dropped without a word).
 
-Only the library computes the pose: ``FourBar.solve`` and ``SliderCrank.solve`` at
-the drawn input; the page's analysis then runs on the drawn linkage (the other
-code path), so the two can be compared (``tests/test_studio.py``).
+Only the library computes the pose: ``FourBar.solve``, ``SliderCrank.solve`` and
+``InvertedSliderCrank.solve`` at the drawn input; the page's analysis then runs on the
+drawn linkage (the other code path), so the two can be compared
+(``tests/test_studio_convert.py``).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from ..errors import InputError
 __all__ = ["CONVERTED", "linkage_document"]
 
 #: Part kinds the studio opens as a drawn linkage.
-CONVERTED = ("fourbar", "slider_crank")
+CONVERTED = ("fourbar", "slider_crank", "inverted_slider_crank")
 
 #: Tables of these parts a linkage part has no key for, and why.
 _NOT_KEPT = {
@@ -40,7 +41,7 @@ _NOT_KEPT = {
 def linkage_document(machine: Any) -> tuple[dict[str, Any], list[str]]:
     """The machine as a spec document the studio can edit, and notes for the page.
 
-    A machine with a ``linkage`` part, or with no ``fourbar``/``slider_crank`` part, is
+    A machine with a ``linkage`` part, or with no part of a kind in :data:`CONVERTED`, is
     returned as it is (no notes). Otherwise its first such part becomes a linkage
     part of the same name; the other parts are kept as they are.
 
@@ -63,7 +64,8 @@ def linkage_document(machine: Any) -> tuple[dict[str, Any], list[str]]:
     part = next((p for p in parts if p.kind in CONVERTED), None)
     if part is None:
         return machine.to_spec(), []
-    values, notes = (_fourbar if part.kind == "fourbar" else _slider_crank)(part, machine)
+    convert = {"fourbar": _fourbar, "slider_crank": _slider_crank}.get(part.kind, _inverted)
+    values, notes = convert(part, machine)
     from ..spec._machine import Part
 
     new = {
@@ -103,18 +105,27 @@ def _drawn(
 ) -> tuple[float, Any]:
     """The input to draw at: the sweep's first assembled value clear of a toggle.
 
-    Else the middle of the input's range (a rocker's sweep starts at a toggle).
+    Else the middle of the input's range (a rocker's sweep starts at a toggle). A pose
+    whose crank lies along the slot (an inverted slider-crank at θ2 = θ4, the crank
+    hidden under the slotted link) is passed over too while another one is clear.
     """
     tries = [float(sweep[0])]
     if limits is not None:
         tries.append(0.5 * (limits[0] + limits[1]))
     tries += [float(t) for t in sweep[1:]]
+    first = None
     for t in tries:
-        m = solve(t)
+        m = solve(np.array([t]))  # (an array: a pose that does not close is flagged, not raised)
         mu = getattr(m, "mu", None)
+        if mu is None and hasattr(m, "theta4"):  # the inverted slider-crank: not along the slot
+            mu = t - float(np.ravel(m.theta4)[0])
         clear = mu is None or abs(np.sin(float(np.ravel(mu)[0]))) > 0.02
-        if bool(np.ravel(m.ok)[0]) and clear:
-            return t, m
+        if bool(np.ravel(m.ok)[0]):
+            if clear:
+                return t, m
+            first = first or (t, m)
+    if first is not None:
+        return first
     raise InputError(
         f"{part.kind}.{part.name}.motion.theta2",
         "the studio cannot draw it: it assembles at no input of this sweep (nor mid-range)",
@@ -274,6 +285,64 @@ def _slider_crank(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         values.setdefault("forces", []).append(
             {"link": "slider", "at": "B", "force": complex(loads["force4"])}
         )
+    friction = loads.get("friction", "smooth")
+    if friction == "coulomb" and loads.get("mu"):
+        values["friction"] = {"guide": {"coulomb": loads["mu"]}}
+    elif friction == "viscous" and loads.get("beta"):
+        values["friction"] = {"guide": {"viscous": loads["beta"]}}
+    notes.insert(0, _opened(part, machine, links, t0))
+    return values, notes
+
+
+# ------------------------------------------------------------------- inverted slider-crank
+def _inverted(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
+    """Norton's inversion #3: a block on the crank pin A slides in the slotted link O4.
+
+    The slot is the line y = c of link 4's frame (origin O4, x along the slot): A − O4 =
+    (b + jc)·e^{jθ4}. The slotted link carries O4 and a point S on its x axis; the block
+    slides along it at A.
+    """
+    isc, v = part.model, part.values
+    form = v.get("form", 1)
+    sweep = _sweep(part)
+    t0, m = _drawn(part, lambda t: isc.solve(t, 1.0, 0.0, form), sweep, None)
+    theta4 = float(np.ravel(m.theta4)[0])
+    O4 = complex(isc.d)
+    points = {"O2": 0j, "O4": O4, "A": _z(m.A), "S": O4 + (isc.a + isc.d) * np.exp(1j * theta4)}
+    crank = "crank"
+    full = isc.d + abs(isc.c) < isc.a  # the slotted link turns fully when O4 is inside the circle
+    names = {2: crank, 3: "slider", 4: "output" if full else "rocker"}
+    links = {
+        crank: {"points": ["O2", "A"]},
+        names[4]: {"points": ["O4", "S"]},
+        "slider": {"points": ["A"]},
+    }
+    notes: list[str] = []
+    for k in (2, 4):
+        links[names[k]] |= _mass(v.get(f"link{k}"), f"[{part.kind}.{part.name}.link{k}]", notes)
+    # the block is a one-point link: its frame is the plane's axes at the drawing, turning
+    # with it; the part's block frame has x along the slot, so its vectors turn by θ4 there
+    turn = complex(np.exp(1j * theta4))
+    block = dict(v.get("link3") or {})
+    if "cg" in block:
+        block["cg"] = complex(block["cg"]) * turn
+    links["slider"] |= _mass(block, f"[{part.kind}.{part.name}.link3]", notes)
+    loads = v.get("loads", {})
+    kept = {k: x for k, x in loads.items() if k in ("torque4", "torques")}
+    forces = [
+        {**f, "at": complex(f["at"]) * turn} if f["link"] == 3 else f
+        for f in loads.get("force", [])
+    ]
+    values: dict[str, Any] = {
+        "points": points,
+        "ground": ["O2", "O4"],
+        "drive": [crank],
+        "links": links,
+        "sliders": {"guide": {"block": "slider", "on": names[4], "at": "A", "direction": theta4}},
+        "motion": _motion(part, crank, sweep, 0.0),
+        **_loads({"loads": {**kept, "force": forces}}, names),
+        **({"notes": v["notes"]} if "notes" in v else {}),
+    }
     friction = loads.get("friction", "smooth")
     if friction == "coulomb" and loads.get("mu"):
         values["friction"] = {"guide": {"coulomb": loads["mu"]}}
