@@ -502,8 +502,14 @@ def test_a_later_round_of_timed_starts_scans_a_grid_turned_half_a_step(atlas6, c
 def test_a_third_timed_round_scans_entries_of_the_best_fits_kind(atlas6, compiled):
     # sixbar_path.SIXBAR_KIND_POOL: given the fits so far, a timed target's third round takes
     # its starts from crank-driven entries spread over those of the best fit's kind (chain,
-    # dyad links, the point's link); its second round is the first pool rescanned, as before
-    from machdyn.synthesis.sixbar_path import SIXBAR_KIND_POOL, _kind_pool, sixbar_starts
+    # dyad links, the point's link) unless the best fit is crawling to the targets (within
+    # SIXBAR_CRAWL: the long polish's); its second round is the first pool rescanned
+    from machdyn.synthesis.sixbar_path import (
+        SIXBAR_CRAWL,
+        SIXBAR_KIND_POOL,
+        _kind_pool,
+        sixbar_starts,
+    )
 
     row = atlas6.entries([321])[0]
     theta = 0.9 + np.linspace(0, 2 * np.pi, 10, endpoint=False)
@@ -512,9 +518,15 @@ def test_a_third_timed_round_scans_entries_of_the_best_fits_kind(atlas6, compile
     fits = [(np.zeros(15), theta, 0.1, kind), (np.zeros(15), theta, 1.0, dict(kind, on=5))]
     every = atlas6.entries(np.arange(len(atlas6)))
     wanted = (every["topology"] == kind["topology"]) & (every["on"] == 6) & (every["barker"] <= 2)
-    pool = _kind_pool(atlas6, fits)
+    pool = _kind_pool(atlas6, targets, fits)
     assert pool.size == min(SIXBAR_KIND_POOL, np.sum(wanted)) and np.all(wanted[pool])
     assert pool.max() - pool.min() > 0.9 * len(atlas6)  # spread over the atlas
+    size = np.max(np.abs(targets - targets.mean()))
+    crawling = [(np.zeros(15), theta, 0.5 * SIXBAR_CRAWL * size, kind)]  # the long polish's
+    assert _kind_pool(atlas6, targets, crawling).size == 0
+    assert (
+        sixbar_starts(atlas6, targets, theta - theta[0], True, 40, 8, None, True, 2, crawling) == []
+    )
 
     args = (atlas6, targets, theta - theta[0], True, 40, 8, None, True)
     third = sixbar_starts(*args, 2, fits)

@@ -398,6 +398,11 @@ SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed sta
 #: not a share of the second: that share lost a target the whole rescan met (best fits of
 #: another kind).
 SIXBAR_KIND_POOL = 1_000
+#: No third round where the best fit's RMS is within this share of the size: such a fit is
+#: crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
+#: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
+#: best polished fit). The local minima the third round escapes were 8.8e-6 to 9e-4.
+SIXBAR_CRAWL = 1e-7
 #: A later round of a timed target: steps every start is refined before the fits are ranked
 #: (the first round: 30), and most fits polished. Thirty steps rank poorly among six-bars'
 #: many near-fits: the one start of a missed timed Watt I 3-4 on 6 that converged ranked
@@ -464,9 +469,9 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
             x0, fixed = _design_of(row, h, t)
             starts.append((x0, u[near], fixed))
         return starts
-    kind = _kind_pool(atlas, fits) if round_ > 1 else np.zeros(0, np.int64)
+    third = round_ > 1  # a third round: entries of the best fit's kind (SIXBAR_KIND_POOL)
     near = np.zeros(0, np.int64)
-    if closed and not kind.size:  # the entries whose whole curve looks like the target's
+    if closed and not third:  # the entries whose whole curve looks like the target's
         dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
         even = resample_closed(dense, atlas.manifest.samples)
         q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
@@ -476,11 +481,11 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     # starts lie in different basins (the timed fit is over-determined: near the truth it
     # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    pools = [kind] if kind.size else [
+    pools = [_kind_pool(atlas, pts, fits)] if third else [
         np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
         near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
     ]  # fmt: skip
-    for idx in pools:
+    for idx in (idx for idx in pools if idx.size):
         best = _timed_best(atlas, idx, timing, pts, refine_count, compiled, shift=0.5 * round_)
         for i, h, t, g0, mirror in best:
             if (i, mirror) not in seen:
@@ -490,16 +495,18 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     return starts
 
 
-def _kind_pool(atlas, fits) -> np.ndarray:
+def _kind_pool(atlas, pts, fits) -> np.ndarray:
     """Flat indices of :data:`SIXBAR_KIND_POOL` crank entries of the best fit's kind.
 
     The kind: the chain and the dyad's links (``topology``) and the link that
     carries the point (``on``); the entries are spread evenly over those of the
-    atlas (none without ``fits``).
+    atlas. None without ``fits`` or where the best fit is within
+    :data:`SIXBAR_CRAWL` of the targets' size.
     """
-    if not fits:
+    best = min(fits, key=lambda f: f[2], default=None)
+    if best is None or best[2] <= SIXBAR_CRAWL * float(np.max(np.abs(pts - pts.mean()))):
         return np.zeros(0, np.int64)
-    fx = min(fits, key=lambda f: f[2])[3]
+    fx = best[3]
     sel = [(np.asarray(m["barker"]) <= 2) & (np.asarray(m["topology"]) == fx["topology"])
            & (np.asarray(m["on"]) == fx["on"]) for m in atlas.meta]  # fmt: skip
     allowed = np.flatnonzero(np.concatenate(sel))
