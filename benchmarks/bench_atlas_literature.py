@@ -24,6 +24,9 @@ For each case this script
    machdyn and the swarm take turns, ``--seeds`` times per case (each swarm seed gets
    the wall time of the machdyn run just before it); the median and the worst ratio of
    the swarm's SSE to machdyn's over the seeds are printed (``--seeds 1 --seed S``: one).
+   The swarm gets as many whole iterations as fit in that time (at least one), and is
+   also read when stopped at that time exactly; its generator is seeded (pylinkage
+   1.3 leaves it unseeded), so a seed gives the same swarm on every run.
 
 Where machdyn's problem differs from the paper's (a bound it cannot hold, the other
 assembly than the papers' formula), the table says so.
@@ -246,8 +249,23 @@ def multistart(case: dict, count: int, seed: int = 0) -> tuple[float, np.ndarray
     return best[0], best[1], feasible
 
 
-def pso(case: dict, seconds: float, seed: int) -> float:
-    """pylinkage's particle swarm on the 10-number path objective for ``seconds``: its SSE."""
+#: Particles of the swarm (each iteration evaluates every one; so does its start).
+PARTICLES = 100
+
+
+def pso(case: dict, seconds: float, seed: int) -> tuple[float, int, float, int]:
+    """pylinkage's particle swarm on the 10-number path objective for ``seconds``.
+
+    Returns its SSE after as many whole iterations as fit in ``seconds`` at the time
+    its first (untimed) iteration took, at least one, and that count; then its SSE
+    when stopped at ``seconds`` of wall time exactly (its best evaluation finished
+    by then: with machdyn faster than one iteration, the whole-iteration rule gives
+    the swarm more time than machdyn), and how many evaluations it finished by then.
+    Both from one run: pylinkage 1.3's swarm keeps its inertia and coefficients
+    constant, so its path does not depend on how many iterations it is asked for.
+    Its generator (``np.random.default_rng()``, unseeded in pylinkage 1.3) is seeded
+    with ``seed`` here, so a seed gives the same swarm on every run.
+    """
     import pylinkage as pl
 
     from machdyn.synthesis.path import _BOUNDS, _BOUNDS_TIMED, _frame, _result, path_objective
@@ -263,34 +281,53 @@ def pso(case: dict, seconds: float, seed: int) -> float:
     scale, centre = _frame(targets)
     crank = pl.Crank(anchor=pl.Ground(0, 0), radius=1.0, angular_velocity=0.1)
     dummy = pl.Linkage([crank.anchor, crank], name="placeholder")  # the PSO needs one
+    evals: list = []  # (finished at, cost, dims) of every evaluation of the timed run
 
     def fitness(_linkage, dims, _pos):
         # mu_min 0: machdyn is given no transmission-angle limit either (run_machdyn)
-        return float(path_objective(np.asarray(dims), targets, timing=timing, n=120,
+        cost = float(path_objective(np.asarray(dims), targets, timing=timing, n=120,
                                     mu_min=0.0, scale=scale, centre=centre))  # fmt: skip
+        evals.append((time.perf_counter(), cost, np.array(dims, dtype=float)))
+        return cost
 
-    np.random.seed(seed)  # noqa: NPY002  (pylinkage's PSO draws from NumPy's global generator)
-    t0 = time.perf_counter()
-    run = dict(dimensions=lo.size, n_particles=100, bounds=(lo, hi), order_relation=min,
+    def sse(dims) -> float:
+        return float(np.sum(_result(dims, 0.0, targets, timing, scale, centre, 0.0, None)
+                            .distance ** 2))  # fmt: skip
+
+    run = dict(dimensions=lo.size, n_particles=PARTICLES, bounds=(lo, hi), order_relation=min,
                verbose=False)  # fmt: skip
-    pl.particle_swarm_optimization(fitness, dummy, iterations=1, **run)
-    iters = max(1, int(seconds / (time.perf_counter() - t0)))
-    ens = pl.particle_swarm_optimization(fitness, dummy, iterations=iters, **run)
-    best = np.asarray(ens.top(1)[0].dimensions if hasattr(ens, "top") else ens[0].dimensions)
-    res = _result(best, 0.0, targets, timing, scale, centre, 0.0, None)
-    return float(np.sum(res.distance**2))
+    unseeded = np.random.default_rng
+    np.random.default_rng = lambda *a, **k: unseeded(*a, **k) if a or k else unseeded(seed)
+    try:
+        t0 = time.perf_counter()
+        pl.particle_swarm_optimization(fitness, dummy, iterations=1, **run)
+        iters = max(1, int(seconds / (time.perf_counter() - t0)))
+        evals.clear()
+        t0 = time.perf_counter()
+        # one iteration more than the whole-iteration rule's, for the reading at the time
+        pl.particle_swarm_optimization(fitness, dummy, iterations=iters + 1, **run)
+    finally:
+        np.random.default_rng = unseeded
+    whole = min(evals[: (iters + 1) * PARTICLES], key=lambda e: e[1])
+    timely = [e for e in evals if e[0] - t0 <= seconds] or evals[:1]
+    best = min(timely, key=lambda e: e[1])
+    return sse(whole[2]), iters, sse(best[2]), len(timely)
 
 
 def compare(case: dict, at, seeds: list[int], pso_on: bool) -> None:
     """machdyn, then the swarm given machdyn's wall time, once per seed (interleaved)."""
-    runs, swarm, split = [], [], []
+    runs, swarm, split, iters, timely, evaluations = [], [], [], [], [], []
     for seed in seeds:
         res, seconds, cpu = run_machdyn(case, at)
         runs.append((seconds, cpu))
         split.append((res.seconds["retrieve"], res.seconds["refine"]))
         if pso_on:
             try:
-                swarm.append(pso(case, seconds, seed))
+                sse, its, sse_at, done = pso(case, seconds, seed)
+                swarm.append(sse)
+                iters.append(its)
+                timely.append(sse_at)
+                evaluations.append(done)
             except ImportError:
                 print("  pylinkage  not installed (pip install -e '.[bench]')")
                 pso_on = False
@@ -312,9 +349,15 @@ def compare(case: dict, at, seeds: list[int], pso_on: bool) -> None:
         ratio = np.array(swarm) / max(sse, 1e-300)
         print(f"  pylinkage  {'PSO, same wall time, seeds ' + str(seeds[0]) + '+':52s} SSE "
               f"{np.median(swarm):10.3e} median, {min(swarm):.3e} best seed "
-              f"({', '.join(f'{x:.3g}' for x in swarm)})")  # fmt: skip
+              f"({', '.join(f'{x:.3g}' for x in swarm)}; iterations "
+              f"{', '.join(str(i) for i in iters)})")  # fmt: skip
         med, worst = np.median(ratio), ratio.min()
         print(f"  ratio      swarm / machdyn: median {med:.3g}x, worst {worst:.3g}x")
+        at = np.array(timely) / max(sse, 1e-300)
+        print(f"  same swarm stopped at machdyn's wall time exactly (evaluations "
+              f"{', '.join(str(e) for e in evaluations)}): SSE {np.median(timely):.3e} median "
+              f"({', '.join(f'{x:.3g}' for x in timely)}); ratio median "
+              f"{np.median(at):.3g}x, worst {at.min():.3g}x")  # fmt: skip
 
 
 def published_best(case: dict) -> float:

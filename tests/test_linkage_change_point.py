@@ -85,6 +85,29 @@ def test_at_the_change_point_itself_the_rates_are_flagged():
     assert "toggle" in m.reason[1] or "does not close" in m.reason[1]  # (rounding decides)
 
 
+def test_fourbar_form_is_read_sample_by_sample_past_the_change_point():
+    """FourBar's form (the sign of φ12, as in the notes) is the other shape past π.
+
+    The documented contrast with Linkage: form 1 is the parallelogram before the
+    change point and the antiparallelogram after it (B mirrored in A–O4), every
+    sample closing the loop; the change point itself is flagged.
+    """
+    from machdyn import FourBar
+
+    th = np.radians([60.0, 120.0, 180.0, 240.0, 300.0])
+    m = FourBar(D_, A_, D_, A_).solve(th, omega2=1.0, form=1)
+    assert m.ok.tolist() == [True, True, False, True, True]
+    A = A_ * np.exp(1j * th)
+    B = A + D_ * np.exp(1j * m.theta3)
+    assert np.allclose(np.abs(B - D_), A_, atol=1e-12)  # the rocker's length: closed
+    parallel = A + D_
+    crossed = mirror(parallel, A, D_)
+    assert np.allclose(B[:2], parallel[:2], atol=1e-12)
+    assert np.allclose(B[3:], crossed[3:], atol=1e-12)
+    lk, _ = parallelogram(60.0)
+    np.testing.assert_allclose(np.exp(1j * lk.solve(th[3:]).theta["coupler"]), 1.0, atol=1e-9)
+
+
 def test_a_near_parallelogram_is_not_flipped():
     # a Grashof crank-rocker 1e-3 short of the change point (crank 1.499: s + l = 5.499 <
     # p + q = 5.5): |A − O4| stays within [2.501, 5.499], inside the dyad's [2.5, 5.5], so

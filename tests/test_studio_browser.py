@@ -228,7 +228,8 @@ def test_build_a_six_bar_with_a_slider_by_clicking_then_undo_and_redo(page):
     assert pt["ground"] == ["O2", "O4"]  # named as the textbooks do (Norton: O2, O4)
     assert pt["points"]["O2"] == [0, 0] and pt["points"]["O4"] == [80, 0]
     assert len(pt["links"]) == 5 and next(iter(pt["sliders"].values()))["on"] == "ground"
-    assert pt["drive"] == ["link1"]
+    assert pt["drive"] == ["crank"]  # new links are named by their role, then numbered
+    assert list(pt["links"]) == ["crank", "coupler", "rocker", "coupler2", "block1"]
     summary = js(p, "() => window.studio.result.summary")
     assert summary["mobility"] == 1
     assert [g["kind"] for g in summary["groups"]] == ["driver", "RRR", "RRP"]
@@ -558,8 +559,8 @@ def test_a_ternary_plate_and_a_slider_on_a_moving_link_by_clicking(page):
     settle(p, before)
     p.shot("studio-15-shaper-by-clicking")
     pt = part(p)
-    assert {s["on"] for s in pt["sliders"].values()} == {"ground", "link2"}
-    assert len(pt["links"]["link2"]["points"]) == 3
+    assert {s["on"] for s in pt["sliders"].values()} == {"ground", "rocker"}
+    assert len(pt["links"]["rocker"]["points"]) == 3
     r = scene(p)
     assert r["summary"]["mobility"] == 1
     assert [g["kind"] for g in r["summary"]["groups"]] == ["driver", "RPR", "RRP"]
@@ -571,11 +572,11 @@ def test_a_ternary_plate_and_a_slider_on_a_moving_link_by_clicking(page):
     pin = next(s["at"] for s in pt["sliders"].values() if s["on"] != "ground")
     x = np.radians(r["x"])
     a = pts[o2] + (pts[pin] - pts[o2]) * np.exp(1j * (x - x[r["drawn"]])) - pts[o4]
-    c = positions(r, pt["links"]["link2"]["points"][1]) - pts[o4]
+    c = positions(r, pt["links"]["rocker"]["points"][1]) - pts[o4]
     rounding = 3 * 10.0 ** -r["scene"]["decimals"] / np.abs(c).min()  # the page's decimals
     assert np.max(np.abs(np.angle((c / a) / (c / a)[r["drawn"]]))) < rounding
     p.page.click("button[data-tab=design]")
-    p.page.click("#tab-design .lists a:text-is('link2')")
+    p.page.click("#tab-design .lists a:text-is('rocker')")
     assert "ternary plate" in p.page.locator("#tab-design .selection").inner_text()
     no_errors(p)
 

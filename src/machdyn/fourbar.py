@@ -831,6 +831,12 @@ class FourBar:
         form : {1, 2}
             The notes' form: the sign of φ12 (form 1: φ12 > 0), except for
             GRCR and GRRC where it is the sign of φ34 = θ2 (the two circuits).
+            The form is read at every sample on its own. For a change-point
+            linkage (s + l = p + q, e.g. a parallelogram) the two shapes meet
+            where all four pivots are in line, so past that point the same form
+            is the other shape (a parallelogram becomes the antiparallelogram);
+            the change point itself is flagged as a toggle. `Linkage` instead
+            follows the drawn shape through by continuity.
         branch : {1, -1}, optional
             Only for GRCR and GRRC: the sign of φ12 within the form (default +1).
         order : {0, 1, 2, 3}

@@ -66,7 +66,9 @@ def linkage_part(machine: Any, name: str | None = None) -> Any:
         kinds = ", ".join(f"{p.kind} {p.name!r}" for p in machine.parts.values()) or "no parts"
         raise InputError(
             "document",
-            f"the studio edits [linkage.NAME] parts; this document has {kinds}. "
+            f"the studio edits [linkage.NAME] parts (and opens [fourbar.NAME], "
+            f"[slider_crank.NAME] and [inverted_slider_crank.NAME] parts as drawn linkages); "
+            f"this document has {kinds}. "
             "Start from a template, or draw one.",
         )
     return parts[0]

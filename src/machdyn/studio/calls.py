@@ -66,7 +66,8 @@ def calls(studio: Studio) -> dict[str, tuple[Callable[[dict], Any], bool]]:
             return {"refused": str(exc), "kind": type(exc).__name__, **_key_of(exc)}
 
     def open_text(body: dict) -> dict:
-        return {"doc": document.from_text(_field(body, "text", str), _field(body, "name", str))}
+        doc, notes = document.read_text(_field(body, "text", str), _field(body, "name", str))
+        return {"doc": doc, "notes": notes}
 
     def save(body: dict) -> dict:
         return document.save(studio.file, _field(body, "doc", dict))

@@ -19,7 +19,7 @@ from typing import Any
 
 from ..errors import InputError
 
-__all__ = ["edit", "from_text", "normalise", "save", "session"]
+__all__ = ["edit", "from_text", "normalise", "read_text", "save", "session"]
 
 
 def normalise(doc: Mapping[str, Any]) -> dict[str, Any]:
@@ -35,8 +35,20 @@ def normalise(doc: Mapping[str, Any]) -> dict[str, Any]:
 def from_text(text: str, name: str) -> dict[str, Any]:
     """A document from a machine file's text (TOML, or JSON when ``name`` ends in .json).
 
-    Old ``machdyn linkage`` files are upgraded as :func:`machdyn.load` does.
+    Old ``machdyn linkage`` files are upgraded as :func:`machdyn.load` does; a
+    ``[fourbar]`` or ``[slider_crank]`` part is drawn as a linkage (:func:`read_text`).
     """
+    return read_text(text, name)[0]
+
+
+def read_text(text: str, name: str) -> tuple[dict[str, Any], list[str]]:
+    """The document of a machine file's text and what the page should tell about it.
+
+    The notes say how a ``[fourbar]``/``[slider_crank]`` part was drawn as a linkage
+    and what of it a linkage part cannot keep (:func:`machdyn.studio.convert.linkage_document`).
+    """
+    from .convert import linkage_document
+
     source = Path(name).name or "dropped file"
     if source.lower().endswith(".json"):
         try:
@@ -45,7 +57,9 @@ def from_text(text: str, name: str) -> dict[str, Any]:
             raise InputError(
                 f"{source}:{exc.lineno}", f"JSON syntax error: {exc.msg} (column {exc.colno})"
             ) from None
-        return normalise(doc)
+        from ..spec import read
+
+        return linkage_document(read(doc))
     try:
         tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -53,7 +67,7 @@ def from_text(text: str, name: str) -> dict[str, Any]:
     from ..spec import loads  # the reader with line numbers and the old-format upgrade
 
     named = source if source.lower().endswith(".toml") else f"{source}.toml"
-    return loads(text, named).to_spec()
+    return linkage_document(loads(text, named))
 
 
 def session(file: Path | None, templates: Mapping[str, str]) -> dict[str, Any]:
@@ -64,12 +78,13 @@ def session(file: Path | None, templates: Mapping[str, str]) -> dict[str, Any]:
         "file": None if file is None else file.name,
         "doc": None,
         "error": None,
+        "notes": [],
         "templates": dict(templates),
         "version": __version__,
     }
     if file is not None and file.exists():
         try:
-            out["doc"] = from_text(file.read_text(encoding="utf-8"), file.name)
+            out["doc"], out["notes"] = read_text(file.read_text(encoding="utf-8"), file.name)
         except (InputError, UnicodeDecodeError, OSError) as exc:
             out["error"] = str(exc)
     return out
@@ -90,9 +105,25 @@ def save(file: Path | None, doc: Mapping[str, Any]) -> dict[str, Any]:
             "or start it as 'machdyn studio NAME.toml'",
         )
     normalise(doc)  # (the file on disk is left as it was)
+    _keeps_all(file)
     text = dumps(dict(doc)) if file.suffix.lower() != ".json" else json.dumps(doc, indent=2)
     file.write_text(text, encoding="utf-8")
     return {"saved": file.name, "bytes": len(text.encode("utf-8"))}
+
+
+def _keeps_all(file: Path) -> None:
+    """Refuse to overwrite a [fourbar]/[slider_crank] file whose drawing would lose keys."""
+    try:
+        lost = [n for n in read_text(file.read_text(encoding="utf-8"), file.name)[1]
+                if n.startswith("Not kept")]  # fmt: skip
+    except (InputError, UnicodeDecodeError, OSError):
+        return  # a file that does not open loses nothing the studio could show
+    if lost:
+        raise InputError(
+            "file",
+            f"{file.name} has keys the studio's linkage cannot hold, and Save would lose them "
+            f"({' '.join(lost)}) Use Download to keep the design in a new file.",
+        )
 
 
 # ------------------------------------------------------------------- edits

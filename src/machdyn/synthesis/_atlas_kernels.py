@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .._kernels import _unit_vectors, sincos
+from .._kernels import OK, _unit_vectors, sincos
 
 __all__ = [
     "bound_rows",
@@ -118,69 +118,115 @@ def coupler_jacobian(x, theta, branch, G, J, Jt, excess):  # pragma: no cover - 
         Jt[k] = rot * (ja + tail * ((ja * ce4).real / den))
 
 
+#: Entries whose coupler points :func:`timed_scores` holds at once (their points at every
+#: angle of the table, by angle: the fits then run along the entries, in SIMD lanes).
+TIMED_LANES = 32
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
-def timed_scores(Q, ip, im, a, centred, theta1, score, best, h, qm):  # pragma: no cover
+def timed_scores(lengths, offsets, cos2, sin2, close_tol, ip, im, a, centred, theta1, score, best,
+                 h, qm):  # fmt: skip  # pragma: no cover - compiled
     """Best starting angle of each entry for timed targets, both mirror images, fused.
 
-    The compiled twin of :func:`machdyn.synthesis.atlas_path._timed_scores_numpy`
-    (tested against it). ``Q`` (R, M) complex: each entry's coupler points at
-    the angles of the table; ``ip``/``im`` (G, K): the table index of
-    ``θ0_g + Δ_k`` and of its negative (the mirror image's point is the
-    conjugate of the point at the negative angle); ``a`` (K,) complex: the
-    targets (centred, or less the held pivot); ``centred``: fit an offset too;
-    ``theta1``: the held ground direction (NaN: free). Writes, for mirror ``m``
-    (0: as stored, 1: mirrored) and entry ``r``: ``score[m, r]`` (the share of
-    the targets' spread explained, −1 where a pose does not assemble),
-    ``best[m, r]`` (index g of the best θ0, the first of equal ones), ``h[m, r]``
-    (rotation and scale) and ``qm[m, r]`` (mean of the fitted points).
+    The compiled twin of :func:`machdyn.synthesis.atlas.coupler_points` followed by
+    :func:`machdyn.synthesis.atlas_path._timed_scores_numpy` (tested against a fit
+    written out with scipy): ``lengths`` (R, 4) and ``offsets`` (R, 3) as
+    :func:`machdyn._kernels.coupler_points` takes them, ``cos2``/``sin2`` (M,) the
+    table's angles; ``ip``/``im`` (G, K): the table index of ``θ0_g + Δ_k`` and of
+    its negative (the mirror image's point is the conjugate of the point at the
+    negative angle); ``a`` (K,) complex: the targets (centred, or less the held
+    pivot); ``centred``: fit an offset too; ``theta1``: the held ground direction
+    (NaN: free). Writes, for mirror ``m`` (0: as stored, 1: mirrored) and entry
+    ``r``: ``score[m, r]`` (the share of the targets' spread explained, −1 where a
+    pose does not assemble), ``best[m, r]`` (index g of the best θ0, the first of
+    equal ones), ``h[m, r]`` (rotation and scale) and ``qm[m, r]`` (mean of the
+    fitted points).
+
+    :data:`TIMED_LANES` entries at a time: their points at every angle (by angle),
+    then every fit with the entries innermost; each entry's sums run in the order
+    of the targets, as one entry at a time would.
     """
+    n_r, n_m = lengths.shape[0], cos2.size
     n_g, n_k = ip.shape
+    lanes = TIMED_LANES
     aa = 0.0
     for k in range(n_k):
         aa += a[k].real * a[k].real + a[k].imag * a[k].imag
     aa = max(aa, 1e-300)
     held = not math.isnan(theta1)
     ct, st = (math.cos(theta1), math.sin(theta1)) if held else (1.0, 0.0)
-    for r in range(Q.shape[0]):
+    xr, xi = np.empty((n_m, lanes)), np.empty((n_m, lanes))
+    s1, s2, s3, s4 = np.empty(lanes), np.empty(lanes), np.empty(lanes), np.empty(lanes)
+    r2, pr, pi, sign = np.empty(lanes), np.empty(lanes), np.empty(lanes), np.empty(lanes)
+    mr, mi, cr, ci, v = (np.empty(lanes), np.empty(lanes), np.empty(lanes), np.empty(lanes),
+                         np.empty(lanes))  # fmt: skip
+    top, top_hr, top_hi, top_mr, top_mi = (np.empty(lanes), np.empty(lanes), np.empty(lanes),
+                                           np.empty(lanes), np.empty(lanes))  # fmt: skip
+    top_g = np.empty(lanes, np.int64)
+    for lo in range(0, n_r, lanes):
+        w = min(lanes, n_r - lo)
+        for j in range(w):
+            q1, q2, q3, q4 = (lengths[lo + j, 0], lengths[lo + j, 1], lengths[lo + j, 2],
+                              lengths[lo + j, 3])  # fmt: skip
+            scale = max(max(q1, q2), max(q3, q4))
+            s1[j], s2[j], s3[j], s4[j] = q1 / scale, q2 / scale, q3 / scale, q4 / scale
+            r2[j] = q2
+            pr[j], pi[j], sign[j] = offsets[lo + j, 0], offsets[lo + j, 1], offsets[lo + j, 2]
+        for i in range(n_m):  # the points (as _kernels.coupler_points), entries innermost
+            c, s = cos2[i], sin2[i]
+            for j in range(w):
+                e3x, e3y, _, _, status = _unit_vectors(s1[j], s2[j], s3[j], s4[j], c, s, sign[j],
+                                                       close_tol)  # fmt: skip
+                blank = 0.0 if status == OK else np.nan
+                xr[i, j] = r2[j] * c + pr[j] * e3x - pi[j] * e3y + blank
+                xi[i, j] = r2[j] * s + pr[j] * e3y + pi[j] * e3x + blank
         for m in range(2):
             table = ip if m == 0 else im
-            sign = 1.0 if m == 0 else -1.0
-            top, top_g, top_h, top_q = -np.inf, 0, 0j, 0j
+            sgn = 1.0 if m == 0 else -1.0
+            for j in range(w):
+                top[j], top_g[j] = -np.inf, 0
+                top_hr[j], top_hi[j], top_mr[j], top_mi[j] = 0.0, 0.0, 0.0, 0.0
             for g in range(n_g):
-                mr, mi = 0.0, 0.0
+                for j in range(w):
+                    mr[j], mi[j] = 0.0, 0.0
                 if centred:
                     for k in range(n_k):
-                        q = Q[r, table[g, k]]
-                        mr += q.real
-                        mi += sign * q.imag
-                    mr /= n_k
-                    mi /= n_k
-                cr, ci, v = 0.0, 0.0, 0.0
+                        t = table[g, k]
+                        for j in range(w):
+                            mr[j] += xr[t, j]
+                            mi[j] += sgn * xi[t, j]
+                    for j in range(w):
+                        mr[j] /= n_k
+                        mi[j] /= n_k
+                for j in range(w):
+                    cr[j], ci[j], v[j] = 0.0, 0.0, 0.0
                 for k in range(n_k):
-                    q = Q[r, table[g, k]]
-                    qr, qi = q.real - mr, sign * q.imag - mi
+                    t = table[g, k]
                     ar, ai = a[k].real, a[k].imag
-                    cr += qr * ar + qi * ai  # conj(q) a
-                    ci += qr * ai - qi * ar
-                    v += qr * qr + qi * qi
-                if not v > 0.0:
-                    v = np.inf
-                if held:
-                    along = max(cr * ct + ci * st, 0.0)
-                    gain = along * along / v
-                    hr, hi = along / v * ct, along / v * st
-                else:
-                    gain = (cr * cr + ci * ci) / v
-                    hr, hi = cr / v, ci / v
-                s = gain / aa
-                if s != s:
-                    s = -1.0  # an unassembled pose fits nothing
-                if s > top:
-                    top, top_g, top_h, top_q = s, g, complex(hr, hi), complex(mr, mi)
-            score[m, r] = top
-            best[m, r] = top_g
-            h[m, r] = top_h
-            qm[m, r] = top_q
+                    for j in range(w):
+                        qr, qi = xr[t, j] - mr[j], sgn * xi[t, j] - mi[j]
+                        cr[j] += qr * ar + qi * ai  # conj(q) a
+                        ci[j] += qr * ai - qi * ar
+                        v[j] += qr * qr + qi * qi
+                for j in range(w):
+                    vv = v[j] if v[j] > 0.0 else np.inf
+                    if held:
+                        along = max(cr[j] * ct + ci[j] * st, 0.0)
+                        gain = along * along / vv
+                        hr, hi = along / vv * ct, along / vv * st
+                    else:
+                        gain = (cr[j] * cr[j] + ci[j] * ci[j]) / vv
+                        hr, hi = cr[j] / vv, ci[j] / vv
+                    sc = gain / aa
+                    sc = -1.0 if sc != sc else sc  # an unassembled pose fits nothing
+                    if sc > top[j]:
+                        top[j], top_g[j], top_hr[j], top_hi[j] = sc, g, hr, hi
+                        top_mr[j], top_mi[j] = mr[j], mi[j]
+            for j in range(w):
+                score[m, lo + j] = top[j]
+                best[m, lo + j] = top_g[j]
+                h[m, lo + j] = complex(top_hr[j], top_hi[j])
+                qm[m, lo + j] = complex(top_mr[j], top_mi[j])
 
 
 # --------------------------------------------------------------------------------------

@@ -110,6 +110,9 @@ UNTIMED_NFEV = (400, 100)
 UNTIMED_ROUNDS = 3
 UNTIMED_ENOUGH = 3e-7
 UNTIMED_FAR = 1e-3
+#: Untimed targets none of whose fits meets them: the best few distinct fits polished
+#: on, most steps, and the stall window (see _long_polished; compiled kernels only).
+UNTIMED_LONG = (3, 5000, 1000)
 #: Size of the pool an open target is matched against (entries spread over the atlas).
 OPEN_POOL = 4_000
 #: Open targets: best arc fits re-scored on the target points, samples of each curve
@@ -208,22 +211,33 @@ class Atlas:
         crank = boolean("crank", crank)
         if client is not None and not callable(getattr(client, "submit", None)):
             raise InputError("client", "must be a distributed.Client (or None)")
+        return self._query(descriptor, k, crank, client, _NEVER)
+
+    def _query(self, descriptor, k: int, crank: bool, client, deadline: _Deadline):
+        """:meth:`nearest` on checked inputs; past the ``deadline``, no more chunks.
+
+        Each thread stops after the chunk it is scoring when the deadline passes
+        (it scores one at least): the entries returned are then the nearest of the
+        chunks scored, a random share of the atlas (its chunks are independent
+        samples). The chunks given to a Dask cluster are all scored.
+        """
         variants = np.ascontiguousarray(descriptor_variants(descriptor).reshape(4, -1))  # (4, D)
         if client is None:
-            parts = self._local_topk(variants, k, crank)
+            parts = self._local_topk(variants, k, crank, deadline)
         else:
             futures = [
                 client.submit(chunk_topk_file, str(self.path), c, variants, k, crank, pure=False)
                 for c in range(len(self.desc))
             ]
-            parts = client.gather(futures)
-        idx = np.concatenate([top + self.offsets[c] for c, (top, _) in enumerate(parts)])
-        score = np.concatenate([s for _, s in parts])
+            parts = list(enumerate(client.gather(futures)))
+        idx = np.concatenate([top + self.offsets[c] for c, (top, _) in parts])
+        score = np.concatenate([s for _, (_, s) in parts])
         order = np.lexsort((idx, -score))[:k]  # best first; equal scores by index
         keep = np.isfinite(score[order])
         return idx[order][keep], (2.0 - 2.0 * score[order][keep]).astype(float)
 
-    def _local_topk(self, variants: np.ndarray, k: int, crank: bool) -> list:
+    def _local_topk(self, variants: np.ndarray, k: int, crank: bool,
+                    deadline: _Deadline = _NEVER) -> list:  # fmt: skip
         """:func:`chunk_topk` of every chunk, on the threads of :mod:`machdyn._parallel`.
 
         Each thread scores a run of chunks (BLAS products, comparisons and the
@@ -231,7 +245,9 @@ class Atlas:
         so far; the union holds the exact top k. Once a thread has a k-th best,
         its later chunks are scored in two stages (:func:`bounded_topk`): an
         upper bound of every score from :data:`HEAD` columns, then the exact
-        score of the rows whose bound beats the k-th best.
+        score of the rows whose bound beats the k-th best. Returns ``(chunk, (rows,
+        scores))`` for the chunks scored: past the ``deadline``, each thread stops
+        after its current chunk.
         """
         from .. import jit
         from .._parallel import for_slices
@@ -263,9 +279,11 @@ class Atlas:
                 if best.size >= k:  # the k-th best so far: later chunks must beat it
                     best = np.partition(best, best.size - k)[best.size - k :]
                     floor = float(best[0])
+                if deadline.passed():
+                    break
 
         for_slices(run, len(self))
-        return parts
+        return [(c, p) for c, p in enumerate(parts) if p is not None]
 
     def _query_heads(self) -> tuple:
         """The query's first stage: its columns, and each chunk's tables built so far.
@@ -590,13 +608,18 @@ def path_from_atlas(
         Keep the crank's pivot ``O2`` inside this rectangle.
     time_limit : float, optional
         Wall-clock seconds for the whole call. The synthesis then stops at the
-        first stage boundary past the limit (between pool rounds, polished fits,
-        screened starts; the atlas query itself is never cut) and returns the best
-        linkages found so far, with a ``note`` that says so. It returns within
-        about the limit plus one stage (a few tens of milliseconds; a six-bar
-        round longer). At least one retrieved start is refined, so even a limit
-        of 0 returns the retrieval's best placed and checked. None (the
-        default): no limit, the same result on every run.
+        first stage boundary past the limit and returns the best linkages found
+        so far, with a ``note`` that says so. The boundaries: between chunks of
+        the atlas query (a closed target's nearest entries are then those of the
+        chunks scored, a random share of the atlas), between slices of 1,000
+        entries of an open target's pool, before the starts from random
+        four-bars of wide proportions, between screened starts, polished fits
+        and pool rounds. It returns within about the limit plus one stage (a
+        few tens of milliseconds; an open target's first slice and its arc fits
+        ~0.2 s; a six-bar round longer; in a fresh process, the first call also
+        loads the compiled kernels). At least one retrieved start is refined, so
+        even a limit of 0 returns the retrieval's best placed and checked. None
+        (the default): no limit, the same steps and result on every run.
 
     Returns
     -------
@@ -609,6 +632,33 @@ def path_from_atlas(
         a negative ``time_limit``.
     AtlasError
         The atlas is missing, from another version, unfinished or corrupted.
+
+    Examples
+    --------
+    A tiny atlas (a thousand four-bars; ``machdyn atlas build`` makes 10^7), and
+    twelve targets a known four-bar's coupler point passes through at crank steps
+    of 30°, the timing prescribed:
+
+    >>> import tempfile
+    >>> from machdyn.fourbar import FourBar
+    >>> from machdyn.synthesis import PlacedFourBar, build_atlas
+    >>> folder = tempfile.mkdtemp()
+    >>> _ = build_atlas(folder, 1000, chunk_size=500, progress=False)
+    >>> known = PlacedFourBar(FourBar(3.0, 1.0, 3.5, 2.5, coupler=(1.8, 0.6)), 0.5 + 0.2j, 0.3, 1)
+    >>> theta = np.radians(np.arange(0, 360, 30))
+    >>> targets = known.pose(theta)[2]
+    >>> found = path_from_atlas(targets, folder, timing=theta, n=1)
+    >>> best = found.candidates[0]
+    >>> bool(found.near), bool(np.max(best.distance) < 1e-9)
+    (True, True)
+
+    The linkage found (placed in the plane) passes through the targets at its
+    crank angles ``best.theta2``, each ``theta`` apart:
+
+    >>> bool(np.allclose(best.linkage.pose(best.theta2)[2], targets, atol=1e-9))
+    True
+    >>> bool(np.allclose(np.diff(best.theta2), np.diff(theta)))
+    True
     """
     start = time.perf_counter()
     if time_limit is not None:
@@ -646,7 +696,8 @@ def path_from_atlas(
         fits, t1 = _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client,
                                  options, deadline)  # fmt: skip
     else:
-        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed)
+        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed,
+                                 deadline)  # fmt: skip
         t1 = time.perf_counter()
         # the few best go on until they converge (the rest rarely overtake them)
         fits, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
@@ -772,13 +823,17 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     """
     fixed = options["fixed"]
     count = max(1, refine_count // 4) if {6, 8} & fixed.keys() else refine_count
-    entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client)
-    wide, placed = _retrieve_wide(atlas, pts, closed, crank, count)
-    entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
+    entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client,
+                                    deadline)  # fmt: skip
+    if not deadline.passed():  # (past the deadline: the atlas's entries alone)
+        wide, placed = _retrieve_wide(atlas, pts, closed, crank, count)
+        entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
     t1 = time.perf_counter()
     fits, met = _polished(_screened(_untimed_starts(entries, transforms, pts), pts,
                                             options, deadline), pts, options, UNTIMED_POLISH_MAX,
                           UNTIMED_NFEV[0], deadline)  # fmt: skip
+    longer: list[np.ndarray] = []  # the keys of the fits polished longer
+    fits, met = _long_polished(fits, pts, options, met, longer, deadline)
     man = atlas.manifest
     arc = pts
     if closed:  # the targets as an arc: from the far side of the widest gap round to its near side
@@ -794,7 +849,53 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
                                                 options, deadline), pts, options, POLISH,
                               UNTIMED_NFEV[1], deadline)  # fmt: skip
         fits = sorted(fits + more, key=lambda f: f.rms)
+        fits, met = _long_polished(fits, pts, options, met, longer, deadline)
     return fits, t1
+
+
+def _long_polished(fits, pts, options, met, longer, deadline: _Deadline = _NEVER):
+    """``fits`` with the best few not yet met polished longer (:data:`UNTIMED_LONG`).
+
+    A near miss of a sloppy arc often still crawls down its valley when the polish's
+    stall rule stops it (``bench_atlas.py --recovery 20 --seed 5``, open case 14: a
+    fit at 1.1e-6 of the size reaches 1e-11 in ~3,000 more steps). Only with the
+    compiled kernels (:mod:`~machdyn.synthesis._valley_kernels`: a long polish costs
+    milliseconds there, a second in NumPy); only fits whose keys are not in
+    ``longer`` (appended to), and not once one meets or past the ``deadline``. A
+    longer-polished fit replaces its start only if its largest miss is within
+    :data:`UNTIMED_ENOUGH` of the size: a fit that is not met by then crawls toward
+    a worse answer as often as not (``--seed 11`` open case 13: to a parallelogram
+    at Grashof's change point, 1.3e-6 at its own angles, 1e-4 of the size off its
+    curve once landed on the change point, where the fit it started from was 2.3e-6).
+    Returns the fits (best first) and whether one met.
+    """
+    from .refine import _compiled
+
+    if met or not fits or not _compiled(None):
+        return fits, met
+    size = float(np.max(np.abs(pts - pts.mean())))
+    count, iterations, stall = UNTIMED_LONG
+    fits = list(fits)
+    for i, f in enumerate(fits[: 4 * count]):
+        if count == 0 or deadline.passed():
+            break
+        key = _design_key(f, size)
+        if any(np.max(np.abs(key - k)) <= SAME for k in longer):
+            continue
+        longer.append(key)
+        count -= 1
+        g = polish(f, pts, **options, iterations=iterations, stall=stall)
+        if _largest_miss(g, pts) <= UNTIMED_ENOUGH * size:
+            fits[i] = g
+            met = met or (g.rms <= UNTIMED_MET * size and np.ptp(g.branch) == 0)
+    return sorted(fits, key=lambda f: f.rms), met
+
+
+def _largest_miss(fit, pts) -> float:
+    """A fit's largest distance to a target, at its own input angles."""
+    from .refine import coupler_and_jacobian
+
+    return float(np.max(np.abs(coupler_and_jacobian(fit.x, fit.theta, fit.branch)[0] - pts)))
 
 
 #: An open target the nearest untimed fit traces this closely (as a share of its size), but
@@ -818,14 +919,12 @@ def _worth_a_round(fits, pts, closed) -> bool:
     A closed target's first round can be misled by its descriptor (unevenly
     spread points): its later rounds, arc by arc, stay.
     """
-    from .refine import coupler_and_jacobian
-
     if not fits:
         return True
     size = float(np.max(np.abs(pts - pts.mean())))
 
     def worst(f) -> float:
-        return float(np.max(np.abs(coupler_and_jacobian(f.x, f.theta, f.branch)[0] - pts))) / size
+        return _largest_miss(f, pts) / size
 
     nearest = worst(fits[0])
     if not closed and nearest > UNTIMED_FAR:  # not even the nearest fit comes near
@@ -1021,21 +1120,40 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                           seconds)  # fmt: skip
 
 
-def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None):
-    """Atlas rows and the similarity transforms (h, t) that place their curves on the target."""
+#: Entries of an open target's pool whose curves are computed at once (a time limit is
+#: looked at between slices).
+POOL_SLICE = 1_000
+
+
+def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None,
+              deadline: _Deadline = _NEVER):  # fmt: skip
+    """Atlas rows and the similarity transforms (h, t) that place their curves on the target.
+
+    Past the ``deadline``, the query of a closed target's nearest entries scores no
+    more chunks (:meth:`Atlas._query`). With a limit, an open target's pool is taken in
+    slices of :data:`POOL_SLICE` entries and none after the deadline (the first always):
+    the entries placed are then those of the slices taken, a smaller random sample of
+    the atlas.
+    """
     man = atlas.manifest
     if closed:
         dense = interpolate_closed(pts, 8 * man.samples)
         even = resample_closed(dense, man.samples)
         q = curve_descriptor(even, man.harmonics, resampled=True)
-        idx, _ = atlas.nearest(q, retrieve, crank=crank, client=client)
+        idx, _ = atlas._query(q, retrieve, crank, client, deadline)
         rows = atlas.entries(idx)
         curves = even_curves(rows, man.circuit_samples, man.samples)
         transforms, residual = align_closed(even, curves)
     else:
         rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank))
-        return _arc_starts(rows, even_curves(rows, man.circuit_samples, man.samples), pts,
-                           refine_count)  # fmt: skip
+        curves: list = []
+        step = rows.size if deadline is _NEVER else POOL_SLICE  # (no limit: one call, as ever)
+        for lo in range(0, rows.size, step):
+            if curves and deadline.passed():
+                break
+            curves.append(even_curves(rows[lo : lo + step], man.circuit_samples, man.samples))
+        curves = np.concatenate(curves)
+        return _arc_starts(rows[: len(curves)], curves, pts, refine_count)
     order = np.argsort(residual)[:refine_count]
     return rows[order], transforms[order]
 
@@ -1189,7 +1307,7 @@ TIMED_TRIES_NEAR = 1e-3
 
 
 def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None,
-                    fixed=None):  # fmt: skip
+                    fixed=None, deadline: _Deadline = _NEVER):  # fmt: skip
     """Refinement starts for timed targets: scan θ0 for every entry of a pool, fit each.
 
     For each crank entry (and its mirror image: δ → −δ on the other assembly,
@@ -1198,7 +1316,8 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
     fitted onto the targets by a rotation, scale and offset (closed form); the
     best fits start the refinements. ``fixed`` (see :func:`refine`) holds the
     pivot, the ground line's direction or θ0 (absolute timing): the fit then
-    keeps them (a scale only, or a scale and rotation).
+    keeps them (a scale only, or a scale and rotation). Past the ``deadline``, the
+    query scores no more chunks (:meth:`Atlas._query`) and the wide rows are left out.
     """
     fixed = fixed or {}
     man = atlas.manifest
@@ -1206,39 +1325,59 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
     if closed:
         dense = interpolate_closed(pts, 8 * man.samples)
         q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
-        idx = np.union1d(idx, atlas.nearest(q, retrieve, crank=True, client=client)[0])
-    starts = []
+        idx = np.union1d(idx, atlas._query(q, retrieve, True, client, deadline)[0])
     wide = _wide_rows(True)[: None if 9 in fixed else WIDE_TIMED]  # θ0 scanned: fewer
+    wide = wide[:0] if deadline.passed() else wide
     held = 6 in fixed or 8 in fixed  # (refine_count was quadrupled for them)
-    for rows, count in ((atlas.entries(idx), refine_count),
-                        (wide, max(1, refine_count // 4) if held else refine_count)):  # fmt: skip
-        if rows.size:
-            starts += _timed_starts(rows, pts, timing, count, fixed)
+    groups = [(rows, count) for rows, count in (
+        (atlas.entries(idx), refine_count),
+        (wide, max(1, refine_count // 4) if held else refine_count)) if rows.size]  # fmt: skip
+    # every row scored in one call (on threads), the best starts picked group by group
+    scored = _timed_scored(np.concatenate([rows for rows, _ in groups]), pts, timing, fixed)
+    starts, lo = [], 0
+    for rows, count in groups:
+        part = tuple(x[:, lo : lo + rows.size] for x in scored)
+        starts += _timed_starts(rows, pts, timing, count, fixed, part)
+        lo += rows.size
     return starts
 
 
-def _timed_starts(rows, pts, timing, refine_count, fixed):
-    """The ``refine_count`` best timed starts among ``rows`` (both mirror images)."""
+def _timed_grid(fixed) -> np.ndarray:
+    """Starting crank angles θ0 scanned for timed targets (θ0 itself when it is held)."""
+    return np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+
+
+def _timed_scored(rows, pts, timing, fixed) -> tuple:
+    """:func:`_timed_fits` of every row (score, θ0 index, h, t; each (2, rows)), on threads."""
     from .._parallel import for_slices
 
-    grid = np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-    th = grid[:, None] + timing[None, :]  # (G, K)
+    table = _angle_table(_timed_grid(fixed)[:, None] + timing[None, :])  # (G, K) angles
     O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
-    table = _angle_table(th)
-    parts: dict[int, list] = {}
+    out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
+           np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
 
     def run(sl: slice) -> None:  # each thread a run of rows (the fit kernels release the GIL)
-        parts[sl.start] = [_timed_fits(rows[lo : min(lo + TIMED_BLOCK, sl.stop)], table, pts,
-                                       O2, fixed.get(8))
-                           for lo in range(sl.start, sl.stop, TIMED_BLOCK)]  # fmt: skip
+        for lo in range(sl.start, sl.stop, TIMED_BLOCK):
+            part = slice(lo, min(lo + TIMED_BLOCK, sl.stop))
+            for x, y in zip(out, _timed_fits(rows[part], table, pts, O2, fixed.get(8)),
+                            strict=True):  # fmt: skip
+                x[:, part] = y
 
-    for_slices(run, rows.size, minimum=2 * TIMED_BLOCK)
-    blocks = [b for start in sorted(parts) for b in parts[start]]
+    for_slices(run, rows.size, minimum=TIMED_THREADS)
+    return out
+
+
+def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None):
+    """The ``refine_count`` best timed starts among ``rows`` (both mirror images).
+
+    ``scored``: :func:`_timed_scored` of these rows, when already computed.
+    """
+    score, g, hh, off = (x.ravel() for x in scored or _timed_scored(rows, pts, timing, fixed))
     # (2, rows) each, flattened: all entries as stored, then all mirrored
-    score, g, hh, off = (np.concatenate(x, axis=1).ravel() for x in zip(*blocks, strict=True))
     mirror = np.repeat([1.0, -1.0], rows.size)
     order = np.argsort(-score)[:refine_count]
     rows2 = np.concatenate([rows, rows])
+    grid = _timed_grid(fixed)
     starts = []
     for i in order:
         row, m, h = rows2[i], mirror[i], hh[i]
@@ -1251,8 +1390,10 @@ def _timed_starts(rows, pts, timing, refine_count, fixed):
     return starts
 
 
-#: Entries whose coupler points are computed at once for timed targets.
+#: Entries scored by one call of the timed fits (NumPy: their coupler points at once), and
+#: the fewest worth threads (the compiled fits of a thousand entries take ~3 ms).
 TIMED_BLOCK = 2048
+TIMED_THREADS = 1024
 
 
 def _angle_table(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -1278,26 +1419,35 @@ def _timed_fits(rows, table, pts, O2=None, theta1=None):
     in closed form: ``t`` the offset (``O2`` when held) and ``h`` a rotation and
     scale (a scale ``s ≥ 0`` times ``e^{jθ1}`` when ``θ1`` is held). The score is
     the share of the targets' spread the fit explains. ``table``: see
-    :func:`_angle_table`.
+    :func:`_angle_table`. Compiled, the coupler points and the fits are one kernel
+    (:func:`~machdyn.synthesis._atlas_kernels.timed_scores`: the points of a few
+    entries at a time stay in cache); NumPy computes the points of all the rows
+    (:func:`~machdyn.synthesis.atlas.coupler_points`), then the fits.
     """
     from .. import jit
-    from .atlas import _kernel  # the compiled coupler-point kernel (angles shared by all rows)
+    from ..fourbar import _CLOSE_TOL
+    from .atlas import _kernel
 
     angles, ip, im = table
     f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
     circuit = rows["circuit"].astype(float)
-    Q, _ = _kernel(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"], f["delta"], angles,
-                   circuit)  # fmt: skip
     centre = pts.mean() if O2 is None else O2
     a = pts - centre
     held = np.nan if theta1 is None else float(theta1)
     out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
            np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
-    if jit.kernels(Q.size) is not None:
+    if jit.kernels(rows.size * angles.size) is not None:
         from ._atlas_kernels import timed_scores
 
-        timed_scores(Q, ip, im, a, O2 is None, held, *out)
+        # the inputs of _kernels.coupler_points, as atlas._kernel prepares them
+        lengths = np.column_stack([f["r1"], np.ones(rows.size), f["r3"], f["r4"]])
+        offsets = np.column_stack([f["p"] * np.cos(f["delta"]), f["p"] * np.sin(f["delta"]),
+                                   np.where(circuit >= 0, 1.0, -1.0)])  # fmt: skip
+        timed_scores(lengths, offsets, np.cos(angles), np.sin(angles), _CLOSE_TOL, ip, im, a,
+                     O2 is None, held, *out)  # fmt: skip
     else:
+        Q, _ = _kernel(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"], f["delta"], angles,
+                       circuit)  # fmt: skip
         _timed_scores_numpy(Q, ip, im, a, O2 is None, held, *out)
     score, g, h, qm = out
     return score, g, h, centre - h * qm

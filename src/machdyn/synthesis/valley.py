@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .refine import _W_CONSTRAINT, Refined, _problem
+from .refine import _W_CONSTRAINT, Refined, _compiled, _problem
 
 # Internal to machdyn.synthesis (used by path_from_atlas).
 __all__: list[str] = []
@@ -54,12 +54,18 @@ def polish(
     max_length: float | None = None,
     pivot_box: tuple[float, float, float, float] | None = None,
     iterations: int = 300,
+    stall: int | None = None,
+    compiled: bool | None = None,
 ) -> Refined:
     """``fit`` moved down its valley by geodesic-acceleration Levenberg–Marquardt.
 
     Same unknowns, rows and options as :func:`~machdyn.synthesis.refine.refine`
     (``θ_k`` free, or ``θ0 + Δ_k`` with ``timing``); ``iterations`` Jacobians
-    at most. Returns ``fit`` itself when no step lowered the misses.
+    at most, stopping early once the sum of squares fell less than fourfold over
+    the last ``stall`` of them (default :data:`_STALL`). ``compiled``: run the
+    loop compiled (:func:`machdyn.synthesis._valley_kernels.descend`, the same
+    steps up to rounding); None: when :mod:`machdyn.jit` has the compiled kernels
+    loaded. Returns ``fit`` itself when no step lowered the misses.
 
     Examples
     --------
@@ -85,6 +91,18 @@ def polish(
         free[i] = False
         z[i] = value
 
+    stall = _STALL if stall is None else int(stall)
+    if _compiled(compiled):
+        from ._valley_kernels import descend
+
+        box = np.zeros(4) if pivot_box is None else np.asarray(pivot_box, dtype=float)
+        G = descend(z, free, targets, np.ascontiguousarray(branch),
+                    np.zeros(0) if timing is None else np.ascontiguousarray(timing, dtype=float),
+                    timed, crank, cos_mu, scale, _W_CONSTRAINT,
+                    np.inf if max_length is None else float(max_length), box,
+                    pivot_box is not None, int(iterations), _H, _ALPHA, _DONE, stall)  # fmt: skip
+        angles = (lambda z: z[9] + timing) if timed else (lambda z: z[9:])
+        return _outcome(fit, z, G, targets, angles(z))
     angles, residual, full_jacobian, at = _problem(targets, branch, timing, crank, cos_mu, scale,
                                                    _W_CONSTRAINT, None)  # fmt: skip
 
@@ -101,15 +119,20 @@ def polish(
             return x0 <= z[6] <= x1 and y0 <= z[7] <= y1
         return True
 
-    z = _descend(z, free, residual, jacobian, allowed, iterations, 2 * k)
+    z = _descend(z, free, residual, jacobian, allowed, iterations, 2 * k, stall)
     G = at(z)[0]  # (the evaluation the last step made)
+    return _outcome(fit, z, G, targets, angles(z))
+
+
+def _outcome(fit: Refined, z: np.ndarray, G: np.ndarray, targets, theta) -> Refined:
+    """The polished fit at ``z`` (points ``G``), or ``fit`` itself if it is no better."""
     rms = float(np.sqrt(np.mean(np.abs(G - targets) ** 2)))
     if not rms < fit.rms:
         return fit
-    return Refined(z[:9].copy(), np.asarray(angles(z), dtype=float), fit.branch, rms, True)
+    return Refined(z[:9].copy(), np.asarray(theta, dtype=float), fit.branch, rms, True)
 
 
-def _descend(z, free, residual, jacobian, allowed, iterations, rows):
+def _descend(z, free, residual, jacobian, allowed, iterations, rows, stall=_STALL):
     """The geodesic-acceleration Levenberg–Marquardt loop (Marquardt's diagonal scaling).
 
     ``rows``: how many residual rows are point misses (for the stopping rule).
@@ -121,7 +144,7 @@ def _descend(z, free, residual, jacobian, allowed, iterations, rows):
     for it in range(iterations):
         if cost <= _DONE**2 * rows:
             break
-        if it and it % _STALL == 0:  # a minimum that is not zero, or a crawl: stop
+        if it and it % stall == 0:  # a minimum that is not zero, or a crawl: stop
             if cost > 0.25 * before:
                 break
             before = cost

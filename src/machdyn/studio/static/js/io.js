@@ -20,10 +20,12 @@ export function wireFiles(app) {
     if (file.size > 1_500_000) { app.status(`${file.name}: too large for a machine file`, true); return; }
     try {
       const text = await file.text();
-      const { doc } = await post("open", { name: file.name, text });
+      const { doc, notes } = await post("open", { name: file.name, text });
+      app.beforeLoad();
       store.load(doc, true);
       app.afterLoad();
       app.status(`opened ${file.name}`);
+      app.notice(notes);
     } catch (err) { app.fail(err); }
   };
   document.getElementById("open").addEventListener("click", () => input.click());

@@ -8,6 +8,7 @@ import { Panels } from "./panels.js";
 import { Plots } from "./plots.js";
 import { Synthesis } from "./synth.js";
 import { wireFiles, download } from "./io.js";
+import { h } from "./dom.js";
 import { addPoint, addPivot, addLink, addSlider, toggleGround, deletePoint, deleteLink, deleteJoint } from "./tools.js";
 
 const BLANK = { machdyn: 1, title: "New linkage", units: { length: "mm", mass: "kg", force: "N", torque: "N*m" },
@@ -32,6 +33,13 @@ class App {
   status(text, bad = false) {
     const s = document.getElementById("status");
     s.textContent = text; s.className = bad ? "bad" : "";
+  }
+  // Messages about what was opened (a [fourbar] drawn as a linkage, what it could not keep):
+  // shown under the toolbar until dismissed or another design is opened.
+  notice(lines) {
+    const box = document.getElementById("notice");
+    document.getElementById("notice-text").replaceChildren(...(lines || []).map((t) => h("li", {}, t)));
+    box.hidden = !(lines && lines.length);
   }
   hint(text) { document.getElementById("hint").textContent = text; }
   fail(err) {
@@ -134,6 +142,10 @@ class App {
       history.replaceState(null, "", "#" + await encodeFragment(this.store.doc));
     }, 300);
   }
+
+  // Before another design is loaded: its plots start from its own defaults (the last
+  // design's quantities are not asked for, nor reported missing).
+  beforeLoad() { this.plots.selected = []; this.plots.gone = []; }
 
   afterLoad() {
     const part = this.store.part;
@@ -461,14 +473,15 @@ class App {
     tpl.addEventListener("change", async () => {
       const name = tpl.value; tpl.value = "";
       if (!name) return;
-      if (name === "blank") { this.store.load(BLANK, true); this.afterLoad(); this.status("a blank sheet: place ground pivots, then links"); return; }
-      try { const { doc } = await post("template", { name }); this.store.load(doc, true); this.afterLoad(); this.status(`template: ${name}`); }
+      if (name === "blank") { this.beforeLoad(); this.store.load(BLANK, true); this.afterLoad(); this.notice([]); this.status("a blank sheet: place ground pivots, then links"); return; }
+      try { const { doc } = await post("template", { name }); this.beforeLoad(); this.store.load(doc, true); this.afterLoad(); this.notice([]); this.status(`template: ${name}`); }
       catch (err) { this.fail(err); }
     });
   }
 
   async start() {
     this.wireCanvas(); this.wireKeys(); this.wireControls(); wireFiles(this);
+    document.getElementById("notice-close").addEventListener("click", () => this.notice([]));
     let session = null;
     try { session = await post("session", {}); } catch (err) { this.fail(err); }
     if (session) {
@@ -484,7 +497,7 @@ class App {
     let doc = null;
     try { doc = await decodeFragment(location.hash); } catch (err) { this.status("the link's design could not be read: " + err.message, true); }
     if (doc) { this.store.load(doc); this.status("opened the design in the link"); }
-    else if (session && session.doc) { this.store.load(session.doc); this.status(`opened ${session.file}`); }
+    else if (session && session.doc) { this.store.load(session.doc); this.status(`opened ${session.file}`); this.notice(session.notes); }
     else if (session && session.error) { this.status(session.error, true); }
     else {
       try { const { doc: d } = await post("template", { name: "four-bar" }); this.store.load(d); this.status("a four-bar to start from: drag its joints, or pick a template"); }

@@ -26,6 +26,12 @@ export class Plots {
     this.selected = [];
     this.filter = "";
     this.charts = [];
+    this.gone = [];  // asked-for quantities the last answer had no column for (its `unknown`)
+  }
+
+  goneText() {
+    const n = this.gone.length;
+    return `${n === 1 ? "This plot was" : "These plots were"} taken off: ${this.gone.join(", ")} — the design no longer has ${n === 1 ? "that quantity" : "those quantities"} (a link or joint renamed or deleted?). Tick others below.`;
   }
 
   defaults(r) {
@@ -45,6 +51,11 @@ export class Plots {
   wanted() { return this.selected.length ? this.selected : null; }
 
   setResult(r) {
+    if (r.unknown && r.unknown.length) {
+      this.gone = [...new Set([...this.gone, ...r.unknown])];
+      this.selected = this.selected.filter((n) => !r.unknown.includes(n));
+      this.app.status(this.goneText());
+    }
     if (!this.selected.length || !this.selected.every((n) => r.names.includes(n))) {
       this.selected = this.selected.filter((n) => r.names.includes(n));
       if (!this.selected.length) this.selected = this.defaults(r);
@@ -53,6 +64,7 @@ export class Plots {
   }
 
   toggle(name) {
+    this.gone = [];
     const i = this.selected.indexOf(name);
     if (i >= 0) this.selected.splice(i, 1); else this.selected.push(name);
     this.app.reanalyse();
@@ -73,6 +85,7 @@ export class Plots {
       this.listKey = key;
     }
     const charts = h("div", { class: "charts" });
+    if (this.gone.length) charts.appendChild(h("div", { class: "card note", role: "status" }, this.goneText()));
     this.charts = [];
     const byUnit = new Map();
     for (const name of this.selected) {

@@ -78,8 +78,19 @@ function tidy(part) {
   if (part.report && !part.report.length) delete part.report;
 }
 
+// A new link is named by its role, as the textbooks and MotionGen/PMKS+ users say: the first
+// link on a ground pivot is the crank (it drives), another one on a ground pivot a rocker,
+// a floating one a coupler (then rocker2, coupler2, ...).
+export function roleName(part, points) {
+  const grounded = points.some((p) => (part.ground || []).includes(p));
+  const role = !grounded ? "coupler" : (part.drive || []).length ? "rocker" : "crank";
+  const taken = elementNames(part);
+  if (!taken.has(role)) return role;
+  for (let i = 2; ; i++) if (!taken.has(role + i)) return role + i;
+}
+
 export function addLink(part, points) {
-  const name = freshName("link", elementNames(part));
+  const name = roleName(part, points);
   part.links = part.links || {};
   part.links[name] = { points };
   // the first link on a ground pivot drives until the user picks another driver

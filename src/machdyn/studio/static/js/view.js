@@ -309,7 +309,30 @@ export class View {
     }
   }
 
+  // Each link's name where it is drawn (the middle of a bar, the centre of a plate, below a
+  // block), so that the names a file gives its links (crank, coupler, rocker) are on the drawing.
+  drawLinkNames(g) {
+    const gg = el("g", { class: "link-names" }, g);
+    for (const [name, link] of Object.entries(this.part.links || {})) {
+      const at = link.points.map((p) => this.pointAt(p)).filter(Boolean);
+      if (!at.length) continue;
+      const xs = at.map((p) => this.sx(p[0])), ys = at.map((p) => this.sy(p[1]));
+      let x = xs.reduce((a, b) => a + b) / xs.length, y = ys.reduce((a, b) => a + b) / ys.length;
+      let anchor = "middle";
+      if (at.length === 1) { x -= 6; y -= 24; anchor = "end"; }  // a block: above, left of its pin's name
+      else if (at.length === 2) {  // beside the bar: 14 px off its middle, on its lower side
+        const dx = xs[1] - xs[0], dy = ys[1] - ys[0], L = Math.hypot(dx, dy) || 1;
+        let nx = -dy / L, ny = dx / L;
+        if (ny < 0 || (ny === 0 && nx < 0)) { nx = -nx; ny = -ny; }
+        x += nx * 10; y += ny * 14 + 4;
+        if (Math.abs(nx) > 0.7) anchor = nx > 0 ? "start" : "end";  // a steep bar: beside it
+      }
+      el("text", { x, y, class: "link-name", "text-anchor": anchor, "data-link": name }, gg, name);
+    }
+  }
+
   drawHandles(g) {
+    this.drawLinkNames(g);
     const gg = el("g", { class: "handles" }, g);
     for (const name of Object.keys(this.part.points || {})) {
       const at = this.pointAt(name);
