@@ -136,6 +136,9 @@ def test_a_slider_crank_file_opens_with_what_it_keeps_and_drops(page, tmp_path):
     pt = next(iter(js(p, "() => window.studio.store.doc")["linkage"].values()))
     assert pt["friction"] == {"guide": {"coulomb": 0.05}}
     assert js(p, "() => window.studio.result.has_forces") is True
+    # the default plots show a link that turns (the rod), not the block's constant angle
+    shown = js(p, "() => window.studio.plots.selected")
+    assert "theta_coupler [deg]" in shown and not [n for n in shown if "theta_slider" in n]
     p.shot("studio-22-slider-crank-file-opened")
     assert not p.errors, p.errors
 

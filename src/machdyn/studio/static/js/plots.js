@@ -37,8 +37,11 @@ export class Plots {
   defaults(r) {
     const names = r.names;
     const pick = [];
-    const out = names.find((n) => /^theta_/.test(n) && !n.startsWith(r.x_label.split(" ")[0]));
-    const lastTheta = names.filter((n) => /^theta_/.test(n)).pop();
+    // a block (a one-point link) on a fixed guide keeps its angle: plot a link that turns
+    const links = (this.app.store.part && this.app.store.part.links) || {};
+    const turns = (n) => { const l = links[n.replace(/^theta_/, "").replace(/ \[.*$/, "")]; return !l || l.points.length > 1; };
+    const out = names.find((n) => /^theta_/.test(n) && turns(n) && !n.startsWith(r.x_label.split(" ")[0]));
+    const lastTheta = names.filter((n) => /^theta_/.test(n) && turns(n)).pop();
     if (lastTheta && lastTheta !== names[0]) pick.push(lastTheta); else if (out) pick.push(out);
     const mu = names.find((n) => /^mu_/.test(n));
     if (mu) pick.push(mu);
