@@ -1050,7 +1050,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     # six-bars: many atlas entries draw nearly the same curve, so many are screened; timed
     # targets many more (their fit is over-determined: real local minima near the truth)
     screen, most = (SIXBAR_SCREEN, SIXBAR_POLISH_MAX) if timing is None else SIXBAR_TIMED
-    rounds, long = SIXBAR_ROUNDS, SIXBAR_LONG if compiled else (0, 0)
+    rounds, long = SIXBAR_ROUNDS[timing is not None], SIXBAR_LONG if compiled else (0, 0)
     if not compiled and timing is not None:  # MACHDYN_JIT=off: the NumPy loop's smaller budget
         (screen, most), rounds = SIXBAR_TIMED_NUMPY, 1
     options = dict(timing=timing, compiled=compiled)
@@ -1069,7 +1069,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
             break
         t0 = time.perf_counter()
         starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
-                               client, compiled, round_)  # fmt: skip
+                               client, compiled, round_, fits)  # fmt: skip
         starts = [s for s in starts if s[0].tobytes() not in seen]
         seen.update(s[0].tobytes() for s in starts)
         scan += time.perf_counter() - t0

@@ -381,13 +381,28 @@ SIXBAR_FINE = 96
 #: shape in units of ``retrieve``)``; each pool gives its own best starts. Spread entries
 #: start most Watt II fits, the nearest by shape most Watt I and Stephenson ones.
 SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25), (0, 60))
-#: Rounds of starts while no fit meets the targets. A later round of a timed target scans
-#: the first pool again on grids of starting angles turned by half a step (the best-scoring
-#: entries and angles change, and with them the basins the starts lie in); of an untimed
-#: target, it takes the next-best-placed entries of a retrieval :data:`SIXBAR_WIDER` times
-#: wider.
-SIXBAR_ROUNDS = 2
+#: Rounds of starts while no fit meets the targets (untimed, timed). The second round of a
+#: timed target scans the first pool again on grids of starting angles turned by half a
+#: step (the best-scoring entries and angles change, and with them the basins the starts
+#: lie in), its third entries of the best fit's kind (:data:`SIXBAR_KIND_POOL`); a later
+#: round of an untimed target takes the next-best-placed entries of a retrieval
+#: :data:`SIXBAR_WIDER` times wider.
+SIXBAR_ROUNDS = (2, 3)  # untimed, timed
 SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed starts ×3
+#: The third round of a timed target scans this many entries spread over those of the kind
+#: of the best fit so far (chain, dyad links, the point's link: :func:`_kind_pool`). Where
+#: the best fits are of the generating kind but at a local minimum, the starts in the
+#: generating six-bar's basin are few (0.25–1.2 % of random entries of its kind, for seed
+#: 7's missed Watt I 3-4 on 5) and no score finds them (they ranked 500th to 150,000th by
+#: shape and by the timed scan): more entries of that kind are what helps. A third round,
+#: not a share of the second: that share lost a target the whole rescan met (best fits of
+#: another kind).
+SIXBAR_KIND_POOL = 1_000
+#: No third round where the best fit's RMS is within this share of the size: such a fit is
+#: crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
+#: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
+#: best polished fit). The local minima the third round escapes were 8.8e-6 to 9e-4.
+SIXBAR_CRAWL = 1e-7
 #: A later round of a timed target: steps every start is refined before the fits are ranked
 #: (the first round: 30), and most fits polished. Thirty steps rank poorly among six-bars'
 #: many near-fits: the one start of a missed timed Watt I 3-4 on 6 that converged ranked
@@ -426,13 +441,15 @@ def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, in
 
 
 def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None,
-                  compiled=False, round_=0):  # fmt: skip
+                  compiled=False, round_=0, fits=()):  # fmt: skip
     """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries.
 
     ``compiled``: the timed scan computes its coupler points on the compiled
     kernel (:mod:`machdyn.synthesis._sixbar_kernels`) rather than in NumPy.
     ``round_``: the round of starts (see :data:`SIXBAR_ROUNDS`); a later round's
-    starts may repeat an earlier round's (the caller drops those).
+    starts may repeat an earlier round's (the caller drops those). ``fits``: the
+    fits so far ``(x, θ, rms, fixed)``: a timed target's third round scans entries
+    of the best one's kind (:data:`SIXBAR_KIND_POOL`).
     """
     from .atlas_path import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
@@ -452,8 +469,9 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
             x0, fixed = _design_of(row, h, t)
             starts.append((x0, u[near], fixed))
         return starts
+    third = round_ > 1  # a third round: entries of the best fit's kind (SIXBAR_KIND_POOL)
     near = np.zeros(0, np.int64)
-    if closed:  # the entries whose whole curve looks like the target's
+    if closed and not third:  # the entries whose whole curve looks like the target's
         dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
         even = resample_closed(dense, atlas.manifest.samples)
         q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
@@ -463,10 +481,11 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     # starts lie in different basins (the timed fit is over-determined: near the truth it
     # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]:
-        idx = near[: k * retrieve]
-        if size:
-            idx = np.union1d(atlas.pool(size, crank=True), idx)
+    pools = [_kind_pool(atlas, pts, fits)] if third else [
+        np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
+        near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
+    ]  # fmt: skip
+    for idx in (idx for idx in pools if idx.size):
         best = _timed_best(atlas, idx, timing, pts, refine_count, compiled, shift=0.5 * round_)
         for i, h, t, g0, mirror in best:
             if (i, mirror) not in seen:
@@ -474,6 +493,26 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
                 x0, fixed = _design_of(atlas.entries(np.array([i]))[0], h, t, mirror)
                 starts.append((x0, g0 + timing, fixed))
     return starts
+
+
+def _kind_pool(atlas, pts, fits) -> np.ndarray:
+    """Flat indices of :data:`SIXBAR_KIND_POOL` crank entries of the best fit's kind.
+
+    The kind: the chain and the dyad's links (``topology``) and the link that
+    carries the point (``on``); the entries are spread evenly over those of the
+    atlas. None without ``fits`` or where the best fit is within
+    :data:`SIXBAR_CRAWL` of the targets' size.
+    """
+    best = min(fits, key=lambda f: f[2], default=None)
+    if best is None or best[2] <= SIXBAR_CRAWL * float(np.max(np.abs(pts - pts.mean()))):
+        return np.zeros(0, np.int64)
+    fx = best[3]
+    sel = [(np.asarray(m["barker"]) <= 2) & (np.asarray(m["topology"]) == fx["topology"])
+           & (np.asarray(m["on"]) == fx["on"]) for m in atlas.meta]  # fmt: skip
+    allowed = np.flatnonzero(np.concatenate(sel))
+    if allowed.size > SIXBAR_KIND_POOL:
+        allowed = allowed[np.linspace(0, allowed.size - 1, SIXBAR_KIND_POOL).astype(np.int64)]
+    return allowed
 
 
 def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=False,
