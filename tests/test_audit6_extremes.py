@@ -187,3 +187,14 @@ def test_tolerance_worst_case_of_a_fast_machine_scales_as_omega_squared():
         return run.outputs["T12"].worst
 
     assert worst(1e20) == pytest.approx(1e40 * worst(1.0), rel=1e-6)
+
+
+def test_a_relative_tolerance_below_what_the_integrator_takes_is_refused_by_name():
+    # before the fix: rtol = 1.5e-14 passed the check (>= 1e-14) and scipy's solve_ivp
+    # warned "rtol is too small" and integrated with 2.2e-14 (100 eps) instead
+    import fuzz_support
+    from fuzz_catalogue import catalogue
+
+    call = catalogue()["machdyn.simulate:simulate_drivers"]
+    with pytest.raises(InputError, match=r"^rtol: "):
+        fuzz_support.invoke(call, "rtol", 1.5e-14)

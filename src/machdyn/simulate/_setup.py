@@ -101,7 +101,7 @@ def solver_options(
     """The integration's options, checked."""
     return {
         "samples": integer("samples", samples, minimum=2, maximum=10**7),
-        "rtol": in_range("rtol", rtol, 1e-14, 0.1),
+        "rtol": in_range("rtol", rtol, 1e-13, 0.1),  # solve_ivp takes 100 eps at least
         "atol": in_range("atol", atol, 1e-200, 1e10),
         "method": choice("method", method, METHODS),
         "max_step": math.inf if max_step is None else positive("max_step", max_step, "second"),
