@@ -132,8 +132,15 @@ def _cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _norm3(h: np.ndarray) -> np.ndarray:
-    """Euclidean length over the last axis (length 3), without a reduction."""
-    return np.sqrt(h[..., 0] * h[..., 0] + h[..., 1] * h[..., 1] + h[..., 2] * h[..., 2])
+    """Euclidean length over the last axis (length 3), without a reduction.
+
+    Scaled by the largest coordinate first, so that coordinates of 1e200 (or
+    1e-200) do not overflow (underflow) when squared; NaN for (0, 0, 0).
+    """
+    big = np.maximum(np.maximum(np.abs(h[..., 0]), np.abs(h[..., 1])), np.abs(h[..., 2]))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = h / big[..., None]
+    return big * np.sqrt(u[..., 0] * u[..., 0] + u[..., 1] * u[..., 1] + u[..., 2] * u[..., 2])
 
 
 def _finite3(h: np.ndarray) -> np.ndarray:
@@ -166,15 +173,19 @@ class InstantCentre:
     homogeneous : ndarray, shape (..., 3)
         ``(x, y, w)`` normalised to unit length with ``w >= 0``; NaN where the
         centre is undetermined (see the owner's ``reason``).
+    scale : float
+        A length of the mechanism (default 1): a centre more than 10¹² of it
+        from the origin is at infinity.
     """
 
     homogeneous: np.ndarray
+    scale: float = 1.0
 
     @property
     def at_infinity(self) -> np.ndarray:
-        """True where the centre is a point at infinity."""
+        """True where the centre is a point at infinity (10¹² :attr:`scale` or farther)."""
         h = self.homogeneous
-        return np.abs(h[..., 2]) <= _INFINITY_RTOL * np.hypot(h[..., 0], h[..., 1])
+        return np.abs(h[..., 2]) * self.scale <= _INFINITY_RTOL * np.hypot(h[..., 0], h[..., 1])
 
     @property
     def point(self) -> np.ndarray:
@@ -218,6 +229,9 @@ class InstantCentres(Mapping):
         is undetermined (``ok`` is the same array).
     reason : ndarray of str
         Why a sample is not valid ('' where it is).
+    scale : float
+        A length of the mechanism, which tells a far centre from one at
+        infinity (:attr:`InstantCentre.scale`).
     """
 
     def __init__(
@@ -228,13 +242,14 @@ class InstantCentres(Mapping):
         bodies: Sequence[Hashable] | None = None,
         reason: np.ndarray | None = None,
         methods: Mapping[tuple[Any, Any], str] | None = None,
+        scale: float = 1.0,
     ) -> None:
         if bodies is None:
             bodies = sorted({b for pair in centres for b in pair})
         self.bodies = tuple(bodies)
         self._index = {b: k for k, b in enumerate(self.bodies)}
         self._centres = {
-            self._key(k): InstantCentre(_normalise(np.asarray(v, dtype=float)))
+            self._key(k): InstantCentre(_normalise(np.asarray(v, dtype=float)), scale)
             for k, v in centres.items()
         }
         self._methods = {self._key(k): m for k, m in (methods or {}).items()}
@@ -512,21 +527,30 @@ def _best_intersection(lines: list[np.ndarray]) -> np.ndarray:
 # Closed-form models
 
 
-def fourbar_centres(r1: float, A: np.ndarray, B: np.ndarray, valid: np.ndarray) -> InstantCentres:
-    """The six centres of a pin-jointed four-bar with ``O2`` at 0 and ``O4`` at ``r1``."""
-    A = np.asarray(A, dtype=complex)
+def fourbar_centres(
+    r1: float, A: np.ndarray, B: np.ndarray, valid: np.ndarray, scale: float | None = None
+) -> InstantCentres:
+    """The six centres of a pin-jointed four-bar with ``O2`` at 0 and ``O4`` at ``r1``.
+
+    Kennedy's lines are met in units of ``scale`` (the longest link; default
+    ``r1``), so that links of 1e-200 or 1e200 neither underflow nor overflow.
+    """
+    scale = float(r1 if scale is None else scale)
+    A = np.asarray(A, dtype=complex) / scale
     I12 = _finite(np.zeros(A.shape, dtype=complex))
-    I14 = _finite(np.full(A.shape, r1, dtype=complex))
+    I14 = _finite(np.full(A.shape, r1 / scale, dtype=complex))
     I23 = _finite(A)
-    I34 = _finite(B)
+    I34 = _finite(np.asarray(B, dtype=complex) / scale)
     I13 = _cross3(_cross3(I12, I23), _cross3(I14, I34))
     I24 = _cross3(_cross3(I12, I14), _cross3(I23, I34))
+    centres = {(1, 2): I12, (1, 4): I14, (2, 3): I23, (3, 4): I34, (1, 3): I13, (2, 4): I24}
     return InstantCentres(
-        {(1, 2): I12, (1, 4): I14, (2, 3): I23, (3, 4): I34, (1, 3): I13, (2, 4): I24},
+        {k: _unscaled(v, scale) for k, v in centres.items()},
         valid,
         bodies=(1, 2, 3, 4),
         methods={(1, 3): "kennedy", (2, 4): "kennedy"}
         | dict.fromkeys([(1, 2), (1, 4), (2, 3), (3, 4)], "joint"),
+        scale=scale,
     )
 
 
@@ -667,6 +691,7 @@ def linkage_centres(lk: Any, motion: Any) -> InstantCentres:
         bodies=bodies,
         reason=reason,
         methods={k: v for k, v in methods.items() if k in out},
+        scale=scale,
     )
 
 

@@ -92,6 +92,8 @@ STATUS_REASONS: tuple[str, ...] = (
 
 #: Tolerance on |cos| beyond 1 accepted as a toggle rather than a failure to assemble.
 _CLOSE_TOL = 1e-12
+#: A link at most this fraction of the longest is a point (Linkage's zero-length rule).
+_POINT = 1e-12
 #: |sin(θ4 − θ3)| below this is a toggle of links 3 and 4. At a rocker's exact limit
 #: rounding leaves up to ~6e-7 (the limit angle itself carries √ε error).
 _TOGGLE_TOL = 2e-6
@@ -704,7 +706,8 @@ class FourBar:
     Raises
     ------
     InputError
-        For a non-positive or non-finite length.
+        For a non-positive or non-finite length, or one that is a point next to the
+        longest (at most 1e-12 of it: its two pins at one place to rounding).
     AssemblyError
         If the lengths cannot form a closed chain.
 
@@ -724,9 +727,17 @@ class FourBar:
 
     def __init__(self, r1: Any, r2: Any, r3: Any, r4: Any, coupler: Any = None) -> None:
         lengths, unit = common_length_unit(r1=r1, r2=r2, r3=r3, r4=r4)
+        longest = max(lengths.values())
         for name, value in lengths.items():
             if value <= 0.0:
                 raise InputError(name, f"must be a positive length, got {value:g}")
+            if value <= _POINT * longest:  # as Linkage: pins within 1e-12 are one place
+                raise InputError(
+                    name,
+                    f"{value:g} is a point next to the longest link ({longest:g}): a link "
+                    f"shorter than {_POINT:g} of it has its two pins at one place to rounding; "
+                    "model the chain without it",
+                )
         self.r1, self.r2, self.r3, self.r4 = (lengths[k] for k in ("r1", "r2", "r3", "r4"))
         self.length_unit: str | None = unit
         self.units = from_quantity_unit(unit)
@@ -1191,7 +1202,7 @@ class FourBar:
         False
         """
         m = self.solve(theta2, form=form, branch=branch)
-        return fourbar_centres(self.r1, m.A, m.B, m.assembled)
+        return fourbar_centres(self.r1, m.A, m.B, m.assembled, max(self.lengths))
 
     def mechanical_advantage(
         self,
@@ -1237,7 +1248,8 @@ class FourBar:
         if method == "power":
             ratio = m.omega4  # ω4 / ω2 with ω2 = 1
         else:
-            ratio = fourbar_centres(self.r1, m.A, m.B, m.assembled).omega_ratio(2, 4)
+            centres = fourbar_centres(self.r1, m.A, m.B, m.assembled, max(self.lengths))
+            ratio = centres.omega_ratio(2, 4)
         with np.errstate(divide="ignore", invalid="ignore"):
             ma = (r_in / r_out) / ratio
         # The two dead points, alike for both methods: at a toggle of links 3 and 4

@@ -33,7 +33,7 @@ from ._validate import (
     is_scalar,
     length,
 )
-from .centres import InstantCentres
+from .centres import InstantCentres, _unscaled
 from .centres import _at_infinity as at_infinity
 from .centres import _cross3 as intersect
 from .centres import _cross3 as line_through
@@ -388,15 +388,16 @@ class SliderCrank:
         """
         m = self.solve(theta2, form=form)
         shape = np.shape(m.A)
+        scale = max(self.a, self.b, abs(self.c))  # lines met in its units: no overflow
         I12 = finite(np.zeros(shape, dtype=complex))
-        I23 = finite(m.A)
-        I34 = finite(m.B)
+        I23 = finite(m.A / scale)
+        I34 = finite(m.B / scale)
         I14 = at_infinity(np.full(shape, 1j))
         I13 = intersect(line_through(I12, I23), line_through(I14, I34))
         I24 = intersect(line_through(I12, I14), line_through(I23, I34))
+        centres = {(1, 2): I12, (2, 3): I23, (3, 4): I34, (1, 4): I14, (1, 3): I13, (2, 4): I24}
         return InstantCentres(
-            {(1, 2): I12, (2, 3): I23, (3, 4): I34, (1, 4): I14, (1, 3): I13, (2, 4): I24},
-            m.assembled,
+            {k: _unscaled(v, scale) for k, v in centres.items()}, m.assembled, scale=scale
         )
 
     def mechanical_advantage(
@@ -519,16 +520,19 @@ class InvertedSliderCrank:
         """
         m = self.solve(finite_array("theta2", theta2), form=form)
         shape = np.shape(m.A)
+        scale = max(self.a, self.d, abs(self.c))  # lines met in its units: no overflow
         I12 = finite(np.zeros(shape, dtype=complex))
-        I14 = finite(np.full(shape, self.d, dtype=complex))
-        I23 = finite(m.A)
+        I14 = finite(np.full(shape, self.d / scale, dtype=complex))
+        I23 = finite(m.A / scale)
         I34 = at_infinity(1j * np.exp(1j * m.theta4))
         I13 = intersect(line_through(I12, I23), line_through(I14, I34))
         I24 = intersect(line_through(I12, I14), line_through(I23, I34))
         valid = m.status != NOT_ASSEMBLABLE
+        centres = {(1, 2): I12, (2, 3): I23, (3, 4): I34, (1, 4): I14, (1, 3): I13, (2, 4): I24}
         return InstantCentres(
-            {(1, 2): I12, (2, 3): I23, (3, 4): I34, (1, 4): I14, (1, 3): I13, (2, 4): I24},
+            {k: _unscaled(v, scale) for k, v in centres.items()},
             valid,
+            scale=scale,
             bodies=(1, 2, 3, 4),
             reason=np.where(valid, "", STATUS_REASONS[NOT_ASSEMBLABLE]),
             methods={(1, 3): "kennedy", (2, 4): "kennedy"}
@@ -597,14 +601,16 @@ class InvertedSliderCrank:
         a, d, c = self.a, self.d, self.c
         e2, v2, acc2, jer2 = _rates(t2, w2, a2, j2)
         S = a * e2 - d
-        b2 = np.abs(S) ** 2 - c * c
-        status = np.where(b2 >= -_CLOSE_TOL * (a + d) ** 2, OK, NOT_ASSEMBLABLE).astype(np.uint8)
+        # b² = |S|² − c², in units of the extent: squares of lengths up to 1e250 stay finite
+        b2 = np.abs(S / extent) ** 2 - (c / extent) ** 2
+        tol = _CLOSE_TOL * ((a + d) / extent) ** 2
+        status = np.where(b2 >= -tol, OK, NOT_ASSEMBLABLE).astype(np.uint8)
         if scalar and status.item() != OK:
             raise AssemblyError(
                 f"{self!r}: theta2 = {np.degrees(float(t2)):.6g} deg cannot be assembled "
                 f"(A comes closer to O4 than the slot offset {abs(c):g})"
             )
-        b = np.sqrt(np.clip(b2, 0.0, None)) * (1.0 if form == 1 else -1.0)
+        b = extent * np.sqrt(np.clip(b2, 0.0, None)) * (1.0 if form == 1 else -1.0)
         status[(status == OK) & (np.abs(b) < _TOGGLE_TOL * (a + d))] = TOGGLE
         b = np.where(status == NOT_ASSEMBLABLE, np.nan, b)
         Z = b + 1j * c

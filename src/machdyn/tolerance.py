@@ -583,6 +583,10 @@ def _chunk(job: _Job, k: int) -> dict:
     return part
 
 
+#: Per-sample peaks are kept in float32 (half the memory) unless one is larger than this.
+_FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
 class _Acc:
     """Statistics of one output's deviations, accumulated block by block."""
 
@@ -606,7 +610,10 @@ class _Acc:
         else:
             self.low = np.minimum(self.low, dev.min(axis=0))
             self.high = np.maximum(self.high, dev.max(axis=0))
-        self.peak[rows] = size.max(axis=1)
+        peak = size.max(axis=1)
+        if self.peak.dtype == np.float32 and np.any(peak > _FLOAT32_MAX):  # kept, not inf
+            self.peak = self.peak.astype(float)
+        self.peak[rows] = peak
 
     def result(self, dims: np.ndarray) -> dict:
         peak = self.peak[np.isfinite(self.peak)]

@@ -71,6 +71,21 @@ def _out(value: np.ndarray) -> Any:
     return value if np.ndim(value) else value.item()
 
 
+def _fewest(teeth: np.ndarray) -> np.ndarray:
+    """Fewest-teeth counts, refused beyond 1e12 (the tooth numbers machdyn takes).
+
+    Only a pressure angle of micro-radians needs that many (2/sin²φ); past
+    2⁶³ the counts would not even fit the integers they are returned as.
+    """
+    if np.any(teeth > 1e12):
+        raise InputError(
+            "pressure_angle",
+            f"is too small: the fewest teeth would be {float(np.max(teeth)):.3g}, beyond 1e12 "
+            "(give φ in radians, e.g. np.radians(20))",
+        )
+    return teeth
+
+
 def onset_gear_teeth(pinion_teeth: ArrayLike, pressure_angle: ArrayLike, k: ArrayLike = 1.0) -> Any:
     """Evaluate the notes' onset-of-interference relation for ``N_g`` (a real number).
 
@@ -174,7 +189,7 @@ def min_pinion_teeth(
         finite = (-ng * s + np.sqrt((ng * s) ** 2 + 4 * s * k * (ng + k))) / s
     rack = 2 * k / s
     n = np.where(np.isinf(ng), rack, finite)
-    out = np.ceil(n - _EPS)
+    out = _fewest(np.ceil(n - _EPS))
     none = out > ng
     if none.any():
         i = np.unravel_index(np.argmax(none), none.shape)
@@ -197,7 +212,7 @@ def min_teeth_rack(pressure_angle: ArrayLike, k: ArrayLike = 1.0) -> Any:
     """
     s, k = _sin2(pressure_angle), _k(k)
     broadcast(pressure_angle=s, k=k)
-    out = np.ceil(2 * k / s - _EPS)
+    out = _fewest(np.ceil(2 * k / s - _EPS))
     return _out(out.astype(int))
 
 
@@ -214,7 +229,7 @@ def min_teeth_equal_gears(pressure_angle: ArrayLike, k: ArrayLike = 1.0) -> Any:
     """
     s, k = _sin2(pressure_angle), _k(k)
     broadcast(pressure_angle=s, k=k)
-    out = np.ceil(2 * k * (1 + np.sqrt(1 + 3 * s)) / (3 * s) - _EPS)
+    out = _fewest(np.ceil(2 * k * (1 + np.sqrt(1 + 3 * s)) / (3 * s) - _EPS))
     return _out(out.astype(int))
 
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import finite_scalar
+from .._validate import TINY, finite_scalar
 from ..errors import InputError, ModelError
 from ..loops import LoopSystem
 from ..massprops import MassProperties
@@ -576,8 +576,18 @@ class Linkage(_JointMethods, _ElementMethods):
         """A moving link whose pins are all drawn at one place moves nothing: refuse it.
 
         (A crank drawn with A on O2 would otherwise turn on the spot while the rest
-        of the linkage stands still, a structure passed off as a mechanism.)
+        of the linkage stands still, a structure passed off as a mechanism.) A
+        drawing less than 1e-50 across is refused too: the squares of its lengths
+        underflow, and its dyads would seem not to close.
         """
+        spots = list(self._points.values())
+        across = max((abs(z - spots[0]) for z in spots), default=0.0)
+        if 0.0 < across < TINY:
+            raise InputError(
+                "points",
+                f"the drawing is {across:g} across, below {TINY:g}, the range machdyn computes "
+                "in; draw it in smaller units",
+            )
         size = max((abs(z) for z in self._points.values()), default=0.0) or 1.0
         pins: dict[str, list[str]] = {n: [] for n in self._links}
         for e in edges:
