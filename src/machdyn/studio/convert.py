@@ -162,6 +162,16 @@ def _mass(table: dict | None, where: str, notes: list[str]) -> dict[str, Any]:
     return {k: table[k] for k in ("mass", "inertia", "cg") if k in table}
 
 
+def _guide_friction(loads: dict) -> dict[str, Any]:
+    """A slider part's Coulomb or viscous friction as the drawn guide's (none if smooth)."""
+    friction = loads.get("friction", "smooth")
+    if friction == "coulomb" and loads.get("mu"):
+        return {"friction": {"guide": {"coulomb": loads["mu"]}}}
+    if friction == "viscous" and loads.get("beta"):
+        return {"friction": {"guide": {"viscous": loads["beta"]}}}
+    return {}
+
+
 def _loads(v: dict, names: dict[int, str]) -> dict[str, Any]:
     """``torques`` and ``[[forces]]`` of the linkage from the part's ``[loads]``."""
     loads = v.get("loads", {})
@@ -285,11 +295,7 @@ def _slider_crank(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         values.setdefault("forces", []).append(
             {"link": "slider", "at": "B", "force": complex(loads["force4"])}
         )
-    friction = loads.get("friction", "smooth")
-    if friction == "coulomb" and loads.get("mu"):
-        values["friction"] = {"guide": {"coulomb": loads["mu"]}}
-    elif friction == "viscous" and loads.get("beta"):
-        values["friction"] = {"guide": {"viscous": loads["beta"]}}
+    values |= _guide_friction(loads)
     notes.insert(0, _opened(part, machine, links, t0))
     return values, notes
 
@@ -343,10 +349,6 @@ def _inverted(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         **_loads({"loads": {**kept, "force": forces}}, names),
         **({"notes": v["notes"]} if "notes" in v else {}),
     }
-    friction = loads.get("friction", "smooth")
-    if friction == "coulomb" and loads.get("mu"):
-        values["friction"] = {"guide": {"coulomb": loads["mu"]}}
-    elif friction == "viscous" and loads.get("beta"):
-        values["friction"] = {"guide": {"viscous": loads["beta"]}}
+    values |= _guide_friction(loads)
     notes.insert(0, _opened(part, machine, links, t0))
     return values, notes
