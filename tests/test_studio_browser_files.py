@@ -21,31 +21,12 @@ import pytest
 
 from browser import Page
 from machdyn.fourbar import FourBar
+from test_studio_browser import analysed, js, settle
 from test_studio_convert import example, synth_file
 
 pytestmark = pytest.mark.slow
 
 O2, THETA1 = 20 - 10j, np.radians(40.0)
-
-
-def js(p, expr):
-    return p.page.evaluate(expr)
-
-
-def analysed(p) -> int:
-    return int(js(p, "() => Number(document.body.dataset.analysed || 0)"))
-
-
-def settle(p, before, timeout=30.0):
-    """Until an answer newer than ``before`` is drawn and no request is in flight."""
-    end = time.monotonic() + timeout
-    while analysed(p) <= before or js(
-        p, "() => window.studio.analyst.busy || !!window.studio.analyst.waiting"
-    ):
-        if time.monotonic() > end:
-            raise AssertionError("the page never drew a new answer")
-        p.page.wait_for_timeout(40)
-    p.page.wait_for_timeout(80)
 
 
 def open_file(p, path: Path) -> None:
