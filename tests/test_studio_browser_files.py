@@ -13,7 +13,6 @@ tests/screenshots/.
 from __future__ import annotations
 
 import cmath
-import time
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +20,7 @@ import pytest
 
 from browser import Page
 from machdyn.fourbar import FourBar
-from test_studio_browser import analysed, js, settle
+from test_studio_browser import analysed, js, settle, wait
 from test_studio_convert import example, synth_file
 
 pytestmark = pytest.mark.slow
@@ -39,9 +38,7 @@ def open_file(p, path: Path) -> None:
 def page(browser, studio):
     p = Page(browser, width=1400, height=860)
     p.page.goto(studio.url)
-    end = time.monotonic() + 30
-    while analysed(p) < 1 and time.monotonic() < end:
-        p.page.wait_for_timeout(40)
+    wait(p, 1)
     yield p
     p.close()
 
