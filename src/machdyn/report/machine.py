@@ -113,20 +113,18 @@ def _page_of(part: Any, machine: Any, results: dict[str, Any], **common: Any) ->
     """
     page = _page_of_part(part, machine, results, **common)
     if page is not None:
-        note = _unsteady(part, machine, results)
+        note = _unsteady(part, machine)
         if note:
             body = f'<p class="remark">{note}</p>'
             page.sections.insert(1, ("steady", "Steady speed", body, 2))
     return page
 
 
-def _unsteady(part: Any, machine: Any, results: dict[str, Any]) -> str:
+def _unsteady(part: Any, machine: Any) -> str:
     """Why the report's numbers differ from ``machdyn run``'s: a file's input acceleration."""
-    from ..spec._fourbar import input_motion
-
     units = machine.units
     if part.kind in ("fourbar", "slider_crank", "inverted_slider_crank"):
-        alpha = input_motion(part, machine, results)[2]
+        alpha = float(part.values.get("motion", {}).get("alpha2", 0.0))  # (as input_motion's)
         name = "alpha2"
     elif part.kind == "linkage" and part.model.drivers:
         first = part.values.get("motion", {}).get(part.model.drivers[0])

@@ -244,20 +244,28 @@ def _inverted_values(isc: Any) -> dict:
 
 
 # ------------------------------------------------------------------- running
-def input_motion(part: Part, machine: Machine, results: dict) -> tuple[np.ndarray, float, float]:
-    """θ2 samples, ω2 and α2 of a part's ``[motion]`` (ω2 from ``driven_by`` if given)."""
+def input_angles(part: Part) -> np.ndarray:
+    """The θ2 samples a part is analysed at.
+
+    Its ``[motion] theta2``; else a turn, or, for a four-bar whose input rocks, 37
+    values over the input's range.
+    """
     motion = part.values.get("motion", {})
     model = part.model
     if "theta2" in motion:
-        theta2 = motion["theta2"].values
-    elif part.kind == "fourbar" and not model.input_range(part.values.get("form", 1)).full_turn:
-        theta2 = model.input_range(part.values.get("form", 1)).grid(37)
-    else:
-        theta2 = FULL_TURN.values
+        return motion["theta2"].values
+    if part.kind == "fourbar" and not model.input_range(part.values.get("form", 1)).full_turn:
+        return model.input_range(part.values.get("form", 1)).grid(37)
+    return FULL_TURN.values
+
+
+def input_motion(part: Part, machine: Machine, results: dict) -> tuple[np.ndarray, float, float]:
+    """θ2 samples, ω2 and α2 of a part's ``[motion]`` (ω2 from ``driven_by`` if given)."""
+    motion = part.values.get("motion", {})
     omega2 = motion.get("omega2", 1.0 if machine.units.is_unit_free else _rad_per_s(machine))
     if "driven_by" in motion:
         omega2 = results[motion["driven_by"]].speed
-    return theta2, float(omega2), float(motion.get("alpha2", 0.0))
+    return input_angles(part), float(omega2), float(motion.get("alpha2", 0.0))
 
 
 def _rad_per_s(machine: Machine) -> float:

@@ -29,6 +29,9 @@ __all__ = ["CONVERTED", "linkage_document"]
 #: Part kinds the studio opens as a drawn linkage.
 CONVERTED = ("fourbar", "slider_crank", "inverted_slider_crank")
 
+#: How a note naming what the drawing does not keep begins (Save refuses to lose it).
+NOT_KEPT = "Not kept: "
+
 #: Tables of these parts a linkage part has no key for, and why.
 _NOT_KEPT = {
     "simulate": "the forward-dynamics table of `machdyn simulate`; a linkage part has none",
@@ -66,6 +69,8 @@ def linkage_document(machine: Any) -> tuple[dict[str, Any], list[str]]:
         return machine.to_spec(), []
     convert = {"fourbar": _fourbar, "slider_crank": _slider_crank}.get(part.kind, _inverted)
     values, notes = convert(part, machine)
+    if "notes" in part.values:
+        values["notes"] = part.values["notes"]
     from ..spec._machine import Part
 
     new = {
@@ -74,7 +79,7 @@ def linkage_document(machine: Any) -> tuple[dict[str, Any], list[str]]:
     doc = dataclasses.replace(machine, parts=new).to_spec()
     for key, why in _NOT_KEPT.items():
         if key in part.values:
-            notes.append(f"Not kept: [{part.kind}.{part.name}.{key}] ({why}).")
+            notes.append(f"{NOT_KEPT}[{part.kind}.{part.name}.{key}] ({why}).")
     if "form" in part.values or "branch" in part.values:
         notes.append("Its form/branch is the drawn assembly, which the linkage keeps.")
     others = [f"[{p.kind}.{p.name}]" for p in parts if p is not part]
@@ -85,29 +90,20 @@ def linkage_document(machine: Any) -> tuple[dict[str, Any], list[str]]:
 
 
 # ------------------------------------------------------------------- shared
-def _sweep(part: Any, rocker: Any = None) -> np.ndarray:
-    """The input angles ``machdyn run`` analyses: the part's theta2, else its default.
-
-    The default is a turn (``FULL_TURN``), or a four-bar rocker's range (``rocker``).
-    """
-    motion = part.values.get("motion", {})
-    if "theta2" in motion:
-        return np.asarray(motion["theta2"].values, dtype=float)
-    if rocker is not None:
-        return np.asarray(rocker.grid(37), dtype=float)
-    from ..spec._fourbar import FULL_TURN
-
-    return FULL_TURN.values
-
-
 def _drawn(
-    part: Any, solve: Any, sweep: np.ndarray, limits: tuple[float, float] | None
+    part: Any,
+    solve: Any,
+    sweep: np.ndarray,
+    limits: tuple[float, float] | None,
+    skew: Any = None,
 ) -> tuple[float, Any]:
     """The input to draw at: the sweep's first assembled value clear of a toggle.
 
-    Else the middle of the input's range (a rocker's sweep starts at a toggle). A pose
-    whose crank lies along the slot (an inverted slider-crank at θ2 = θ4, the crank
-    hidden under the slotted link) is passed over too while another one is clear.
+    Else the middle of the input's range (a rocker's sweep starts at a toggle).
+    ``skew(t, motion)``, if given, is an angle whose sine is small near a pose to pass
+    over while another one is clear: a four-bar's transmission angle (a toggle), an
+    inverted slider-crank's θ2 − θ4 (the crank along the slot, hidden under the
+    slotted link).
     """
     tries = [float(sweep[0])]
     if limits is not None:
@@ -116,10 +112,7 @@ def _drawn(
     first = None
     for t in tries:
         m = solve(np.array([t]))  # (an array: a pose that does not close is flagged, not raised)
-        mu = getattr(m, "mu", None)
-        if mu is None and hasattr(m, "theta4"):  # the inverted slider-crank: not along the slot
-            mu = t - float(np.ravel(m.theta4)[0])
-        clear = mu is None or abs(np.sin(float(np.ravel(mu)[0]))) > 0.02
+        clear = skew is None or abs(np.sin(float(np.ravel(skew(t, m))[0]))) > 0.02
         if bool(np.ravel(m.ok)[0]):
             if clear:
                 return t, m
@@ -157,7 +150,7 @@ def _mass(table: dict | None, where: str, notes: list[str]) -> dict[str, Any]:
         return {}
     if not table["mass"]:
         if table.get("inertia"):
-            notes.append(f"Not kept: {where} inertia (a linkage link needs a mass to have one).")
+            notes.append(f"{NOT_KEPT}{where} inertia (a linkage link needs a mass to have one).")
         return {}
     return {k: table[k] for k in ("mass", "inertia", "cg") if k in table}
 
@@ -205,7 +198,7 @@ def _opened(part: Any, machine: Any, links: dict[str, dict], theta: float) -> st
 
 # ------------------------------------------------------------------- four-bar
 def _fourbar(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
-    from ..spec._fourbar import placement
+    from ..spec._fourbar import input_angles, placement
 
     fb, v = part.model, part.values
     form, branch = v.get("form", 1), v.get("branch")
@@ -213,8 +206,9 @@ def _fourbar(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
     turn = complex(np.exp(1j * theta1))
     rng = fb.input_range(form)
     limits = None if rng.full_turn else (rng.lo, rng.hi)
-    sweep = _sweep(part, None if rng.full_turn else rng)
-    t0, m = _drawn(part, lambda t: fb.solve(t, 1.0, 0.0, form, branch=branch), sweep, limits)
+    sweep = input_angles(part)
+    solve = lambda t: fb.solve(t, 1.0, 0.0, form, branch=branch)  # noqa: E731
+    t0, m = _drawn(part, solve, sweep, limits, skew=lambda t, m: m.mu)
     local = {"O2": 0j, "O4": complex(fb.r1), "A": _z(m.A), "B": _z(m.B)}
     if fb.coupler is not None:
         local["P"] = _z(m.coupler)
@@ -240,7 +234,6 @@ def _fourbar(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         "links": links,
         "motion": _motion(part, names[2], sweep, theta1),
         **_loads(v, names),
-        **({"notes": v["notes"]} if "notes" in v else {}),
     }
     notes.insert(0, _opened(part, machine, links, t0))
     if "O2" in v or "theta1" in v:
@@ -251,10 +244,12 @@ def _fourbar(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
 
 # ------------------------------------------------------------------- slider-crank
 def _slider_crank(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
+    from ..spec._fourbar import input_angles
+
     sc, v = part.model, part.values
     form = v.get("form", 1)
     limits = sc.input_range()
-    sweep = _sweep(part)
+    sweep = input_angles(part)
     t0, m = _drawn(part, lambda t: sc.solve(t, 1.0, 0.0, form), sweep, limits)
     points = {"O2": 0j, "A": _z(m.A), "B": _z(m.B)}
     if sc.point is not None:
@@ -275,7 +270,7 @@ def _slider_crank(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         extra = [k for k in ("inertia", "cg") if block.get(k)]
         if extra:
             notes.append(
-                f"Not kept: [{part.kind}.{part.name}.link4] {' and '.join(extra)} (the slider "
+                f"{NOT_KEPT}[{part.kind}.{part.name}.link4] {' and '.join(extra)} (the slider "
                 f"does not turn; machdyn run does not use {'it' if len(extra) == 1 else 'them'} "
                 "either)."
             )
@@ -288,8 +283,7 @@ def _slider_crank(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         "links": links,
         "sliders": {"guide": {"block": "slider", "on": "ground", "at": "B", "direction": 0.0}},
         "motion": _motion(part, crank, sweep, 0.0),
-        **_loads({"loads": {k: x for k, x in loads.items() if k != "force4"}}, names),
-        **({"notes": v["notes"]} if "notes" in v else {}),
+        **_loads(v, names),
     }
     if loads.get("force4"):
         values.setdefault("forces", []).append(
@@ -308,10 +302,14 @@ def _inverted(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
     (b + jc)·e^{jθ4}. The slotted link carries O4 and a point S on its x axis; the block
     slides along it at A.
     """
+    from ..spec._fourbar import input_angles
+
     isc, v = part.model, part.values
     form = v.get("form", 1)
-    sweep = _sweep(part)
-    t0, m = _drawn(part, lambda t: isc.solve(t, 1.0, 0.0, form), sweep, None)
+    sweep = input_angles(part)
+    t0, m = _drawn(
+        part, lambda t: isc.solve(t, 1.0, 0.0, form), sweep, None, skew=lambda t, m: t - m.theta4
+    )
     theta4 = float(np.ravel(m.theta4)[0])
     O4 = complex(isc.d)
     points = {"O2": 0j, "O4": O4, "A": _z(m.A), "S": O4 + (isc.a + isc.d) * np.exp(1j * theta4)}
@@ -334,7 +332,6 @@ def _inverted(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         block["cg"] = complex(block["cg"]) * turn
     links["slider"] |= _mass(block, f"[{part.kind}.{part.name}.link3]", notes)
     loads = v.get("loads", {})
-    kept = {k: x for k, x in loads.items() if k in ("torque4", "torques")}
     forces = [
         {**f, "at": complex(f["at"]) * turn} if f["link"] == 3 else f
         for f in loads.get("force", [])
@@ -346,8 +343,7 @@ def _inverted(part: Any, machine: Any) -> tuple[dict[str, Any], list[str]]:
         "links": links,
         "sliders": {"guide": {"block": "slider", "on": names[4], "at": "A", "direction": theta4}},
         "motion": _motion(part, crank, sweep, 0.0),
-        **_loads({"loads": {**kept, "force": forces}}, names),
-        **({"notes": v["notes"]} if "notes" in v else {}),
+        **_loads({"loads": loads | {"force": forces}}, names),
     }
     values |= _guide_friction(loads)
     notes.insert(0, _opened(part, machine, links, t0))

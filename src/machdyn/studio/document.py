@@ -113,9 +113,11 @@ def save(file: Path | None, doc: Mapping[str, Any]) -> dict[str, Any]:
 
 def _keeps_all(file: Path) -> None:
     """Refuse to overwrite a [fourbar]/[slider_crank] file whose drawing would lose keys."""
+    from .convert import NOT_KEPT
+
     try:
         lost = [n for n in read_text(file.read_text(encoding="utf-8"), file.name)[1]
-                if n.startswith("Not kept")]  # fmt: skip
+                if n.startswith(NOT_KEPT)]  # fmt: skip
     except (InputError, UnicodeDecodeError, OSError):
         return  # a file that does not open loses nothing the studio could show
     if lost:
