@@ -95,6 +95,7 @@ def one_blas_thread(fn: Callable) -> Callable:
     def wrapper(*args, **kwargs):
         global _blas
         if _blas is None:
+            import scipy.linalg  # noqa: F401  (scipy's own OpenBLAS loaded, so the controller finds it)
             from threadpoolctl import ThreadpoolController
 
             _blas = ThreadpoolController()
