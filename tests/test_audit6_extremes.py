@@ -56,6 +56,7 @@ def test_fourbar_centres_scale_with_the_linkage(s):
     side = min((1.0, -1.0), key=lambda k: abs(fourbar_i13_i24(*r, THETA[0], k)[2] - drawn))
     ics = fb.instant_centres(THETA)
     assert ics.ok.all()
+    assert ics.scale == ics[1, 3].scale == 8.0 * s  # the documented attribute: the longest link
     for k, t in enumerate(THETA):
         i13, i24, B = fourbar_i13_i24(*r, t, side)
         assert abs(ics[3, 4].point[k] / s - B) < 1e-12 * 8

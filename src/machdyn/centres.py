@@ -247,6 +247,7 @@ class InstantCentres(Mapping):
         if bodies is None:
             bodies = sorted({b for pair in centres for b in pair})
         self.bodies = tuple(bodies)
+        self.scale = float(scale)
         self._index = {b: k for k, b in enumerate(self.bodies)}
         self._centres = {
             self._key(k): InstantCentre(_normalise(np.asarray(v, dtype=float)), scale)
@@ -528,14 +529,14 @@ def _best_intersection(lines: list[np.ndarray]) -> np.ndarray:
 
 
 def fourbar_centres(
-    r1: float, A: np.ndarray, B: np.ndarray, valid: np.ndarray, scale: float | None = None
+    r1: float, A: np.ndarray, B: np.ndarray, valid: np.ndarray, scale: float
 ) -> InstantCentres:
     """The six centres of a pin-jointed four-bar with ``O2`` at 0 and ``O4`` at ``r1``.
 
-    Kennedy's lines are met in units of ``scale`` (the longest link; default
-    ``r1``), so that links of 1e-200 or 1e200 neither underflow nor overflow.
+    Kennedy's lines are met in units of ``scale`` (the longest link), so that links
+    of 1e-200 or 1e200 neither underflow nor overflow.
     """
-    scale = float(r1 if scale is None else scale)
+    scale = float(scale)
     A = np.asarray(A, dtype=complex) / scale
     I12 = _finite(np.zeros(A.shape, dtype=complex))
     I14 = _finite(np.full(A.shape, r1 / scale, dtype=complex))
