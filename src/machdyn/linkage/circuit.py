@@ -518,7 +518,6 @@ def flips(
                 replace(s, sign=-s.sign) if g in flip else s
                 for g, s in zip(program.group_of_step, program.steps, strict=True)
             ]
-            model.cache[key] = Program(program.n_links, steps, program.group_of_step,
-                                       program.deps, program.links, program.unwrap)  # fmt: skip
+            model.cache[key] = replace(program, steps=steps)
         out.append((model.cache[key], mask))
     return out
