@@ -483,12 +483,10 @@ def _gravity_vector(gravity: Any) -> complex:
     >>> _gravity_vector(9.81)
     -9.81j
     """
-    from ._validate import nonnegative
+    from ._validate import complex_scalar, nonnegative
 
     if isinstance(gravity, complex | np.complexfloating):
-        if not np.isfinite(gravity):
-            raise InputError("gravity", f"must be finite, got {gravity!r}")
-        return complex(gravity)
+        return complex_scalar("gravity", gravity)
     return -1j * nonnegative("gravity", gravity)
 
 
