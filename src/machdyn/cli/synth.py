@@ -401,8 +401,10 @@ def path_cmd(
     if not 0.0 <= mu_min < 90.0:
         raise InputError("--mu-min", f"must be between 0 and 90 deg, got {mu_min:g}")
     targets, theta = read_points_csv(points, timing)
-    if time_limit is not None and not (np.isfinite(time_limit) and time_limit >= 0.0):
-        raise InputError("--time-limit", f"must be zero or positive seconds, got {time_limit:g}")
+    if time_limit is not None:  # (before the atlas is opened and verified)
+        from .._validate import nonnegative
+
+        time_limit = nonnegative("--time-limit", time_limit, "second")
     options = dict(
         closed=not open_path, timing=theta, n=n, crank=not no_crank, mu_min=np.radians(mu_min),
         time_limit=time_limit,
