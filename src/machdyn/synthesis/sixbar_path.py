@@ -507,8 +507,8 @@ def _kind_pool(atlas, pts, fits) -> np.ndarray:
     if best is None or best[2] <= SIXBAR_CRAWL * float(np.max(np.abs(pts - pts.mean()))):
         return np.zeros(0, np.int64)
     fx = best[3]
-    sel = [(np.asarray(m["barker"]) <= 2) & (np.asarray(m["topology"]) == fx["topology"])
-           & (np.asarray(m["on"]) == fx["on"]) for m in atlas.meta]  # fmt: skip
+    sel = [crank & (np.asarray(m["topology"]) == fx["topology"]) & (np.asarray(m["on"]) == fx["on"])
+           for crank, m in zip(atlas._crank, atlas.meta, strict=True)]  # fmt: skip
     allowed = np.flatnonzero(np.concatenate(sel))
     if allowed.size > SIXBAR_KIND_POOL:
         allowed = allowed[np.linspace(0, allowed.size - 1, SIXBAR_KIND_POOL).astype(np.int64)]
