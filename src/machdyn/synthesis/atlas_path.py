@@ -1091,10 +1091,10 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
             met = any(f[2] <= SIXBAR_MET * size and getattr(check(f), "ok", False) for f in loop)
         near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
-    if not met and not deadline.passed():  # the best crawl along narrow valleys: polish longer
-        polish = list(range(min(long[0], len(fits))))  # (and the best loop fit)
-        polish += [i for i, f in enumerate(fits) if loop and f is loop[0] and i >= long[0]]
-        for i in polish if long[0] else ():
+    if not met and long[0] and not deadline.passed():  # the best crawl along narrow valleys:
+        order = list(range(min(long[0], len(fits))))  # polish longer (and the best loop fit)
+        order += [i for i, f in enumerate(fits) if loop and f is loop[0] and i >= long[0]]
+        for i in order:
             x, th, rms, fx = fits[i]
             more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
             fits[i] = (*more, fx) if more[2] <= rms else fits[i]

@@ -101,8 +101,7 @@ def polish(
                     timed, crank, cos_mu, scale, _W_CONSTRAINT,
                     np.inf if max_length is None else float(max_length), box,
                     pivot_box is not None, int(iterations), _H, _ALPHA, _DONE, stall)  # fmt: skip
-        angles = (lambda z: z[9] + timing) if timed else (lambda z: z[9:])
-        return _outcome(fit, z, G, targets, angles(z))
+        return _outcome(fit, z, G, targets, z[9] + timing if timed else z[9:])
     angles, residual, full_jacobian, at = _problem(targets, branch, timing, crank, cos_mu, scale,
                                                    _W_CONSTRAINT, None)  # fmt: skip
 
