@@ -102,6 +102,16 @@ def coupler_points(
     return _kernel(r1, r2, r3, r4, p, delta, theta2, branch)
 
 
+def _kernel_inputs(r1, r2, r3, r4, p, delta, branch) -> tuple[np.ndarray, np.ndarray]:
+    """The rows the compiled ``coupler_points`` kernels take, one per linkage.
+
+    The lengths, and the coupler point's offsets with the branch's sign.
+    """
+    lengths = np.column_stack([r1, r2, r3, r4]).astype(float)
+    sign = np.where(branch >= 0, 1.0, -1.0)
+    return lengths, np.column_stack([p * np.cos(delta), p * np.sin(delta), sign])
+
+
 def _kernel(
     r1: np.ndarray,
     r2: np.ndarray,
@@ -124,9 +134,7 @@ def _kernel(
     c2, s2 = np.cos(theta2), np.sin(theta2)
     compiled = jit.kernels(n * m)
     if compiled is not None:
-        lengths = np.column_stack([r1, r2, r3, r4]).astype(float)
-        sign = np.where(branch >= 0, 1.0, -1.0)
-        offsets = np.column_stack([p * np.cos(delta), p * np.sin(delta), sign])
+        lengths, offsets = _kernel_inputs(r1, r2, r3, r4, p, delta, branch)
 
         def kernel(sl: slice) -> None:
             compiled.coupler_points(

@@ -1426,7 +1426,7 @@ def _timed_fits(rows, table, pts, O2=None, theta1=None):
     """
     from .. import jit
     from ..fourbar import _CLOSE_TOL
-    from .atlas import _kernel
+    from .atlas import _kernel, _kernel_inputs
 
     angles, ip, im = table
     f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
@@ -1439,10 +1439,8 @@ def _timed_fits(rows, table, pts, O2=None, theta1=None):
     if jit.kernels(rows.size * angles.size) is not None:
         from ._atlas_kernels import timed_scores
 
-        # the inputs of _kernels.coupler_points, as atlas._kernel prepares them
-        lengths = np.column_stack([f["r1"], np.ones(rows.size), f["r3"], f["r4"]])
-        offsets = np.column_stack([f["p"] * np.cos(f["delta"]), f["p"] * np.sin(f["delta"]),
-                                   np.where(circuit >= 0, 1.0, -1.0)])  # fmt: skip
+        lengths, offsets = _kernel_inputs(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"],
+                                         f["delta"], circuit)  # fmt: skip
         timed_scores(lengths, offsets, np.cos(angles), np.sin(angles), _CLOSE_TOL, ip, im, a,
                      O2 is None, held, *out)  # fmt: skip
     else:
