@@ -242,3 +242,27 @@ def test_rotor_in_inches_and_pounds_equals_the_si_rotor(tmp_path, capsys):
     mr = {row[0]: row[2] for row in ta["rows"]}
     assert mr["A"] == pytest.approx(abs(a_fix), rel=1e-9)
     assert mr["B"] == pytest.approx(abs(b_fix), rel=1e-9)
+
+
+def test_slider_cranks_in_units_take_the_default_offset():
+    """SliderCrank(2 in, 6 in) was refused ("offset: give every length with a unit") because
+    the default offset 0 carries none; a plain 0 is zero in any unit."""
+    import numpy as np
+
+    from machdyn import InvertedSliderCrank, SliderCrank
+    from machdyn.units import registry
+
+    q = registry().Quantity
+    sc = SliderCrank(q(2, "in"), q(6, "in"))
+    assert sc.length_unit == "inch" and sc.c == 0.0
+    t2 = np.radians([0.0, 30.0, 90.0])
+    # d = a cos θ2 + √(b² − a² sin² θ2) in inches, written here
+    expected = 2 * np.cos(t2) + np.sqrt(36 - 4 * np.sin(t2) ** 2)
+    np.testing.assert_allclose(sc.solve(t2).d, expected, rtol=1e-12)
+    mixed = SliderCrank(q(2, "in"), q(152.4, "mm"))
+    np.testing.assert_allclose(mixed.solve(t2).d, expected, rtol=1e-12)
+    isc = InvertedSliderCrank(q(2, "in"), q(6, "in"))
+    # b = |A − O4| with no offset
+    np.testing.assert_allclose(isc.solve(t2).b, np.abs(2 * np.exp(1j * t2) - 6), rtol=1e-12)
+    with pytest.raises(Exception, match="offset"):
+        SliderCrank(q(2, "in"), q(6, "in"), 1.0)  # a non-zero plain offset is still refused
