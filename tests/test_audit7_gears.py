@@ -202,3 +202,27 @@ def test_norton_example_9_6_table_by_hand():
     got = gears.PlanetaryTrain.simple(sun=40, planet=20, ring=80).speeds(arm=-200, sun=100)
     assert got["planet"] == pytest.approx(-800.0)
     assert got["ring"] == pytest.approx(-350.0)
+
+
+def test_shifts_that_close_the_tip_clearance_at_the_tight_mesh_are_blamed_by_name():
+    """14/14 teeth, m = 1, x = 0.8 each: tight mesh (root-found here) at C' ≈ 15.263; the tip
+    radius 7 + 1.8 = 8.8 and the root radius 7 − 0.45 = 6.55 leave C' − 8.8 − 6.55 < 0. The
+    refusal named 'center_distance' (never given); it is the shifts'."""
+    pinion = gears.Gear(14, module=1.0, profile_shift=0.8)
+    gear = gears.Gear(14, module=1.0, profile_shift=0.8)
+    _, centre = tight_mesh(pinion, gear)
+    assert centre - (7 + 1.8) - (7 - 0.45) < 0
+    with pytest.raises(MachdynError) as info:
+        gears.GearPair(pinion, gear)
+    assert info.value.field == "profile_shift"
+    assert f"{centre:g}" in str(info.value)
+    # Given explicitly, the same too-small distance is still the distance's fault.
+    with pytest.raises(MachdynError) as info:
+        gears.GearPair(pinion, gear, centre)
+    assert info.value.field == "center_distance"
+    # At x = 0.6 each the clearance is positive and the pair meshes tight.
+    ok = gears.GearPair(gears.Gear(14, module=1.0, profile_shift=0.6),
+                        gears.Gear(14, module=1.0, profile_shift=0.6))  # fmt: skip
+    _, centre = tight_mesh(ok.pinion, ok.gear)
+    assert ok.center_distance == pytest.approx(centre, rel=1e-12)
+    assert min(ok.radial_clearances) == pytest.approx(centre - 8.6 - 6.35, rel=1e-9)
