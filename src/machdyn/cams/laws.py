@@ -379,7 +379,8 @@ def polynomial_law(
         raise InputError(
             "points" if len(rows) > sum(len(v or ()) for v in (start, end)) else given[-1],
             f"these {len(rows) + 2} conditions (s(0) = 0 and s(1) = h with the ones given) do "
-            "not fix one polynomial: some repeat, or a polynomial meeting the rest meets them "
+            "not fix one polynomial: some repeat or contradict each other, or a polynomial "
+            "meeting the rest meets them "
             "already (e.g. a condition on v at x = 0.5 with v = a = 0 at both ends: x³(1 − x)³ "
             "has s, v, a = 0 at both ends and v = 0 at 0.5, so any multiple of it can be "
             "added); change or drop a condition",
