@@ -116,7 +116,7 @@ def nth(make, seed, k):
     ("make", "k"),
     # motors 0, 7 and 19 ended 4.9e-4, 3.4e-5 and 6.2e-3 rad short, 4 by 2.4e-8, when
     # each pass marched from the drawing
-    [(curved, 0), (curved, 2), (motor, 0), (motor, 4), (motor, 7), (motor, 19)],
+    [(curved, 0), (motor, 0), (motor, 4), (motor, 7), (motor, 19)],
 )
 def test_the_ends_of_a_core_group_are_the_closed_forms_toggles(make, k):
     lk, reach = nth(make, 12345, k)
@@ -148,7 +148,7 @@ def test_a_curved_guide_closing_everywhere_has_no_range():
     assert drawn_range(lk) is None
 
 
-@pytest.mark.parametrize("k", [0, 2])
+@pytest.mark.parametrize("k", [0])
 def test_the_compiled_kernels_find_the_same_ends(k):
     # a curved guide's group is a dyad of the core: the compiled kernels follow it
     pytest.importorskip("numba", reason="numba is not installed on this Python")
@@ -162,3 +162,28 @@ def test_the_compiled_kernels_find_the_same_ends(k):
     finally:
         jit.set_mode("off")
     np.testing.assert_allclose(found, reach, rtol=0.0, atol=1e-9)
+
+
+def side_of(A, B, C):
+    """+1 / −1: B to the left / right of the line A → C (a cross product)."""
+    return np.sign(((C - A).conjugate() * (B - A)).imag)
+
+
+@pytest.mark.parametrize(("make", "k"), [(curved, 3), (motor, 7)])
+def test_a_sample_solved_alone_is_never_on_the_other_branch(make, k):
+    # Solved alone (a grid, continuation=False), each sample's Newton starts at the drawn
+    # pose; on these linkages it finds the mirror pose at some (main 2594a4b had them ok).
+    lk, _ = nth(make, 7, k)
+    t0 = lk.drawn_inputs[lk.drivers[0]]
+    m = lk.solve((t0 + np.linspace(-np.pi, np.pi, 73)).reshape(1, -1), continuation=False)
+    ok, reason = m.ok.ravel(), m.reason.ravel()
+    P, O4 = lk.points, lk.points["O4"]
+    # the group's two poses: B either side of A → O4 (a curved guide: circles about A and
+    # O4), or of O2 → O4 (a motor at A: the rigid triangle O2-A-B about O2, B about O4)
+    pivot = P["A"] if make is curved else P["O2"]
+    moved = m.points["A"].ravel()[ok] if make is curved else 0j
+    drawn = side_of(pivot, P["B"], O4)
+    assert (side_of(moved, m.points["B"].ravel()[ok], O4) == drawn).all()
+    off = np.char.startswith(reason.astype(str), "cannot assemble on the drawn branch")
+    assert off.sum() > 0 and not ok[off].any()
+    assert np.isnan(m.points["B"].ravel()[off]).all()

@@ -27,6 +27,11 @@ from .dyads import _line_line, _pair, _rpr, _rrp, _rrr, cross
 
 #: Status codes of a group at a sample.
 OK, NO_ASSEMBLY, SINGULAR, DEPENDS = 0, 1, 2, 3
+#: A general group solved alone (no continuation) that Newton put on another branch.
+OFF_BRANCH = (
+    "cannot assemble on the drawn branch: solved alone from the drawn pose, the loop core "
+    "found a pose with the other sign of a group's determinant"
+)
 #: A dyad whose Jacobian columns make a sine below this is at a toggle (as the
 #: loop solver's rcond threshold, machdyn.loops.solve.SINGULAR_RCOND).
 SINGULAR_SINE = 1e-4
@@ -557,12 +562,16 @@ class General:
                     full[sub] = arr
                     values[f"{k}:{var}"] = full
             sub_code = np.where(m.ok, OK, NO_ASSEMBLY).astype(np.int8)
-            if start is not None:  # no continuation keeps the branch: each sample is checked
+            own = m.reason.reshape(-1)
+            if start is not None or not kw["continuation"]:
+                # each sample solved alone keeps no branch: it is checked against the drawing's
                 signs = m.group_branch.reshape(len(m.groups), -1)
-                sub_code[(signs != self.branch()[:, None]).any(axis=0)] = NO_ASSEMBLY
-            sub_code[m.reason == REASONS[LOOP_SINGULAR]] = SINGULAR
+                off = m.ok.reshape(-1) & (signs != self.branch()[:, None]).any(axis=0)
+                sub_code[off] = NO_ASSEMBLY
+                own = np.where(off, OFF_BRANCH, own)
+            sub_code[own == REASONS[LOOP_SINGULAR]] = SINGULAR
             code[sub] = sub_code
-            reason[sub] = m.reason
+            reason[sub] = own
         st.solved[id(self)] = {v: values.get(f"0:{v}", np.full(n, np.nan)) for v in self.unknowns}
         self.place(st, values)
         st.reasons[id(self)] = reason
