@@ -23,10 +23,13 @@ module tells which samples the drawing reaches without that
   Samples solved independently (grids, ``continuation=False``) each take the
   straight path from the drawing (angles within π of the drawn ones). The
   path is scanned in steps of :data:`H` (scaled driver units: radians, or
-  typical lengths) and where it leaves narrowed 64-fold seven times.
+  typical lengths) and where it leaves narrowed 64-fold seven times; between
+  scanned points, where an RRR dyad's margin dips, it is scanned again
+  (:meth:`_Scan.dips`): an excursion narrower than a step is found, and so is
+  a change point on the path, which is flagged (not passed) with several drivers.
 * **Change points** (:func:`change_points`, :func:`flips`): where a dyad's two
-  forms cross (a parallelogram four-bar in line), a sweep follows the drawn
-  form by continuity, turning that dyad's assembly sign.
+  forms cross (a parallelogram four-bar in line), a sweep with one angle
+  driver follows the drawn form by continuity, turning that dyad's assembly sign.
 """
 
 from __future__ import annotations
@@ -50,6 +53,9 @@ H = 2.0 * np.pi / 720
 CHUNK = 200_000
 #: Values a bracket is cut at in each pass of :func:`_refine` (64 cells).
 CUTS = 65
+#: A dyad's relative margin below which a dip between two scanned points is looked at
+#: closely (:meth:`_Scan.dips`): the parabola through three points may miss its least.
+DIP = 1e-4
 
 
 def off_circuit(
@@ -362,22 +368,32 @@ def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
 
 # ------------------------------------------------------------- several drivers
 def _failing(lk: Linkage, model: _Model, info: _Info):
-    """A function: driver values (drivers × m) → per group and point, it does not close."""
+    """A function: driver values (drivers × m) → per group and point, it does not close.
+
+    Given RRR ``dyads`` (:func:`_rrr_dyads`) it also returns their margins
+    (:func:`_margins`) at each point, from the same (NumPy) run of the program.
+    """
     program = model.program
     walls = [i for i, d in enumerate(lk._drivers) if d in lk._actuators]
 
-    def failing(x: np.ndarray) -> np.ndarray:
+    def failing(x: np.ndarray, dyads: Any = None) -> Any:
         out = np.zeros((len(program.deps), x.shape[1]), bool)
+        M = None if dyads is None else np.empty((len(dyads), x.shape[1]))
         for k in range(0, x.shape[1], CHUNK):
             part = x[:, k : k + CHUNK]
-            U = np.zeros((4 * part.shape[0], part.shape[1]))
-            U[0::4] = part
             with np.errstate(all="ignore"):
-                codes = kernel.run(program, info.tables, U, 0, False).codes
+                if M is None:
+                    U = np.zeros((4 * part.shape[0], part.shape[1]))
+                    U[0::4] = part
+                    codes = kernel.run(program, info.tables, U, 0, False).codes
+                else:
+                    u = [[row, 0.0, 0.0, 0.0] for row in part]
+                    st, codes = program.run(u, part.shape[1], 0, False)
+                    M[:, k : k + CHUNK] = _margins(dyads, st)
             out[:, k : k + CHUNK] = codes == NO_ASSEMBLY
         for i in walls:  # an actuator's length stays > 0: its group does not close
             out[_group_of_driver(model, i)] |= x[i] <= 0.0
-        return out
+        return out if M is None else (out, M)
 
     return failing
 
@@ -430,26 +446,30 @@ def _path_lost(
     if not away.any():
         return None
     idx = np.flatnonzero(away)
-    group, where = scan.exit(np.broadcast_to(start, ends[:, idx].shape), ends[:, idx],
-                             straight[idx])  # fmt: skip
+    group, where, change = scan.exit(np.broadcast_to(start, ends[:, idx].shape), ends[:, idx],
+                                     straight[idx])  # fmt: skip
     texts = [
-        scan.text(g, w, "straight path from the drawing to this input")
-        for g, w in zip(group, where.T, strict=True)
+        scan.text(g, w, "straight path from the drawing to this input", c)
+        for g, w, c in zip(group, where.T, change, strict=True)
     ]
     if follow:  # and where the sweep left after the last sample it reached
         after = np.minimum.accumulate(np.where(broken, k, n)[::-1])[::-1]  # next break from k
         legs, inverse = np.unique(after[last_seed[idx] + 1], return_inverse=True)
-        g_leg, w_leg = scan.exit(prev[:, legs], along[:, legs], leg_out[legs])
+        g_leg, w_leg, c_leg = scan.exit(prev[:, legs], along[:, legs], leg_out[legs])
         w_leg += turns[:, :1]
-        sweep = [scan.text(g, w, f"path along the sweep (before sample {j})")
-                 for g, w, j in zip(g_leg, w_leg.T, legs, strict=True)]  # fmt: skip
+        sweep = [scan.text(g, w, f"path along the sweep (before sample {j})", c)
+                 for g, w, j, c in zip(g_leg, w_leg.T, legs, c_leg, strict=True)]  # fmt: skip
         texts = [f"{sweep[i]}; {t}" for i, t in zip(inverse.ravel(), texts, strict=True)]
+        change = change | c_leg[inverse.ravel()]
     mark = np.zeros(codes.shape, bool)
     mark[group, idx] = True
     reason = np.empty(idx.size, object)
     word = "along them" if follow else "along it"
-    reason[:] = [f"{t}: the mechanism cannot reach this input {word} without being taken apart"
-                 for t in texts]  # fmt: skip
+    reason[:] = [
+        f"{t}: the mechanism cannot reach this input {word} "
+        + ("on its drawn form" if c else "without being taken apart")
+        for t, c in zip(texts, change, strict=True)
+    ]
     return mark, away, reason
 
 
@@ -460,6 +480,7 @@ class _Scan:
         self.lk, self.model, self.info = lk, model, info
         self.failing = _failing(lk, model, info)
         self.scale = info.scale[:, None]
+        self.dyads = _rrr_dyads(model.program) or None
 
     def steps(self, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
         """The number of steps of :data:`H` (at least one) scanning each stretch ``p0 → p1``."""
@@ -475,7 +496,19 @@ class _Scan:
         p0 = np.broadcast_to(p0, p1.shape)
         if not p1.shape[1]:
             return np.zeros(0)
-        count = self.steps(p0, p1)  # count − 1 points inside each, then its end
+        count = self.steps(p0, p1)
+        if self.dyads is not None and (count >= 2).any():  # every point, margins too
+            leg = np.repeat(np.arange(p1.shape[1]), count + 1)
+            first = np.concatenate(([0], np.cumsum(count + 1)[:-1]))
+            idx = np.arange(leg.size) - np.repeat(first, count + 1)
+            frac = idx / count[leg]
+            fail, M = self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg], self.dyads)
+            bad = np.flatnonzero(fail.any(axis=0) & (idx > 0) & (idx < count[leg]))
+            out = np.where(at_end, 1.0, 2.0)
+            np.minimum.at(out, leg[bad], frac[bad])
+            self.dips(p0, p1, leg, idx, frac, M, ~fail.any(axis=0), out)
+            return out
+        # count − 1 points inside each, then its end
         leg = np.repeat(np.arange(p1.shape[1]), count - 1)
         first = np.concatenate(([0], np.cumsum(count - 1)[:-1]))
         inner = np.arange(leg.size) - np.repeat(first, count - 1) + 1
@@ -485,6 +518,58 @@ class _Scan:
             bad = np.flatnonzero(self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg]).any(axis=0))
             np.minimum.at(out, leg[bad], frac[bad])
         return out
+
+    def dips(self, p0, p1, leg, idx, frac, M, closes, out) -> None:
+        """Lower ``out`` where an RRR dyad stops closing between two scanned points.
+
+        A stretch can leave where the dyads close, and come back, between two
+        points :data:`H` apart; or pass a change point of a dyad (its margin
+        touching 0, closing on both sides: its two forms cross). Along it each
+        RRR dyad's margin ``M`` (:func:`_margins`, at every point ``idx`` of each
+        stretch ``leg``, at its fraction ``frac``; ``closes`` there) is smooth:
+        where the parabola through three neighbouring points (all closing) has
+        its least within two steps of the middle one and below :data:`DIP`,
+        those four steps are scanned again in 64, then around the least margin
+        (seven times in all: 64⁻⁷ of a step), until a point is found where a
+        group does not close; or, failing that, a margin within
+        :data:`machdyn.classify.CHANGE_POINT_RTOL` of 0 (a change point).
+        """
+        i = np.flatnonzero((idx > 0) & (np.roll(idx, -1) > idx))  # a point inside a leg
+        lo, mid, hi = M[:, i - 1], M[:, i], M[:, i + 1]
+        with np.errstate(all="ignore"):
+            curve = hi - 2.0 * mid + lo
+            at = (lo - hi) / (2.0 * curve)  # the parabola's least, from the middle point
+            least = mid - (hi - lo) ** 2 / (8.0 * curve)
+            dip = (curve > 0) & (np.abs(at) <= 2.0) & (least < DIP)
+        k = i[dip.any(axis=0) & closes[i - 1] & closes[i] & closes[i + 1]]
+        step = frac[k] - frac[k - 1]  # (a margin is not quite a parabola: two steps each way)
+        g, f0, f1 = leg[k], np.maximum(frac[k] - 2 * step, 0.0), np.minimum(frac[k] + 2 * step, 1.0)
+        cut, m = np.linspace(0.0, 1.0, CUTS), len(self.lk._drivers)
+        at = least = np.zeros(g.size)
+        for _ in range(7):
+            keep = f0 < out[g]  # (not where the leg leaves before already)
+            g, f0, f1, at, least = g[keep], f0[keep], f1[keep], at[keep], least[keep]
+            if not g.size:
+                return
+            f = f0[:, None] + (f1 - f0)[:, None] * cut  # cells × CUTS
+            z = (p0[:, g, None] + f[None] * (p1 - p0)[:, g, None]).reshape(m, -1)
+            fail, least = self.failing(z, self.dyads)
+            bad = fail.any(axis=0).reshape(f.shape)
+            hit = bad.any(axis=1)
+            np.minimum.at(out, g[hit], f[hit, np.argmax(bad[hit], axis=1)])
+            with np.errstate(all="ignore"):
+                least = np.nanmin(least, axis=0).reshape(f.shape)  # over the dyads
+            j = np.argmin(np.where(np.isnan(least), np.inf, least), axis=1)
+            rows = np.arange(g.size)
+            at, least = f[rows, j], least[rows, j]
+            f0 = f[rows, np.maximum(j - 1, 0)]
+            f1 = f[rows, np.minimum(j + 1, CUTS - 1)]
+            g, f0, f1, at, least = g[~hit], f0[~hit], f1[~hit], at[~hit], least[~hit]
+        # closing on both sides of a margin of 0: a change point (the dyad's forms cross)
+        from ..classify import CHANGE_POINT_RTOL
+
+        cross = np.abs(least) <= CHANGE_POINT_RTOL
+        np.minimum.at(out, g[cross], at[cross])
 
     def exit(self, p0: np.ndarray, p1: np.ndarray, out: np.ndarray):
         """Where each stretch leaves, from its first failing fraction ``out`` (as scanned).
@@ -505,16 +590,54 @@ class _Scan:
         both = self.failing(np.concatenate((p0 + b * (p1 - p0), p0 + out * (p1 - p0)), axis=1))
         past, scanned = both[:, : out.size], both[:, out.size :]
         group = np.where(past.any(axis=0), np.argmax(past, axis=0), np.argmax(scanned, axis=0))
-        return group, p0 + a * (p1 - p0)
+        change = ~past.any(axis=0) & ~scanned.any(axis=0)  # every group closes: a change point
+        if change.any():  # (found by :meth:`dips`): the RRR dyad of the least margin there
+            _, M = self.failing(p0[:, change] + b[change] * (p1 - p0)[:, change], self.dyads)
+            pick = np.argmin(np.where(np.isnan(M), np.inf, np.abs(M)), axis=0)
+            group[change] = np.array([g for g, _ in self.dyads])[pick]
+        return group, p0 + a * (p1 - p0), change
 
-    def text(self, g: int, at: np.ndarray, path: str) -> str:
-        """``group`` and where ``path`` leaves it."""
+    def text(self, g: int, at: np.ndarray, path: str, change: bool = False) -> str:
+        """``group`` and where ``path`` leaves it (or passes a change point of it)."""
         values = [
             f"{d} = {math.degrees(x):.5g}°" if d in self.info.angle_drivers else f"{d} = {x:.6g}"
             for d, x in zip(self.lk._drivers, at, strict=True)
         ]
         name = self.model.groups[g].name
+        if change:
+            return (
+                f"the drivers' {path} passes a change point of {name} at {', '.join(values)} "
+                "(its two forms cross there; with several drivers machdyn does not follow "
+                "the drawn form through one)"
+            )
         return f"the drivers' {path} leaves where {name} closes at {', '.join(values)}"
+
+
+def _rrr_dyads(program: Program) -> list[tuple[int, Dyad]]:
+    """The RRR dyads of ``program`` (pinned to known bodies, no driven arm), with their groups."""
+    return [
+        (g, s)
+        for g, s in zip(program.group_of_step, program.steps, strict=True)
+        if isinstance(s, Dyad)
+        and all(isinstance(a, RArm) and a.driver < 0 for a in (s.arm1, s.arm2))
+    ]
+
+
+def _margins(dyads: list[tuple[int, Dyad]], st: Any) -> np.ndarray:
+    """Per RRR dyad and sample of the state ``st``: ``min(D − |e − f|, e + f − D) / (e + f)``.
+
+    ``D`` between its pivots: negative where it does not close, 0 at a toggle.
+    NaN where its pivots meet (a kite's crank over the far pivot, where the
+    dyad turns freely: not a crossing of its forms).
+    """
+    rows = []
+    with np.errstate(all="ignore"):
+        for _, s in dyads:
+            D = np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre))
+            e, f = s.arm1.length, s.arm2.length
+            m = np.minimum(D - abs(e - f), e + f - D) / (e + f)
+            rows.append(np.where(1e-6 * (e + f) < D, m, np.nan))
+    return np.array(rows)
 
 
 # -------------------------------------------------------------- change points
@@ -540,31 +663,15 @@ def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, f
     from ..classify import CHANGE_POINT_RTOL
 
     program, found = model.program, []
-    dyads = [
-        (g, s)
-        for g, s in zip(program.group_of_step, program.steps, strict=True)
-        if isinstance(s, Dyad)
-        and all(isinstance(a, RArm) and a.driver < 0 for a in (s.arm1, s.arm2))
-    ]
+    dyads = _rrr_dyads(program)
     one = len(lk._drivers) == 1 and lk._drivers[0] in info.angle_drivers
     if one and dyads and not any(isinstance(s, General) for s in program.steps):
 
         def margins(x: np.ndarray, st: Any = None) -> np.ndarray:
-            """Per dyad and value: its margin.
-
-            NaN where its pivots meet (a kite's crank over the far pivot, where the
-            dyad turns freely: not a crossing of its forms).
-            """
-            with np.errstate(all="ignore"):
-                if st is None:
+            if st is None:
+                with np.errstate(all="ignore"):
                     st, _ = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, False)
-                rows = []
-                for _, s in dyads:
-                    D = np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre))
-                    e, f = s.arm1.length, s.arm2.length
-                    m = np.minimum(D - abs(e - f), e + f - D) / (e + f)
-                    rows.append(np.where(1e-6 * (e + f) < D, m, np.nan))
-            return np.broadcast_to(np.array(rows), (len(dyads), x.size))
+            return np.broadcast_to(_margins(dyads, st), (len(dyads), x.size))
 
         x, st, _ = _turn(model, info)
         step = x[1] - x[0]

@@ -1,0 +1,124 @@
+"""Several drivers: a path that leaves where a dyad closes for less than a scan step.
+
+A five-bar (cranks O1-A and O2-B, driven both; links A-C and B-C) closes while
+``D = |A − B| ≤ e + f``. Its pivot distance is largest, ``D = r1 + d + r2``, at
+``θ1 = 180°, θ2 = 0°``; with ``e + f`` a little less, the drivers' straight path
+through that pose leaves where the dyad closes for a stretch narrower than the
+scan's step (``circuit.H``, half a degree): found by the dyad's margin between
+scanned points. The reference is written here: ``D`` along the path, its crossing
+of ``e + f`` by Brent's method (two-circle condition, Norton, *Design of
+Machinery*, §4.5).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from closed_forms import circle_meet
+from machdyn.linkage import Linkage, circuit
+
+D12, R1, R2 = 3.0, 1.0, 1.2
+START = np.array([math.pi - 0.5, 0.5])  # the drawing's crank angles
+END = np.array([math.pi + 0.5, -0.5])  # a sample: the straight path passes (180°, 0°)
+SPAN = 1.0  # the path's largest change of a driver (rad)
+
+
+def dist(s):
+    """|A − B| at the fraction ``s`` of the straight path START → END."""
+    u = START[:, None] + np.atleast_1d(s) * (END - START)[:, None]
+    return np.abs(R1 * np.exp(1j * u[0]) - (D12 + R2 * np.exp(1j * u[1])))
+
+
+def five_bar(width):
+    """The five-bar whose dyad stops closing for ``width`` (rad of the drivers) on the path."""
+    w = width / SPAN  # in fractions of the path
+    curve = (dist(0.5 + 1e-4) + dist(0.5 - 1e-4) - 2 * dist(0.5))[0] / 1e-8  # D'' there
+    reach = (R1 + D12 + R2) + curve / 2 * (w / 2) ** 2  # e + f: D exceeds it over w
+    e, f = 0.55 * reach, 0.45 * reach
+    A, B = R1 * np.exp(1j * START[0]), D12 + R2 * np.exp(1j * START[1])
+    C = circle_meet(A, e, B, f, 1.0)
+    lk = Linkage({"O1": 0j, "O2": D12 + 0j, "A": A, "B": B, "C": C}).ground("O1", "O2")
+    lk.link("c1", "O1", "A").link("c2", "O2", "B").link("l3", "A", "C").link("l4", "B", "C")
+    return lk.drive("c1", "c2"), e + f
+
+
+def leaves(reason):
+    found = re.search(r"closes at c1 = (-?[\d.]+)°, c2 = (-?[\d.]+)°", reason)
+    assert found, reason
+    return float(found[1]), float(found[2])
+
+
+@pytest.mark.parametrize("steps", [0.3, 0.05])
+def test_a_stretch_out_narrower_than_a_step_is_found(steps):
+    lk, reach = five_bar(steps * circuit.H)
+    s_out = brentq(lambda s: dist(s)[0] - reach, 0.25, 0.5, xtol=1e-14)  # where it leaves
+    assert 0 < 0.5 - s_out < 0.5 * circuit.H  # the premise: narrower than a step
+    m = lk.solve({"c1": END[0], "c2": END[1]})  # a pose solved alone: the straight path
+    assert not bool(m.ok)
+    reason = str(m.reason)
+    assert reason.startswith("the drivers' straight path from the drawing to this input "
+                             "leaves where RRR dyad (l3, l4) closes")  # fmt: skip
+    u = np.degrees(START + s_out * (END - START))  # (printed to 5 significant digits)
+    c1, c2 = leaves(reason)
+    assert c1 == pytest.approx(u[0], abs=6e-3) and c2 == pytest.approx(u[1], rel=1e-4)
+    # a pose short of it is reached
+    near = START + 0.45 * (END - START)
+    assert bool(lk.solve({"c1": near[0], "c2": near[1]}).ok)
+
+
+def test_a_sweep_along_the_path_stops_at_the_narrow_stretch():
+    lk, reach = five_bar(0.3 * circuit.H)
+    s = np.linspace(0.0, 1.0, 801)
+    u = START[:, None] + s * (END - START)[:, None]
+    m = lk.solve({"c1": u[0], "c2": u[1]})
+    closes = dist(s) <= reach
+    first_gap = int(np.argmax(~closes))
+    assert closes[:first_gap].all() and m.ok[:first_gap].all()
+    assert not m.ok[first_gap:].any()  # in the stretch (does not close) and past it
+
+
+def test_a_path_that_stays_inside_is_not_flagged():
+    # the same five-bar, the path shifted so that D stays below e + f all along it
+    lk, reach = five_bar(0.3 * circuit.H)
+    end = END + np.array([0.0, 0.02])
+    s = np.linspace(0.0, 1.0, 20001)
+    u = START[:, None] + s * (end - START)[:, None]
+    D = np.abs(R1 * np.exp(1j * u[0]) - (D12 + R2 * np.exp(1j * u[1])))
+    assert D.max() < reach  # the premise, written here
+    assert bool(lk.solve({"c1": end[0], "c2": end[1]}).ok)
+
+
+def parallelogram_and_arm():
+    """A parallelogram four-bar O2-A-B-O4 (2, 5, 2, 5) driven at its crank, and a second
+    driven link elsewhere: two drivers. Its pivots are in line at crank 0° and 180°:
+    change points, where its two forms (parallelogram, antiparallelogram) cross."""
+    A = 2 * np.exp(1j * math.radians(60.0))
+    pts = {"O2": 0j, "O4": 5 + 0j, "A": A, "B": A + 5, "O5": 10 + 0j, "E": 11 + 0j}
+    lk = Linkage(pts).ground("O2", "O4", "O5").link("c1", "O2", "A").link("cp", "A", "B")
+    return lk.link("r", "O4", "B").link("arm", "O5", "E").drive("c1", "arm")
+
+
+@pytest.mark.parametrize("follow", [True, False])
+def test_a_change_point_on_the_path_of_several_drivers_is_flagged_not_crossed(follow):
+    lk = parallelogram_and_arm()
+    th = np.radians(np.linspace(60.0, 400.0, 341))
+    m = lk.solve({"c1": th, "arm": 0.5 * th}, continuation=follow)
+    # ok: the drawn form, the coupler parallel to the ground (θ_cp = 0: written here)
+    assert m.ok.sum() > 100 and np.allclose(m.theta["cp"][m.ok], 0.0, atol=1e-9)
+    # every sample whose straight path from the drawing (angles within 180° of it) passes
+    # crank 0° or 180° is flagged, naming the change point; a sweep reaches no more (past
+    # 180° it has passed one; from 361° on it is reached straight from the drawing again)
+    straight = np.remainder(th - math.radians(60.0) + np.pi, 2 * np.pi) - np.pi
+    crosses = (straight > math.radians(120.0)) | (straight < math.radians(-60.0))
+    at = np.isclose(th, np.pi) | np.isclose(th, 2 * np.pi)  # at a change point: a toggle
+    assert (m.ok == ~(crosses | at)).all()
+    for r in m.reason[crosses & ~at]:
+        assert "passes a change point of RRR dyad (cp, r)" in r, r
+        assert r.endswith("cannot reach this input along " + ("them" if follow else "it")
+                          + " on its drawn form")  # fmt: skip
+    assert np.isnan(m.theta["cp"][crosses]).all()
