@@ -485,8 +485,8 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
         np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
         near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
     ]  # fmt: skip
-    for idx in (idx for idx in pools if idx.size):
-        best = _timed_best(atlas, idx, timing, pts, refine_count, compiled, shift=0.5 * round_)
+    pools = [idx for idx in pools if idx.size]
+    for best in _timed_best(atlas, pools, timing, pts, refine_count, compiled, shift=0.5 * round_):
         for i, h, t, g0, mirror in best:
             if (i, mirror) not in seen:
                 seen.add((i, mirror))
@@ -642,29 +642,40 @@ def _first_loop(xp, phi, proxy, pts, steps, compiled):
     return best
 
 
-def _timed_best(atlas, idx, timing, pts, count, compiled=False, shift=0.0):
-    """The ``count`` best timed placements of entries ``idx``: (index, h, t, θ0, mirror).
+def _timed_best(atlas, pools, timing, pts, count, compiled=False, shift=0.0):
+    """Per pool of entries, the ``count`` best timed placements: (index, h, t, θ0, mirror).
 
     Coarse to fine: every entry at :data:`SIXBAR_COARSE` starting angles, the best
     :data:`SIXBAR_FINE` of each direction again at every one of ``TIMED_GRID`` angles;
-    both grids turned by ``shift`` of their step.
+    both grids turned by ``shift`` of their step. An entry's coarse scan does not depend
+    on its pool, so the entries that several pools share (the nearest by shape are
+    nested) are scanned once.
     """
     from .atlas_path import TIMED_GRID
 
-    rows = atlas.entries(idx)
-    found = []
+    if not pools:
+        return []
+    union = np.unique(np.concatenate(pools))
+    rows = atlas.entries(union)
+    at = [np.searchsorted(union, idx) for idx in pools]
+    coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
+    coarse = coarse + shift * coarse[1]
+    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+    grid = grid + shift * grid[1]
+    found: list[list] = [[] for _ in pools]
     for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
-        coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
-        coarse = coarse + shift * coarse[1]
-        score = _timed_scan(rows, coarse, timing, pts, mirror, compiled)[0]
-        pick = np.argsort(-score)[:SIXBAR_FINE]
-        grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-        grid = grid + shift * grid[1]
-        score, hh, off, g = _timed_scan(rows[pick], grid, timing, pts, mirror, compiled)
-        found += [(score[j], int(idx[pick[j]]), hh[j], off[j], grid[g[j]], mirror)
-                  for j in range(pick.size)]  # fmt: skip
-    found.sort(key=lambda f: -f[0])
-    return [f[1:] for f in found[:count]]
+        scores = _timed_scan(rows, coarse, timing, pts, mirror, compiled)[0]
+        for p, idx in enumerate(pools):
+            pick = np.argsort(-scores[at[p]])[:SIXBAR_FINE]
+            fine = _timed_scan(rows[at[p][pick]], grid, timing, pts, mirror, compiled)
+            score, hh, off, g = fine
+            found[p] += [(score[j], int(idx[pick[j]]), hh[j], off[j], grid[g[j]], mirror)
+                         for j in range(pick.size)]  # fmt: skip
+    out = []
+    for f in found:
+        f.sort(key=lambda f: -f[0])
+        out.append([f[1:] for f in f[:count]])
+    return out
 
 
 def _ordered_samples(curve: np.ndarray, pts: np.ndarray, rolls: int = 8) -> np.ndarray:
