@@ -766,7 +766,8 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
     """Check a refined six-bar with the Linkage solver; None if it cannot be built.
 
     Defects: the crank cannot turn fully, the targets are met out of order, a
-    target where the six-bar comes apart, a target farther than ``tolerance``,
+    target where the six-bar comes apart (its distance is then ``inf``) or stands
+    at a toggle (its distance measured), a target farther than ``tolerance``,
     and a transmission angle (of either dyad, over the whole turn, by
     :meth:`machdyn.linkage.Linkage.transmission_angles`) below ``mu_min``.
     """
@@ -782,7 +783,11 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
         turn = lk.solve(x[2] + theta[0] + np.linspace(0, 2 * np.pi, 361))
     except ModelError:  # drawn at a toggle: its branches meet there, neither can be followed
         return None
-    distance = np.where(m.ok, np.abs(m.points["P"] - pts), np.inf)
+    # at a toggle (a dyad's two links in line) the Linkage places the joints but takes no
+    # derivatives (not ok): the coupler point is there, so is its distance
+    P = np.asarray(m.points["P"])
+    placed = m.ok | np.isfinite(P)
+    distance = np.where(placed, np.abs(P - pts), np.inf)
     defects = []
     mu = float("nan")
     if not np.all(turn.ok):
@@ -796,8 +801,13 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
     in_order = _in_order(theta, closed, timing)
     if not in_order:
         defects.append("order defect: the coupler point meets the targets out of order")
-    if not np.all(m.ok):
-        defects.append("the linkage cannot be assembled at some target")
+    if not np.all(placed):
+        apart = [int(i) + 1 for i in np.flatnonzero(~placed)]
+        defects.append(f"the linkage cannot be assembled at targets {apart}")
+    if not np.all(m.ok[placed]):
+        dead = [int(i) + 1 for i in np.flatnonzero(placed & ~m.ok)]
+        defects.append(f"at targets {dead} the six-bar stands at a toggle (a dyad's two links "
+                       "in line: a dead point, where its derivatives are undefined)")  # fmt: skip
     if tolerance is not None:
         far = np.flatnonzero(~(distance <= tolerance))
         if far.size:
