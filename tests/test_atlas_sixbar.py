@@ -563,6 +563,13 @@ def test_a_third_timed_round_scans_entries_of_the_best_fits_kind(atlas6, compile
     assert all(f["topology"] == kind["topology"] and f["on"] == 6 for _, _, f in third)
     second = [sixbar_starts(*args, 1, fits), sixbar_starts(*args, 1)]
     assert [s[0].tobytes() for s in second[0]] == [s[0].tobytes() for s in second[1]]
+    # the fourth round: the kind of the best fit of another kind (kinds ranked by their best
+    # fits, however many fits each has); none where no other kind was fitted
+    fits += [(np.zeros(15), theta, 0.5, dict(kind, on=5)), (np.zeros(15), theta, 0.7, kind)]
+    fourth = sixbar_starts(*args, 3, fits)
+    assert len(fourth) == 8
+    assert all(f["topology"] == kind["topology"] and f["on"] == 5 for _, _, f in fourth)
+    assert _kind_pool(atlas6, targets, fits[:1], 1).size == 0
 
 
 @pytest.mark.slow

@@ -384,10 +384,15 @@ SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25
 #: Rounds of starts while no fit meets the targets (untimed, timed). The second round of a
 #: timed target scans the first pool again on grids of starting angles turned by half a
 #: step (the best-scoring entries and angles change, and with them the basins the starts
-#: lie in), its third entries of the best fit's kind (:data:`SIXBAR_KIND_POOL`); a later
-#: round of an untimed target takes the next-best-placed entries of a retrieval
-#: :data:`SIXBAR_WIDER` times wider.
-SIXBAR_ROUNDS = (2, 3)  # untimed, timed
+#: lie in), its third entries of the best fit's kind (:data:`SIXBAR_KIND_POOL`), its fourth
+#: entries of the kind of the best fit of another kind; a later round of an untimed target
+#: takes the next-best-placed entries of a retrieval :data:`SIXBAR_WIDER` times wider.
+#: The fourth round: where the best fits are of a neighbouring kind (Stephenson 1-3 on 6 for
+#: a Stephenson 2-4 on 6, Watt I 3-4 on 5 for a 3-4 on 6), the third scans the wrong kind;
+#: on seed 17's three such misses the generating kind was the second best after two rounds
+#: (1.2e-4, 7.7e-4, 2.7e-6 of the size) and a fourth round of it met two (1.6e-15, 2.0e-15).
+#: It runs only after three rounds leave a target unmet.
+SIXBAR_ROUNDS = (2, 4)  # untimed, timed
 SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed starts ×3
 #: The third round of a timed target scans this many entries spread over those of the kind
 #: of the best fit so far (chain, dyad links, the point's link: :func:`_kind_pool`). Where
@@ -398,7 +403,7 @@ SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed sta
 #: not a share of the second: that share lost a target the whole rescan met (best fits of
 #: another kind).
 SIXBAR_KIND_POOL = 1_000
-#: No third round where the best fit's RMS is within this share of the size: such a fit is
+#: No third (or fourth) round where the best fit's RMS is within this share of the size: such a fit is
 #: crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
 #: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
 #: best polished fit). The local minima the third round escapes were 8.8e-6 to 9e-4.
@@ -449,7 +454,8 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     ``round_``: the round of starts (see :data:`SIXBAR_ROUNDS`); a later round's
     starts may repeat an earlier round's (the caller drops those). ``fits``: the
     fits so far ``(x, θ, rms, fixed)``: a timed target's third round scans entries
-    of the best one's kind (:data:`SIXBAR_KIND_POOL`).
+    of the best one's kind (:data:`SIXBAR_KIND_POOL`), its fourth of the kind of the
+    best fit of another kind.
     """
     from .atlas_path import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
@@ -469,7 +475,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
             x0, fixed = _design_of(row, h, t)
             starts.append((x0, u[near], fixed))
         return starts
-    third = round_ > 1  # a third round: entries of the best fit's kind (SIXBAR_KIND_POOL)
+    third = round_ > 1  # a third (fourth) round: entries of the best (next) kind (_kind_pool)
     near = np.zeros(0, np.int64)
     if closed and not third:  # the entries whose whole curve looks like the target's
         dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
@@ -481,7 +487,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     # starts lie in different basins (the timed fit is over-determined: near the truth it
     # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    pools = [_kind_pool(atlas, pts, fits)] if third else [
+    pools = [_kind_pool(atlas, pts, fits, round_ - 2)] if third else [
         np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
         near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
     ]  # fmt: skip
@@ -495,18 +501,29 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     return starts
 
 
-def _kind_pool(atlas, pts, fits) -> np.ndarray:
+def _kind_pool(atlas, pts, fits, rank: int = 0) -> np.ndarray:
     """Flat indices of :data:`SIXBAR_KIND_POOL` crank entries of the best fit's kind.
 
     The kind: the chain and the dyad's links (``topology``) and the link that
     carries the point (``on``); the entries are spread evenly over those of the
-    atlas. None without ``fits`` or where the best fit is within
-    :data:`SIXBAR_CRAWL` of the targets' size.
+    atlas. ``rank`` 1: the kind of the best fit of another kind (the kinds ranked
+    by their best fits), and so on. None without ``fits``, where the best fit is
+    within :data:`SIXBAR_CRAWL` of the targets' size, or with fewer kinds.
     """
     best = min(fits, key=lambda f: f[2], default=None)
     if best is None or best[2] <= SIXBAR_CRAWL * float(np.max(np.abs(pts - pts.mean()))):
         return np.zeros(0, np.int64)
     fx = best[3]
+    if rank:
+        kinds: dict[tuple[int, int], float] = {}
+        for f in fits:
+            key = (f[3]["topology"], f[3]["on"])
+            if np.isfinite(f[2]) and f[2] < kinds.get(key, np.inf):
+                kinds[key] = f[2]
+        others = sorted((k for k in kinds if k != (fx["topology"], fx["on"])), key=kinds.get)
+        if len(others) < rank:
+            return np.zeros(0, np.int64)
+        fx = dict(zip(("topology", "on"), others[rank - 1], strict=True))
     sel = [crank & (np.asarray(m["topology"]) == fx["topology"]) & (np.asarray(m["on"]) == fx["on"])
            for crank, m in zip(atlas._crank, atlas.meta, strict=True)]  # fmt: skip
     allowed = np.flatnonzero(np.concatenate(sel))
