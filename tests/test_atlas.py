@@ -288,7 +288,7 @@ def test_placed_pose_where_the_linkage_does_not_close_is_flagged_not_raised():
 
 
 def test_a_fit_just_past_the_change_point_lands_on_it_with_its_crank():
-    from machdyn.synthesis.atlas_path import _grashof_excess, _onto_grashof
+    from machdyn.synthesis._atlas_checks import _grashof_excess, _onto_grashof
     from machdyn.synthesis.refine import Refined, coupler_and_jacobian
 
     # r1 + r2 = r3 + r4 + 3e-6: a hair past a change point, link 2 the shortest

@@ -4,7 +4,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from machdyn.synthesis.atlas_path import NEAR, _far_note, _rank
+from machdyn.synthesis._atlas_result import NEAR, _far_note, _rank
 
 
 def result(*distance):

@@ -268,8 +268,12 @@ def test_a_later_timed_round_screens_its_starts_long_enough_to_rank_them(compile
     # six-bar's basin ranks 112th after 30 steps, outside the 96 polished (the fits stop at
     # 1.7e-5 of the size); after 100 steps (SIXBAR_LATER_TIMED) it ranks 8th, among the 48
     # polished, and they meet the targets (circle intersections) at the prescribed angles
-    from machdyn.synthesis.atlas_path import SIXBAR_POLISH
-    from machdyn.synthesis.sixbar_path import SIXBAR_LATER_TIMED, polished_sixbars, sixbar_result
+    from machdyn.synthesis.sixbar_path import (
+        SIXBAR_LATER_TIMED,
+        SIXBAR_POLISH,
+        polished_sixbars,
+        sixbar_result,
+    )
 
     row = sample_sixbars(np.random.default_rng(2026), 60)[29]
     assert TOPOLOGIES[int(row["topology"])][0] == (3, 4) and row["on"] == 6
@@ -303,8 +307,12 @@ def test_a_third_timed_round_meets_a_target_from_entries_of_the_best_fits_kind(c
     # polished as a later round is, meet the targets (circle intersections) at the
     # prescribed crank angles. Both sets were placed by the timed scan on the 10^6 six-bar
     # atlas and stored (it is not built here)
-    from machdyn.synthesis.atlas_path import SIXBAR_POLISH
-    from machdyn.synthesis.sixbar_path import SIXBAR_LATER_TIMED, polished_sixbars, sixbar_result
+    from machdyn.synthesis.sixbar_path import (
+        SIXBAR_LATER_TIMED,
+        SIXBAR_POLISH,
+        polished_sixbars,
+        sixbar_result,
+    )
 
     row = sample_sixbars(np.random.default_rng(7), 60)[4]
     assert TOPOLOGIES[int(row["topology"])][0] == (3, 4) and row["on"] == 5
@@ -513,7 +521,7 @@ def test_a_candidate_drawn_at_a_toggle_is_dropped_not_raised(rows):
 def test_a_later_round_of_timed_starts_scans_a_grid_turned_half_a_step(atlas6, compiled):
     # rounds of starts (sixbar_path.SIXBAR_ROUNDS): a timed target's second round scans its
     # pools at starting angles half a grid step from the first round's, so no start repeats
-    from machdyn.synthesis.atlas_path import TIMED_GRID
+    from machdyn.synthesis._atlas_retrieve import TIMED_GRID
     from machdyn.synthesis.sixbar_path import sixbar_starts
 
     row = atlas6.entries([321])[0]

@@ -17,15 +17,9 @@ from tests.test_synthesis_path_atlas import KNOWN, _coupler, _curve_distance
 
 from machdyn.cli import main
 from machdyn.errors import InputError
-from machdyn.synthesis.atlas_path import (
-    _NEVER,
-    POLISH,
-    _Deadline,
-    _polished,
-    _screened,
-    open_atlas,
-    path_from_atlas,
-)
+from machdyn.synthesis._atlas_index import _NEVER, _Deadline
+from machdyn.synthesis._atlas_result import POLISH
+from machdyn.synthesis.atlas_path import _polished, _screened, open_atlas, path_from_atlas
 from machdyn.synthesis.atlas_store import build_atlas
 from machdyn.synthesis.refine import coupler_and_jacobian
 
@@ -200,7 +194,7 @@ def test_timed_polish_looks_past_copies_of_one_near_miss(monkeypatch, wrong_rms)
 
 
 def test_a_fit_a_turn_further_round_is_a_copy():
-    from machdyn.synthesis.atlas_path import _unique
+    from machdyn.synthesis._atlas_checks import _unique
     from machdyn.synthesis.refine import Refined
 
     x = np.r_[KNOWN.fourbar.lengths, KNOWN.fourbar.coupler, KNOWN.O2.real, KNOWN.O2.imag,

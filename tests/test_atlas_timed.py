@@ -17,7 +17,7 @@ from scipy.optimize import lsq_linear
 
 from machdyn.fourbar import FourBar
 from machdyn.synthesis import PlacedFourBar
-from machdyn.synthesis.atlas_path import _angle_table, _timed_fits
+from machdyn.synthesis._atlas_retrieve import _angle_table, _timed_fits
 from machdyn.synthesis.atlas_store import sample_fourbars
 
 
@@ -99,7 +99,7 @@ def test_nearest_on_threads_is_the_exact_top_k_of_a_brute_force_search(
 ):
     """Compiled, queries after the first go in two stages (a bound, then the exact scores)."""
     from machdyn import _parallel, jit
-    from machdyn.synthesis import atlas_path
+    from machdyn.synthesis import _atlas_index
     from machdyn.synthesis.atlas_path import open_atlas
     from machdyn.synthesis.atlas_store import build_atlas
     from machdyn.synthesis.descriptor import descriptor_variants
@@ -114,8 +114,8 @@ def test_nearest_on_threads_is_the_exact_top_k_of_a_brute_force_search(
     monkeypatch.setattr(_parallel, "MIN_PARALLEL", 1)  # threads even for this small atlas
     monkeypatch.setenv("MACHDYN_THREADS", "3")
     two = []
-    bounded = atlas_path.bounded_topk
-    monkeypatch.setattr(atlas_path, "bounded_topk", lambda *a: two.append(1) or bounded(*a))
+    bounded = _atlas_index.bounded_topk
+    monkeypatch.setattr(_atlas_index, "bounded_topk", lambda *a: two.append(1) or bounded(*a))
     desc = np.concatenate([np.asarray(d, float) for d in at.desc])
     allowed = np.concatenate([np.asarray(m["barker"]) <= 2 for m in at.meta])
     rng = np.random.default_rng(4)

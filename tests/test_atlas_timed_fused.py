@@ -17,9 +17,15 @@ import pytest
 
 from machdyn import _parallel, jit
 from machdyn.fourbar import FourBar
-from machdyn.synthesis import PlacedFourBar, atlas_path, build_atlas, open_atlas, path_from_atlas
+from machdyn.synthesis import (
+    PlacedFourBar,
+    _atlas_retrieve,
+    build_atlas,
+    open_atlas,
+    path_from_atlas,
+)
+from machdyn.synthesis._atlas_retrieve import _angle_table, _timed_fits, _timed_scores_numpy
 from machdyn.synthesis.atlas import coupler_points
-from machdyn.synthesis.atlas_path import _angle_table, _timed_fits, _timed_scores_numpy
 from machdyn.synthesis.atlas_store import sample_fourbars
 
 
@@ -75,15 +81,15 @@ def test_blocks_and_threads_give_the_numbers_of_one_call(compiled, monkeypatch):
     rows = rows[rows["barker"] <= 2]
     targets = rng.normal(size=7) + 1j * rng.normal(size=7)
     timing = np.radians(25.0) * np.arange(7)
-    one = atlas_path._timed_scored(rows, targets, timing, {})
-    monkeypatch.setattr(atlas_path, "TIMED_BLOCK", 13)
-    monkeypatch.setattr(atlas_path, "TIMED_THREADS", 1)
+    one = _atlas_retrieve._timed_scored(rows, targets, timing, {})
+    monkeypatch.setattr(_atlas_retrieve, "TIMED_BLOCK", 13)
+    monkeypatch.setattr(_atlas_retrieve, "TIMED_THREADS", 1)
     monkeypatch.setenv("MACHDYN_THREADS", "3")
     calls = []
     run = _parallel.for_slices
     monkeypatch.setattr(_parallel, "for_slices", lambda k, n, minimum: calls.append(n) or
                         run(k, n, minimum))  # fmt: skip
-    split = atlas_path._timed_scored(rows, targets, timing, {})
+    split = _atlas_retrieve._timed_scored(rows, targets, timing, {})
     assert calls == [rows.size]
     for a, b in zip(one, split, strict=True):
         np.testing.assert_array_equal(a, b)

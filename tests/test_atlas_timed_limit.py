@@ -11,8 +11,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from machdyn.synthesis import atlas_path
-from machdyn.synthesis.atlas_path import _NEVER, _Deadline, open_atlas, path_from_atlas
+from machdyn.synthesis import _atlas_retrieve, atlas_path
+from machdyn.synthesis._atlas_index import _NEVER, _Deadline
+from machdyn.synthesis.atlas_path import open_atlas, path_from_atlas
 from machdyn.synthesis.atlas_store import build_atlas
 from machdyn.synthesis.descriptor import descriptor_variants
 
@@ -70,9 +71,9 @@ def test_a_limit_of_zero_leaves_out_the_wide_rows_and_still_answers(atlas, monke
     targets = known.pose(theta)[2]
     options = {"timing": theta} if timed else {}
     wide = []
-    rows = atlas_path._wide_rows
+    rows = _atlas_retrieve._wide_rows
     monkeypatch.setattr(atlas_path, "_retrieve_wide", lambda *a: wide.append(1) or 1 / 0)
-    monkeypatch.setattr(atlas_path, "_wide_rows", lambda crank: wide.append(2) or rows(crank))
+    monkeypatch.setattr(_atlas_retrieve, "_wide_rows", lambda crank: wide.append(2) or rows(crank))
     res = path_from_atlas(targets, atlas, n=1, time_limit=0.0, **options)
     assert res.note.startswith("stopped at the time limit")
     assert wide == ([2] if timed else [])  # (timed: the rows are taken, then left out)
@@ -89,18 +90,18 @@ def test_an_open_pool_with_a_limit_is_taken_in_slices_and_cut_after_the_first(
     man = atlas.manifest
     rows = atlas.entries(atlas.pool(900, crank=True))
     whole = even_curves(rows, man.circuit_samples, man.samples)
-    monkeypatch.setattr(atlas_path, "POOL_SLICE", 250)
-    monkeypatch.setattr(atlas_path, "OPEN_POOL", 900)
+    monkeypatch.setattr(_atlas_retrieve, "POOL_SLICE", 250)
+    monkeypatch.setattr(_atlas_retrieve, "OPEN_POOL", 900)
     seen, calls = [], []
-    monkeypatch.setattr(atlas_path, "_arc_starts", lambda r, c, p, n: seen.append((r, c)) or 0)
-    curves = atlas_path.even_curves
-    monkeypatch.setattr(atlas_path, "even_curves", lambda r, *a: calls.append(r.size) or
+    monkeypatch.setattr(_atlas_retrieve, "_arc_starts", lambda r, c, p, n: seen.append((r, c)) or 0)
+    curves = _atlas_retrieve.even_curves
+    monkeypatch.setattr(_atlas_retrieve, "even_curves", lambda r, *a: calls.append(r.size) or
                         curves(r, *a))  # fmt: skip
     pts = np.linspace(0, 1, 6) + 0.2j * np.linspace(0, 1, 6) ** 2
     for deadline, size, sizes in ((_NEVER, 900, [900]), (_Deadline(1e300), 900, [250] * 3 + [150]),
                                   (_Deadline(0.0), 250, [250])):  # fmt: skip
         seen.clear(), calls.clear()
-        atlas_path._retrieve(atlas, pts, False, True, 10, 10, None, deadline)
+        _atlas_retrieve._retrieve(atlas, pts, False, True, 10, 10, None, deadline)
         ((r, c),) = seen
         assert calls == sizes
         np.testing.assert_array_equal(r, rows[:size])

@@ -267,7 +267,7 @@ def test_a_fit_past_the_change_point_is_refined_along_it():
     landing alone keeps its misses, refining along ``s + l = p + q`` removes them.
     """
     from machdyn.classify import classify
-    from machdyn.synthesis.atlas_path import _grashof_excess, _onto_grashof
+    from machdyn.synthesis._atlas_checks import _grashof_excess, _onto_grashof
     from machdyn.synthesis.refine import Refined
 
     x = np.array([50.0, 1.35, 1.36, 49.99, 12.0, 0.4, 10.0, -3.0, 0.1])
@@ -290,7 +290,7 @@ def test_a_fit_past_the_change_point_is_refined_along_it():
 
 
 def test_copies_of_one_fit_are_refined_and_checked_once():
-    from machdyn.synthesis.atlas_path import _unique
+    from machdyn.synthesis._atlas_checks import _unique
     from machdyn.synthesis.refine import Refined
 
     x = np.array([5.0, 2.0, 5.0, 4.0, 3.0, 0.6, 1.0, 2.0, 0.3])

@@ -16,12 +16,15 @@ their distances to the targets are measured by the Linkage's own solver.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..errors import ModelError
+from ._atlas_index import _NEVER
+from ._atlas_result import NEAR, PathCandidates, _far_note, _limit_note, _rank
 from .sixbar import TOPOLOGIES
 
 # Internal to machdyn.synthesis, which re-exports the public names (Atlas, build_atlas,
@@ -371,6 +374,22 @@ class SixBarPath:
         return not self.defects
 
 
+#: Six-bars: starts screened per refined candidate, and steps of each polished one.
+SIXBAR_SCREEN = 4
+SIXBAR_POLISH = 600
+#: Six-bars: most fits polished while none meets the targets (of 20 random timed six-bars
+#: of the benchmark, none was met from a fit screened below the 23rd; a miss polished all).
+SIXBAR_POLISH_MAX = 24
+#: Six-bars with prescribed timing: starts screened per refined candidate, most fits polished.
+SIXBAR_TIMED = (16, 96)
+#: Six-bars: when none meets the targets, the best few fits polished this many steps more
+#: (compiled kernels only; untimed too since a Watt II 1-4 fit at 3.8e-6 crawled to 3e-14).
+SIXBAR_LONG = (2, 6000)
+#: A six-bar whose RMS distance is below this share of the size meets the targets.
+SIXBAR_MET = 1e-12
+#: Six-bars: a fit this near (RMS over the size) takes no more rounds of starts (its valley
+#: is polished longer instead; see sixbar_path.SIXBAR_ROUNDS).
+SIXBAR_NEAR = 1e-8
 _FIXED = ("s4", "s6", "topology", "on")
 #: Six-bar entries spread over the atlas that timed targets are scanned against.
 SIXBAR_TIMED_POOL = 1_000
@@ -457,7 +476,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     of the best one's kind (:data:`SIXBAR_KIND_POOL`), its fourth of the kind of the
     best fit of another kind.
     """
-    from .atlas_path import _retrieve
+    from ._atlas_retrieve import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
     from .sixbar import sixbar_points
 
@@ -543,7 +562,7 @@ def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=F
     six-bars, whose near-fits abound, and an exact fit may be a six-bar that
     cannot turn its crank (the untimed fits form a family).
     """
-    from .atlas_path import POLISH, SIXBAR_MET
+    from ._atlas_result import POLISH
 
     size = float(np.max(np.abs(pts - pts.mean())))
     options = dict(timing=timing, compiled=compiled)
@@ -668,7 +687,7 @@ def _timed_best(atlas, pools, timing, pts, count, compiled=False, shift=0.0):
     on its pool, so the entries that several pools share (the nearest by shape are
     nested) are scanned once.
     """
-    from .atlas_path import TIMED_GRID
+    from ._atlas_retrieve import TIMED_GRID
 
     if not pools:
         return []
@@ -788,7 +807,7 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
     and a transmission angle (of either dyad, over the whole turn, by
     :meth:`machdyn.linkage.Linkage.transmission_angles`) below ``mu_min``.
     """
-    from .atlas_path import _in_order
+    from ._atlas_checks import _in_order
 
     theta = np.mod(theta, 2 * np.pi)
     try:
@@ -833,3 +852,83 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
     name = f"{chain} (dyad on links {l1} and {l2}, point on link {fixed['on']})"
     return SixBarPath(lk, name, x, fixed, pts, theta, distance, tuple(defects), mu_min=mu,
                       in_order=in_order)  # fmt: skip
+
+
+def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, refine_count, client,
+                 start, deadline=_NEVER):  # fmt: skip
+    """:func:`path_from_atlas` on a six-bar atlas (:mod:`machdyn.synthesis.sixbar_path`)."""
+    from .. import jit
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    compiled = jit.mode() != "off" and jit.load()  # one choice for the whole synthesis
+    # six-bars: many atlas entries draw nearly the same curve, so many are screened; timed
+    # targets many more (their fit is over-determined: real local minima near the truth)
+    screen, most = (SIXBAR_SCREEN, SIXBAR_POLISH_MAX) if timing is None else SIXBAR_TIMED
+    rounds, long = SIXBAR_ROUNDS[timing is not None], SIXBAR_LONG if compiled else (0, 0)
+    if not compiled and timing is not None:  # MACHDYN_JIT=off: the NumPy loop's smaller budget
+        (screen, most), rounds = SIXBAR_TIMED_NUMPY, 1
+    options = dict(timing=timing, compiled=compiled)
+    checked: dict[int, Any] = {}  # the Linkage's check of the fits met so far, by id
+
+    def check(fit):
+        if id(fit) not in checked:
+            checked[id(fit)] = (fit, sixbar_result(fit[0], fit[1], fit[3], pts, timing, closed,
+                                                   tolerance, mu_min))  # fmt: skip
+        return checked[id(fit)][1]
+
+    fits, loop, met, near, seen, scan = [], [], False, False, set(), 0.0
+    t_begin = time.perf_counter()
+    for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
+        if met or near or (round_ and deadline.passed()):
+            break
+        t0 = time.perf_counter()
+        starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
+                               client, compiled, round_, fits)  # fmt: skip
+        starts = [s for s in starts if s[0].tobytes() not in seen]
+        seen.update(s[0].tobytes() for s in starts)
+        scan += time.perf_counter() - t0
+        steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
+        later = SIXBAR_LATER_TIMED if round_ and timing is not None else (30, most)
+        more, met = polished_sixbars(starts, pts, later[1], check, steps, screen=later[0],
+                                     **options)  # fmt: skip
+        fits += more
+        best = min(fits, key=lambda f: f[2], default=None)
+        if (
+            timing is None
+            and not (met or loop or deadline.passed())
+            and best
+            and best[3]["topology"] == 1
+        ):
+            # untimed Watt II 1-4 (two four-bars in series) unmet: fitted loop by loop, once
+            loop = second_loop_fits(fits, pts, compiled)
+            fits += loop
+            met = any(f[2] <= SIXBAR_MET * size and getattr(check(f), "ok", False) for f in loop)
+        near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
+    fits.sort(key=lambda f: f[2])
+    if not met and long[0] and not deadline.passed():  # the best crawl along narrow valleys:
+        order = list(range(min(long[0], len(fits))))  # polish longer (and the best loop fit)
+        order += [i for i, f in enumerate(fits) if loop and f is loop[0] and i >= long[0]]
+        for i in order:
+            x, th, rms, fx = fits[i]
+            more = refine_sixbar(x, th, fx, pts, iterations=long[1], **options)
+            fits[i] = (*more, fx) if more[2] <= rms else fits[i]
+    for fit in fits[:refine_count]:
+        check(fit)
+    results = [r for _, r in checked.values() if r is not None]
+    results.sort(key=_rank)
+    t2 = time.perf_counter()
+    chosen, rejected = [], []
+    for r in results:
+        if not r.ok:
+            rejected.append(r)
+        elif all(np.max(np.abs(r.design[3:] - c.design[3:])) > 0.02 * size for c in chosen):
+            chosen.append(r)
+    chosen = chosen[:n]
+    best = chosen[0] if chosen else (rejected[0] if rejected else None)
+    worst = float(np.max(best.distance)) / size if best is not None else np.inf
+    note = _far_note(best, size, "six-bar")
+    seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
+               "total": time.perf_counter() - start}  # fmt: skip
+    note = _limit_note(note, deadline, deadline.at - start, seconds["total"])
+    return PathCandidates(tuple(chosen), tuple(rejected[: max(n, 5)]), pts, worst <= NEAR, note,
+                          seconds)  # fmt: skip

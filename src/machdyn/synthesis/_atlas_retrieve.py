@@ -1,0 +1,381 @@
+"""Refinement starts for a path synthesis from a four-bar atlas: retrieve and place.
+
+A closed target's nearest atlas entries by descriptor, an open target's best
+arcs of an evenly spread pool (re-fitted to the points themselves), random
+four-bars of wide proportions, and for timed targets a scan of every pool
+entry's starting crank angle; each start is an atlas linkage placed on the
+target by a rotation, scale and offset. Used by
+:mod:`~machdyn.synthesis.atlas_path` (and :mod:`~machdyn.synthesis.sixbar_path`).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from ._atlas_index import _NEVER, OPEN_POOL, Atlas, _Deadline
+from .atlas_store import even_curves
+from .circuits import circuit_angles, circuit_points, circuit_range
+from .descriptor import (
+    align_closed,
+    align_partial,
+    curve_descriptor,
+    interpolate_closed,
+    interpolate_open,
+    resample_closed,
+)
+
+__all__: list[str] = []
+
+#: Open targets: best arc fits re-scored on the target points, samples of each curve
+#: for that, and rounds of the re-fit (see _fit_to_points); the arc fit takes every
+#: ARC_STRIDE-th of a curve's samples.
+RESCORE = 200
+ARC_STRIDE = 2
+DENSE = 720
+ICP_ROUNDS = 3
+#: Random four-bars beyond the atlas's proportions (link lengths from 1/50 to 50 crank
+#: lengths) whose best-placed also start refinements: the literature's best linkages
+#: often lie there (a 50-long ground and rocker on a 1.35 crank, at a length bound).
+WIDE_POOL = 8_000
+WIDE_RANGE = (0.02, 50.0)
+WIDE_TIMED = 1_500  # of them, for timed targets whose starting angle is scanned too
+
+#: Entries of an open target's pool whose curves are computed at once (a time limit is
+#: looked at between slices).
+POOL_SLICE = 1_000
+#: Entries scanned for timed targets, and crank angles tried for the first target.
+TIMED_POOL = 5_000
+TIMED_GRID = 60
+
+
+def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None,
+              deadline: _Deadline = _NEVER):  # fmt: skip
+    """Atlas rows and the similarity transforms (h, t) that place their curves on the target.
+
+    Past the ``deadline``, the query of a closed target's nearest entries scores no
+    more chunks (:meth:`Atlas._query`). With a limit, an open target's pool is taken in
+    slices of :data:`POOL_SLICE` entries and none after the deadline (the first always):
+    the entries placed are then those of the slices taken, a smaller random sample of
+    the atlas.
+    """
+    man = atlas.manifest
+    if closed:
+        dense = interpolate_closed(pts, 8 * man.samples)
+        even = resample_closed(dense, man.samples)
+        q = curve_descriptor(even, man.harmonics, resampled=True)
+        idx, _ = atlas._query(q, retrieve, crank, client, deadline)
+        rows = atlas.entries(idx)
+        curves = even_curves(rows, man.circuit_samples, man.samples)
+        transforms, residual = align_closed(even, curves)
+    else:
+        rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank))
+        curves: list = []
+        step = rows.size if deadline is _NEVER else POOL_SLICE  # (no limit: one call, as ever)
+        for lo in range(0, rows.size, step):
+            if curves and deadline.passed():
+                break
+            curves.append(even_curves(rows[lo : lo + step], man.circuit_samples, man.samples))
+        curves = np.concatenate(curves)
+        return _arc_starts(rows[: len(curves)], curves, pts, refine_count)
+    order = np.argsort(residual)[:refine_count]
+    return rows[order], transforms[order]
+
+
+def _arc_starts(rows, curves, pts, count):
+    """The ``count`` rows whose curves pass nearest an open target, and their placements.
+
+    Every curve is first fitted arc-wise (:func:`align_partial`), then the
+    :data:`RESCORE` best are re-fitted to the points themselves
+    (:func:`_fit_to_points`) and ranked by that.
+    """
+    # a coarse arc fit is enough to pick the curves to re-fit: every other sample (half
+    # the work of all 128)
+    target = interpolate_open(pts, 24)
+    transforms, residual = align_partial(target, curves[:, ::ARC_STRIDE])
+    order = np.argsort(residual)[:RESCORE]
+    rows, transforms = rows[order], transforms[order]
+    transforms, miss = _fit_to_points(rows, transforms, pts)
+    order = np.argsort(miss)[:count]
+    return rows[order], transforms[order]
+
+
+def _fit_to_points(rows, transforms, pts, rounds: int = ICP_ROUNDS):
+    """Placements ``(h, t)`` of atlas curves re-fitted to the target points themselves.
+
+    :func:`~machdyn.synthesis.descriptor.align_partial` matches evenly spaced
+    samples of the target's spline to evenly spaced samples of an arc whose
+    extent is one of a few fractions of the curve: its misfit has a floor of
+    about 1.5 % of the size, below which it cannot rank entries (measured on
+    open arcs: the entries nearest the exact linkage score no better than
+    hundreds of others). Here each target is matched to its nearest point of
+    the placed curve (on the segment between two of :data:`DENSE` samples), the
+    rotation, scale and offset are re-fitted to those pairs (closed form), and
+    this is repeated ``rounds`` times (iterative closest point).
+
+    Returns the new transforms (N, 2) and the RMS point-to-curve misses over
+    the size (N,).
+    """
+    f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
+    Q, _ = circuit_points(f["r1"], 1.0, f["r3"], f["r4"], f["p"], f["delta"],
+                          rows["circuit"].astype(float), DENSE)  # fmt: skip
+    Q = np.where(np.isfinite(Q), Q, np.inf)
+    size = float(np.max(np.abs(pts - pts.mean())))
+    a0 = pts - pts.mean()
+    h, t = transforms[:, 0].copy(), transforms[:, 1].copy()
+    for _ in range(rounds):
+        near = _nearest_on(Q, h, t, pts)  # (N, K) in the curves' own frames
+        bm = near.mean(axis=1, keepdims=True)
+        b0 = near - bm
+        v = np.sum(np.abs(b0) ** 2, axis=1)
+        hn = np.sum(np.conj(b0) * a0[None, :], axis=1) / np.where(v > 0, v, np.inf)
+        good = np.isfinite(hn) & (hn != 0)
+        h, t = np.where(good, hn, h), np.where(good, pts.mean() - hn * bm[:, 0], t)
+    near, i = _nearest_on(Q, h, t, pts, index=True)
+    miss = np.sqrt(np.mean(np.abs(t[:, None] + h[:, None] * near - pts[None, :]) ** 2, axis=1))
+    miss = np.where(np.isfinite(miss), miss / size, np.inf)
+    # a rocker's circuit runs on both assemblies (sign of sin u): targets met on both
+    # need a pass through a toggle, a branch defect that no refinement mends: last
+    side = np.sign(np.sin(2 * np.pi * i / DENSE))
+    mixed = (rows["barker"] > 2) & (np.ptp(side, axis=1) > 0)
+    return np.column_stack([h, t]), np.where(mixed, miss + 1.0, miss)
+
+
+def _nearest_on(Q, h, t, pts, index=False):
+    """Nearest point to each target of each polygon ``t + h·Q`` (N, M), in Q's frame (N, K).
+
+    ``index``: also return the nearest sample of each (N, K).
+    """
+    w = (pts[None, :] - t[:, None]) / np.where(h != 0, h, 1.0)[:, None]  # (N, K)
+    n = np.arange(Q.shape[0])[:, None]
+    i = np.argmin(np.abs(Q[:, None, :] - w[:, :, None]), axis=2)  # nearest sample (N, K)
+    m = Q.shape[1]
+    best = Q[n, i]
+    for a, b in ((Q[n, i], Q[n, (i + 1) % m]), (Q[n, (i - 1) % m], Q[n, i])):  # its two edges
+        seg = b - a
+        den = np.where(np.abs(seg) > 0, np.abs(seg) ** 2, np.inf)
+        u = np.clip(np.real((w - a) * np.conj(seg)) / den, 0.0, 1.0)
+        c = a + u * seg
+        best = np.where(np.abs(w - c) < np.abs(w - best), c, best)
+    return (best, i) if index else best
+
+
+@functools.lru_cache(maxsize=2)
+def _wide_rows(crank: bool) -> np.ndarray:
+    """:data:`WIDE_POOL` random four-bars over :data:`WIDE_RANGE` (the same every call)."""
+    from .atlas_store import sample_fourbars
+
+    rows = sample_fourbars(np.random.default_rng(14), WIDE_POOL, WIDE_RANGE)
+    rows = rows[rows["barker"] <= 2] if crank else rows
+    rows.flags.writeable = False
+    return rows
+
+
+@functools.lru_cache(maxsize=2)
+def _wide_curves(crank: bool, circuit_samples: int, samples: int) -> np.ndarray:
+    """Even samples of the curves of :func:`_wide_rows` (computed once)."""
+    curves = even_curves(_wide_rows(crank), circuit_samples, samples)
+    curves.flags.writeable = False
+    return curves
+
+
+def _retrieve_wide(atlas: Atlas, pts, closed, crank, refine_count):
+    """The ``refine_count`` best-placed of :func:`_wide_rows` and their placements (untimed)."""
+    man = atlas.manifest
+    rows = _wide_rows(crank)
+    curves = _wide_curves(crank, man.circuit_samples, man.samples)
+    if not closed:
+        return _arc_starts(rows, curves, pts, refine_count)
+    even = resample_closed(interpolate_closed(pts, 8 * man.samples), man.samples)
+    transforms, residual = align_closed(even, curves)
+    order = np.argsort(residual)[:refine_count]
+    return rows[order], transforms[order]
+
+
+def _start_untimed(row, tr, pts):
+    """Refinement start of an atlas entry placed by ``tr = (h, t)``: design, θ_k, assembly_k."""
+    h, t = tr
+    if not np.isfinite(h) or h == 0:
+        return None
+    r1, r3, r4, p, delta = (float(row[k]) for k in ("r1", "r3", "r4", "p", "delta"))
+    circuit = float(row["circuit"])
+    s, rot = abs(h), np.angle(h)
+    # dense samples of the circuit, to start each target at its nearest point
+    local, theta2 = circuit_points([r1], 1.0, [r3], [r4], [p], [delta], [circuit], 720)
+    c, hw, ck = circuit_range(r1, 1.0, r3, r4, circuit)
+    u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    _, branch = circuit_angles(u, c, hw, ck, circuit)
+    x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, delta, t.real, t.imag, rot])
+    near = np.argmin(np.abs((t + h * local[0])[None, :] - pts[:, None]), axis=1)
+    return x0, theta2[0][near], branch[near]
+
+
+def _untimed_starts(entries, transforms, pts) -> list:
+    return [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
+
+
+def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None,
+                    fixed=None, deadline: _Deadline = _NEVER):  # fmt: skip
+    """Refinement starts for timed targets: scan θ0 for every entry of a pool, fit each.
+
+    For each crank entry (and its mirror image: δ → −δ on the other assembly,
+    which runs the other way round for the same crank rotation) and each of
+    ``TIMED_GRID`` starting angles θ0, the coupler points at ``θ0 + Δ_k`` are
+    fitted onto the targets by a rotation, scale and offset (closed form); the
+    best fits start the refinements. ``fixed`` (see :func:`refine`) holds the
+    pivot, the ground line's direction or θ0 (absolute timing): the fit then
+    keeps them (a scale only, or a scale and rotation). Past the ``deadline``, the
+    query scores no more chunks (:meth:`Atlas._query`) and the wide rows are left out.
+    """
+    fixed = fixed or {}
+    man = atlas.manifest
+    idx = atlas.pool(TIMED_POOL, crank=True)
+    if closed:
+        dense = interpolate_closed(pts, 8 * man.samples)
+        q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
+        idx = np.union1d(idx, atlas._query(q, retrieve, True, client, deadline)[0])
+    wide = _wide_rows(True)[: None if 9 in fixed else WIDE_TIMED]  # θ0 scanned: fewer
+    wide = wide[:0] if deadline.passed() else wide
+    held = 6 in fixed or 8 in fixed  # (refine_count was quadrupled for them)
+    groups = [(rows, count) for rows, count in (
+        (atlas.entries(idx), refine_count),
+        (wide, max(1, refine_count // 4) if held else refine_count)) if rows.size]  # fmt: skip
+    # every row scored in one call (on threads), the best starts picked group by group
+    scored = _timed_scored(np.concatenate([rows for rows, _ in groups]), pts, timing, fixed)
+    starts, lo = [], 0
+    for rows, count in groups:
+        part = tuple(x[:, lo : lo + rows.size] for x in scored)
+        starts += _timed_starts(rows, pts, timing, count, fixed, part)
+        lo += rows.size
+    return starts
+
+
+def _timed_grid(fixed) -> np.ndarray:
+    """Starting crank angles θ0 scanned for timed targets (θ0 itself when it is held)."""
+    return np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+
+
+def _timed_scored(rows, pts, timing, fixed) -> tuple:
+    """:func:`_timed_fits` of every row (score, θ0 index, h, t; each (2, rows)), on threads."""
+    from .._parallel import for_slices
+
+    table = _angle_table(_timed_grid(fixed)[:, None] + timing[None, :])  # (G, K) angles
+    O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
+    out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
+           np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
+
+    def run(sl: slice) -> None:  # each thread a run of rows (the fit kernels release the GIL)
+        for lo in range(sl.start, sl.stop, TIMED_BLOCK):
+            part = slice(lo, min(lo + TIMED_BLOCK, sl.stop))
+            for x, y in zip(out, _timed_fits(rows[part], table, pts, O2, fixed.get(8)),
+                            strict=True):  # fmt: skip
+                x[:, part] = y
+
+    for_slices(run, rows.size, minimum=TIMED_THREADS)
+    return out
+
+
+def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None):
+    """The ``refine_count`` best timed starts among ``rows`` (both mirror images).
+
+    ``scored``: :func:`_timed_scored` of these rows, when already computed.
+    """
+    score, g, hh, off = (x.ravel() for x in scored or _timed_scored(rows, pts, timing, fixed))
+    # (2, rows) each, flattened: all entries as stored, then all mirrored
+    mirror = np.repeat([1.0, -1.0], rows.size)
+    order = np.argsort(-score)[:refine_count]
+    rows2 = np.concatenate([rows, rows])
+    grid = _timed_grid(fixed)
+    starts = []
+    for i in order:
+        row, m, h = rows2[i], mirror[i], hh[i]
+        r1, r3, r4, p, delta = (float(row[k]) for k in ("r1", "r3", "r4", "p", "delta"))
+        s = abs(h)
+        x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, m * delta, off[i].real, off[i].imag,
+                       np.angle(h)])  # fmt: skip
+        theta = grid[g[i]] + timing
+        starts.append((x0, theta, np.full(pts.size, m * float(row["circuit"]))))
+    return starts
+
+
+#: Entries scored by one call of the timed fits (NumPy: their coupler points at once), and
+#: the fewest worth threads (the compiled fits of a thousand entries take ~3 ms).
+TIMED_BLOCK = 2048
+TIMED_THREADS = 1024
+
+
+def _angle_table(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distinct crank angles of ``θ0_g + Δ_k`` and of their negatives, and where each lies.
+
+    Returns the angles (in [0, 2π], to 1e-12 rad) and the index of each
+    ``th[g, k]`` and of each ``−th[g, k]`` in them: the coupler points are
+    computed once per distinct angle (steps of 20° from a grid of 6° meet only
+    180 angles, not 2 × 60 × 18), and a mirror image's point at θ is the
+    conjugate of the stored linkage's point at −θ.
+    """
+    both = np.concatenate([th.ravel(), -th.ravel()])
+    angles, where = np.unique(np.round(np.mod(both, 2 * np.pi), 12), return_inverse=True)
+    where = where.reshape(2, *th.shape)
+    return angles, where[0], where[1]
+
+
+def _timed_fits(rows, table, pts, O2=None, theta1=None):
+    """Best θ0 (index), fit score and placement ``h, t`` of each entry for timed targets.
+
+    For the entries as stored and mirrored (δ → −δ on the other assembly), each
+    shaped (2, rows). The placement ``t + h·Q`` minimising ``Σ |a_k − t − h Q_k|²``
+    in closed form: ``t`` the offset (``O2`` when held) and ``h`` a rotation and
+    scale (a scale ``s ≥ 0`` times ``e^{jθ1}`` when ``θ1`` is held). The score is
+    the share of the targets' spread the fit explains. ``table``: see
+    :func:`_angle_table`. Compiled, the coupler points and the fits are one kernel
+    (:func:`~machdyn.synthesis._atlas_kernels.timed_scores`: the points of a few
+    entries at a time stay in cache); NumPy computes the points of all the rows
+    (:func:`~machdyn.synthesis.atlas.coupler_points`), then the fits.
+    """
+    from .. import jit
+    from ..fourbar import _CLOSE_TOL
+    from .atlas import _kernel, _kernel_inputs
+
+    angles, ip, im = table
+    f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
+    circuit = rows["circuit"].astype(float)
+    centre = pts.mean() if O2 is None else O2
+    a = pts - centre
+    held = np.nan if theta1 is None else float(theta1)
+    out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
+           np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
+    if jit.kernels(rows.size * angles.size) is not None:
+        from ._atlas_kernels import timed_scores
+
+        lengths, offsets = _kernel_inputs(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"],
+                                         f["delta"], circuit)  # fmt: skip
+        timed_scores(lengths, offsets, np.cos(angles), np.sin(angles), _CLOSE_TOL, ip, im, a,
+                     O2 is None, held, *out)  # fmt: skip
+    else:
+        Q, _ = _kernel(f["r1"], np.ones(rows.size), f["r3"], f["r4"], f["p"], f["delta"], angles,
+                       circuit)  # fmt: skip
+        _timed_scores_numpy(Q, ip, im, a, O2 is None, held, *out)
+    score, g, h, qm = out
+    return score, g, h, centre - h * qm
+
+
+def _timed_scores_numpy(Q, ip, im, a, centred, theta1, score, best, h, qm):
+    """NumPy reference of :func:`machdyn.synthesis._atlas_kernels.timed_scores` (same outputs)."""
+    for m, q in enumerate((Q[:, ip], np.conj(Q[:, im]))):  # (R, G, K)
+        mean = q.mean(axis=2, keepdims=True) if centred else np.zeros_like(q[..., :1])
+        q = q - mean
+        c = np.sum(np.conj(q) * a, axis=2)  # (R, G)
+        v = np.sum(q.real**2 + q.imag**2, axis=2)
+        v = np.where(v > 0, v, np.inf)
+        if np.isnan(theta1):
+            hh = c / v
+            gain = np.abs(c) ** 2 / v
+        else:
+            along = np.maximum(np.real(c * np.exp(-1j * theta1)), 0.0)
+            hh = along / v * np.exp(1j * theta1)
+            gain = along**2 / v
+        s = np.nan_to_num(gain / max(float(np.sum(np.abs(a) ** 2)), 1e-300), nan=-1.0)
+        g = np.argmax(s, axis=1)
+        r = np.arange(q.shape[0])
+        score[m], best[m], h[m], qm[m] = s[r, g], g, hh[r, g], mean[r, g, 0]
