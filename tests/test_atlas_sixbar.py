@@ -501,6 +501,12 @@ def test_transmission_angle_of_a_sixbar_is_checked(atlas6, compiled):
     worst = strict.rejected[0] if strict.rejected else strict.best
     assert not strict.candidates or all(c.mu_min >= np.radians(88.5) for c in strict.candidates)
     assert any("transmission angle falls to" in d for d in worst.defects)
+    # no six-bar keeps μ within 1.5° of a right angle a whole turn: near the targets, every
+    # one rejected, and the note says so and why
+    assert not strict.candidates and strict.near
+    assert max(worst.distance) <= 1e-6 * np.max(np.abs(targets - targets.mean()))
+    assert strict.note.startswith("every six-bar found has a defect (see rejected)")
+    assert "transmission angle falls to" in strict.note
 
 
 def test_a_candidate_drawn_at_a_toggle_is_dropped_not_raised(rows):

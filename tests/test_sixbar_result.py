@@ -21,7 +21,7 @@ THETA = np.r_[np.linspace(0.3, 2.8, 6), np.pi, np.linspace(3.6, 6.0, 5)]  # targ
 
 def _point(x, theta):
     """The coupler point at crank angle ``theta`` by circle intersections (None if apart)."""
-    O2, O4 = 0j, complex(x[3], 0.0)
+    O4 = complex(x[3], 0.0)  # O2 at the origin, the ground along +x
     A = x[4] * np.exp(1j * theta)
     d = abs(O4 - A)
     r3, r4 = x[5], x[6]

@@ -102,7 +102,7 @@ def sixbar_points_compiled(meta: np.ndarray, theta: np.ndarray) -> np.ndarray:
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _lu(M, piv):  # pragma: no cover - compiled
-    """``M`` in place into its LU factors (Gaussian elimination, partial pivoting); False if singular.
+    """``M`` in place into its LU factors (partial pivoting); False where it is singular.
 
     Whole rows are swapped (as LAPACK's ``getrf``), the multipliers kept below the
     diagonal, the pivot rows in ``piv``: :func:`_lu_solve` then takes the same

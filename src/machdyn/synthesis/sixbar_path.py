@@ -422,8 +422,8 @@ SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed sta
 #: not a share of the second: that share lost a target the whole rescan met (best fits of
 #: another kind).
 SIXBAR_KIND_POOL = 1_000
-#: No third (or fourth) round where the best fit's RMS is within this share of the size: such a fit is
-#: crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
+#: No third (or fourth) round where the best fit's RMS is within this share of the size: such
+#: a fit is crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
 #: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
 #: best polished fit). The local minima the third round escapes were 8.8e-6 to 9e-4.
 SIXBAR_CRAWL = 1e-7
@@ -927,6 +927,9 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     best = chosen[0] if chosen else (rejected[0] if rejected else None)
     worst = float(np.max(best.distance)) / size if best is not None else np.inf
     note = _far_note(best, size, "six-bar")
+    if best is not None and worst <= NEAR and not chosen:  # near, but every one has a defect
+        defects = "; ".join(best.defects)
+        note = f"every six-bar found has a defect (see rejected); the best: {defects}"
     seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
                "total": time.perf_counter() - start}  # fmt: skip
     note = _limit_note(note, deadline, deadline.at - start, seconds["total"])
