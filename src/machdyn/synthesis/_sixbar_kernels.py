@@ -153,6 +153,19 @@ def _lu_solve(LU, piv, g, x):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _below(w, bound):  # pragma: no cover - compiled
+    """``abs(w) < bound`` for a complex ``w``, mostly without its square root.
+
+    Both parts below half the bound put ``|w|`` below 0.71 of it; otherwise
+    ``abs(w)`` decides (so NaN and infinities as before).
+    """
+    half = 0.5 * bound
+    if abs(w.real) < half and abs(w.imag) < half:
+        return True
+    return abs(w) < bound
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _residuals(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, Jz):
     # pragma: no cover - compiled
     """The six-bar refinement's residuals ``r`` (2K) and Jacobian ``Jz`` (2K, nz); the cost."""
@@ -167,10 +180,11 @@ def _residuals(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, 
     sixbar_coupler(z[:15], theta, s4, s6, l1, l2, on6, P, J, Jt, ok)
     Jz[:] = 0.0
     cost = 0.0
+    bound = steep * scale
     for i in range(k):
-        good = ok[i] and abs(Jt[i]) < steep * scale
+        good = ok[i] and _below(Jt[i], bound)
         for j in range(15):
-            good = good and abs(J[i, j]) < steep * scale
+            good = good and _below(J[i, j], bound)
         if good:  # a dyad at its toggle (derivatives without bound) counts as apart
             d = (P[i] - targets[i]) / scale
             r[i], r[k + i] = d.real, d.imag
