@@ -58,6 +58,9 @@ def sixbar_points_into(f, links, theta, P):  # pragma: no cover - compiled
     crank, ``O2`` at the origin, ground along +x (as ``sixbar_points``); NaN
     where a dyad cannot be assembled.
     """
+    ct, st = np.empty(theta.shape[0]), np.empty(theta.shape[0])
+    for m in range(theta.shape[0]):  # the crank pin's positions: the same for every linkage
+        ct[m], st[m] = math.cos(theta[m]), math.sin(theta[m])
     for n in range(f.shape[0]):
         r1, r3, r4 = f[n, 0], f[n, 1], f[n, 2]
         cu, cv, du, dv = f[n, 3], f[n, 4], f[n, 5], f[n, 6]
@@ -65,7 +68,7 @@ def sixbar_points_into(f, links, theta, P):  # pragma: no cover - compiled
         s4, s6, on6 = f[n, 11], f[n, 12], f[n, 13] > 0.5
         l1, l2 = links[n, 0], links[n, 1]
         for m in range(theta.shape[0]):
-            a_r, a_i = math.cos(theta[m]), math.sin(theta[m])
+            a_r, a_i = ct[m], st[m]
             br, bi, ok = _rrr(a_r, a_i, r1, 0.0, r3, r4, s4)
             if not ok:
                 P[n, m] = complex(math.nan, math.nan)

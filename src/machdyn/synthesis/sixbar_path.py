@@ -786,10 +786,12 @@ def _timed_scan(rows, grid, timing, pts, mirror, compiled=False):
         block = rows[lo : lo + 1024]
         th = mirror * (grid[:, None] + timing[None, :]).ravel()
         Q = points(block, th).reshape(block.size, grid.size, -1)
-        Q = Q.conj() if mirror < 0 else Q
+        if mirror < 0:
+            np.conjugate(Q, out=Q)
         qm = np.nanmean(Q, axis=2, keepdims=True)
-        c = np.sum(np.conj(Q - qm) * a0, axis=2)
-        v = np.sum(np.abs(Q - qm) ** 2, axis=2)
+        Q -= qm
+        c = np.sum(np.conj(Q) * a0, axis=2)
+        v = np.sum(np.abs(Q) ** 2, axis=2)
         score = np.nan_to_num(np.abs(c) ** 2 / np.where(v > 0, v, np.inf), nan=-1.0)
         g = np.argmax(score, axis=1)
         r = np.arange(block.size)
