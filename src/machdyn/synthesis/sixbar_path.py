@@ -931,7 +931,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     note = _far_note(best, size, "six-bar")
     if best is not None and worst <= NEAR and not chosen:  # near, but every one has a defect
         defects = "; ".join(best.defects)
-        note = f"every six-bar found has a defect (see rejected); the best: {defects}"
+        note = (f"every six-bar found has a defect (see rejected); the best, {worst:.1e} of the "
+                f"targets' size from them at worst: {defects}")  # fmt: skip
     seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
                "total": time.perf_counter() - start}  # fmt: skip
     note = _limit_note(note, deadline, deadline.at - start, seconds["total"])
