@@ -131,38 +131,3 @@ def test_nearest_on_threads_is_the_exact_top_k_of_a_brute_force_search(
         assert set(idx) == set(want)
         np.testing.assert_allclose(dist, 2 - 2 * score[want], atol=1e-5)
     assert bool(two) == compiled  # the two stages ran (compiled), or never (NumPy)
-
-
-def test_the_first_stage_bound_is_an_upper_bound_of_every_score():
-    """``bound_rows`` against the bound written out in float64, and above the exact score."""
-    from machdyn import jit
-
-    if not jit.load():
-        pytest.skip(f"compiled kernels unavailable: {jit.reason()}")
-    from machdyn.synthesis._atlas_kernels import bound_rows, head_rows
-
-    rng = np.random.default_rng(7)
-    desc = rng.standard_normal((3000, 32)) * np.r_[np.full(16, 0.05), np.full(16, 1.0)]
-    desc = (desc / np.linalg.norm(desc, axis=1, keepdims=True)).astype(np.float32)
-    q = rng.standard_normal((4, 32)).astype(np.float32)
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    cols = np.array([16, 20, 25, 31])
-    rest = np.setdiff1d(np.arange(32), cols)
-    head, tail = np.empty((3000, 4), np.float32), np.empty(3000, np.float32)
-    head_rows(desc, cols, head, tail)
-    d64, q64 = desc.astype(float), q.astype(float)
-    np.testing.assert_array_equal(head, desc[:, cols])
-    np.testing.assert_allclose(tail, np.linalg.norm(d64[:, rest], axis=1), rtol=1e-6)
-    qt = np.linalg.norm(q64[:, rest], axis=1)
-    bound = np.max(d64[:, cols] @ q64[:, cols].T + np.outer(tail, qt), axis=1)
-    exact = np.max(d64 @ q64.T, axis=1)
-    assert np.all(bound >= exact - 1e-6)
-    allowed = rng.random(3000) < 0.7
-    for floor in (0.2, 0.5, 0.8):
-        out = np.empty(3000, np.int64)
-        n = bound_rows(head, tail, allowed, True, q[:, cols].copy(), qt.astype(np.float32),
-                       floor, out)  # fmt: skip
-        want = np.flatnonzero((bound > floor) & allowed)
-        near = np.abs(bound - floor) < 1e-5  # float32 rounding may put these either side
-        assert set(out[:n]) ^ set(want) <= set(np.flatnonzero(near))
-        assert n > 0

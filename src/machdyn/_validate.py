@@ -579,7 +579,8 @@ def common_length_unit(**lengths: Any) -> tuple[dict[str, float], str | None]:
     """Convert lengths that may be pint quantities to plain floats in one unit.
 
     If any length carries a unit, all must: they are converted to the unit of
-    the first one, which is returned (``None`` for plain numbers).
+    the first one, which is returned (``None`` for plain numbers). A plain 0
+    (an offset left at its default) is zero in any unit and needs none.
 
     Examples
     --------
@@ -589,17 +590,26 @@ def common_length_unit(**lengths: Any) -> tuple[dict[str, float], str | None]:
     has_unit = {k: _is_quantity(v) for k, v in lengths.items()}
     unit = None
     if any(has_unit.values()):
-        missing = [k for k, u in has_unit.items() if not u]
+        missing = [k for k, u in has_unit.items() if not u and not _plain_zero(lengths[k])]
         if missing:
             raise InputError(
                 missing[0], "give every length with a unit, or none (others carry units)"
             )
-        first_name, first = next(iter(lengths.items()))
+        first_name, first = next((k, v) for k, v in lengths.items() if has_unit[k])
         if str(getattr(first, "dimensionality", "[length]")) != "[length]":
             raise InputError(first_name, f"must be a length, got a quantity in {first.units}")
         unit = str(first.units)
     out = {k: length(k, v, unit) for k, v in lengths.items()}
     return out, unit
+
+
+def _plain_zero(value: Any) -> bool:
+    """True for a plain number 0 (not a bool, not a quantity)."""
+    return (
+        isinstance(value, int | float | np.integer | np.floating)
+        and not isinstance(value, bool)
+        and float(value) == 0.0
+    )
 
 
 def positive_length(field: str, value: Any, unit: str | None = None) -> float:

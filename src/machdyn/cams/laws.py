@@ -371,7 +371,21 @@ def polynomial_law(
         if not 0.0 <= x0 <= 1.0:
             raise InputError("points", f"x must lie in [0, 1], got {x0}")
         rows.append((x0, _ORDER[name], finite_scalar(name, value)))
-    return PolynomialLaw(name="polynomial", shape=_dwell_shape, conditions=tuple(rows))
+    law = PolynomialLaw(name="polynomial", shape=_dwell_shape, conditions=tuple(rows))
+    try:  # the rank does not depend on h or β: refuse here, not when the cam is sampled
+        law.coefficients(1.0, 1.0)
+    except InputError:
+        given = [name for name, v in (("start", start), ("end", end)) if v]
+        raise InputError(
+            "points" if len(rows) > sum(len(v or ()) for v in (start, end)) else given[-1],
+            f"these {len(rows) + 2} conditions (s(0) = 0 and s(1) = h with the ones given) do "
+            "not fix one polynomial: some repeat or contradict each other, or a polynomial "
+            "meeting the rest meets them "
+            "already (e.g. a condition on v at x = 0.5 with v = a = 0 at both ends: x³(1 − x)³ "
+            "has s, v, a = 0 at both ends and v = 0 at 0.5, so any multiple of it can be "
+            "added); change or drop a condition",
+        ) from None
+    return law
 
 
 # Registry of the named laws ------------------------------------------------

@@ -451,8 +451,11 @@ class CamProgram:
         Parameters
         ----------
         rtol : float
-            A jump counts when it exceeds ``rtol`` times the largest |s|, |v|
-            or |a| of the two values compared (or 1e-12 absolute).
+            A jump counts when it exceeds ``rtol`` times the size of that
+            quantity on the two segments that meet (the largest |s|, |v| or |a|
+            over either segment, or of the two values compared), so that the
+            round-off of a law's end values (a polynomial's a(1) ~ 1e-12) is not
+            taken for a jump.
 
         Examples
         --------
@@ -465,6 +468,18 @@ class CamProgram:
         notes: list[str] = []
         n = len(self.segments)
         ends = [seg.evaluate(np.array([0.0, 1.0])) for seg in self.segments]
+        # The size of s, v and a on each segment: what a jump is measured against.
+        grid = np.linspace(0.0, 1.0, 65)
+        sizes = []
+        for k, seg in enumerate(self.segments):
+            values = seg.evaluate(grid)
+            sizes.append(
+                {
+                    "s": float(np.max(np.abs(self._levels[k] + values.s))),
+                    "v": float(np.max(np.abs(values.v))),
+                    "a": float(np.max(np.abs(values.a))),
+                }
+            )
         for k in range(n):
             nxt = (k + 1) % n
             before, after = ends[k], ends[nxt]
@@ -482,8 +497,8 @@ class CamProgram:
             )
             for name, left, right in pairs:
                 jump = float(right - left)
-                scale = max(abs(float(left)), abs(float(right)))
-                if abs(jump) > max(rtol * scale, 1e-12):
+                scale = max(abs(float(left)), abs(float(right)), sizes[k][name], sizes[nxt][name])
+                if abs(jump) > max(rtol * scale, 1e-300):
                     found.append(Discontinuity(theta, name, jump, where))
         for k, seg in enumerate(self.segments):
             law = seg.law

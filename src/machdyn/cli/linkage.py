@@ -77,8 +77,15 @@ def driver_values(
     motion = dict(part.values.get("motion", {}))
     changes = [("--sweep", sweep)] if sweep is not None else []
     changes += [("--at", item) for item in at]
+    given: dict[str, str] = {}
     for option, text in changes:
         name, value = _assignment(option, text, lk.drivers)
+        if name in given:  # the last one would silently win
+            raise InputError(
+                f"{option} {name}",
+                f"{name} is already set by {given[name]}; give each driver one value or sweep",
+            )
+        given[name] = option
         kind = "angle" if name in angles else "length"
         items = value.split(":") if option == "--sweep" else [value]
         if option == "--sweep" and len(items) != 3:

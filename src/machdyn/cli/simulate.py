@@ -207,8 +207,8 @@ def simulate_command(
             f"{p.kind}.{p.name}.simulate",
             'give exactly one of t_end, turns, until = "steady" (when to stop)',
         )
-    options = {k: spec[k] for k in ("t_end", "turns", "until", "theta0", "omega0", "samples")
-               if k in spec}  # fmt: skip
+    keys = ("t_end", "turns", "until", "theta0", "omega0", "samples", "max_evaluations")
+    options = {k: spec[k] for k in keys if k in spec}
     run = simulate(p.model, _motor(spec.get("motor")), flywheel=spec.get("flywheel", 0.0),
                    **options, **_dynamics(p, machine))  # fmt: skip
     if plot is not None:

@@ -417,7 +417,7 @@ class GearPair:
         else:
             c_op = positive("center_distance", center_distance)
         object.__setattr__(self, "center_distance", c_op)
-        self._check_center_distance()
+        self._check_center_distance(given=center_distance is not None)
 
     def with_center_distance(self, center_distance: float) -> GearPair:
         """Return the same gears at another operating centre distance.
@@ -725,7 +725,7 @@ class GearPair:
             return math.hypot(max(zg - zp, 0.0), g.base_radius - p.base_radius)
         return math.hypot(zp + zg, p.base_radius + g.base_radius)
 
-    def _check_center_distance(self) -> None:
+    def _check_center_distance(self, given: bool = True) -> None:
         c = self.center_distance
         # An external pair moves out of mesh as C' grows; a pinion inside a ring as C' shrinks.
         too_deep, too_shallow = ("large", "small") if self.internal else ("small", "large")
@@ -733,6 +733,16 @@ class GearPair:
         clear = self.radial_clearances
         if min(clear) < -1e-12 * self.pinion.module:
             limit = c + min(clear) if self.internal else c - min(clear)
+            if not given:  # the tight mesh of these shifts itself: the shifts are to blame
+                shift = self.pinion.profile_shift + self.gear.profile_shift
+                raise InputError(
+                    "profile_shift",
+                    f"the shifts (x_p + x_g = {shift:g}) leave no tip clearance at the "
+                    f"tight-mesh centre distance {c:g}: a tip reaches {-min(clear):.4g} into the "
+                    "mating root; shorten the addenda (give addendum= and dedendum=) by at least that, use "
+                    f"smaller shifts, or give a centre distance of {bound} {limit:g} (with "
+                    "backlash)",
+                )
             raise InputError(
                 "center_distance",
                 f"{c:g} is too {too_deep}: a tooth tip hits the mating root (the clearance allows"

@@ -125,6 +125,7 @@ def simulate(
     atol: float = 1e-10,
     method: str = "DOP853",
     max_step: float | None = None,
+    max_evaluations: int = 2_000_000,
     table: bool = True,
     table_tol: float = 1e-9,
     steady_tol: float = 1e-7,
@@ -174,6 +175,12 @@ def simulate(
         Passed to :func:`scipy.integrate.solve_ivp` (``atol`` is for θ and ω;
         the work integrals get it scaled to the energies; ``max_step`` None: no
         limit).
+    max_evaluations : int
+        Budget of the run: evaluations of the equation of motion (default
+        2,000,000: about a minute, thousands of turns of a tabulated four-bar;
+        a steady state usually takes a few thousand). A run that needs more is
+        refused, naming ``t_end`` (or ``turns``, ``until``) and the time it had
+        reached, instead of running for as long as a huge ``t_end`` asks.
     table : bool
         Tabulate the coefficients once (default, fast) or solve the model at
         every step (``False``: slow, for checking).
@@ -224,8 +231,8 @@ def simulate(
     if isinstance(model, Linkage) and len(model.drivers) > 1:
         return _several(model, motor, t_end, turns, until, theta0, omega0, flywheel, loads,
                         samples=samples, rtol=rtol, atol=atol, method=method,
-                        **dynamics)  # fmt: skip
-    from ._integrate import Runner
+                        max_evaluations=max_evaluations, **dynamics)  # fmt: skip
+    from ._integrate import OverBudget, Runner
     from ._setup import prepare, solver_options, stops, time_limit
     from ._table import Exact, Table
     from .result import Simulation
@@ -234,10 +241,12 @@ def simulate(
                     theta0=theta0, flywheel=flywheel)  # fmt: skip
     plant, motor, loads, q0 = setup.plant, setup.motor, setup.loads, setup.q0
     w0 = finite_scalar("omega0", omega0, "radian / second" if plant.angular else None)
+    t_end_given = t_end
     t_end, turns = time_limit(t_end, turns, until)
     stop_set = stops(stop_on)
     opts = solver_options(samples=samples, rtol=rtol, atol=atol, method=method,
-                          max_step=max_step, table=table, table_tol=table_tol)  # fmt: skip
+                          max_step=max_step, table=table, table_tol=table_tol,
+                          max_evaluations=max_evaluations)  # fmt: skip
     steady = in_range("steady_tol", steady_tol, 1e-14, 0.1)
 
     span = plant.span(q0)
@@ -256,26 +265,40 @@ def simulate(
     runner = Runner(
         plant, coef, span, motor, loads, setup.added,
         rtol=opts["rtol"], atol=opts["atol"], method=opts["method"], max_step=opts["max_step"],
+        max_evaluations=opts["max_evaluations"],
     )  # fmt: skip
     runner.check_start(q0, w0)
     q_stop = None
     if turns is not None:
         q_stop = q0 + math.copysign(2.0 * math.pi * turns, w0 if w0 else _push(motor, q0))
     breaks = (motor.breakpoints if motor else ()) + tuple(b for ld in loads for b in ld.breakpoints)
-    status, message = runner.run(
-        q0,
-        w0,
-        t_end,
-        q_stop=q_stop,
-        steady_tol=steady if until else None,
-        stop_on=stop_set,
-        breakpoints=breaks,
-    )
+    try:
+        status, message = runner.run(
+            q0,
+            w0,
+            t_end,
+            q_stop=q_stop,
+            steady_tol=steady if until else None,
+            stop_on=stop_set,
+            breakpoints=breaks,
+        )
+    except OverBudget as over:
+        asked = t_end if t_end_given is not None else None
+        raise over.refusal(*_length_asked(asked, turns, until)) from None
     from ..units import with_units
 
     result = _result(Simulation, runner, plant, coef, status, message, opts["samples"], q0, w0,
                      setup.added)  # fmt: skip
     return with_units(result, getattr(model, "units", None))  # to_pandas(): "t [s]", ...
+
+
+def _length_asked(t_end: Any, turns: Any, until: Any) -> tuple[str, str]:
+    """The option that set how long the run goes on, and what it asked (for a refusal)."""
+    if t_end is not None:
+        return "t_end", f"{float(t_end):.6g} s"
+    if turns is not None:
+        return "turns", f"{float(turns):.6g} turns"
+    return "until", "the steady state"
 
 
 def _push(motor: Any, q0: float) -> float:

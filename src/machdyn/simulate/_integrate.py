@@ -25,7 +25,7 @@ from ._table import _Unsolved, load_layout
 from .loads import Load
 from .result import Energy, Event, SteadyState
 
-__all__ = ["Runner"]
+__all__ = ["OverBudget", "Runner"]
 
 
 class Runner:
@@ -44,6 +44,7 @@ class Runner:
         atol: float,
         method: str,
         max_step: float,
+        max_evaluations: int = 2_000_000,
     ) -> None:
         self.plant, self.coef, self.motor, self.loads = plant, coefficients, motor, loads
         self.coef_span = span
@@ -52,6 +53,7 @@ class Runner:
         self.added = added_inertia
         self.layout = load_layout(loads, plant)
         self.rtol, self.atol, self.method, self.max_step = rtol, atol, method, max_step
+        self.max_evaluations, self.evaluations = max_evaluations, 0
         self.segments: list[tuple[float, float, Any]] = []
         self.events: list[Event] = []
         self.cycle_times: list[float] = []
@@ -99,6 +101,9 @@ class Runner:
 
     def rhs(self, t: float, y: np.ndarray) -> list[float]:
         """``dy/dt`` for ``solve_ivp``: q̇, q̈ and the four powers."""
+        self.evaluations += 1
+        if self.evaluations > self.max_evaluations:
+            raise OverBudget(float(t), self.max_evaluations)
         t, q, w = float(t), self._base + float(y[0]), float(y[1])
         _, alpha, torque, q_loads, damping, q_model = self.terms(t, q, w)
         out = [w, alpha, torque * w, q_loads * w, -damping * w * w, q_model * w]
@@ -372,6 +377,24 @@ class Runner:
 
 #: Largest state derivative the integration accepts (beyond it the motion has run away).
 _HUGE = 1e150
+
+
+class OverBudget(Exception):
+    """A run that needs more evaluations of its equation of motion than it may take."""
+
+    def __init__(self, t: float, limit: int) -> None:
+        super().__init__(t, limit)
+        self.t, self.limit = t, limit
+
+    def refusal(self, field: str, asked: str) -> InputError:
+        """The one-line refusal naming ``field`` (the option that set the run's length)."""
+        return InputError(
+            field,
+            f"{asked} needs more than the {self.limit:,} evaluations of the equation of motion a "
+            f"run may take (max_evaluations; it had reached t = {self.t:.6g} s); simulate a "
+            'shorter time, use until = "steady" for the periodic state, or raise '
+            "max_evaluations",
+        )
 
 
 class _Diverged(ArithmeticError):

@@ -38,6 +38,7 @@ import numpy as np
 
 from .._summary import Summarized
 from ..errors import InputError
+from ._integrate import OverBudget
 
 __all__ = ["MultiSimulation", "simulate_drivers"]
 
@@ -136,6 +137,7 @@ def simulate_drivers(
     rtol: float = 1e-9,
     atol: float = 1e-10,
     method: str = "DOP853",
+    max_evaluations: int = 2_000_000,
     **options: Any,
 ) -> MultiSimulation:
     """Integrate the motion of a Linkage with several drivers under their motors.
@@ -153,8 +155,9 @@ def simulate_drivers(
         Duration.
     q0, qdot0 : mapping, optional
         Start values (default: the drawing) and rates (default: at rest).
-    samples, rtol, atol, method : optional
-        As for :func:`machdyn.simulate`.
+    samples, rtol, atol, method, max_evaluations : optional
+        As for :func:`machdyn.simulate` (a run needing more evaluations of the
+        equation of motion than ``max_evaluations`` is refused, naming ``t_end``).
     **options
         The linkage's own loads, as :meth:`Linkage.forces` takes them
         (``gravity``, ``external_forces``, ``external_torques``, ``viscous``).
@@ -201,13 +204,18 @@ def simulate_drivers(
     from ._setup import solver_options
 
     opts = solver_options(samples=samples, rtol=rtol, atol=atol, method=method, max_step=None,
-                          table=False, table_tol=1e-9)  # fmt: skip
+                          table=False, table_tol=1e-9,
+                          max_evaluations=max_evaluations)  # fmt: skip
+    evaluations = [0]
 
     def torque(t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         return np.array([float(m(t, q[i], qd[i])) if m is not None else 0.0
                          for i, m in enumerate(motor)])  # fmt: skip
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        evaluations[0] += 1
+        if evaluations[0] > opts["max_evaluations"]:
+            raise OverBudget(float(t), opts["max_evaluations"])
         q, qd = y[:n], y[n : 2 * n]
         got = drivers.efforts(q[None], qd[None])
         if isinstance(got, str):
@@ -225,6 +233,9 @@ def simulate_drivers(
     while solver.status == "running":
         try:
             failure = solver.step()
+            piece = solver.dense_output() if failure is None else None  # DOP853's calls f
+        except OverBudget as over:
+            raise over.refusal("t_end", f"{t_end:.6g} s") from None
         except _Unsolved as exc:
             status, message = "unsolved", f"stopped before a pose it cannot take, at {exc}"
             break
@@ -232,7 +243,7 @@ def simulate_drivers(
             status, message = "failed", str(failure)
             break
         ts.append(solver.t)
-        pieces.append(solver.dense_output())
+        pieces.append(piece)
     end = ts[-1]
     t = np.linspace(0.0, end, opts["samples"])
     if pieces:

@@ -119,6 +119,11 @@ SIMULATE = Table(
         theta0=optional(Quantity("angle"), "start angle (default: the drawn/first pose)"),
         omega0=optional(Quantity("angular_velocity"), "start speed (default 0: from rest)"),
         samples=optional(Integer(2, 1_000_000), "time samples in the output (2001)"),
+        max_evaluations=optional(
+            Integer(100, 10**10),
+            "budget of the run: evaluations of the equation of motion (2,000,000); "
+            "a run that needs more is refused",
+        ),
     ),
     doc="forward dynamics for `machdyn simulate`: the motor, flywheel and when to stop",
 )

@@ -5,7 +5,11 @@ chunk's CRC-32) and memory-maps its chunks; :class:`Atlas` answers the nearest
 entries to a descriptor in any of its four variants by one float32 matrix
 product per block of rows (BLAS) and a partial sort, on threads or as Dask
 tasks (:func:`chunk_topk_file`), and spreads pools of entries over the atlas
-for open targets. Used by :mod:`~machdyn.synthesis.atlas_path`.
+for open targets. From an atlas's second query on (compiled), a compact table
+derived from the chunks (int16 head columns, uint16 norms of the others, sorted
+by a key column; built once, in memory) bounds every score, and only the rows
+whose bound beats the k-th best so far are scored (:func:`bounded_topk`): the
+same top k. Used by :mod:`~machdyn.synthesis.atlas_path`.
 """
 
 from __future__ import annotations
@@ -78,7 +82,8 @@ class Atlas:
         self.offsets = np.concatenate([[0], np.cumsum([m.size for m in meta])])
         self._crank = [np.ascontiguousarray(m["barker"] <= 2) for m in meta]  # GCCC, GCRR
         self._pools: dict[tuple[int, bool], np.ndarray] = {}
-        self._heads: tuple | None = None  # the query's first stage (see _query_heads)
+        self._plan: tuple | None = None  # the compact tables' columns (see _query_plan)
+        self._compact: dict[tuple[int, bool], tuple] = {}  # (see _tables)
         self._queries = 0
 
     def __len__(self) -> int:
@@ -144,81 +149,99 @@ class Atlas:
 
     def _local_topk(self, variants: np.ndarray, k: int, crank: bool,
                     deadline: _Deadline = _NEVER) -> list:  # fmt: skip
-        """:func:`chunk_topk` of every chunk, on the threads of :mod:`machdyn._parallel`.
+        """The best ``k`` of every chunk, on the threads of :mod:`machdyn._parallel`.
 
-        Each thread scores a run of chunks (BLAS products, comparisons and the
-        partial sort release the GIL), keeping only what beats its own k-th best
-        so far; the union holds the exact top k. Once a thread has a k-th best,
-        its later chunks are scored in two stages (:func:`bounded_topk`): an
-        upper bound of every score from :data:`HEAD` columns, then the exact
-        score of the rows whose bound beats the k-th best. Returns ``(chunk, (rows,
-        scores))`` for the chunks scored: past the ``deadline``, each thread stops
-        after its current chunk.
+        Each thread scores a run of chunks (the BLAS products, the comparisons, the
+        partial sort and the compiled kernels release the GIL). From an atlas's second
+        query on (compiled), each chunk goes through :func:`bounded_topk`: a bound of
+        every row's score from the compact table (:meth:`_tables`), the exact score of
+        the rows whose bound beats the thread's k-th best so far, which rises as it
+        goes; the first query (often the only one of a process) scores every row by
+        :func:`chunk_topk` instead, keeping what beats its own k-th best so far. Either
+        way the union holds the exact top k. Returns ``(chunk, (rows, scores))`` for
+        the chunks scored: past the ``deadline``, each thread stops after its current
+        chunk.
         """
         from .. import jit
         from .._parallel import for_slices
 
         parts: list = [None] * len(self.desc)
         starts = self.offsets[:-1]
-        # two stages from an atlas's second query on (the first stage is compiled; the
-        # first query, often the only one of a process, scores every row)
+        # compact tables from an atlas's second query on (the first query, often the
+        # only one of a process, scores every row: building the tables costs more)
         two = jit.active() and self._queries > 0
         self._queries += 1
         if two:
-            cols = self._query_heads()[0]
-            rest = np.setdiff1d(np.arange(variants.shape[1]), cols)
-            qh = np.ascontiguousarray(variants[:, cols], dtype=np.float32)
-            qt = np.sqrt(np.sum(variants[:, rest].astype(np.float64) ** 2, axis=1))
-            qt = np.nextafter(qt.astype(np.float32), np.float32(np.inf))
+            stage = _FirstStage(variants, *self._query_plan())
 
         def run(sl: slice) -> None:
-            floor, best = -np.inf, np.empty(0, np.float32)
+            floor, kept = -np.inf, np.empty(0, np.float32)  # (chunk_topk's)
+            best = np.full(k, -np.inf)  # (bounded_topk's heap of the thread's best scores)
             for c in np.flatnonzero((starts >= sl.start) & (starts < sl.stop)):
-                ok = self._crank[c] if crank else None
                 if two:
-                    table = self._head_of(c, crank)
-                if two and np.isfinite(floor):
-                    parts[c] = bounded_topk(self.desc[c], table, ok, variants, qh, qt, k, floor)
+                    parts[c] = bounded_topk(self.desc[c], self._tables(c, crank), stage, best)
                 else:
+                    ok = self._crank[c] if crank else None
                     parts[c] = chunk_topk(self.desc[c], ok, variants, k, floor)
-                best = np.concatenate([best, parts[c][1]])
-                if best.size >= k:  # the k-th best so far: later chunks must beat it
-                    best = np.partition(best, best.size - k)[best.size - k :]
-                    floor = float(best[0])
+                    kept = np.concatenate([kept, parts[c][1]])
+                    if kept.size >= k:  # the k-th best so far: later chunks must beat it
+                        kept = np.partition(kept, kept.size - k)[kept.size - k :]
+                        floor = float(kept[0])
                 if deadline.passed():
                     break
 
         for_slices(run, len(self))
         return [(c, p) for c, p in enumerate(parts) if p is not None]
 
-    def _query_heads(self) -> tuple:
-        """The query's first stage: its columns, and each chunk's tables built so far.
+    def _query_plan(self) -> tuple[np.ndarray, np.ndarray, int]:
+        """The compact tables' columns: the :data:`HEAD` of most energy, the groups, the key.
 
-        The :data:`HEAD` descriptor columns of most energy (in the first chunk),
-        copied for the rows of every chunk (``HEAD × 4`` bytes a row), with the norm
-        of each row's other columns (float32): 200 MB for 10^7 entries, or 100 MB for
-        their crank rows alone (queries with ``crank``: timed targets always), each
-        built by the first such query that scores the chunk (:meth:`_head_of`).
+        The energy is the mean square in the first chunk; the other columns, in
+        order of energy, are split into :data:`TAIL_GROUPS` groups (``groups[j]``:
+        column ``j``'s group, −1 for a head column). The tables are sorted by the
+        head column of second most energy (its position in the head: ``kcol``): a
+        query's windows on it (:func:`~machdyn.synthesis._atlas_kernels.key_ranges`)
+        hold the fewest rows (measured on the 10^7 atlas for the literature's closed
+        targets and atlas curves: 5–33 % of the rows, the first column 6–61 %).
         """
-        if self._heads is None:
+        if self._plan is None:
             first = np.asarray(self.desc[0], dtype=np.float64)
-            cols = np.sort(np.argsort(-np.mean(first**2, axis=0), kind="stable")[:HEAD])
-            self._heads = (cols, {})
-        return self._heads
+            order = np.argsort(-np.mean(first**2, axis=0), kind="stable")
+            groups = np.full(first.shape[1], -1, np.int64)
+            for g, part in enumerate(np.array_split(order[HEAD:], TAIL_GROUPS)):
+                groups[part] = g
+            cols = np.sort(order[:HEAD]).astype(np.int64)
+            self._plan = (cols, groups, int(np.flatnonzero(cols == order[1])[0]))
+        return self._plan
 
-    def _head_of(self, c: int, crank: bool) -> tuple:
-        """Chunk ``c``'s first-stage table: head, tail and its rows (None: all), compiled."""
-        from ._atlas_kernels import head_rows
+    def _tables(self, c: int, crank: bool) -> tuple:
+        """Chunk ``c``'s compact tables: of its crank rows, and (unless ``crank``) the others.
 
-        cols, tables = self._query_heads()
-        if (c, crank) not in tables:
-            rows = np.flatnonzero(self._crank[c]) if crank else None
-            desc = self.desc[c] if rows is None else np.asarray(self.desc[c])[rows]
-            n = desc.shape[0]
-            head, tail = np.empty((n, cols.size), np.float32), np.empty(n, np.float32)
-            head_rows(desc, cols.astype(np.int64), head, tail)
-            tables[c, crank] = (head, tail, rows)
-        return tables[c, crank]
+        Each ``(head, tail, rows, hs, ts, longest2)`` (see
+        :func:`~machdyn.synthesis._atlas_kernels.compact_rows`), sorted by the key
+        column (:meth:`_query_plan`) and built by the first query that needs it: the
+        :data:`HEAD` columns as int16 and the norms of the :data:`TAIL_GROUPS` groups
+        of the others as uint16 (rounded up), ``2 (HEAD + TAIL_GROUPS)`` bytes a row,
+        and the rows (int32): 110 MB for the 5·10^6 crank rows of 10^7 entries (the
+        queries with ``crank``; timed targets always), 220 MB for all of them.
+        """
+        from ._atlas_kernels import compact_rows
+
+        parts = (True,) if crank else (True, False)
+        for part in parts:
+            if (c, part) not in self._compact:
+                cols, groups, kcol = self._query_plan()
+                rows = np.flatnonzero(self._crank[c] == part).astype(np.int32)
+                head = np.empty((cols.size, rows.size), np.int16)
+                tail = np.empty((TAIL_GROUPS, rows.size), np.uint16)
+                hs, ts, longest2 = compact_rows(np.asarray(self.desc[c]), rows, cols, groups,
+                                                head, tail)  # fmt: skip
+                # sorted by the key afterwards (compacted in the rows' order, the reads are
+                # sequential: in the key's order, 2.7 times slower)
+                order = np.argsort(head[kcol], kind="stable")  # (the copies are contiguous)
+                table = (head[:, order], tail[:, order], rows[order], hs, ts, longest2)
+                self._compact[c, part] = table
+        return tuple(self._compact[c, part] for part in parts)
 
     def pool(self, size: int = OPEN_POOL, *, crank: bool = True, draw: int = 0) -> np.ndarray:
         """Flat indices of up to ``size`` entries spread evenly over the atlas.
@@ -275,45 +298,68 @@ def chunk_topk(
     return rows, score[rows]
 
 
-#: Descriptor columns of the query's first stage (see Atlas._local_topk; its compiled
-#: kernel is written for 4), and the slack of its bound over a float32 score (the
-#: rounding of a 32-term float32 product is below 1e-5).
-HEAD = 4
+#: The query's first stage (see Atlas._local_topk): the descriptor columns kept per row
+#: (the HEAD of most energy), and the groups of the others whose norms are kept; the
+#: compiled kernel is written for these counts. Its slack over the float32 bound (the
+#: rounding of ten float32 products is below 1e-6), and the exact scores' margin (a
+#: row scored within it of the k-th best so far is kept: the float32 score the BLAS
+#: stage would give it may tie the k-th best's).
+HEAD = 6
+TAIL_GROUPS = 3
 BOUND_SLACK = 1e-4
+SCORE_SLACK = 1e-5
 
 
-def bounded_topk(desc, table, allowed, variants, qh, qt, k: int, floor: float):
-    """:func:`chunk_topk` in two stages, for a ``floor`` already known (the same rows).
+class _FirstStage:
+    """One query's numbers for :func:`bounded_topk`: its four variants, and split.
 
-    Each row's score with a variant is ``q·d = q_h·d_h + q_t·d_t ≤ q_h·d_h + |q_t| |d_t|``
-    (Cauchy–Schwarz over the other columns): the bound is computed from the ``table``
-    (see :meth:`Atlas._query_heads`: head columns, tail norms, and its rows: all of
-    them, or the ``allowed`` ones only) alone (compiled:
-    :func:`~machdyn.synthesis._atlas_kernels.bound_rows`), and only the rows whose
-    bound beats ``floor`` (less :data:`BOUND_SLACK`) are scored exactly. A loose
-    bound (a quarter of the chunk passing) scores the whole chunk instead.
+    ``head``: the variants' head columns (4, HEAD); ``norms``: each group's norm
+    per variant (4, TAIL_GROUPS); ``squares``: each variant's squared norm; ``kcol``:
+    the key column's place in the head.
     """
-    from ._atlas_kernels import bound_rows
 
-    head, tail, index = table
-    if head.shape[1] != 4 or qh.shape != (4, 4):
-        raise ValueError("the first stage's kernel is written for 4 columns and 4 variants")
-    n = desc.shape[0]
-    rows = np.empty(head.shape[0], np.int64)
-    check = allowed is not None and index is None
-    ok = allowed if check else np.ones(0, bool)
-    count = bound_rows(head, tail, ok, check, qh, qt, floor - BOUND_SLACK, rows)
-    rows = rows[:count] if index is None else index[rows[:count]]
-    if rows.size > n // 4:
-        return chunk_topk(desc, allowed, variants, k, floor)
-    if rows.size == 0:
-        return rows, np.empty(0, np.float32)
-    prod = np.asarray(desc[rows]) @ variants.T
-    score = prod[:, 0]
-    for j in range(1, prod.shape[1]):
-        score = np.maximum(score, prod[:, j])
-    keep = score > floor
-    rows, score = rows[keep], score[keep]
+    __slots__ = ("head", "kcol", "norms", "squares", "variants")
+
+    def __init__(self, variants: np.ndarray, cols: np.ndarray, groups: np.ndarray,
+                 kcol: int) -> None:  # fmt: skip
+        self.variants = np.ascontiguousarray(variants, dtype=np.float64)
+        self.head = np.ascontiguousarray(self.variants[:, cols])
+        self.norms = np.stack(
+            [np.linalg.norm(self.variants[:, groups == g], axis=1) for g in range(TAIL_GROUPS)],
+            axis=1,
+        )
+        self.squares = np.sum(self.variants**2, axis=1)
+        self.kcol = kcol
+
+
+def bounded_topk(desc, tables, stage: _FirstStage, best: np.ndarray):
+    """:func:`chunk_topk` of one chunk in two stages (the chunk's rows among the best k).
+
+    Each row's score with a variant is ``q·d = q_h·d_h + Σ_g q_g·d_g ≤ q_h·d_h +
+    Σ_g |q_g| |d_g|`` (Cauchy–Schwarz over each group of the other columns): the
+    bound is computed from the compact ``tables`` (:meth:`Atlas._tables`: the head
+    rounded to ``1/hs``, hence an allowance, and the groups' norms rounded up) alone,
+    for the rows in the windows of the key column that can hold a row near enough
+    (:func:`~machdyn.synthesis._atlas_kernels.key_ranges`), and only the rows whose
+    bound beats the k-th best so far (the root of the heap ``best``, less
+    :data:`BOUND_SLACK`) are scored exactly (float64), in one compiled pass
+    (:func:`~machdyn.synthesis._atlas_kernels.bound_topk`) that updates ``best``.
+    Returns the rows and (float32) scores of the chunk's best k of those scored
+    within :data:`SCORE_SLACK` of the floor.
+    """
+    from ._atlas_kernels import bound_topk
+
+    k = best.size
+    desc = np.asarray(desc)  # (a memory map: the array it maps)
+    found, scores = [], []
+    for head, tail, rows, hs, ts, longest2 in tables:
+        out, score = np.empty(rows.size, np.int64), np.empty(rows.size, np.float32)
+        n = bound_topk(head, tail, rows, stage.kcol, desc, stage.head, stage.norms,
+                       stage.squares, hs, ts, longest2, stage.variants, BOUND_SLACK,
+                       SCORE_SLACK, best, out, score)  # fmt: skip
+        found.append(out[:n])
+        scores.append(score[:n])
+    rows, score = np.concatenate(found), np.concatenate(scores)
     if rows.size > k:
         top = np.argpartition(-score, k - 1)[:k]
         rows, score = rows[top], score[top]

@@ -1,10 +1,15 @@
-"""Compiled (numba) kernel of the atlas build: circuit curves resampled by arc length.
+"""Compiled (numba) kernels of the atlas: its build, its query, the timed scan, the refinement.
 
 Imported only when :mod:`machdyn.jit` lets the compiled kernels serve (it is
-loaded with them); :func:`machdyn.synthesis.circuits.circuit_points` followed
-by :func:`machdyn.synthesis.descriptor.resample_closed` is the NumPy reference
-it is tested against. One pass per linkage, no temporaries: the circuit's
-points go to a small buffer, then straight to their evenly spaced samples.
+loaded with them). The build's circuit curves resampled by arc length
+(:func:`even_circuit_curves`; its NumPy reference is
+:func:`machdyn.synthesis.circuits.circuit_points` followed by
+:func:`machdyn.synthesis.descriptor.resample_closed`): one pass per linkage, no
+temporaries, the circuit's points go to a small buffer, then straight to their
+evenly spaced samples. The query's compact first stage (:func:`compact_rows`,
+:func:`key_ranges`, :func:`bound_topk`; used by
+:func:`machdyn.synthesis._atlas_index.bounded_topk`, tested against bounds and
+top-k lists written out in NumPy).
 """
 
 from __future__ import annotations
@@ -17,7 +22,8 @@ from numba import njit
 from .._kernels import OK, _unit_vectors, sincos
 
 __all__ = [
-    "bound_rows",
+    "bound_topk",
+    "compact_rows",
     "coupler_jacobian",
     "even_circuit_curves",
     "lm_refine",
@@ -129,7 +135,7 @@ def timed_scores(lengths, offsets, cos2, sin2, close_tol, ip, im, a, centred, th
     """Best starting angle of each entry for timed targets, both mirror images, fused.
 
     The compiled twin of :func:`machdyn.synthesis.atlas.coupler_points` followed by
-    :func:`machdyn.synthesis.atlas_path._timed_scores_numpy` (tested against a fit
+    :func:`machdyn.synthesis._atlas_retrieve._timed_scores_numpy` (tested against a fit
     written out with scipy): ``lengths`` (R, 4) and ``offsets`` (R, 3) as
     :func:`machdyn._kernels.coupler_points` takes them, ``cos2``/``sin2`` (M,) the
     table's angles; ``ip``/``im`` (G, K): the table index of ``θ0_g + Δ_k`` and of
@@ -514,57 +520,270 @@ def lm_refine(z, free, lo, hi, max_nfev, tol, targets, branch, timing, timed, cr
     return 0
 
 
-@njit(cache=True, nogil=True, error_model="numpy", fastmath=True)
-def head_rows(desc, cols, head, tail):  # pragma: no cover - compiled
-    """The query's first-stage table of one chunk: ``head`` (N, m) and ``tail`` (N,).
+@njit(cache=True, nogil=True, error_model="numpy")
+def compact_rows(desc, rows, cols, groups, head, tail):  # pragma: no cover - compiled
+    """The query's compact first-stage table of one chunk's ``rows``; returns its scales.
 
-    ``head[i]`` is ``desc[i, cols]``, ``tail[i]`` the norm of row i's other
-    columns (summed in float64, in any order: within 1e-15 of the squares' sum).
+    ``head`` (m, N) int16 holds ``round(desc[rows[i], cols[j]] · hs)``; ``tail``
+    (G, N) uint16 the norm of the row's columns of each group (``groups[j]``:
+    column ``j``'s group, −1 for a head column), summed in float64, times
+    ``ts[g]`` rounded *up*, so that ``tail / ts`` is never below the norm. The
+    scales map the chunk's largest head magnitude to 32767 and each group's
+    largest norm to 65535 (less a margin): a head value is then within
+    ``0.5 / hs`` of the descriptor's. Returns ``hs``, ``ts`` (G,) and the largest
+    squared norm of a row (float64, rounded up by a relative 1e-12).
     """
-    n, w = desc.shape
-    m = cols.size
-    for i in range(n):
+    m, n = head.shape
+    G = tail.shape[0]
+    w = desc.shape[1]
+    norm = np.empty((G, n))
+    value = np.empty((m, n))
+    sums = np.empty(G)
+    big, longest2 = 0.0, 0.0
+    for i in range(n):  # one read of each row: its head, its groups' norms
+        r = rows[i]
+        sums[:] = 0.0
         total = 0.0
         for j in range(w):
-            total += np.float64(desc[i, j]) * np.float64(desc[i, j])
+            x = np.float64(desc[r, j])
+            total += x * x
+            g = groups[j]
+            if g >= 0:
+                sums[g] += x * x
+        longest2 = max(longest2, total)
+        for g in range(G):
+            norm[g, i] = math.sqrt(sums[g])
         for j in range(m):
-            x = desc[i, cols[j]]
-            head[i, j] = x
-            total -= np.float64(x) * np.float64(x)
-        tail[i] = math.sqrt(max(total, 0.0))
+            x = np.float64(desc[r, cols[j]])
+            value[j, i] = x
+            big = max(big, abs(x))
+    hs = 32767.0 / big if big > 0.0 else 1.0
+    for j in range(m):
+        for i in range(n):
+            head[j, i] = np.int16(round(value[j, i] * hs))
+    ts = np.empty(G)
+    for g in range(G):
+        longest = 0.0
+        for i in range(n):
+            longest = max(longest, norm[g, i])
+        ts[g] = 65535.0 / (longest * (1.0 + 1e-9)) if longest > 0.0 else 1.0
+        for i in range(n):
+            u = min(math.ceil(norm[g, i] * ts[g]), 65535.0)
+            while u < 65535.0 and u / ts[g] < norm[g, i]:
+                u += 1.0
+            tail[g, i] = np.uint16(u)
+    return hs, ts, longest2 * (1.0 + 1e-12)
 
 
-@njit(cache=True, nogil=True, error_model="numpy", fastmath=True)
-def bound_rows(head, tail, allowed, use_allowed, qh, qt, floor, out):  # pragma: no cover
-    """Rows whose score bound beats ``floor``, into ``out``; returns how many.
+@njit(cache=True, nogil=True, error_model="numpy")
+def _first_at_least(key, value, lo, hi):  # pragma: no cover - compiled
+    """The first index in ``[lo, hi)`` of the ascending ``key`` whose value is ≥ ``value``."""
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if np.int64(key[mid]) < value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
 
-    The first stage of :func:`machdyn.synthesis.atlas_path.bounded_topk`:
-    ``max_v (q_h,v · head[i] + |q_t,v| tail_i)`` for each (allowed) row, for 4
-    head columns and the descriptor's 4 variants (written out: twice as fast as
-    the loops), in float32 (its rounding, some 1e-6, is within the caller's
-    slack). Tested against the bound written out in float64.
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def key_ranges(key, hs, qk, qq, longest2, floor, margin):  # pragma: no cover - compiled
+    """Where in the sorted ``key`` column the rows that may beat ``floor`` lie: (R, 2) ranges.
+
+    A row ``d`` scores ``q_v·d = ½(|d|² + |q_v|² − |d − q_v|²) ≤ ½(longest2 + qq_v −
+    (d_K − qk_v)²)``, so only a row with ``(d_K − qk_v)² < longest2 + qq_v − 2(floor −
+    margin)`` for some variant ``v`` can score within ``margin`` of ``floor``: the
+    key ``round(d_K · hs)`` then lies in a window about ``qk_v · hs`` (widened by the
+    rounding and one unit). The windows are merged; ``floor = −inf``: every row.
     """
-    n = head.shape[0]
-    q00, q01, q02, q03 = qh[0, 0], qh[0, 1], qh[0, 2], qh[0, 3]
-    q10, q11, q12, q13 = qh[1, 0], qh[1, 1], qh[1, 2], qh[1, 3]
-    q20, q21, q22, q23 = qh[2, 0], qh[2, 1], qh[2, 2], qh[2, 3]
-    q30, q31, q32, q33 = qh[3, 0], qh[3, 1], qh[3, 2], qh[3, 3]
-    t0, t1, t2, t3 = qt[0], qt[1], qt[2], qt[3]
-    block = 256
-    top = np.empty(block, np.float32)
+    n = key.size
+    out = np.empty((4, 2), np.int64)
+    if not floor > -np.inf:
+        out[0, 0], out[0, 1] = 0, n
+        return out[:1]
+    lo = np.empty(4)
+    hi = np.empty(4)
     count = 0
-    for lo in range(0, n, block):
-        w = min(n, lo + block) - lo
-        for i in range(w):  # (apart from the comparisons below: vectorises)
-            a, b, c, d = head[lo + i, 0], head[lo + i, 1], head[lo + i, 2], head[lo + i, 3]
-            t = tail[lo + i]
-            s0 = t * t0 + a * q00 + b * q01 + c * q02 + d * q03
-            s1 = t * t1 + a * q10 + b * q11 + c * q12 + d * q13
-            s2 = t * t2 + a * q20 + b * q21 + c * q22 + d * q23
-            s3 = t * t3 + a * q30 + b * q31 + c * q32 + d * q33
-            top[i] = max(max(s0, s1), max(s2, s3))
-        for i in range(w):
-            if top[i] > floor and (not use_allowed or allowed[lo + i]):
-                out[count] = lo + i
-                count += 1
+    for v in range(4):
+        r2 = longest2 + qq[v] - 2.0 * (floor - margin)
+        if r2 <= 0.0:
+            continue
+        r = math.sqrt(r2) * (1.0 + 1e-9)
+        lo[count] = math.floor((qk[v] - r) * hs - 0.5) - 1.0
+        hi[count] = math.ceil((qk[v] + r) * hs + 0.5) + 1.0
+        count += 1
+    order = np.argsort(lo[:count])
+    m = 0
+    for t in range(count):
+        a, b = lo[order[t]], hi[order[t]]
+        if m > 0 and a <= out[m - 1, 1]:
+            out[m - 1, 1] = max(out[m - 1, 1], np.int64(b))
+        else:
+            out[m, 0], out[m, 1] = np.int64(a), np.int64(b)
+            m += 1
+    for t in range(m):  # key values to indices
+        i0 = _first_at_least(key, out[t, 0], 0, n)
+        out[t, 1] = _first_at_least(key, out[t, 1] + 1, i0, n)
+        out[t, 0] = i0
+    return out[:m]
+
+
+@njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"}, inline="always")
+def _bounds(head, tail, qh, qt, lo, nb, top):  # pragma: no cover - compiled
+    """:func:`bound_topk`'s bound of the table's rows ``lo … lo + nb − 1`` into ``top``.
+
+    Six head columns and three groups, written out: the compiler keeps eight rows
+    in each register (twice as fast as the loops).
+    """
+    h0, h1, h2, h3, h4, h5 = head[0], head[1], head[2], head[3], head[4], head[5]
+    u0, u1, u2 = tail[0], tail[1], tail[2]
+    q00, q01, q02, q03, q04, q05 = qh[0, 0], qh[0, 1], qh[0, 2], qh[0, 3], qh[0, 4], qh[0, 5]
+    q10, q11, q12, q13, q14, q15 = qh[1, 0], qh[1, 1], qh[1, 2], qh[1, 3], qh[1, 4], qh[1, 5]
+    q20, q21, q22, q23, q24, q25 = qh[2, 0], qh[2, 1], qh[2, 2], qh[2, 3], qh[2, 4], qh[2, 5]
+    q30, q31, q32, q33, q34, q35 = qh[3, 0], qh[3, 1], qh[3, 2], qh[3, 3], qh[3, 4], qh[3, 5]
+    p00, p01, p02 = qt[0, 0], qt[0, 1], qt[0, 2]
+    p10, p11, p12 = qt[1, 0], qt[1, 1], qt[1, 2]
+    p20, p21, p22 = qt[2, 0], qt[2, 1], qt[2, 2]
+    p30, p31, p32 = qt[3, 0], qt[3, 1], qt[3, 2]
+    for i in range(nb):
+        r = lo + i
+        a, b, c = np.float32(h0[r]), np.float32(h1[r]), np.float32(h2[r])
+        d, e, f = np.float32(h3[r]), np.float32(h4[r]), np.float32(h5[r])
+        x, y, z = np.float32(u0[r]), np.float32(u1[r]), np.float32(u2[r])
+        s0 = a * q00 + b * q01 + c * q02 + d * q03 + e * q04 + f * q05
+        s1 = a * q10 + b * q11 + c * q12 + d * q13 + e * q14 + f * q15
+        s2 = a * q20 + b * q21 + c * q22 + d * q23 + e * q24 + f * q25
+        s3 = a * q30 + b * q31 + c * q32 + d * q33 + e * q34 + f * q35
+        s0 += x * p00 + y * p01 + z * p02
+        s1 += x * p10 + y * p11 + z * p12
+        s2 += x * p20 + y * p21 + z * p22
+        s3 += x * p30 + y * p31 + z * p32
+        top[i] = max(max(s0, s1), max(s2, s3))
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _scored(desc, r, variants, margin, best, out, score, count):  # pragma: no cover - compiled
+    """:func:`bound_topk`'s exact stage for descriptor row ``r``; returns the new count."""
+    e0, e1, e2, e3 = 0.0, 0.0, 0.0, 0.0  # (four chains at once)
+    for j in range(variants.shape[1]):
+        x = np.float64(desc[r, j])
+        e0 += variants[0, j] * x
+        e1 += variants[1, j] * x
+        e2 += variants[2, j] * x
+        e3 += variants[3, j] * x
+    s = max(max(e0, e1), max(e2, e3))
+    if s + margin <= best[0]:
+        return count
+    out[count] = r
+    score[count] = np.float32(s)
+    if s > best[0]:  # the root replaced, sifted down
+        k = best.size
+        p = 0
+        while True:
+            ch = 2 * p + 1
+            if ch >= k:
+                break
+            if ch + 1 < k and best[ch + 1] < best[ch]:
+                ch += 1
+            if best[ch] >= s:
+                break
+            best[p] = best[ch]
+            p = ch
+        best[p] = s
+    return count + 1
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def bound_topk(
+    head,
+    tail,
+    rows,
+    kcol,
+    desc,
+    qhead,
+    qnorm,
+    qq,
+    hs,
+    ts,
+    longest2,
+    variants,
+    slack,
+    margin,
+    best,
+    out,
+    score,
+):  # pragma: no cover
+    """The rows of one chunk that may be among the best ``k``; updates the best ``k`` so far.
+
+    ``best`` (k,) float64 is a min-heap of the best exact scores met so far
+    (``-inf``: none yet), its root the floor. The compact table (head, tail,
+    rows, sorted by head column ``kcol``; scales ``hs``, ``ts`` and the largest
+    squared norm: see :func:`compact_rows`) is scanned in the ranges of
+    :func:`key_ranges` only. A row's bound is ``max_v (q_h,v · head / hs + Σ_g
+    |q_g,v| tail_g / ts_g)``, in float32 with the coefficients ``|q_g,v| / ts_g``
+    rounded up; the head's rounding (``½ Σ_j max_v |q_vj| / hs``) is added to
+    ``slack``. ``qhead`` (4, 6), ``qnorm`` (4, 3) and ``qq`` (4,) are the
+    variants' head columns, their groups' norms and their squared norms. A row
+    whose bound plus the slack beats the floor is scored exactly (float64,
+    ``max_v variants[v] · desc[row]``); one whose score plus ``margin`` beats the
+    floor goes into ``out`` (its descriptor row; ``score``: its score in float32,
+    as the BLAS stage keeps it) and, above the floor, into the heap. While the
+    heap is empty (a thread's first chunk), the ``2k`` rows of highest bound are
+    scored first: the floor then starts near its final value instead of rising
+    row by row. Returns how many rows went into ``out``.
+    """
+    n = head.shape[1]
+    k = best.size
+    qh = np.empty((4, 6), np.float32)
+    qt = np.empty((4, 3), np.float32)
+    allowance = 0.0
+    for j in range(6):
+        most = 0.0
+        for v in range(4):
+            qh[v, j] = np.float32(qhead[v, j] / hs)
+            most = max(most, abs(qhead[v, j]))
+        allowance += 0.5 * most / hs * (1.0 + 1e-9)
+    for v in range(4):
+        for g in range(3):
+            qt[v, g] = np.float32(qnorm[v, g] / ts[g] * (1.0 + 1e-6))  # (up, past the rounding)
+    slack += allowance
+    block = 512
+    count = 0
+    seen = np.zeros(0, np.bool_)
+    if not best[0] > -np.inf and n > 0:  # the first rows scored: the 2k of highest bound
+        every = np.empty(n, np.float32)
+        for lo in range(0, n, block):
+            _bounds(head, tail, qh, qt, lo, min(n, lo + block) - lo, every[lo:])
+        m = min(n, 2 * k)
+        least = np.partition(every, n - m)[n - m]
+        seen = every >= least
+        for i in range(n):
+            if seen[i]:
+                count = _scored(desc, rows[i], variants, margin, best, out, score, count)
+    qk = np.empty(4)
+    for v in range(4):
+        qk[v] = qhead[v, kcol]
+    ranges = key_ranges(head[kcol], hs, qk, qq, longest2, best[0], margin)
+    top = np.empty(block, np.float32)
+    due = np.empty(block, np.int64)
+    w = desc.shape[1]
+    touched = 0.0
+    for t in range(ranges.shape[0]):
+        for lo in range(ranges[t, 0], ranges[t, 1], block):
+            nb = min(ranges[t, 1], lo + block) - lo
+            _bounds(head, tail, qh, qt, lo, nb, top)
+            m = 0
+            for i in range(nb):
+                if np.float64(top[i]) + slack > best[0] and not (seen.size and seen[lo + i]):
+                    due[m] = rows[lo + i]
+                    m += 1
+            # the rows to score read first, side by side (their cache misses then overlap;
+            # one at a time, a row's read from memory is most of its cost)
+            for i in range(m):
+                touched += desc[due[i], 0] + desc[due[i], w - 1]
+            for i in range(m):
+                count = _scored(desc, due[i], variants, margin, best, out, score, count)
+    if touched == 1.25e300:  # (never: keeps the reads)
+        best[0] = best[0]
     return count
