@@ -48,6 +48,8 @@ if TYPE_CHECKING:
 H = 2.0 * np.pi / 720
 #: Path points per program run of a scan (memory: a few MB per group).
 CHUNK = 200_000
+#: Values a bracket is cut at in each pass of :func:`_refine` (64 cells).
+CUTS = 65
 
 
 def off_circuit(
@@ -124,22 +126,24 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     if driver is not None and steps:
         general = any(isinstance(s, General) for s in steps)
         t0 = float(info.start[0])
-        failing = _one_failing(model, driver in lk._actuators, t0, float(info.scale[0]), general)
+        lone = _Lone(model, driver in lk._actuators, t0, float(info.scale[0]), general)
         period = 2.0 * np.pi if driver in info.angle_drivers else None
         if period is not None:  # a turn from the drawn angle, the lower end reached below it
             n = 720
             up = t0 + np.linspace(0.0, period, n, endpoint=False)
             down = t0 - np.linspace(0.0, period, n, endpoint=False)
-            bad_up = (failing(up) if general else _turn(model, info)[2]).any(axis=0)
-            # down[k] is up[n - k] less a turn (a general group: followed each way on its own)
-            bad_down = failing(down).any(axis=0) if general else np.roll(bad_up[::-1], 1)
         else:  # ±10 typical lengths each way
             n = 721
             up = t0 + np.linspace(0.0, 10.0 * float(info.scale[0]), n)
             down = t0 - np.linspace(0.0, 10.0 * float(info.scale[0]), n)
-            bad_up, bad_down = failing(up).any(axis=0), failing(down).any(axis=0)
+        if general or period is None:  # (a general group: followed each way on its own)
+            scans = [(x, lone(x), lone.solved) for x in (up, down)]
+        else:  # down[k] is up[n - k] less a turn
+            fail_up = _turn(model, info)[2]
+            scans = [(up, fail_up, {}), (down, np.roll(fail_up[:, ::-1], 1, axis=1), {})]
+        bad_up, bad_down = (fail.any(axis=0) for _, fail, _ in scans)
         if (bad_up.any() or bad_down.any()) and not bad_up[0]:
-            arc = _ends(t0, period, up, down, bad_up, bad_down, failing)
+            arc = _ends(t0, period, scans, lone)
     model.cache["circuit"] = arc
     return arc
 
@@ -158,59 +162,108 @@ def _turn(model: _Model, info: _Info) -> tuple[np.ndarray, Any, np.ndarray]:
     return model.cache["turn"]  # type: ignore[return-value]
 
 
-def _one_failing(model: _Model, wall: bool, t0: float, scale: float, general: bool):
-    """A function: values of the lone driver → per group and value, it does not close.
+class _Lone:
+    """Values of a lone driver → per group and value, whether it does not close.
 
     (A group after one that does not close is placed from NaN: it does not
     either.) ``wall``: the driver is an actuator, whose length stays > 0. With a
     ``general`` group (solved by the vector-loop core) the values are reached
     from the drawn value ``t0`` by continuation, as a sweep would: those above
     it in one march upwards, those below in one downwards (the core keeps the
-    drawn branch, and does not close where that branch does not exist).
+    drawn branch, and does not close where that branch does not exist); each
+    value's solution is kept (:attr:`solved`, per general step) so that values
+    near one can be solved from it (:meth:`near`) instead of marching again.
     """
-    program = model.program
 
-    def run(x: np.ndarray, follow: bool) -> np.ndarray:
+    def __init__(self, model: _Model, wall: bool, t0: float, scale: float, general: bool):
+        self.program, self.wall, self.t0, self.scale = model.program, wall, t0, scale
+        self.general = general
+        self.solved: dict[int, dict[str, np.ndarray]] = {}
+        # the compiled kernels follow every general group (:meth:`_FromLast.__call__`)
+        steps = [s for s in self.program.steps if isinstance(s, General)]
+        self.compiled = bool(steps) and all(s.compiled() for s in steps)
+
+    def _run(self, x: np.ndarray, follow: bool, guess: Any = None) -> np.ndarray:
         with np.errstate(all="ignore"):
-            _, codes = program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, follow)
-        return codes == NO_ASSEMBLY
-
-    def failing(x: np.ndarray) -> np.ndarray:
-        if not general:
-            out = run(x, False)  # (groups, samples)
-        else:
-            from .sweep import _path
-
-            out = np.zeros((len(program.deps), x.size), bool)
-            for side in (x >= t0, x < t0):
-                idx = np.flatnonzero(side)
-                if idx.size:
-                    idx = idx[np.argsort(np.abs(x[idx] - t0), kind="stable")]
-                    path, tags = _path(np.array([t0]), np.array([scale]), x[idx][None, :])
-                    take = np.flatnonzero(tags < 0)
-                    out[:, idx[-1 - tags[take]]] = run(path[0], True)[:, take]
-        if wall:
+            st, codes = self.program.run([[x, 0.0, 0.0, 0.0]], x.size, 0, follow, guess)
+        self.solved = st.solved
+        out = codes == NO_ASSEMBLY
+        if self.wall:
             out[0] |= x <= 0.0
         return out
 
-    return failing
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        """Per group and value of ``x``: it does not close (groups × values)."""
+        if not self.general:
+            return self._run(x, False)
+        from .sweep import _path
+
+        t0 = self.t0
+        out = np.zeros((len(self.program.deps), x.size), bool)
+        solved: dict[int, dict[str, np.ndarray]] = {}
+        for side in (x >= t0, x < t0):
+            idx = np.flatnonzero(side)
+            if idx.size:
+                idx = idx[np.argsort(np.abs(x[idx] - t0), kind="stable")]
+                path, tags = _path(np.array([t0]), np.array([self.scale]), x[idx][None, :])
+                take = np.flatnonzero(tags < 0)
+                at = idx[-1 - tags[take]]
+                out[:, at] = self._run(path[0], True)[:, take]
+                for step, values in self.solved.items():
+                    mine = solved.setdefault(step, {})
+                    for var, v in values.items():
+                        mine.setdefault(var, np.full(x.size, np.nan))[at] = v[take]
+        self.solved = solved
+        return out
+
+    def near(self, x: np.ndarray, seeds: dict[int, dict[str, np.ndarray]]) -> np.ndarray:
+        """As a call, each value of ``x`` solved alone from the solution ``seeds`` (per value).
+
+        A general group's core starts from a nearby value's solution (where the
+        drawn circuit closes) and must land on the drawn branch; closed-form
+        groups are solved as always.
+        """
+        return self._run(x, False, seeds if self.general else None)
+
+    def follow(self, x: np.ndarray, seeds: dict[int, dict[str, np.ndarray]]) -> np.ndarray:
+        """As a call, the values of ``x`` followed from the first's solution ``seeds``."""
+        return self._run(x, True, seeds)
 
 
-def _ends(t0, period, up, down, bad_up, bad_down, failing) -> tuple | None:
-    """Refine the first failing sample of each scan (both at once) to the range's ends."""
-    a, b, k_up, k_down = [], [], int(np.argmax(bad_up)), int(np.argmax(bad_down))
-    for x, bad, k in ((up, bad_up, k_up), (down, bad_down, k_down)):
-        a.append(x[k - 1] if bad.any() else x[-1])  # a closes, b does not
-        b.append(x[k] if bad.any() else x[-1])
-    scanned = np.array(b)
-    a, b = _refine(np.array(a), scanned, lambda x: ~failing(x).any(axis=0), True)
+def _pick(solved: dict[int, dict[str, np.ndarray]], idx: Any) -> dict[int, dict[str, np.ndarray]]:
+    """The solutions of :attr:`_Lone.solved` at the values ``idx``."""
+    return {s: {v: a[idx] for v, a in values.items()} for s, values in solved.items()}
+
+
+def _ends(t0: float, period: float | None, scans: list, lone: _Lone) -> tuple | None:
+    """Refine the first failing value of each scan (both at once) to the range's ends.
+
+    ``scans``: the upward and the downward scan, each ``(values, failing, solved)``
+    as :class:`_Lone` gives them. A general group's core starts each pass of
+    :func:`_refine` from its solution at the last value known to close (the
+    scan's, then each pass's): no pass marches from the drawing again.
+    """
+    a, b, there, seeds = [], [], [], []
+    for x, fail, solved in scans:
+        bad = fail.any(axis=0)
+        k = int(np.argmax(bad)) if bad.any() else x.size  # a closes, b does not
+        a.append(x[k - 1])
+        b.append(x[min(k, x.size - 1)])
+        there.append(fail[:, min(k, x.size - 1)])
+        seeds.append(_pick(solved, k - 1))
+    rows = {
+        s: {v: np.array([sd[s][v] for sd in seeds]) for v in vs} for s, vs in scans[0][2].items()
+    }
+    closes = _FromLast(lone, np.array(a), rows)
+    a, b = _refine(np.array(a), np.array(b), closes, True, closes.keep)
     # the first group (solving order) not closing just past each end (at the scanned
     # value, should a core's Newton still close one just past a toggle)
-    past, there = np.split(failing(np.concatenate((b, scanned))), 2, axis=1)
+    closes(b)
+    past, there = closes.failed, np.stack(there, axis=1)
     first = np.where(past.any(axis=0), past, there)
     ends, groups = [], []
-    for i, (x, bad) in enumerate(((up, bad_up), (down, bad_down))):
-        if bad.any():
+    for i, (x, fail, _) in enumerate(scans):
+        if fail.any():
             ends.append(float(a[i]))
             groups.append(int(np.argmax(first[:, i])))
         else:
@@ -221,21 +274,75 @@ def _ends(t0, period, up, down, bad_up, bad_down, failing) -> tuple | None:
     return lo, hi, tuple(dict.fromkeys(groups)), period
 
 
-def _refine(a: np.ndarray, b: np.ndarray, state, at_a: Any) -> tuple[np.ndarray, np.ndarray]:
+class _FromLast:
+    """:func:`_refine`'s test for :func:`_ends`: which values close, each from where it last did.
+
+    NumPy (:meth:`_Lone.near`): every value solved alone from the solution at its
+    bracket's last value known to close, each pass's (:meth:`keep`). Where the
+    compiled kernels follow every general group (dyads of the core, assembled on
+    the drawn branch in closed form), each bracket's values are followed from the
+    scan's last value that closed instead (its solution the start).
+    """
+
+    def __init__(self, lone: _Lone, start: np.ndarray, seeds: dict[int, dict[str, np.ndarray]]):
+        self.lone, self.start, self.seeds = lone, start, seeds  # one value and seed per bracket
+        self.solved = self.first = {s: dict(vs) for s, vs in seeds.items()}
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        """Per value of ``x`` (each bracket's in turn, as many each), whether all close."""
+        rows = self.start.size
+        per = x.size // rows
+        if not self.lone.compiled:
+            guess = {
+                s: {v: np.repeat(a, per) for v, a in vs.items()} for s, vs in self.seeds.items()
+            }
+            self.failed = self.lone.near(x, guess)
+            self.solved = self.lone.solved
+            return ~self.failed.any(axis=0)
+        fails, solved = [], []
+        for r, part in enumerate(x.reshape(rows, per)):
+            path = np.concatenate(([self.start[r]], part))
+            guess = {s: {v: np.full(path.size, a[r]) for v, a in vs.items()}
+                     for s, vs in self.first.items()}  # fmt: skip
+            fails.append(self.lone.follow(path, guess)[:, 1:])
+            solved.append(_pick(self.lone.solved, slice(1, None)))
+        self.solved = {
+            s: {v: np.concatenate([d[s][v] for d in solved]) for v in vs}
+            for s, vs in self.first.items()
+        }
+        self.failed = np.concatenate(fails, axis=1)
+        return ~self.failed.any(axis=0)
+
+    def keep(self, j: np.ndarray) -> None:
+        """Each bracket goes on from its value ``j`` (one that closed: a solution)."""
+        flat = np.arange(j.size) * CUTS + j
+        for s, vs in self.seeds.items():
+            for v, old in vs.items():
+                new = self.solved[s][v][flat]
+                vs[v] = np.where(np.isfinite(new), new, old)  # (j = 0: the row's own start)
+
+
+def _refine(
+    a: np.ndarray, b: np.ndarray, state, at_a: Any, kept=None
+) -> tuple[np.ndarray, np.ndarray]:
     """Narrow brackets ``[a, b]`` (arrays) where ``state`` changes from ``at_a`` to not.
 
     Each pass cuts every bracket in 64 and keeps the first cell where the state
-    changes, all brackets in one call of ``state``: seven passes narrow them
-    64⁷ ≈ 4·10¹² times (a bisection needs 42 calls for that).
+    changes, all brackets in one call of ``state`` (:data:`CUTS` values a
+    bracket): seven passes narrow them 64⁷ ≈ 4·10¹² times (a bisection needs 42
+    calls for that). ``kept``, if given, hears which of its values each bracket
+    starts the next pass from.
     """
-    k = np.linspace(0.0, 1.0, 65)
+    k = np.linspace(0.0, 1.0, CUTS)
     for _ in range(7):
         x = a[:, None] + (b - a)[:, None] * k
         same = state(x.ravel()).reshape(x.shape) == np.reshape(at_a, (-1, 1))
         j = np.maximum(np.argmin(same, axis=1), 1)  # the first cell past the change
-        j = np.where(same.all(axis=1), 64, j)  # (rounding: no change seen, keep the end)
+        j = np.where(same.all(axis=1), CUTS - 1, j)  # (rounding: no change seen, keep the end)
         rows = np.arange(x.shape[0])
         a, b = x[rows, j - 1], x[rows, j]
+        if kept is not None:
+            kept(j - 1)
     return a, b
 
 
@@ -354,6 +461,11 @@ class _Scan:
         self.failing = _failing(lk, model, info)
         self.scale = info.scale[:, None]
 
+    def steps(self, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
+        """The number of steps of :data:`H` (at least one) scanning each stretch ``p0 → p1``."""
+        count = np.ceil(np.max(np.abs(p1 - p0) / self.scale, axis=0) / H).astype(np.int64)
+        return np.maximum(count, 1)
+
     def first_out(self, p0: np.ndarray, p1: np.ndarray, at_end: np.ndarray) -> np.ndarray:
         """Per stretch ``p0 → p1`` (columns): where the first group stops closing.
 
@@ -363,8 +475,7 @@ class _Scan:
         p0 = np.broadcast_to(p0, p1.shape)
         if not p1.shape[1]:
             return np.zeros(0)
-        count = np.ceil(np.max(np.abs(p1 - p0) / self.scale, axis=0) / H).astype(np.int64)
-        count = np.maximum(count, 1)  # count − 1 points inside each, then its end
+        count = self.steps(p0, p1)  # count − 1 points inside each, then its end
         leg = np.repeat(np.arange(p1.shape[1]), count - 1)
         first = np.concatenate(([0], np.cumsum(count - 1)[:-1]))
         inner = np.arange(leg.size) - np.repeat(first, count - 1) + 1
@@ -380,8 +491,7 @@ class _Scan:
 
         The first group not closing just past it, and the last values where all close.
         """
-        count = np.maximum(np.ceil(np.max(np.abs(p1 - p0) / self.scale, axis=0) / H), 1.0)
-        a, b = np.maximum(out - 1.0 / count, 0.0), out
+        a, b = np.maximum(out - 1.0 / self.steps(p0, p1), 0.0), out
         m = len(self.lk._drivers)
 
         def closes(x: np.ndarray) -> np.ndarray:

@@ -27,6 +27,11 @@ from .dyads import _line_line, _pair, _rpr, _rrp, _rrr, cross
 
 #: Status codes of a group at a sample.
 OK, NO_ASSEMBLY, SINGULAR, DEPENDS = 0, 1, 2, 3
+#: A general group solved alone (no continuation) that Newton put on another branch.
+OFF_BRANCH = (
+    "cannot assemble on the drawn branch: solved alone from the drawn pose, the loop core "
+    "found a pose with the other sign of a group's determinant"
+)
 #: A dyad whose Jacobian columns make a sine below this is at a toggle (as the
 #: loop solver's rcond threshold, machdyn.loops.solve.SINGULAR_RCOND).
 SINGULAR_SINE = 1e-4
@@ -47,6 +52,10 @@ class State:
         self.rot: list[list[Any]] = [[np.zeros(n)] * n_links for _ in range(order + 1)]
         self.follow = False
         self.reasons: dict[int, np.ndarray] = {}
+        # per general group (its step's id): where its core starts at each sample
+        # (its unknowns; None: the drawn pose) and where it ended (NaN: not solved)
+        self.guess: dict[int, dict[str, np.ndarray]] = {}
+        self.solved: dict[int, dict[str, np.ndarray]] = {}
 
     def pos(self, ref: Ref) -> Any:
         """Position of a material point."""
@@ -543,7 +552,8 @@ class General:
                 kw.update(velocity=pick(table[1]), order=order)
                 kw["acceleration"] = pick(table[2]) if order >= 2 else None
                 kw["jerk"] = pick(table[3]) if order >= 3 else None
-            guess = {v: c.drawn[v] for v in self.unknowns}
+            start = st.guess.get(id(self))
+            guess = {v: c.drawn[v] for v in self.unknowns} if start is None else pick(start)
             m = c.system.solve(pick(table[0]), guess, **kw)
             states = [m.positions, m.velocity, m.acceleration, m.jerk][: order + 1]
             for k, state in enumerate(states):
@@ -552,12 +562,35 @@ class General:
                     full[sub] = arr
                     values[f"{k}:{var}"] = full
             sub_code = np.where(m.ok, OK, NO_ASSEMBLY).astype(np.int8)
-            sub_code[m.reason == REASONS[LOOP_SINGULAR]] = SINGULAR
+            own = m.reason.reshape(-1)
+            if start is not None or not kw["continuation"]:
+                # each sample solved alone keeps no branch: it is checked against the drawing's
+                signs = m.group_branch.reshape(len(m.groups), -1)
+                off = m.ok.reshape(-1) & (signs != self.branch()[:, None]).any(axis=0)
+                sub_code[off] = NO_ASSEMBLY
+                own = np.where(off, OFF_BRANCH, own)
+            sub_code[own == REASONS[LOOP_SINGULAR]] = SINGULAR
             code[sub] = sub_code
-            reason[sub] = m.reason
+            reason[sub] = own
+        st.solved[id(self)] = {v: values.get(f"0:{v}", np.full(n, np.nan)) for v in self.unknowns}
         self.place(st, values)
         st.reasons[id(self)] = reason
         return code
+
+    def compiled(self) -> bool:
+        """Whether the compiled kernels follow this group's sweeps now (:mod:`machdyn.jit`)."""
+        from .. import jit
+        from ..loops._jit_sweep import sweepable
+
+        system = self.c.system
+        return jit.active() and sweepable(system._checked(system._inputs))
+
+    def branch(self) -> np.ndarray:
+        """The drawn branch: the sign of each of the core's groups' determinants in the drawing."""
+        if not hasattr(self, "_branch"):
+            m = self.c.system.evaluate({v: np.array([x]) for v, x in self.c.drawn.items()})
+            self._branch = m.group_branch.reshape(-1)
+        return self._branch
 
     def var(self, values: dict[str, np.ndarray], k: int, name: Any, n: int) -> Any:
         """Order-``k`` value of a loop variable (or of a constant)."""
@@ -631,17 +664,26 @@ class Program:
         return self._encoded
 
     def run(
-        self, u: list[list[Any]], n: int, order: int, follow: bool = False
+        self,
+        u: list[list[Any]],
+        n: int,
+        order: int,
+        follow: bool = False,
+        guess: dict[int, dict[str, np.ndarray]] | None = None,
     ) -> tuple[State, np.ndarray]:
         """Run every step over ``n`` samples; ``u[d]`` is driver d's value and rates.
 
         ``follow``: the samples are a path (a sweep from the drawn pose), along
-        which the angles are unwrapped as each group is solved. Returns the
-        state and each group's own status code per sample (the reasons of
-        general groups in ``state.reasons``).
+        which the angles are unwrapped as each group is solved. ``guess``: per
+        general step (its ``id``), its unknowns' values per sample to start the
+        core from instead of the drawing (each sample is then solved alone and
+        flagged where it lands off the drawn branch). Returns the state (the
+        general groups' solutions in ``state.solved``) and each group's own
+        status code per sample (the reasons of general groups in ``state.reasons``).
         """
         st = State(self.n_links, n, order)
         st.follow = follow
+        st.guess = guess or {}
         codes = np.zeros((len(self.deps), n), np.int8)
         for g, step in zip(self.group_of_step, self.steps, strict=True):
             code = step.run(st, u)

@@ -28,7 +28,7 @@ from ._common import GROUND, _ref_angle, _typical_length
 from .circuit import _refine, flips, off_circuit
 from .kernel import STEP, Outputs, Tables, has_general, run
 from .kinematics import LinkageMotion, _cg_drawn
-from .program import NO_ASSEMBLY, OK, SINGULAR, Program, blank, unwrap
+from .program import NO_ASSEMBLY, OFF_BRANCH, OK, SINGULAR, Program, blank, unwrap
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -274,7 +274,12 @@ def solve_closed(
         )
     for other, mask in flips(lk, model, info, U[0], follow and n > 0):  # past change points
         _merge(out, run(other, info.tables, U[:, mask], order, False), mask, info, follow)
-    lost = off_circuit(lk, model, info, U[0::4], out.codes, follow and n > 0)
+    codes = out.codes
+    if any((r == OFF_BRANCH).any() for r in out.reasons.values()):
+        codes = codes.copy()  # outside the drawn range, a pose on the other branch is away too
+        for g, r in out.reasons.items():
+            codes[g, r == OFF_BRANCH] = OK
+    lost = off_circuit(lk, model, info, U[0::4], codes, follow and n > 0)
     stuck = None
     if lost is not None:  # poses of the drawn groups' other circuit: not this mechanism's
         stuck = (out.codes == NO_ASSEMBLY).any(axis=1)  # groups that really do not close

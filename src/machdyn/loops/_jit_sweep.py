@@ -150,6 +150,15 @@ INPUT_LIMIT = 1e5
 CLOSE_TOL = 1e-12
 
 
+def sweepable(c: Compiled) -> bool:
+    """Whether the compiled sweep can follow ``c``: its groups all dyads or single constraints.
+
+    (General groups and linear groups of loops go the NumPy way.)
+    """
+    kinds = c.kernel_dyads[0]
+    return bool(len(c.unknown)) and not ((kinds == 0) | (kinds == 5)).any()
+
+
 def sweep(
     c: Compiled,
     u: np.ndarray,
@@ -174,9 +183,8 @@ def sweep(
     costs (for the ``auto`` rule of :mod:`machdyn.jit`).
     """
     n = u.shape[1]
-    kinds = c.kernel_dyads[0]
-    if not len(c.unknown) or ((kinds == 0) | (kinds == 5)).any():
-        return None  # (general groups, linear groups of loops: NumPy)
+    if not sweepable(c):
+        return None
     if not np.abs(u).max(initial=0.0) <= INPUT_LIMIT:
         return None
     if jit.kernels(int(n * cost)) is None:
