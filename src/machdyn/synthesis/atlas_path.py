@@ -94,6 +94,13 @@ UNTIMED_FAR = 1e-3
 #: Untimed targets none of whose fits meets them: the best few distinct fits polished
 #: on, most steps, and the stall window (see _long_polished; compiled kernels only).
 UNTIMED_LONG = (3, 5000, 1000)
+#: Targets of this many points or more: the starts are screened and the polished fits
+#: refined by the compiled Levenberg–Marquardt (refine's ``solver="lm"``, with the compiled
+#: kernels) instead of scipy's trf, whose SVD of the tall Jacobian (3K + 4 rows, 9 + K
+#: columns) each step took most of a 40-point line's time. Fewer points keep trf (the
+#: literature's case 5, 10 points, lost its best SSE to the LM; the benchmarks' other
+#: targets have at most 18 points).
+MANY_POINTS = 24
 #: Minimum number of target points: a closed or open path, with prescribed timing.
 MIN_POINTS = {"closed": 5, "open": 5, "timed": 4}
 #: Timed open targets: most rounds of retrieval (each a fresh pool) while none is met but
@@ -325,7 +332,7 @@ def path_from_atlas(
             # just past the change point: hold the crank harder, then land on it
             if onto is not None:
                 more = refine(fit.x, fit.theta, fit.branch, pts, max_nfev=200, weight=1e4,
-                              **options)  # fmt: skip
+                              solver="lm" if _many(pts) else "trf", **options)  # fmt: skip
                 fit = more if more.rms <= 2 * fit.rms else fit
             fit = _onto_grashof(fit, pts, onto)
         res = _checked(fit, pts, timing, closed, crank, mu_min, tolerance)
@@ -358,7 +365,7 @@ def _screened(starts, pts, options, deadline: _Deadline = _NEVER) -> list:
     Past the ``deadline``, the starts not yet screened are dropped (the first one is
     always screened) and none takes more steps.
     """
-    solver = "lm" if options.get("timing") is not None else "trf"
+    solver = "lm" if options.get("timing") is not None or _many(pts) else "trf"
     fits = []
     for first in starts:
         if first is None:
@@ -528,6 +535,7 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
     and whether one met.
     """
     size = float(np.max(np.abs(pts - pts.mean())))
+    solver = "lm" if _many(pts) else "trf"  # (both keep the bounds)
     fits = list(fits)
     met = False
     done: list[np.ndarray] = []  # the polished fits' keys as they started...
@@ -555,7 +563,8 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
             and copy(refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver="lm", **options))
         ):
             continue  # an extra try: a look with the (compiled) LM first, a hundred times cheaper
-        more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, **options)  # bounds kept
+        more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver=solver,
+                      **options)  # fmt: skip
         f = fits[i] = more if more.rms <= f.rms else f
         if copy(f):
             continue  # refined into a minimum polished already: no polish, not counted
@@ -568,6 +577,13 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
             distinct += 1
             ends.append(_design_key(f, size))
     return sorted(fits, key=lambda f: f.rms), met
+
+
+def _many(pts) -> bool:
+    """Whether the targets are many (:data:`MANY_POINTS`) and the compiled kernels loaded."""
+    from .refine import _compiled
+
+    return pts.size >= MANY_POINTS and _compiled(None)
 
 
 def _constraints(O2, theta1, absolute_timing, max_length, pivot_box, timing, atlas):
