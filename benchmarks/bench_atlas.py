@@ -231,6 +231,9 @@ def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
                 misses[key] = misses.get(key, 0) + 1
                 print(f"    {label} miss: six-bar {len(errors) - 1} ({key}), {e:.1e}")
         ok = sum(e <= 1e-6 for e in errors)
+        slow = sorted(range(count), key=lambda i: -cpus[i])[:5]
+        print(f"    {label} slowest: " + ", ".join(
+            f"six-bar {i} {cpus[i]:.2f} s CPU ({errors[i]:.1e})" for i in slow))  # fmt: skip
         print(f"  six-bar recovery ({label}, 12 points) of {count} random six-bars: "
               f"{ok} of {count} to <= 1e-6 of the size; error median "
               f"{statistics.median(errors):.1e}, worst {max(errors):.1e}; CPU median "

@@ -163,6 +163,35 @@ def test_compiled_refinement_takes_the_numpy_refinement_steps(rows):
             assert np.max(_placed_distance(xc, thc, fixed, targets)) <= 1e-9 * size
 
 
+def test_the_geodesic_probe_residuals_need_no_jacobian(rows):
+    # the compiled loop's geodesic probe evaluates the residuals without the Jacobian: the
+    # same numbers as the Jacobian kernel's residuals (to the bit), the coupler point's
+    # offsets from the targets by circle intersections, and 10 where a dyad cannot reach
+    pytest.importorskip("numba")
+    from machdyn.synthesis._sixbar_kernels import _probe, _residuals
+    from machdyn.synthesis.sixbar_path import _design_of
+
+    theta = 0.4 + np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    targets = np.exp(1j * np.arange(12.0)) + 0.3
+    for row in rows[:20]:
+        h, t = 1.7 * np.exp(0.6j), 0.4 - 1.1j
+        x, fixed = _design_of(row, h, t)
+        (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
+        args = (targets, 1.3, float(fixed["s4"]), float(fixed["s6"]), l1, l2, fixed["on"] == 6)
+        point = t + h * _independent(row, theta)
+        for timed, z in ((True, np.r_[x, 0.0]), (False, np.r_[x, theta])):
+            timing = theta if timed else np.zeros(0)
+            r, J, probe = np.empty(24), np.empty((24, z.size)), np.empty(24)
+            _residuals(z, timing, timed, *args, 1e10, r, J)
+            _probe(z, timing, timed, *args, probe)
+            np.testing.assert_array_equal(probe, r)
+            want = (point - targets) / 1.3
+            np.testing.assert_allclose(probe[:12] + 1j * probe[12:], want, atol=1e-9)
+        x[11:13] *= 0.05  # link 5 and 6 far too short to meet: apart everywhere
+        _probe(np.r_[x, 0.0], theta, True, *args, probe)
+        np.testing.assert_array_equal(probe, np.r_[np.full(12, 10.0), np.zeros(12)])
+
+
 def _placed_distance(x, theta, fixed, targets):
     """Distances of ``targets`` to a placed design's coupler point at crank angles ``theta``,
     by circle intersections (each dyad's assembly: the side of its drawn pose at theta[0])."""
@@ -472,6 +501,12 @@ def test_transmission_angle_of_a_sixbar_is_checked(atlas6, compiled):
     worst = strict.rejected[0] if strict.rejected else strict.best
     assert not strict.candidates or all(c.mu_min >= np.radians(88.5) for c in strict.candidates)
     assert any("transmission angle falls to" in d for d in worst.defects)
+    # no six-bar keeps μ within 1.5° of a right angle a whole turn: near the targets, every
+    # one rejected, and the note says so and why
+    assert not strict.candidates and strict.near
+    assert max(worst.distance) <= 1e-6 * np.max(np.abs(targets - targets.mean()))
+    assert strict.note.startswith("every six-bar found has a defect (see rejected)")
+    assert "transmission angle falls to" in strict.note
 
 
 def test_a_candidate_drawn_at_a_toggle_is_dropped_not_raised(rows):
@@ -542,6 +577,13 @@ def test_a_third_timed_round_scans_entries_of_the_best_fits_kind(atlas6, compile
     assert all(f["topology"] == kind["topology"] and f["on"] == 6 for _, _, f in third)
     second = [sixbar_starts(*args, 1, fits), sixbar_starts(*args, 1)]
     assert [s[0].tobytes() for s in second[0]] == [s[0].tobytes() for s in second[1]]
+    # the fourth round: the kind of the best fit of another kind (kinds ranked by their best
+    # fits, however many fits each has); none where no other kind was fitted
+    fits += [(np.zeros(15), theta, 0.5, dict(kind, on=5)), (np.zeros(15), theta, 0.7, kind)]
+    fourth = sixbar_starts(*args, 3, fits)
+    assert len(fourth) == 8
+    assert all(f["topology"] == kind["topology"] and f["on"] == 5 for _, _, f in fourth)
+    assert _kind_pool(atlas6, targets, fits[:1], 1).size == 0
 
 
 @pytest.mark.slow

@@ -403,10 +403,15 @@ SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25
 #: Rounds of starts while no fit meets the targets (untimed, timed). The second round of a
 #: timed target scans the first pool again on grids of starting angles turned by half a
 #: step (the best-scoring entries and angles change, and with them the basins the starts
-#: lie in), its third entries of the best fit's kind (:data:`SIXBAR_KIND_POOL`); a later
-#: round of an untimed target takes the next-best-placed entries of a retrieval
-#: :data:`SIXBAR_WIDER` times wider.
-SIXBAR_ROUNDS = (2, 3)  # untimed, timed
+#: lie in), its third entries of the best fit's kind (:data:`SIXBAR_KIND_POOL`), its fourth
+#: entries of the kind of the best fit of another kind; a later round of an untimed target
+#: takes the next-best-placed entries of a retrieval :data:`SIXBAR_WIDER` times wider.
+#: The fourth round: where the best fits are of a neighbouring kind (Stephenson 1-3 on 6 for
+#: a Stephenson 2-4 on 6, Watt I 3-4 on 5 for a 3-4 on 6), the third scans the wrong kind;
+#: on seed 17's three such misses the generating kind was the second best after two rounds
+#: (1.2e-4, 7.7e-4, 2.7e-6 of the size) and a fourth round of it met two (1.6e-15, 2.0e-15).
+#: It runs only after three rounds leave a target unmet.
+SIXBAR_ROUNDS = (2, 4)  # untimed, timed
 SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed starts ×3
 #: The third round of a timed target scans this many entries spread over those of the kind
 #: of the best fit so far (chain, dyad links, the point's link: :func:`_kind_pool`). Where
@@ -417,8 +422,8 @@ SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed sta
 #: not a share of the second: that share lost a target the whole rescan met (best fits of
 #: another kind).
 SIXBAR_KIND_POOL = 1_000
-#: No third round where the best fit's RMS is within this share of the size: such a fit is
-#: crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
+#: No third (or fourth) round where the best fit's RMS is within this share of the size: such
+#: a fit is crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
 #: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
 #: best polished fit). The local minima the third round escapes were 8.8e-6 to 9e-4.
 SIXBAR_CRAWL = 1e-7
@@ -468,7 +473,8 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     ``round_``: the round of starts (see :data:`SIXBAR_ROUNDS`); a later round's
     starts may repeat an earlier round's (the caller drops those). ``fits``: the
     fits so far ``(x, θ, rms, fixed)``: a timed target's third round scans entries
-    of the best one's kind (:data:`SIXBAR_KIND_POOL`).
+    of the best one's kind (:data:`SIXBAR_KIND_POOL`), its fourth of the kind of the
+    best fit of another kind.
     """
     from ._atlas_retrieve import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
@@ -488,7 +494,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
             x0, fixed = _design_of(row, h, t)
             starts.append((x0, u[near], fixed))
         return starts
-    third = round_ > 1  # a third round: entries of the best fit's kind (SIXBAR_KIND_POOL)
+    third = round_ > 1  # a third (fourth) round: entries of the best (next) kind (_kind_pool)
     near = np.zeros(0, np.int64)
     if closed and not third:  # the entries whose whole curve looks like the target's
         dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
@@ -500,12 +506,12 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     # starts lie in different basins (the timed fit is over-determined: near the truth it
     # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    pools = [_kind_pool(atlas, pts, fits)] if third else [
+    pools = [_kind_pool(atlas, pts, fits, round_ - 2)] if third else [
         np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
         near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
     ]  # fmt: skip
-    for idx in (idx for idx in pools if idx.size):
-        best = _timed_best(atlas, idx, timing, pts, refine_count, compiled, shift=0.5 * round_)
+    pools = [idx for idx in pools if idx.size]
+    for best in _timed_best(atlas, pools, timing, pts, refine_count, compiled, shift=0.5 * round_):
         for i, h, t, g0, mirror in best:
             if (i, mirror) not in seen:
                 seen.add((i, mirror))
@@ -514,18 +520,29 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     return starts
 
 
-def _kind_pool(atlas, pts, fits) -> np.ndarray:
+def _kind_pool(atlas, pts, fits, rank: int = 0) -> np.ndarray:
     """Flat indices of :data:`SIXBAR_KIND_POOL` crank entries of the best fit's kind.
 
     The kind: the chain and the dyad's links (``topology``) and the link that
     carries the point (``on``); the entries are spread evenly over those of the
-    atlas. None without ``fits`` or where the best fit is within
-    :data:`SIXBAR_CRAWL` of the targets' size.
+    atlas. ``rank`` 1: the kind of the best fit of another kind (the kinds ranked
+    by their best fits), and so on. None without ``fits``, where the best fit is
+    within :data:`SIXBAR_CRAWL` of the targets' size, or with fewer kinds.
     """
     best = min(fits, key=lambda f: f[2], default=None)
     if best is None or best[2] <= SIXBAR_CRAWL * float(np.max(np.abs(pts - pts.mean()))):
         return np.zeros(0, np.int64)
     fx = best[3]
+    if rank:
+        kinds: dict[tuple[int, int], float] = {}
+        for f in fits:
+            key = (f[3]["topology"], f[3]["on"])
+            if np.isfinite(f[2]) and f[2] < kinds.get(key, np.inf):
+                kinds[key] = f[2]
+        others = sorted((k for k in kinds if k != (fx["topology"], fx["on"])), key=kinds.get)
+        if len(others) < rank:
+            return np.zeros(0, np.int64)
+        fx = dict(zip(("topology", "on"), others[rank - 1], strict=True))
     sel = [crank & (np.asarray(m["topology"]) == fx["topology"]) & (np.asarray(m["on"]) == fx["on"])
            for crank, m in zip(atlas._crank, atlas.meta, strict=True)]  # fmt: skip
     allowed = np.flatnonzero(np.concatenate(sel))
@@ -661,29 +678,40 @@ def _first_loop(xp, phi, proxy, pts, steps, compiled):
     return best
 
 
-def _timed_best(atlas, idx, timing, pts, count, compiled=False, shift=0.0):
-    """The ``count`` best timed placements of entries ``idx``: (index, h, t, θ0, mirror).
+def _timed_best(atlas, pools, timing, pts, count, compiled=False, shift=0.0):
+    """Per pool of entries, the ``count`` best timed placements: (index, h, t, θ0, mirror).
 
     Coarse to fine: every entry at :data:`SIXBAR_COARSE` starting angles, the best
     :data:`SIXBAR_FINE` of each direction again at every one of ``TIMED_GRID`` angles;
-    both grids turned by ``shift`` of their step.
+    both grids turned by ``shift`` of their step. An entry's coarse scan does not depend
+    on its pool, so the entries that several pools share (the nearest by shape are
+    nested) are scanned once.
     """
     from ._atlas_retrieve import TIMED_GRID
 
-    rows = atlas.entries(idx)
-    found = []
+    if not pools:
+        return []
+    union = np.unique(np.concatenate(pools))
+    rows = atlas.entries(union)
+    at = [np.searchsorted(union, idx) for idx in pools]
+    coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
+    coarse = coarse + shift * coarse[1]
+    grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+    grid = grid + shift * grid[1]
+    found: list[list] = [[] for _ in pools]
     for mirror in (1.0, -1.0):  # the mirror image turns the other way for the same crank turn
-        coarse = np.linspace(0.0, 2 * np.pi, SIXBAR_COARSE, endpoint=False)
-        coarse = coarse + shift * coarse[1]
-        score = _timed_scan(rows, coarse, timing, pts, mirror, compiled)[0]
-        pick = np.argsort(-score)[:SIXBAR_FINE]
-        grid = np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
-        grid = grid + shift * grid[1]
-        score, hh, off, g = _timed_scan(rows[pick], grid, timing, pts, mirror, compiled)
-        found += [(score[j], int(idx[pick[j]]), hh[j], off[j], grid[g[j]], mirror)
-                  for j in range(pick.size)]  # fmt: skip
-    found.sort(key=lambda f: -f[0])
-    return [f[1:] for f in found[:count]]
+        scores = _timed_scan(rows, coarse, timing, pts, mirror, compiled)[0]
+        for p, idx in enumerate(pools):
+            pick = np.argsort(-scores[at[p]])[:SIXBAR_FINE]
+            fine = _timed_scan(rows[at[p][pick]], grid, timing, pts, mirror, compiled)
+            score, hh, off, g = fine
+            found[p] += [(score[j], int(idx[pick[j]]), hh[j], off[j], grid[g[j]], mirror)
+                         for j in range(pick.size)]  # fmt: skip
+    out = []
+    for f in found:
+        f.sort(key=lambda f: -f[0])
+        out.append([f[1:] for f in f[:count]])
+    return out
 
 
 def _ordered_samples(curve: np.ndarray, pts: np.ndarray, rolls: int = 8) -> np.ndarray:
@@ -758,10 +786,12 @@ def _timed_scan(rows, grid, timing, pts, mirror, compiled=False):
         block = rows[lo : lo + 1024]
         th = mirror * (grid[:, None] + timing[None, :]).ravel()
         Q = points(block, th).reshape(block.size, grid.size, -1)
-        Q = Q.conj() if mirror < 0 else Q
+        if mirror < 0:
+            np.conjugate(Q, out=Q)
         qm = np.nanmean(Q, axis=2, keepdims=True)
-        c = np.sum(np.conj(Q - qm) * a0, axis=2)
-        v = np.sum(np.abs(Q - qm) ** 2, axis=2)
+        Q -= qm
+        c = np.sum(np.conj(Q) * a0, axis=2)
+        v = np.sum(np.abs(Q) ** 2, axis=2)
         score = np.nan_to_num(np.abs(c) ** 2 / np.where(v > 0, v, np.inf), nan=-1.0)
         g = np.argmax(score, axis=1)
         r = np.arange(block.size)
@@ -774,7 +804,8 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
     """Check a refined six-bar with the Linkage solver; None if it cannot be built.
 
     Defects: the crank cannot turn fully, the targets are met out of order, a
-    target where the six-bar comes apart, a target farther than ``tolerance``,
+    target where the six-bar comes apart (its distance is then ``inf``) or stands
+    at a toggle (its distance measured), a target farther than ``tolerance``,
     and a transmission angle (of either dyad, over the whole turn, by
     :meth:`machdyn.linkage.Linkage.transmission_angles`) below ``mu_min``.
     """
@@ -790,7 +821,11 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
         turn = lk.solve(x[2] + theta[0] + np.linspace(0, 2 * np.pi, 361))
     except ModelError:  # drawn at a toggle: its branches meet there, neither can be followed
         return None
-    distance = np.where(m.ok, np.abs(m.points["P"] - pts), np.inf)
+    # at a toggle (a dyad's two links in line) the Linkage places the joints but takes no
+    # derivatives (not ok): the coupler point is there, so is its distance
+    P = np.asarray(m.points["P"])
+    placed = m.ok | np.isfinite(P)
+    distance = np.where(placed, np.abs(P - pts), np.inf)
     defects = []
     mu = float("nan")
     if not np.all(turn.ok):
@@ -804,8 +839,13 @@ def sixbar_result(x, theta, fixed, pts, timing, closed, tolerance, mu_min=0.0) -
     in_order = _in_order(theta, closed, timing)
     if not in_order:
         defects.append("order defect: the coupler point meets the targets out of order")
-    if not np.all(m.ok):
-        defects.append("the linkage cannot be assembled at some target")
+    if not np.all(placed):
+        apart = [int(i) + 1 for i in np.flatnonzero(~placed)]
+        defects.append(f"the linkage cannot be assembled at targets {apart}")
+    if not np.all(m.ok[placed]):
+        dead = [int(i) + 1 for i in np.flatnonzero(placed & ~m.ok)]
+        defects.append(f"at targets {dead} the six-bar stands at a toggle (a dyad's two links "
+                       "in line: a dead point, where its derivatives are undefined)")  # fmt: skip
     if tolerance is not None:
         far = np.flatnonzero(~(distance <= tolerance))
         if far.size:
@@ -889,6 +929,10 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     best = chosen[0] if chosen else (rejected[0] if rejected else None)
     worst = float(np.max(best.distance)) / size if best is not None else np.inf
     note = _far_note(best, size, "six-bar")
+    if best is not None and worst <= NEAR and not chosen:  # near, but every one has a defect
+        defects = "; ".join(best.defects)
+        note = (f"every six-bar found has a defect (see rejected); the best, {worst:.1e} of the "
+                f"targets' size from them at worst: {defects}")  # fmt: skip
     seconds = {"retrieve": scan, "refine": t2 - t_begin - scan,
                "total": time.perf_counter() - start}  # fmt: skip
     note = _limit_note(note, deadline, deadline.at - start, seconds["total"])
