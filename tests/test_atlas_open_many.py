@@ -26,9 +26,10 @@ from machdyn.synthesis.circuits import circuit_points
 def compiled():
     pytest.importorskip("numba", reason="numba is not installed on this Python")
     assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
+    before = jit.mode()  # (the suite runs with "off": conftest.py)
     jit.set_mode("on")
     yield
-    jit.set_mode(None)
+    jit.set_mode(before)
 
 
 def _row(r1, r3, r4, p, delta, circuit):

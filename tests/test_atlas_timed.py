@@ -107,7 +107,7 @@ def test_nearest_on_threads_is_the_exact_top_k_of_a_brute_force_search(
     if compiled and not jit.load():
         pytest.skip(f"compiled kernels unavailable: {jit.reason()}")
     jit.set_mode("on" if compiled else "off")
-    request.addfinalizer(lambda: jit.set_mode(None))
+    request.addfinalizer(lambda: jit.set_mode("off"))  # conftest.py's mode
     folder = tmp_path_factory.mktemp("near") / "a"
     build_atlas(folder, 2500, chunk_size=400, seed=8, progress=False)  # 7 chunks
     at = open_atlas(folder)

@@ -739,9 +739,9 @@ class GearPair:
                     "profile_shift",
                     f"the shifts (x_p + x_g = {shift:g}) leave no tip clearance at the "
                     f"tight-mesh centre distance {c:g}: a tip reaches {-min(clear):.4g} into the "
-                    "mating root; shorten the addenda (give addendum= and dedendum=) by at least that, use "
-                    f"smaller shifts, or give a centre distance of {bound} {limit:g} (with "
-                    "backlash)",
+                    "mating root; shorten the addenda (give addendum= and dedendum=) by at least "
+                    f"that, use smaller shifts, or give a centre distance of {bound} {limit:g} "
+                    "(with backlash)",
                 )
             raise InputError(
                 "center_distance",

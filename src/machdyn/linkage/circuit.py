@@ -529,10 +529,13 @@ class _Scan:
         stretch ``leg``, at its fraction ``frac``; ``closes`` there) is smooth:
         where the parabola through three neighbouring points (all closing) has
         its least within two steps of the middle one and below :data:`DIP`,
-        those four steps are scanned again in 64, then around the least margin
-        (seven times in all: 64⁻⁷ of a step), until a point is found where a
-        group does not close; or, failing that, a margin within
-        :data:`machdyn.classify.CHANGE_POINT_RTOL` of 0 (a change point).
+        those four steps are scanned again in 64 cells, then around the least
+        margin (seven passes; each later one keeps two of the 64 cells, about
+        32-fold), until a point is found where a group does not close; or,
+        failing that, a margin within :data:`machdyn.classify.CHANGE_POINT_RTOL`
+        of 0 (a change point). Only stretches of two steps or more have a point
+        inside: a sweep whose samples are one step apart or closer is watched at
+        its samples only (docs/linkage.md says so).
         """
         i = np.flatnonzero((idx > 0) & (np.roll(idx, -1) > idx))  # a point inside a leg
         lo, mid, hi = M[:, i - 1], M[:, i], M[:, i + 1]
@@ -590,8 +593,12 @@ class _Scan:
         both = self.failing(np.concatenate((p0 + b * (p1 - p0), p0 + out * (p1 - p0)), axis=1))
         past, scanned = both[:, : out.size], both[:, out.size :]
         group = np.where(past.any(axis=0), np.argmax(past, axis=0), np.argmax(scanned, axis=0))
-        change = ~past.any(axis=0) & ~scanned.any(axis=0)  # every group closes: a change point
-        if change.any():  # (found by :meth:`dips`): the RRR dyad of the least margin there
+        # every group closes: a change point found by :meth:`dips` (never at a leg's end,
+        # where ``out`` is 1 because the solve itself failed there, nor without RRR dyads)
+        change = ~past.any(axis=0) & ~scanned.any(axis=0) & (out < 1.0)
+        if self.dyads is None:
+            change[:] = False
+        if change.any():  # the RRR dyad of the least margin there
             _, M = self.failing(p0[:, change] + b[change] * (p1 - p0)[:, change], self.dyads)
             pick = np.argmin(np.where(np.isnan(M), np.inf, np.abs(M)), axis=0)
             group[change] = np.array([g for g, _ in self.dyads])[pick]

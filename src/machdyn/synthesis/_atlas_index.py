@@ -322,6 +322,12 @@ class _FirstStage:
 
     def __init__(self, variants: np.ndarray, cols: np.ndarray, groups: np.ndarray,
                  kcol: int) -> None:  # fmt: skip
+        # the compiled bound (_atlas_kernels.bound_topk) unrolls exactly these counts: with
+        # others it would drop a group's term (a bound below the exact score prunes true
+        # top-k rows) or read past the head, unchecked
+        if (len(cols), int(groups.max()) + 1, variants.shape[0]) != (HEAD, TAIL_GROUPS, 4):
+            raise AssertionError("the compiled first stage is written for 6 head columns, "
+                                 "3 groups and 4 variants")  # fmt: skip
         self.variants = np.ascontiguousarray(variants, dtype=np.float64)
         self.head = np.ascontiguousarray(self.variants[:, cols])
         self.norms = np.stack(
