@@ -557,14 +557,16 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
         if any(np.max(np.abs(key - k)) <= SAME for k in done + ends):
             continue  # a copy of a fit polished already (see _unique)
         done.append(key)
-        if (
-            tries is not None
-            and i >= most
-            and copy(refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver="lm", **options))
-        ):
-            continue  # an extra try: a look with the (compiled) LM first, a hundred times cheaper
-        more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver=solver,
-                      **options)  # fmt: skip
+        look = None
+        if tries is not None and i >= most:  # an extra try: a look with the (compiled) LM
+            look = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver="lm", **options)
+            if copy(look):
+                continue  # first, a hundred times cheaper
+        if look is not None and solver == "lm":
+            more = look  # (the look was this very refinement: many points refine by LM too)
+        else:
+            more = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver=solver,
+                          **options)  # fmt: skip
         f = fits[i] = more if more.rms <= f.rms else f
         if copy(f):
             continue  # refined into a minimum polished already: no polish, not counted
