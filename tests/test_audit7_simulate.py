@@ -92,3 +92,14 @@ def test_cli_refuses_a_huge_t_end_in_one_line(tmp_path, capsys):
     assert status not in (0, None)
     assert len(err.strip().splitlines()) == 1
     assert "t_end" in err and "2,000 evaluations" in err and "Traceback" not in err
+
+
+def test_the_public_default_budget_is_the_documented_one():
+    """``simulate`` writes the default budget out (its module stays light); it is the one."""
+    import inspect
+
+    from machdyn.simulate import simulate_drivers
+    from machdyn.simulate._integrate import MAX_EVALUATIONS
+
+    for run in (simulate, simulate_drivers):
+        assert inspect.signature(run).parameters["max_evaluations"].default == MAX_EVALUATIONS

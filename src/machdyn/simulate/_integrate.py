@@ -27,6 +27,12 @@ from .result import Energy, Event, SteadyState
 
 __all__ = ["OverBudget", "Runner"]
 
+#: Default budget of one run: evaluations of the equation of motion (``max_evaluations``).
+#: About a minute of a tabulated four-bar (30 µs each), some 4,000 turns; a steady state
+#: usually takes a few thousand. (``simulate``'s signature writes it out, so that
+#: ``import machdyn.simulate`` stays light; a test holds the two equal.)
+MAX_EVALUATIONS = 2_000_000
+
 
 class Runner:
     """One simulation: the right-hand side, the segment loop and the recorded solution."""
@@ -44,7 +50,7 @@ class Runner:
         atol: float,
         method: str,
         max_step: float,
-        max_evaluations: int = 2_000_000,
+        max_evaluations: int = MAX_EVALUATIONS,
     ) -> None:
         self.plant, self.coef, self.motor, self.loads = plant, coefficients, motor, loads
         self.coef_span = span

@@ -8,6 +8,7 @@ from typing import Any
 
 from .._validate import boolean, choice, finite_scalar, in_range, integer, nonnegative, positive
 from ..errors import InputError
+from ._integrate import MAX_EVALUATIONS
 from ._plant import make_plant
 from .loads import Load
 from .motors import Motor, as_motor
@@ -93,12 +94,6 @@ def stops(stop_on: Any) -> frozenset[str]:
     if isinstance(stop_on, str):
         stop_on = (stop_on,)
     return frozenset(choice("stop_on", s, STOPS) for s in listed("stop_on", stop_on, "events"))
-
-
-#: Default budget of one run: evaluations of the equation of motion (``max_evaluations``).
-#: About a minute of a tabulated four-bar (30 µs each), some 4,000 turns; a steady state
-#: usually takes a few thousand.
-MAX_EVALUATIONS = 2_000_000
 
 
 def solver_options(

@@ -38,7 +38,7 @@ import numpy as np
 
 from .._summary import Summarized
 from ..errors import InputError
-from ._integrate import OverBudget
+from ._integrate import MAX_EVALUATIONS, OverBudget
 
 __all__ = ["MultiSimulation", "simulate_drivers"]
 
@@ -137,7 +137,7 @@ def simulate_drivers(
     rtol: float = 1e-9,
     atol: float = 1e-10,
     method: str = "DOP853",
-    max_evaluations: int = 2_000_000,
+    max_evaluations: int = MAX_EVALUATIONS,
     **options: Any,
 ) -> MultiSimulation:
     """Integrate the motion of a Linkage with several drivers under their motors.
