@@ -141,12 +141,12 @@ def test_the_rows_kept_hold_the_exact_top_k_and_the_heap_its_scores(k):
         allowed.append(rows)
         head, tail, rows, hs, ts, longest2 = _table(K, desc, rows, cols, groups, kcol=1)
         out = np.empty(rows.size, np.int64)
-        score = np.empty(rows.size, np.float32)
+        score = np.empty(rows.size, np.float64)
         n = K.bound_topk(head, tail, rows, 1, desc, v[:, cols].copy(), qn, np.sum(v**2, axis=1),
                          hs, ts, longest2, v, 1e-4, 1e-5, best, out, score)  # fmt: skip
         kept |= {(c, int(r)) for r in out[:n]}
         exact = np.max(desc[out[:n]].astype(np.float64) @ v.T, axis=1)
-        np.testing.assert_allclose(score[:n], exact, rtol=1e-7)
+        np.testing.assert_allclose(score[:n], exact, rtol=0, atol=1e-14)  # (unit rows)
     # brute force over every allowed row of every chunk
     every = sorted(
         ((float(s), c, int(r))

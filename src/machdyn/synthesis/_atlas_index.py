@@ -8,8 +8,11 @@ tasks (:func:`chunk_topk_file`), and spreads pools of entries over the atlas
 for open targets. From an atlas's second query on (compiled), a compact table
 derived from the chunks (int16 head columns, uint16 norms of the others, sorted
 by a key column; built once, in memory) bounds every score, and only the rows
-whose bound beats the k-th best so far are scored (:func:`bounded_topk`): the
-same top k. Used by :mod:`~machdyn.synthesis.atlas_path`.
+whose bound beats the k-th best so far are scored (:func:`bounded_topk`). Either
+way, the candidates (every row that may be among the best k, and a few more) are
+ranked by their exact scores in float64, best first and equal scores by index
+(:meth:`Atlas._exact_scores`): every path gives the same top k for the same atlas
+and target. Used by :mod:`~machdyn.synthesis.atlas_path`.
 """
 
 from __future__ import annotations
@@ -85,6 +88,7 @@ class Atlas:
         self._plan: tuple | None = None  # the compact tables' columns (see _query_plan)
         self._compact: dict[tuple[int, bool], tuple] = {}  # (see _tables)
         self._queries = 0
+        self._plain: list | None = None  # (see _exact_scores)
 
     def __len__(self) -> int:
         return int(self.offsets[-1])
@@ -112,7 +116,8 @@ class Atlas:
 
         ``client``: a ``distributed.Client``: each chunk is then scored by a
         task on the cluster (whose workers must see the atlas folder).
-        Returns flat indices and squared distances (best first).
+        Returns flat indices and squared distances (best first: by the exact
+        float64 score, equal scores by index), the same on every path.
         """
         width = 4 * self.manifest.harmonics
         descriptor = np.ravel(finite_array("descriptor", descriptor))
@@ -141,11 +146,37 @@ class Atlas:
                 for c in range(len(self.desc))
             ]
             parts = list(enumerate(client.gather(futures)))
-        idx = np.concatenate([top + self.offsets[c] for c, (top, _) in parts])
-        score = np.concatenate([s for _, (_, s) in parts])
+        idx = np.concatenate([top + self.offsets[c] for c, (top, _) in parts]).astype(np.int64)
+        near = np.concatenate([s for _, (_, s) in parts]).astype(np.float64)
+        if near.size > k:  # the candidates that can be among the best k (see score_band)
+            kth = np.partition(near, near.size - k)[near.size - k]
+            idx = idx[near >= kth - score_band(variants)]
+        score = self._exact_scores(idx, variants)
         order = np.lexsort((idx, -score))[:k]  # best first; equal scores by index
-        keep = np.isfinite(score[order])
-        return idx[order][keep], (2.0 - 2.0 * score[order][keep]).astype(float)
+        return idx[order], 2.0 - 2.0 * score[order]
+
+    def _exact_scores(self, idx: np.ndarray, variants: np.ndarray) -> np.ndarray:
+        """The scores (cosine, best of the variants) of the entries at flat ``idx``, in float64.
+
+        The ranking's scores: computed from the stored descriptors alone, in one
+        fixed order of operations (a column at a time, the same for every row and
+        every batch), so that an entry's score does not depend on the path that
+        found it (first or later query, NumPy or compiled, local or Dask) nor on the
+        other candidates.
+        """
+        idx = np.asarray(idx, dtype=np.int64)
+        if self._plain is None:  # (the chunks' arrays: a row's view is cheaper than a memmap's)
+            self._plain = [np.asarray(d) for d in self.desc]
+        chunk = np.searchsorted(self.offsets, idx, side="right") - 1
+        rows = (idx - self.offsets[chunk]).tolist()
+        # (the candidates lie in many chunks, a few in each: read row by row)
+        d = np.array([self._plain[c][r] for c, r in zip(chunk.tolist(), rows, strict=True)],
+                     dtype=np.float64).reshape(idx.size, variants.shape[1])  # fmt: skip
+        v = np.asarray(variants, dtype=np.float64)
+        acc = d[:, :1] * v[:, 0]  # (n, 4)
+        for j in range(1, v.shape[1]):
+            acc += d[:, j : j + 1] * v[:, j]
+        return acc.max(axis=1) if acc.size else np.empty(0)
 
     def _local_topk(self, variants: np.ndarray, k: int, crank: bool,
                     deadline: _Deadline = _NEVER) -> list:  # fmt: skip
@@ -275,11 +306,15 @@ def chunk_topk(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Rows and scores (cosine) of the ``k`` best allowed entries of one chunk (BLAS products).
 
-    Only scores above ``floor`` (the k-th best of the chunks seen so far) are
-    kept. The product runs in blocks of :data:`BLAS_ROWS` rows: below that size
-    OpenBLAS computes on the calling thread, above it wakes its thread pool,
-    which on a busy 2-core machine costs ~20 ms per call (measured: 65,536 rows
-    in one call 29 ms, in blocks of 2,048 0.7 ms). Scale-out is the chunks' job.
+    The scores are float32 (within :func:`score_band` of the exact ones): the rows
+    kept are the chunk's ``k`` best and those within the band of the k-th, less any
+    more than the band below ``floor`` (the k-th best of the chunks seen so far),
+    so that they hold every row of the exact top k (:meth:`Atlas._query` ranks
+    them by their exact scores). The product runs in blocks of :data:`BLAS_ROWS`
+    rows: below that size OpenBLAS computes on the calling thread, above it wakes
+    its thread pool, which on a busy 2-core machine costs ~20 ms per call
+    (measured: 65,536 rows in one call 29 ms, in blocks of 2,048 0.7 ms).
+    Scale-out is the chunks' job.
     """
     n = desc.shape[0]
     prod = np.empty((n, variants.shape[0]), dtype=np.float32)
@@ -289,21 +324,42 @@ def chunk_topk(
     score = prod[:, 0]
     for j in range(1, prod.shape[1]):  # max over the variants (faster than .max(axis=1))
         score = np.maximum(score, prod[:, j])
-    keep = score > floor
+    band = score_band(variants)
+    keep = score >= floor - band
     if allowed is not None:
         keep &= allowed
     rows = np.flatnonzero(keep)
-    if rows.size > k:
-        rows = rows[np.argpartition(-score[rows], k - 1)[:k]]
+    if rows.size > k:  # the k best, and every row whose exact score may tie them
+        best = score[rows]
+        rows = rows[best >= np.partition(best, best.size - k)[best.size - k] - band]
     return rows, score[rows]
+
+
+def score_band(variants: np.ndarray) -> float:
+    """How far below the k-th best float32 score a row of the exact top k may score.
+
+    A float32 product of two ``D``-vectors is within ``e = γ Σ|q_j d_j| ≤ γ |q| |d|``
+    of the exact one, ``γ = (D + 1) u / (1 − (D + 1) u)``, ``u = 2⁻²⁴`` (the final
+    rounding included; Higham, *Accuracy and Stability of Numerical Algorithms*,
+    §3.1); the atlas's descriptors are unit vectors
+    (:func:`~machdyn.synthesis.descriptor.curve_descriptor`, stored in float32:
+    ``|d| < 1 + D u``). ``k`` rows score at least the k-th best ``F`` in float32, so
+    the exact k-th best is above ``F − e`` and a row of the exact top k scores above
+    ``F − 2e`` in float32: the band is ``2e``, doubled again as a margin (the
+    compiled stage's float64 scores are far closer).
+    """
+    width = variants.shape[1]
+    u = 2.0**-24
+    gamma = (width + 1) * u / (1.0 - (width + 1) * u)
+    return 4.0 * gamma * float(np.max(np.linalg.norm(variants, axis=1))) * (1.0 + width * u)
 
 
 #: The query's first stage (see Atlas._local_topk): the descriptor columns kept per row
 #: (the HEAD of most energy), and the groups of the others whose norms are kept; the
 #: compiled kernel is written for these counts. Its slack over the float32 bound (the
 #: rounding of ten float32 products is below 1e-6), and the exact scores' margin (a
-#: row scored within it of the k-th best so far is kept: the float32 score the BLAS
-#: stage would give it may tie the k-th best's).
+#: row scored within it of the k-th best so far is kept: its ranking score, summed in
+#: another order by Atlas._exact_scores, may tie the k-th best's).
 HEAD = 6
 TAIL_GROUPS = 3
 BOUND_SLACK = 1e-4
@@ -350,26 +406,24 @@ def bounded_topk(desc, tables, stage: _FirstStage, best: np.ndarray):
     bound beats the k-th best so far (the root of the heap ``best``, less
     :data:`BOUND_SLACK`) are scored exactly (float64), in one compiled pass
     (:func:`~machdyn.synthesis._atlas_kernels.bound_topk`) that updates ``best``.
-    Returns the rows and (float32) scores of the chunk's best k of those scored
-    within :data:`SCORE_SLACK` of the floor.
+    Returns the rows and (float64) scores of those scored within
+    :data:`SCORE_SLACK` of the floor after the chunk (its best ``k`` and any that
+    may tie them).
     """
     from ._atlas_kernels import bound_topk
 
-    k = best.size
     desc = np.asarray(desc)  # (a memory map: the array it maps)
     found, scores = [], []
     for head, tail, rows, hs, ts, longest2 in tables:
-        out, score = np.empty(rows.size, np.int64), np.empty(rows.size, np.float32)
+        out, score = np.empty(rows.size, np.int64), np.empty(rows.size, np.float64)
         n = bound_topk(head, tail, rows, stage.kcol, desc, stage.head, stage.norms,
                        stage.squares, hs, ts, longest2, stage.variants, BOUND_SLACK,
                        SCORE_SLACK, best, out, score)  # fmt: skip
         found.append(out[:n])
         scores.append(score[:n])
     rows, score = np.concatenate(found), np.concatenate(scores)
-    if rows.size > k:
-        top = np.argpartition(-score, k - 1)[:k]
-        rows, score = rows[top], score[top]
-    return rows, score
+    keep = score >= best[0] - SCORE_SLACK  # (best[0]: the k-th best of the thread so far)
+    return rows[keep], score[keep]
 
 
 def chunk_topk_file(path: str, index: int, variants: np.ndarray, k: int, crank: bool):

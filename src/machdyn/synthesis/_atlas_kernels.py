@@ -676,7 +676,7 @@ def _scored(desc, r, variants, margin, best, out, score, count):  # pragma: no c
     if s + margin <= best[0]:
         return count
     out[count] = r
-    score[count] = np.float32(s)
+    score[count] = s
     if s > best[0]:  # the root replaced, sifted down
         k = best.size
         p = 0
@@ -727,8 +727,8 @@ def bound_topk(
     variants' head columns, their groups' norms and their squared norms. A row
     whose bound plus the slack beats the floor is scored exactly (float64,
     ``max_v variants[v] · desc[row]``); one whose score plus ``margin`` beats the
-    floor goes into ``out`` (its descriptor row; ``score``: its score in float32,
-    as the BLAS stage keeps it) and, above the floor, into the heap. While the
+    floor goes into ``out`` (its descriptor row; ``score`` (float64): its exact
+    score) and, above the floor, into the heap. While the
     heap is empty (a thread's first chunk), the ``2k`` rows of highest bound are
     scored first: the floor then starts near its final value instead of rising
     row by row. Returns how many rows went into ``out``.
