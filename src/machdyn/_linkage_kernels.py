@@ -582,10 +582,49 @@ def _slide_block(st, pi, pf, ib, fb, U, start, b, order):  # pragma: no cover - 
             _slide(st, ri, rf, U, start + j, order, j)
 
 
+@_inline
+def _rr_simd(st, ri, rf, U, start, b, codes, g):  # pragma: no cover - compiled
+    """An RRR block at order 2, both arms of constant length: on SIMD lanes.
+
+    The samples' solves write a local table (``w``: the two links' state rows
+    0–10, ``cd``: the codes), which LLVM can tell apart from the state they read
+    (the known links' rows), so it runs the loop on four samples at a time;
+    the table is then copied into the two links' rows. (On the state itself the
+    loop stays scalar: its rows may alias as far as LLVM can tell.) The same
+    arithmetic as :func:`_rr_solve` and :func:`_rr_put`.
+    """
+    rc = (ri[0], ri[1], ri[2], ri[3], ri[4], -1, ri[6], ri[7], ri[8], -1)  # (the lengths fold)
+    L1, L2 = ri[4], ri[8]
+    b1x, b1y, u1x, u1y = rf[2], rf[3], rf[4], rf[5]
+    b2x, b2y, u2x, u2y = rf[9], rf[10], rf[11], rf[12]
+    n1, n2 = u1x * u1x + u1y * u1y, u2x * u2x + u2y * u2y
+    w = np.empty((2, 11, BLOCK))
+    cd = np.empty(BLOCK, np.int8)
+    for j in range(b):
+        code, P, vv, xx = _rr_solve(st, rc, rf, U, start + j, 2, j)
+        vax, vay, vbx, vby = vv
+        xa1, xa2, xa3, xb1, xb2, xb3 = xx
+        cd[j] = code
+        _set_r(w, 0, 2, P, b1x, b1y, vax, vay, u1x, u1y, n1, xa1, xa2, xa3, j)
+        _set_r(w, 1, 2, P, b2x, b2y, vbx, vby, u2x, u2y, n2, xb1, xb2, xb3, j)
+    codes[g, start : start + b] = cd[:b]
+    if L1 >= 0:
+        st[L1, :11, :b] = w[0, :, :b]
+    if L2 >= 0:
+        st[L2, :11, :b] = w[1, :, :b]
+
+
 @_jit
 def _rr_block(st, pi, pf, ib, fb, U, start, b, order, codes, g):  # pragma: no cover
-    """RRR dyads; at order 2 two samples at a time (two chains of divisions to overlap)."""
+    """RRR dyads; at order 2 on SIMD lanes (:func:`_rr_simd`).
+
+    With an actuator's bar for an arm, at order 2 two samples at a time (two
+    chains of divisions to overlap).
+    """
     ri, rf = _row_i(pi, ib), _row_f(pf, fb)
+    if order == 2 and ri[5] < 0 and ri[9] < 0:
+        _rr_simd(st, ri, rf, U, start, b, codes, g)
+        return
     j0 = 0
     if order == 2:
         for j in range(0, b - 1, 2):
