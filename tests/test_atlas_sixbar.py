@@ -192,6 +192,53 @@ def test_the_geodesic_probe_residuals_need_no_jacobian(rows):
         np.testing.assert_array_equal(probe, np.r_[np.full(12, 10.0), np.zeros(12)])
 
 
+def test_ordered_samples_are_the_least_sum_over_monotone_orderings(rows):
+    # _ordered_samples: the samples met in the targets' order one way round from one of
+    # `rolls` starting samples, with the least sum of squared distances; checked by
+    # enumerating every such assignment (small curves), and the compiled programme makes
+    # the same choices as NumPy's on six-bar curves, ties included (a grid of integers)
+    from itertools import combinations_with_replacement
+
+    from machdyn.synthesis.sixbar_path import _ordered_samples
+
+    rng = np.random.default_rng(11)
+    ways = [False] + ([True] if _numba() else [])
+    for _ in range(20):
+        n, k, rolls = 16, 3, 4
+        curve = rng.normal(size=n) + 1j * rng.normal(size=n)
+        pts = rng.normal(size=k) + 1j * rng.normal(size=k)
+        least = min(
+            sum(abs(curve[(s + w * j) % n] - p) ** 2 for j, p in zip(js, pts, strict=True))
+            for s in range(0, n, n // rolls)
+            for w in (1, -1)
+            for js in combinations_with_replacement(range(n), k)
+        )
+        for compiled in ways:
+            got = _ordered_samples(curve, pts, rolls, compiled=compiled)
+            assert np.sum(np.abs(curve[got] - pts) ** 2) == pytest.approx(least, rel=1e-12)
+    if not _numba():
+        return
+    u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    P, ok = sixbar_points(rows[:60], u)
+    for z in P[ok.all(axis=1)]:
+        pts = z[rng.integers(0, 720, 12)] + 0.05 * np.std(z) * rng.normal(size=12)
+        np.testing.assert_array_equal(_ordered_samples(z, pts, compiled=True),
+                                      _ordered_samples(z, pts))  # fmt: skip
+    for _ in range(30):
+        z = np.round(3 * rng.normal(size=720)) + 1j * np.round(3 * rng.normal(size=720))
+        pts = np.round(3 * rng.normal(size=12)) + 1j * np.round(3 * rng.normal(size=12))
+        np.testing.assert_array_equal(_ordered_samples(z, pts, compiled=True),
+                                      _ordered_samples(z, pts))  # fmt: skip
+
+
+def _numba() -> bool:
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 def _placed_distance(x, theta, fixed, targets):
     """Distances of ``targets`` to a placed design's coupler point at crank angles ``theta``,
     by circle intersections (each dyad's assembly: the side of its drawn pose at theta[0])."""

@@ -325,3 +325,61 @@ def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, fl
             if lam > 1e15:
                 break
     return z
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _ordered_total(c, start, way, back):  # pragma: no cover - compiled
+    """The least sum of squared distances along one ordering of the samples, and its end.
+
+    ``c`` (K, N): squared distance of target k to sample j; the samples are taken
+    ``start, start + way, …`` (mod N). ``back`` (K − 1, N), written unless it has no
+    rows: for target k at the j-th sample of the ordering, the sample (of the
+    ordering) of target k − 1 — the first least ``total`` up to j, as
+    :func:`machdyn.synthesis.sixbar_path._ordered_samples`'s running minimum.
+    """
+    k_count, n = c.shape
+    order = np.empty(n, np.int64)
+    for j in range(n):
+        order[j] = (start + way * j + n) % n
+    total = np.empty(n)
+    for j in range(n):
+        total[j] = c[0, order[j]]
+    keep = back.shape[0] > 0
+    for k in range(1, k_count):
+        run, arg = total[0], 0
+        for j in range(n):
+            if total[j] < run:
+                run, arg = total[j], j
+            if keep:
+                back[k - 1, j] = arg
+            total[j] = c[k, order[j]] + run
+    end = 0
+    for j in range(1, n):
+        if total[j] < total[end]:
+            end = j
+    return total[end], end
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def ordered_samples(c, rolls, out):  # pragma: no cover - compiled
+    """:func:`machdyn.synthesis.sixbar_path._ordered_samples`'s dynamic programme, compiled.
+
+    ``c`` (K, N) finite: squared distances of the targets to the curve's samples;
+    the sample indices of the least ordered sum go into ``out`` (K,). The same
+    orderings (``rolls`` starting samples, forward then backward from each) and
+    the same comparisons, so the same choices, ties included.
+    """
+    k_count, n = c.shape
+    none = np.empty((0, n), np.int64)
+    best, w_start, w_way = np.inf, 0, 1
+    for start in range(0, n, n // rolls):
+        for way in (1, -1):
+            value, _ = _ordered_total(c, start, way, none)
+            if value < best or (start == 0 and way == 1):
+                best, w_start, w_way = value, start, way
+    back = np.empty((k_count - 1, n), np.int64)
+    _, j = _ordered_total(c, w_start, w_way, back)
+    for k in range(k_count - 1, -1, -1):
+        out[k] = (w_start + w_way * j + n) % n
+        if k:
+            j = back[k - 1, j]

@@ -490,7 +490,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
         for row, (h, t), z in zip(rows, transforms, local, strict=True):
             if not np.isfinite(h) or h == 0:
                 continue
-            h, t, near = _placed_start(z, h, t, pts)
+            h, t, near = _placed_start(z, h, t, pts, compiled=compiled)
             x0, fixed = _design_of(row, h, t)
             starts.append((x0, u[near], fixed))
         return starts
@@ -669,8 +669,8 @@ def _first_loop(xp, phi, proxy, pts, steps, compiled):
                 P, _, _, ok = coupler(x0, u, fixed)
                 if not ok.all():
                     continue
-                fit = refine_sixbar(x0, u[_ordered_samples(P, pts)], fixed, pts,
-                                    iterations=steps, compiled=compiled)  # fmt: skip
+                near = _ordered_samples(P, pts, compiled=compiled)
+                fit = refine_sixbar(x0, u[near], fixed, pts, iterations=steps, compiled=compiled)
                 if best is None or fit[2] < best[2]:
                     best = (*fit, fixed)
         if best is not None:
@@ -714,7 +714,8 @@ def _timed_best(atlas, pools, timing, pts, count, compiled=False, shift=0.0):
     return out
 
 
-def _ordered_samples(curve: np.ndarray, pts: np.ndarray, rolls: int = 8) -> np.ndarray:
+def _ordered_samples(curve: np.ndarray, pts: np.ndarray, rolls: int = 8,
+                     compiled: bool = False) -> np.ndarray:  # fmt: skip
     """Indices of a placed curve's samples nearest the targets, in the targets' order.
 
     Not each target's nearest sample on its own: where the coupler point dwells
@@ -723,12 +724,22 @@ def _ordered_samples(curve: np.ndarray, pts: np.ndarray, rolls: int = 8) -> np.n
     wrong arcs. Instead the samples are taken one way round, never going back
     (dynamic programming over the samples: the least sum of squared distances),
     from each of ``rolls`` starting samples in both directions at once; the best wins.
+    ``compiled``: the same programme on the compiled kernel
+    (:func:`machdyn.synthesis._sixbar_kernels.ordered_samples`; the same choices,
+    about ten times faster), for finite distances.
     """
     n = curve.size
+    c = np.abs(curve[None, :] - pts[:, None]) ** 2  # (K, N)
+    if compiled and np.all(np.isfinite(c)):
+        from ._sixbar_kernels import ordered_samples
+
+        out = np.empty(pts.size, np.int64)
+        ordered_samples(c, rolls, out)
+        return out
     starts = np.arange(0, n, n // rolls)
     steps = np.concatenate([np.arange(n)[None, :], -np.arange(n)[None, :]])  # both ways
     order = (starts[:, None, None] + steps[None, :, :]).reshape(-1, n) % n  # (2R, N)
-    c = np.abs(curve[order][:, None, :] - pts[None, :, None]) ** 2  # (2R, K, N)
+    c = c[:, order].transpose(1, 0, 2)  # (2R, K, N)
     total, back = c[:, 0], []
     cols = np.arange(n)
     for k in range(1, pts.size):  # target k at sample j: target k - 1 at a sample <= j
@@ -745,24 +756,26 @@ def _ordered_samples(curve: np.ndarray, pts: np.ndarray, rolls: int = 8) -> np.n
     return order[w, np.array(path[::-1])]
 
 
-def _placed_start(z: np.ndarray, h: complex, t: complex, pts: np.ndarray, rounds: int = 3):
+def _placed_start(z: np.ndarray, h: complex, t: complex, pts: np.ndarray, rounds: int = 3,
+                  compiled: bool = False):  # fmt: skip
     """Similarity ``t + h·z`` and sample indices for a curve ``z``, fitted in turns.
 
     The samples in the targets' order (:func:`_ordered_samples`), then the
     rotation, scale and offset that put those samples on the targets (least
     squares, closed form), a few times over: the descriptor's placement fits
     the spline through the targets, which misplaces curves that dwell.
+    ``compiled``: :func:`_ordered_samples`'s.
     """
     a0 = pts - pts.mean()
     for _ in range(rounds):
-        near = _ordered_samples(t + h * z, pts)
+        near = _ordered_samples(t + h * z, pts, compiled=compiled)
         q = z[near] - z[near].mean()
         v = float(np.sum(np.abs(q) ** 2))
         if v == 0.0:
             break
         h = complex(np.sum(np.conj(q) * a0) / v)
         t = complex(pts.mean() - h * z[near].mean())
-    return h, t, _ordered_samples(t + h * z, pts)
+    return h, t, _ordered_samples(t + h * z, pts, compiled=compiled)
 
 
 def _timed_scan(rows, grid, timing, pts, mirror, compiled=False):
