@@ -138,12 +138,12 @@ def coupler_function(compiled: bool = False):
 
     ``compiled`` is the caller's choice (made once per synthesis, as the atlas
     build does: :func:`machdyn.jit.load` unless ``MACHDYN_JIT=off``); the kernel
-    (:func:`machdyn.synthesis._atlas_kernels.sixbar_coupler`) is tested against
+    (:func:`machdyn.synthesis._sixbar_kernels.sixbar_coupler`) is tested against
     the NumPy forward mode here and both against central differences.
     """
     if not compiled:
         return sixbar_coupler
-    from ._atlas_kernels import sixbar_coupler as kernel
+    from ._sixbar_kernels import sixbar_coupler as kernel
 
     def evaluate(x, theta, fixed):
         theta = np.ascontiguousarray(theta, dtype=float)
