@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from .._numba_cache import njit
 
 __all__ = ["ordered_samples", "refine_loop", "sixbar_coupler", "sixbar_points_into"]
