@@ -401,14 +401,16 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
                   deadline: _Deadline = _NEVER):  # fmt: skip
     """Refined fits for untimed targets, best first, and the time retrieval ended.
 
-    Round 0: the entries nearest the target (:func:`_retrieve`) and the wide
-    rows (:func:`_retrieve_wide`). While no fit meets the targets to
-    :data:`UNTIMED_MET` of their size, up to :data:`UNTIMED_ROUNDS` − 1 more
-    rounds (:data:`UNTIMED_LATER`, :data:`UNTIMED_AGAIN`: more starts, refined
-    by the compiled LM) take a fresh pool of the atlas (:meth:`Atlas.pool`, ``round``) and
-    match the targets as an arc (a closed target opened at its widest gap: a
-    spline through unevenly spread points of a closed path can be far from the
-    curve between them, so its descriptor misleads the retrieval). Past the
+    Round 0: the entries nearest the target
+    (:func:`~machdyn.synthesis._atlas_retrieve._retrieve`) and the wide rows
+    (:func:`~machdyn.synthesis._atlas_retrieve._retrieve_wide`). While no fit
+    meets the targets to :data:`UNTIMED_MET` of their size, up to
+    :data:`UNTIMED_ROUNDS` − 1 more rounds (:data:`UNTIMED_LATER`,
+    :data:`UNTIMED_AGAIN`: more starts, refined by the compiled LM) take a fresh
+    pool of the atlas (:meth:`Atlas.pool`, ``round``) and match the targets as an
+    arc (a closed target opened at its widest gap: a spline through unevenly
+    spread points of a closed path can be far from the curve between them, so
+    its descriptor misleads the retrieval). Past the
     ``deadline`` (:class:`_Deadline`), no more screening, polishing or rounds.
     """
     fixed = options["fixed"]
@@ -536,15 +538,17 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
     """The best fits polished down their valleys (:func:`~machdyn.synthesis.valley.polish`).
 
     Targets on a short arc (untimed above all) make a sloppy problem whose exact
-    fits lie at the ends of long curved valleys. :data:`POLISH` fits are refined on (``nfev``
+    fits lie at the ends of long curved valleys.
+    :data:`~machdyn.synthesis._atlas_result.POLISH` fits are refined on (``nfev``
     steps of :func:`refine`, which keeps the bounds) and then polished, and more
     (up to ``most``) while none meets the targets to :data:`UNTIMED_MET` of
     their size on one assembly; none past the ``deadline``. With ``tries``, while
     the best fit is a near miss (RMS within :data:`TIMED_TRIES_NEAR` of the size), a
-    fit that ends where one polished before ended (within :data:`COPY`: the same
-    local minimum, reached from another start) does not count: up to ``tries`` fits
-    are polished to find ``most`` distinct ones (timed targets, whose best-screened
-    starts can all be copies of one wrong minimum). ``lm``: refine by the compiled
+    fit that ends where one polished before ended (within
+    :data:`~machdyn.synthesis._atlas_checks.COPY`: the same local minimum, reached
+    from another start) does not count: up to ``tries`` fits are polished to find
+    ``most`` distinct ones (timed targets, whose best-screened starts can all be
+    copies of one wrong minimum). ``lm``: refine by the compiled
     Levenberg–Marquardt whatever the targets (see :func:`_solver`). Where trf
     refines (few targets), the compiled LM and polish take a look first: a fit they
     meet the targets with (:data:`UNTIMED_MET`, one assembly) is kept without the trf
