@@ -550,7 +550,7 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
     ``most`` distinct ones (timed targets, whose best-screened starts can all be
     copies of one wrong minimum). ``lm``: refine by the compiled
     Levenberg–Marquardt whatever the targets (see :func:`_solver`). Where trf
-    refines (few targets), the compiled LM and polish take a look first: a fit they
+    refines untimed targets (few of them), the compiled LM and polish take a look first: a fit they
     meet the targets with (:data:`UNTIMED_MET`, one assembly) is kept without the trf
     refinement, any other is refined and polished as without the look. Returns the
     fits (best first) and whether one met.
@@ -583,9 +583,10 @@ def _polished(fits, pts, options, most, nfev=400, deadline: _Deadline = _NEVER,
             look = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver="lm", **options)
             if copy(look):
                 continue  # first, a hundred times cheaper
-        elif solver == "trf" and _compiled(None):  # a look first: the compiled LM and polish
-            # (milliseconds) often meet the targets where trf takes a tenth of a second; trf
-            # and the polish as ever where they do not
+        elif solver == "trf" and options.get("timing") is None and _compiled(None):
+            # untimed, a look first: the compiled LM and polish (milliseconds) often meet
+            # the targets where trf takes a tenth of a second; trf and the polish as ever
+            # where they do not (timed targets no four-bar meets paid the look for nothing)
             look = refine(f.x, f.theta, f.branch, pts, max_nfev=nfev, solver="lm", **options)
             look = look if look.rms <= UNTIMED_MET * size else polish(look, pts, **options)
             if not (look.rms <= UNTIMED_MET * size and np.ptp(look.branch) == 0):
