@@ -47,7 +47,7 @@ def _numpy_path():
 def _kernels_compiled():
     """``jit.load`` compiles numba's kernels the first time after a checkout (a minute on
     a loaded 2-core machine; CI once timed out ``machdyn.jit:load`` this way): load them
-    here, outside the fuzzed calls' 10 s limit, so that the catalogue's ``jit.load`` call
+    here, outside the fuzzed calls' time limit, so that the catalogue's ``jit.load`` call
     times the call and not the compiler."""
     from machdyn import jit
 
