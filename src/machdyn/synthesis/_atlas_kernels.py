@@ -17,9 +17,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from .._numba_cache import njit
 
 from .._kernels import OK, _unit_vectors, sincos
+from .._numba_cache import njit
 
 __all__ = [
     "bound_topk",

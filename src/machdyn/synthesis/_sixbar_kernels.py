@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from .._numba_cache import njit
 
+from .._numba_cache import njit
 from ._atlas_kernels import sixbar_coupler
 
 __all__ = ["refine_loop", "sixbar_points_into"]
