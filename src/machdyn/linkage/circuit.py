@@ -370,32 +370,63 @@ def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
 def _failing(lk: Linkage, model: _Model, info: _Info):
     """A function: driver values (drivers × m) → per group and point, it does not close.
 
-    Given RRR ``dyads`` (:func:`_rrr_dyads`) it also returns their margins
-    (:func:`_margins`) at each point, from the same (NumPy) run of the program.
+    With ``margins`` it also returns each RRR dyad's margin (:func:`_margins`,
+    :func:`_rrr_dyads` order) at each point. One run of the program serves
+    both, by whichever engine :func:`machdyn.linkage.kernel.run` picks (the
+    compiled kernel when it serves): it reports only the dyads' pivots
+    (:func:`_pivots`), from which the margins are measured.
     """
     program = model.program
     walls = [i for i, d in enumerate(lk._drivers) if d in lk._actuators]
+    dyads = _rrr_dyads(program)
+    tables, sides = _pivots(model, info, dyads)
 
-    def failing(x: np.ndarray, dyads: Any = None) -> Any:
+    def failing(x: np.ndarray, margins: bool = False) -> Any:
         out = np.zeros((len(program.deps), x.shape[1]), bool)
-        M = None if dyads is None else np.empty((len(dyads), x.shape[1]))
+        M = np.empty((len(dyads), x.shape[1])) if margins else None
         for k in range(0, x.shape[1], CHUNK):
             part = x[:, k : k + CHUNK]
+            U = np.zeros((4 * part.shape[0], part.shape[1]))
+            U[0::4] = part
             with np.errstate(all="ignore"):
-                if M is None:
-                    U = np.zeros((4 * part.shape[0], part.shape[1]))
-                    U[0::4] = part
-                    codes = kernel.run(program, info.tables, U, 0, False).codes
-                else:
-                    u = [[row, 0.0, 0.0, 0.0] for row in part]
-                    st, codes = program.run(u, part.shape[1], 0, False)
-                    M[:, k : k + CHUNK] = _margins(dyads, st)
-            out[:, k : k + CHUNK] = codes == NO_ASSEMBLY
+                run = kernel.run(program, tables, U, 0, False)
+                if M is not None:  # (the pivots' rows: each dyad's two in turn)
+                    M[:, k : k + CHUNK] = _margin(np.abs(run.pts[0::2] - run.pts[1::2]), sides)
+            out[:, k : k + CHUNK] = run.codes == NO_ASSEMBLY
         for i in walls:  # an actuator's length stays > 0: its group does not close
             out[_group_of_driver(model, i)] |= x[i] <= 0.0
         return out if M is None else (out, M)
 
     return failing
+
+
+def _pivots(model: _Model, info: _Info, dyads: list[tuple[int, Dyad]]) -> tuple[Any, np.ndarray]:
+    """Run tables that report only the RRR dyads' pivots, and each dyad's sides.
+
+    Returns ``(tables, sides)``: the tables' points are each dyad's two
+    centres in turn (rows ``2j`` and ``2j + 1`` for dyad ``j``), ``sides``
+    (dyads × 2) its arms' lengths ``e, f``. No link angles or lengths are
+    reported, so a scan's run does little more than solve the groups.
+    """
+    if "pivots" not in model.cache:
+        from .kernel import Tables
+
+        refs = [r for _, s in dyads for r in (s.arm1.centre, s.arm2.centre)]
+        none = np.zeros(0)
+        tables = Tables(
+            np.zeros(0, np.int64),
+            np.array([i for i, _ in refs], np.int64),
+            np.array([x for _, r in refs for x in (r.real, r.imag)], float),
+            np.zeros(0, np.int64),
+            none,
+            np.zeros(0, np.int8),
+            none,
+            info.tables.start,
+            info.tables.scale,
+        )
+        sides = np.array([(s.arm1.length, s.arm2.length) for _, s in dyads], float)
+        model.cache["pivots"] = (tables, sides.reshape(-1, 2))
+    return model.cache["pivots"]  # type: ignore[return-value]
 
 
 def _group_of_driver(model: _Model, d: int) -> int:
@@ -502,7 +533,7 @@ class _Scan:
             first = np.concatenate(([0], np.cumsum(count + 1)[:-1]))
             idx = np.arange(leg.size) - np.repeat(first, count + 1)
             frac = idx / count[leg]
-            fail, M = self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg], self.dyads)
+            fail, M = self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg], True)
             bad = np.flatnonzero(fail.any(axis=0) & (idx > 0) & (idx < count[leg]))
             out = np.where(at_end, 1.0, 2.0)
             np.minimum.at(out, leg[bad], frac[bad])
@@ -556,7 +587,7 @@ class _Scan:
                 return
             f = f0[:, None] + (f1 - f0)[:, None] * cut  # cells × CUTS
             z = (p0[:, g, None] + f[None] * (p1 - p0)[:, g, None]).reshape(m, -1)
-            fail, least = self.failing(z, self.dyads)
+            fail, least = self.failing(z, True)
             bad = fail.any(axis=0).reshape(f.shape)
             hit = bad.any(axis=1)
             np.minimum.at(out, g[hit], f[hit, np.argmax(bad[hit], axis=1)])
@@ -599,7 +630,7 @@ class _Scan:
         if self.dyads is None:
             change[:] = False
         if change.any():  # the RRR dyad of the least margin there
-            _, M = self.failing(p0[:, change] + b[change] * (p1 - p0)[:, change], self.dyads)
+            _, M = self.failing(p0[:, change] + b[change] * (p1 - p0)[:, change], True)
             pick = np.argmin(np.where(np.isnan(M), np.inf, np.abs(M)), axis=0)
             group[change] = np.array([g for g, _ in self.dyads])[pick]
         return group, p0 + a * (p1 - p0), change
@@ -631,20 +662,24 @@ def _rrr_dyads(program: Program) -> list[tuple[int, Dyad]]:
 
 
 def _margins(dyads: list[tuple[int, Dyad]], st: Any) -> np.ndarray:
-    """Per RRR dyad and sample of the state ``st``: ``min(D − |e − f|, e + f − D) / (e + f)``.
+    """Per RRR dyad and sample of the state ``st``: its margin (:func:`_margin`)."""
+    with np.errstate(all="ignore"):
+        D = [np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre)) + np.zeros(st.n)
+             for _, s in dyads]  # fmt: skip
+    return _margin(np.array(D), np.array([(s.arm1.length, s.arm2.length) for _, s in dyads]))
+
+
+def _margin(D: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    """``min(D − |e − f|, e + f − D) / (e + f)`` per dyad (rows; ``sides``: its ``e, f``).
 
     ``D`` between its pivots: negative where it does not close, 0 at a toggle.
     NaN where its pivots meet (a kite's crank over the far pivot, where the
     dyad turns freely: not a crossing of its forms).
     """
-    rows = []
+    e, f = sides[:, :1], sides[:, 1:]
     with np.errstate(all="ignore"):
-        for _, s in dyads:
-            D = np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre))
-            e, f = s.arm1.length, s.arm2.length
-            m = np.minimum(D - abs(e - f), e + f - D) / (e + f)
-            rows.append(np.where(1e-6 * (e + f) < D, m, np.nan))
-    return np.array(rows)
+        m = np.minimum(D - np.abs(e - f), e + f - D) / (e + f)
+        return np.where(1e-6 * (e + f) < D, m, np.nan)
 
 
 # -------------------------------------------------------------- change points
