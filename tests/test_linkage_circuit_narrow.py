@@ -82,6 +82,23 @@ def test_a_sweep_along_the_path_stops_at_the_narrow_stretch():
     assert not m.ok[first_gap:].any()  # in the stretch (does not close) and past it
 
 
+@pytest.mark.parametrize("count", [200, 2000])
+def test_a_sweep_of_small_steps_stops_at_a_narrow_stretch_between_its_samples(count):
+    # samples 0.29° and 0.029° apart (less than a scan step), none in the stretch out
+    lk, reach = five_bar(0.05 * circuit.H)
+    s = (np.arange(count) + 0.5) / count
+    assert np.max(np.abs(np.diff(s))) * SPAN < circuit.H
+    assert (dist(s) <= reach).all()  # the premise: every sample closes
+    s_out = brentq(lambda x: dist(x)[0] - reach, 0.25, 0.5, xtol=1e-14)
+    u = START[:, None] + s * (END - START)[:, None]
+    m = lk.solve({"c1": u[0], "c2": u[1]})
+    # past the stretch, the straight path from the drawing crosses it too
+    assert (m.ok == (s < s_out)).all()
+    first = int(np.argmax(s > s_out))
+    sweep = f"path along the sweep (before sample {first}) leaves where RRR dyad (l3, l4)"
+    assert sweep in m.reason[first], m.reason[first]
+
+
 def test_a_path_that_stays_inside_is_not_flagged():
     # the same five-bar, the path shifted so that D stays below e + f all along it
     lk, reach = five_bar(0.3 * circuit.H)
@@ -122,3 +139,55 @@ def test_a_change_point_on_the_path_of_several_drivers_is_flagged_not_crossed(fo
         assert r.endswith("cannot reach this input along " + ("them" if follow else "it")
                           + " on its drawn form")  # fmt: skip
     assert np.isnan(m.theta["cp"][crosses]).all()
+
+
+def parallelogram_change_points():
+    """The crank angles (rad, [0, 2π)) of the change points of ``parallelogram_and_arm``,
+    written here: the crank O2-A (2) lies along the ground line O2-O4 (5) where
+    ``sin θ = 0``; there ``D = |A − O4|`` is 7 = e + f or 3 = |e − f| (the coupler 5 and the
+    rocker 2 in line: the two circles touch)."""
+    theta = np.array([0.0, math.pi])
+    D = np.abs(2 * np.exp(1j * theta) - 5)
+    assert np.allclose(D, [5 - 2, 5 + 2])  # |e − f|, e + f of the dyad (cp, r)
+    return theta
+
+
+def reached_without_a_change_point(th, start, follow):
+    """Per sample of a sweep ``th`` of the crank: reached from the drawn crank angle
+    ``start`` without passing a change point (one at the sample itself counts: a toggle),
+    straight from the drawing (the angle within 180° of it) or, along the sweep, from
+    the sample before if that one was reached."""
+    cps = parallelogram_change_points()
+
+    def passes(a, b):  # a change point in [a, b] (either way, angles unwrapped)
+        lo, hi = min(a, b) - 1e-9, max(a, b) + 1e-9
+        return any(math.floor((hi - c) / (2 * math.pi)) >= math.ceil((lo - c) / (2 * math.pi))
+                   for c in cps)  # fmt: skip
+
+    out = []
+    for k, t in enumerate(th):
+        straight = start + (t - start + math.pi) % (2 * math.pi) - math.pi
+        ok = not passes(start, straight)
+        if follow and k and out[-1]:
+            ok = ok or not passes(th[k - 1], t)
+        out.append(ok)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("step", [0.1, 0.4, 1.0])
+def test_a_sweep_of_small_steps_is_watched_between_its_samples(step):
+    # the review of 2026-11-25: at 0.4° steps (less than a scan step, circuit.H = 0.5°)
+    # 449 samples past the change point were shown ok on the crossed form
+    assert math.degrees(circuit.H) == 0.5
+    lk = parallelogram_and_arm()
+    th = np.radians(np.arange(60.0, 400.0 + step / 2, step))
+    m = lk.solve({"c1": th, "arm": 0.5 * th})
+    expected = reached_without_a_change_point(th, math.radians(60.0), True)
+    assert expected.sum() > 100 and (~expected).sum() > 100  # the premise: both kinds
+    assert (m.ok == expected).all(), np.flatnonzero(m.ok != expected)
+    # ok: the drawn form, the coupler parallel to the ground (θ_cp = 0: written here)
+    assert np.allclose(m.theta["cp"][m.ok], 0.0, atol=1e-9)
+    assert np.isnan(m.theta["cp"][~m.ok]).all()
+    at = np.abs(np.sin(th)) < 1e-9  # at a change point: a toggle
+    for r in m.reason[~expected & ~at]:
+        assert "passes a change point of RRR dyad (cp, r)" in r, r

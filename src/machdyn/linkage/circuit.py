@@ -523,52 +523,52 @@ class _Scan:
 
         The fraction of the stretch at its first point (steps of :data:`H`) where
         a group does not close; 1: only at its end (``at_end``); 2: nowhere.
+        With RRR dyads, stretches that join (one starting where the one before
+        ends: a sweep's) are scanned as one polyline (:class:`_Polyline`,
+        :meth:`dips`).
         """
         p0 = np.broadcast_to(p0, p1.shape)
+        out = np.where(at_end, 1.0, 2.0)
         if not p1.shape[1]:
-            return np.zeros(0)
+            return out
         count = self.steps(p0, p1)
-        if self.dyads is not None and (count >= 2).any():  # every point, margins too
-            leg = np.repeat(np.arange(p1.shape[1]), count + 1)
-            first = np.concatenate(([0], np.cumsum(count + 1)[:-1]))
-            idx = np.arange(leg.size) - np.repeat(first, count + 1)
-            frac = idx / count[leg]
-            fail, M = self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg], True)
-            bad = np.flatnonzero(fail.any(axis=0) & (idx > 0) & (idx < count[leg]))
-            out = np.where(at_end, 1.0, 2.0)
-            np.minimum.at(out, leg[bad], frac[bad])
-            self.dips(p0, p1, leg, idx, frac, M, ~fail.any(axis=0), out)
+        if self.dyads is not None:  # every point, margins too
+            line = _Polyline(p0, p1, count)
+            fail, M = self.failing(line.points(line.leg, line.frac), True)
+            inner = (line.idx > 0) & (line.idx < count[line.leg])
+            bad = np.flatnonzero(fail.any(axis=0) & inner)
+            np.minimum.at(out, line.leg[bad], line.frac[bad])
+            self.dips(line, M, ~fail.any(axis=0), out)
             return out
         # count − 1 points inside each, then its end
         leg = np.repeat(np.arange(p1.shape[1]), count - 1)
         first = np.concatenate(([0], np.cumsum(count - 1)[:-1]))
         inner = np.arange(leg.size) - np.repeat(first, count - 1) + 1
         frac = inner / np.repeat(count, count - 1)
-        out = np.where(at_end, 1.0, 2.0)
         if leg.size:
             bad = np.flatnonzero(self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg]).any(axis=0))
             np.minimum.at(out, leg[bad], frac[bad])
         return out
 
-    def dips(self, p0, p1, leg, idx, frac, M, closes, out) -> None:
+    def dips(self, line: _Polyline, M: np.ndarray, closes: np.ndarray, out: np.ndarray) -> None:
         """Lower ``out`` where an RRR dyad stops closing between two scanned points.
 
-        A stretch can leave where the dyads close, and come back, between two
+        A path can leave where the dyads close, and come back, between two
         points :data:`H` apart; or pass a change point of a dyad (its margin
-        touching 0, closing on both sides: its two forms cross). Along it each
-        RRR dyad's margin ``M`` (:func:`_margins`, at every point ``idx`` of each
-        stretch ``leg``, at its fraction ``frac``; ``closes`` there) is smooth:
-        where the parabola through three neighbouring points (all closing) has
-        its least within two steps of the middle one and below :data:`DIP`,
-        those four steps are scanned again in 64 cells, then around the least
-        margin (seven passes; each later one keeps two of the 64 cells, about
-        32-fold), until a point is found where a group does not close; or,
-        failing that, a margin within :data:`machdyn.classify.CHANGE_POINT_RTOL`
-        of 0 (a change point). Only stretches of two steps or more have a point
-        inside: a sweep whose samples are one step apart or closer is watched at
-        its samples only (docs/linkage.md says so).
+        touching 0, closing on both sides: its two forms cross). Along the
+        scanned polyline ``line`` each RRR dyad's margin ``M`` (:func:`_margin`,
+        at every point; ``closes`` there) is smooth but for kinks at joints:
+        where the parabola through three neighbouring points of the polyline
+        (all closing; across a joint too, so a sweep whose samples are one step
+        apart or closer is watched between them) has its least within two
+        steps of the middle one and below :data:`DIP`, those four steps are
+        scanned again in 64 cells, then around the least margin (seven passes;
+        each later one keeps two of the 64 cells, about 32-fold), until a point
+        is found where a group does not close; or, failing that, a margin
+        within :data:`machdyn.classify.CHANGE_POINT_RTOL` of 0 (a change point).
         """
-        i = np.flatnonzero((idx > 0) & (np.roll(idx, -1) > idx))  # a point inside a leg
+        idx = line.idx
+        i = np.flatnonzero((idx[:-1] > 0) & (idx[1:] > 0))  # neighbours on both sides
         lo, mid, hi = M[:, i - 1], M[:, i], M[:, i + 1]
         with np.errstate(all="ignore"):
             curve = hi - 2.0 * mid + lo
@@ -576,34 +576,37 @@ class _Scan:
             least = mid - (hi - lo) ** 2 / (8.0 * curve)
             dip = (curve > 0) & (np.abs(at) <= 2.0) & (least < DIP)
         k = i[dip.any(axis=0) & closes[i - 1] & closes[i] & closes[i + 1]]
-        step = frac[k] - frac[k - 1]  # (a margin is not quite a parabola: two steps each way)
-        g, f0, f1 = leg[k], np.maximum(frac[k] - 2 * step, 0.0), np.minimum(frac[k] + 2 * step, 1.0)
-        cut, m = np.linspace(0.0, 1.0, CUTS), len(self.lk._drivers)
-        at = least = np.zeros(g.size)
+        first, last = line.ends(k)  # (a margin is not quite a parabola: two steps each way)
+        t0, t1 = np.maximum(k - 2, first).astype(float), np.minimum(k + 2, last).astype(float)
+        cut = np.linspace(0.0, 1.0, CUTS)
+        at = least = np.zeros(k.size)
         for _ in range(7):
-            keep = f0 < out[g]  # (not where the leg leaves before already)
-            g, f0, f1, at, least = g[keep], f0[keep], f1[keep], at[keep], least[keep]
-            if not g.size:
+            g0, f0 = line.at(t0, last)
+            keep = (f0 < out[g0]) | (line.at(t1, last)[0] != g0)  # (not past where it left)
+            t0, t1, last, at, least = t0[keep], t1[keep], last[keep], at[keep], least[keep]
+            if not t0.size:
                 return
-            f = f0[:, None] + (f1 - f0)[:, None] * cut  # cells × CUTS
-            z = (p0[:, g, None] + f[None] * (p1 - p0)[:, g, None]).reshape(m, -1)
-            fail, least = self.failing(z, True)
-            bad = fail.any(axis=0).reshape(f.shape)
+            t = t0[:, None] + (t1 - t0)[:, None] * cut  # cells × CUTS
+            g, f = line.at(t, last[:, None])
+            fail, least = self.failing(line.points(g.ravel(), f.ravel()), True)
+            bad = fail.any(axis=0).reshape(t.shape)
             hit = bad.any(axis=1)
-            np.minimum.at(out, g[hit], f[hit, np.argmax(bad[hit], axis=1)])
+            j = np.argmax(bad[hit], axis=1)
+            np.minimum.at(out, g[hit, j], f[hit, j])
             with np.errstate(all="ignore"):
-                least = np.nanmin(least, axis=0).reshape(f.shape)  # over the dyads
+                least = np.nanmin(least, axis=0).reshape(t.shape)  # over the dyads
             j = np.argmin(np.where(np.isnan(least), np.inf, least), axis=1)
-            rows = np.arange(g.size)
-            at, least = f[rows, j], least[rows, j]
-            f0 = f[rows, np.maximum(j - 1, 0)]
-            f1 = f[rows, np.minimum(j + 1, CUTS - 1)]
-            g, f0, f1, at, least = g[~hit], f0[~hit], f1[~hit], at[~hit], least[~hit]
+            rows = np.arange(t0.size)
+            at, least = t[rows, j], least[rows, j]
+            t0 = t[rows, np.maximum(j - 1, 0)]
+            t1 = t[rows, np.minimum(j + 1, CUTS - 1)]
+            t0, t1, last, at, least = t0[~hit], t1[~hit], last[~hit], at[~hit], least[~hit]
         # closing on both sides of a margin of 0: a change point (the dyad's forms cross)
         from ..classify import CHANGE_POINT_RTOL
 
         cross = np.abs(least) <= CHANGE_POINT_RTOL
-        np.minimum.at(out, g[cross], at[cross])
+        g, f = line.at(at[cross], last[cross])
+        np.minimum.at(out, g, f)
 
     def exit(self, p0: np.ndarray, p1: np.ndarray, out: np.ndarray):
         """Where each stretch leaves, from its first failing fraction ``out`` (as scanned).
@@ -649,6 +652,45 @@ class _Scan:
                 "the drawn form through one)"
             )
         return f"the drivers' {path} leaves where {name} closes at {', '.join(values)}"
+
+
+class _Polyline:
+    """The points of a scan: stretches ``p0 → p1`` (columns) cut in ``count`` steps each.
+
+    A stretch that starts where the one before it ends (a sweep's legs: drawing
+    → sample 0 → sample 1 …) goes on from it: its first point is the last of
+    the one before, and together they make one polyline. Each point (a row) is
+    the step ``idx`` of the stretch ``leg``, at its fraction ``frac``; ``idx``
+    is 0 only where a polyline begins. A position ``t`` along the polyline is a
+    row where whole, and between two rows on the segment that joins them.
+    """
+
+    def __init__(self, p0: np.ndarray, p1: np.ndarray, count: np.ndarray) -> None:
+        self.p0, self.d, self.count = p0, p1 - p0, count
+        joined = np.zeros(count.size, np.int64)
+        joined[1:] = (p0[:, 1:] == p1[:, :-1]).all(axis=0)
+        size = count + 1 - joined
+        self.leg = np.repeat(np.arange(count.size), size)
+        self.base = np.cumsum(size) - size - joined  # each stretch's step 0 (a row)
+        self.idx = np.arange(self.leg.size) - self.base[self.leg]
+        self.frac = self.idx / count[self.leg]
+
+    def ends(self, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The first and the last row of the polyline of each row ``k``."""
+        starts = np.flatnonzero(self.idx == 0)
+        n = np.searchsorted(starts, k, side="right")
+        last = np.append(starts[1:] - 1, self.idx.size - 1)
+        return starts[n - 1], last[n - 1]
+
+    def at(self, t: np.ndarray, last: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The stretch and fraction of each position ``t`` (its polyline ends at row ``last``)."""
+        j = np.minimum(np.floor(t).astype(np.int64) + 1, last)  # the segment ending at row j
+        g = self.leg[j]
+        return g, np.clip((self.idx[j] - (j - t)) / self.count[g], 0.0, 1.0)
+
+    def points(self, g: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """The drivers' values at the fractions ``f`` of the stretches ``g``."""
+        return self.p0[:, g] + f * self.d[:, g]
 
 
 def _rrr_dyads(program: Program) -> list[tuple[int, Dyad]]:
