@@ -459,15 +459,15 @@ def _path_lost(
     if follow:  # the sweep's legs: drawing → sample 0 → sample 1 ...
         along = U0 - turns[:, :1]
         prev = np.concatenate((start, along[:, :-1]), axis=1)
-        leg_out = scan.first_out(prev, along, at_end)
+        leg_out, leg_who = scan.first_out(prev, along, at_end)
         broken = leg_out <= 1.0
         if not broken.any():
             return None
         todo = np.flatnonzero(~at_end & (k >= np.argmax(broken)))
     else:
         todo = np.flatnonzero(~at_end)
-    straight = np.full(n, 2.0)
-    straight[todo] = scan.first_out(start, ends[:, todo], at_end[todo])
+    straight, who = np.full(n, 2.0), np.full(n, -1)
+    straight[todo], who[todo] = scan.first_out(start, ends[:, todo], at_end[todo])
     reached = ~at_end & (straight > 1.0)
     if follow:  # or reached along the sweep from the last sample reached
         last_break = np.maximum.accumulate(np.where(broken, k, -1))
@@ -478,7 +478,7 @@ def _path_lost(
         return None
     idx = np.flatnonzero(away)
     group, where, change = scan.exit(np.broadcast_to(start, ends[:, idx].shape), ends[:, idx],
-                                     straight[idx])  # fmt: skip
+                                     straight[idx], who[idx])  # fmt: skip
     texts = [
         scan.text(g, w, "straight path from the drawing to this input", c)
         for g, w, c in zip(group, where.T, change, strict=True)
@@ -486,7 +486,8 @@ def _path_lost(
     if follow:  # and where the sweep left after the last sample it reached
         after = np.minimum.accumulate(np.where(broken, k, n)[::-1])[::-1]  # next break from k
         legs, inverse = np.unique(after[last_seed[idx] + 1], return_inverse=True)
-        g_leg, w_leg, c_leg = scan.exit(prev[:, legs], along[:, legs], leg_out[legs])
+        g_leg, w_leg, c_leg = scan.exit(prev[:, legs], along[:, legs], leg_out[legs],
+                                        leg_who[legs])  # fmt: skip
         w_leg += turns[:, :1]
         sweep = [scan.text(g, w, f"path along the sweep (before sample {j})", c)
                  for g, w, j, c in zip(g_leg, w_leg.T, legs, c_leg, strict=True)]  # fmt: skip
@@ -512,25 +513,29 @@ class _Scan:
         self.failing = _failing(lk, model, info)
         self.scale = info.scale[:, None]
         self.dyads = _rrr_dyads(model.program) or None
+        self.dyad_group = np.array([g for g, _ in self.dyads or ()], np.int64)
 
     def steps(self, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
         """The number of steps of :data:`H` (at least one) scanning each stretch ``p0 → p1``."""
         count = np.ceil(np.max(np.abs(p1 - p0) / self.scale, axis=0) / H).astype(np.int64)
         return np.maximum(count, 1)
 
-    def first_out(self, p0: np.ndarray, p1: np.ndarray, at_end: np.ndarray) -> np.ndarray:
+    def first_out(
+        self, p0: np.ndarray, p1: np.ndarray, at_end: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Per stretch ``p0 → p1`` (columns): where the first group stops closing.
 
-        The fraction of the stretch at its first point (steps of :data:`H`) where
-        a group does not close; 1: only at its end (``at_end``); 2: nowhere.
-        With RRR dyads, stretches that join (one starting where the one before
-        ends: a sweep's) are scanned as one polyline (:class:`_Polyline`,
-        :meth:`dips`).
+        Returns ``(out, who)``: the fraction of the stretch at its first point
+        (steps of :data:`H`) where a group does not close, or where an RRR
+        dyad passes a change point (:meth:`dips`; ``who``: its group, else -1);
+        1: only at its end (``at_end``); 2: nowhere. With RRR dyads, stretches
+        that join (one starting where the one before ends: a sweep's) are
+        scanned as one polyline (:class:`_Polyline`).
         """
         p0 = np.broadcast_to(p0, p1.shape)
-        out = np.where(at_end, 1.0, 2.0)
+        out, who = np.where(at_end, 1.0, 2.0), np.full(p1.shape[1], -1)
         if not p1.shape[1]:
-            return out
+            return out, who
         count = self.steps(p0, p1)
         if self.dyads is not None:  # every point, margins too
             line = _Polyline(p0, p1, count)
@@ -538,8 +543,8 @@ class _Scan:
             inner = (line.idx > 0) & (line.idx < count[line.leg])
             bad = np.flatnonzero(fail.any(axis=0) & inner)
             np.minimum.at(out, line.leg[bad], line.frac[bad])
-            self.dips(line, M, ~fail.any(axis=0), out)
-            return out
+            self.dips(line, M, ~fail.any(axis=0), out, who)
+            return out, who
         # count − 1 points inside each, then its end
         leg = np.repeat(np.arange(p1.shape[1]), count - 1)
         first = np.concatenate(([0], np.cumsum(count - 1)[:-1]))
@@ -548,9 +553,9 @@ class _Scan:
         if leg.size:
             bad = np.flatnonzero(self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg]).any(axis=0))
             np.minimum.at(out, leg[bad], frac[bad])
-        return out
+        return out, who
 
-    def dips(self, line: _Polyline, M: np.ndarray, closes: np.ndarray, out: np.ndarray) -> None:
+    def dips(self, line: _Polyline, M: np.ndarray, closes: np.ndarray, out, who) -> None:
         """Lower ``out`` where an RRR dyad stops closing between two scanned points.
 
         A path can leave where the dyads close, and come back, between two
@@ -562,10 +567,12 @@ class _Scan:
         (all closing; across a joint too, so a sweep whose samples are one step
         apart or closer is watched between them) has its least within two
         steps of the middle one and below :data:`DIP`, those four steps are
-        scanned again in 64 cells, then around the least margin (seven passes;
-        each later one keeps two of the 64 cells, about 32-fold), until a point
-        is found where a group does not close; or, failing that, a margin
-        within :data:`machdyn.classify.CHANGE_POINT_RTOL` of 0 (a change point).
+        scanned again in 64 cells, then around that dyad's least margin (seven
+        passes; each later one keeps two of the 64 cells, about 32-fold; each
+        dyad that dips on its own, whatever the others' margins), until a point
+        is found where a group does not close; or, failing that, that dyad's
+        margin within :data:`machdyn.classify.CHANGE_POINT_RTOL` of 0 (a change
+        point: ``who`` takes its group where it lowers ``out``).
         """
         idx = line.idx
         i = np.flatnonzero((idx[:-1] > 0) & (idx[1:] > 0))  # neighbours on both sides
@@ -575,7 +582,8 @@ class _Scan:
             at = (lo - hi) / (2.0 * curve)  # the parabola's least, from the middle point
             least = mid - (hi - lo) ** 2 / (8.0 * curve)
             dip = (curve > 0) & (np.abs(at) <= 2.0) & (least < DIP)
-        k = i[dip.any(axis=0) & closes[i - 1] & closes[i] & closes[i + 1]]
+        d, c = np.nonzero(dip & closes[i - 1] & closes[i] & closes[i + 1])  # which dyad, where
+        k = i[c]
         first, last = line.ends(k)  # (a margin is not quite a parabola: two steps each way)
         t0, t1 = np.maximum(k - 2, first).astype(float), np.minimum(k + 2, last).astype(float)
         cut = np.linspace(0.0, 1.0, CUTS)
@@ -583,35 +591,41 @@ class _Scan:
         for _ in range(7):
             g0, f0 = line.at(t0, last)
             keep = (f0 < out[g0]) | (line.at(t1, last)[0] != g0)  # (not past where it left)
-            t0, t1, last, at, least = t0[keep], t1[keep], last[keep], at[keep], least[keep]
+            t0, t1, last, d, at = t0[keep], t1[keep], last[keep], d[keep], at[keep]
+            least = least[keep]
             if not t0.size:
                 return
             t = t0[:, None] + (t1 - t0)[:, None] * cut  # cells × CUTS
             g, f = line.at(t, last[:, None])
-            fail, least = self.failing(line.points(g.ravel(), f.ravel()), True)
+            fail, M = self.failing(line.points(g.ravel(), f.ravel()), True)
             bad = fail.any(axis=0).reshape(t.shape)
             hit = bad.any(axis=1)
             j = np.argmax(bad[hit], axis=1)
-            np.minimum.at(out, g[hit, j], f[hit, j])
-            with np.errstate(all="ignore"):
-                least = np.nanmin(least, axis=0).reshape(t.shape)  # over the dyads
-            j = np.argmin(np.where(np.isnan(least), np.inf, least), axis=1)
+            _lower(out, who, g[hit, j], f[hit, j], np.full(j.size, -1))
             rows = np.arange(t0.size)
-            at, least = t[rows, j], least[rows, j]
+            mine = M.reshape(-1, *t.shape)[d, rows]  # the margin of the dyad that dipped
+            j = np.argmin(np.where(np.isnan(mine), np.inf, mine), axis=1)
+            at, least = t[rows, j], mine[rows, j]
             t0 = t[rows, np.maximum(j - 1, 0)]
             t1 = t[rows, np.minimum(j + 1, CUTS - 1)]
-            t0, t1, last, at, least = t0[~hit], t1[~hit], last[~hit], at[~hit], least[~hit]
+            t0, t1, last, d, at, least = (a[~hit] for a in (t0, t1, last, d, at, least))
+            # neighbouring middle points of one dip share the cuts' lattice: once they narrow
+            # to the same cells, one goes on
+            one = np.unique(np.stack([d, t0, t1]), axis=1, return_index=True)[1]
+            t0, t1, last, d, at, least = (a[one] for a in (t0, t1, last, d, at, least))
         # closing on both sides of a margin of 0: a change point (the dyad's forms cross)
         from ..classify import CHANGE_POINT_RTOL
 
         cross = np.abs(least) <= CHANGE_POINT_RTOL
         g, f = line.at(at[cross], last[cross])
-        np.minimum.at(out, g, f)
+        _lower(out, who, g, f, self.dyad_group[d[cross]])
 
-    def exit(self, p0: np.ndarray, p1: np.ndarray, out: np.ndarray):
+    def exit(self, p0: np.ndarray, p1: np.ndarray, out: np.ndarray, who: np.ndarray):
         """Where each stretch leaves, from its first failing fraction ``out`` (as scanned).
 
-        The first group not closing just past it, and the last values where all close.
+        The first group not closing just past it (or ``who``, the dyad whose
+        change point :meth:`first_out` found there), the last values where all
+        close, and whether it is a change point.
         """
         a, b = np.maximum(out - 1.0 / self.steps(p0, p1), 0.0), out
         m = len(self.lk._drivers)
@@ -632,10 +646,11 @@ class _Scan:
         change = ~past.any(axis=0) & ~scanned.any(axis=0) & (out < 1.0)
         if self.dyads is None:
             change[:] = False
-        if change.any():  # the RRR dyad of the least margin there
+        if change.any():  # the dyad that passed it (else, should rounding have made a point
+            # found not closing close when scanned again: the RRR dyad of the least margin there)
             _, M = self.failing(p0[:, change] + b[change] * (p1 - p0)[:, change], True)
-            pick = np.argmin(np.where(np.isnan(M), np.inf, np.abs(M)), axis=0)
-            group[change] = np.array([g for g, _ in self.dyads])[pick]
+            pick = self.dyad_group[np.argmin(np.where(np.isnan(M), np.inf, np.abs(M)), axis=0)]
+            group[change] = np.where(who[change] >= 0, who[change], pick)
         return group, p0 + a * (p1 - p0), change
 
     def text(self, g: int, at: np.ndarray, path: str, change: bool = False) -> str:
@@ -652,6 +667,17 @@ class _Scan:
                 "the drawn form through one)"
             )
         return f"the drivers' {path} leaves where {name} closes at {', '.join(values)}"
+
+
+def _lower(out: np.ndarray, who: np.ndarray, g: np.ndarray, f: np.ndarray, by: np.ndarray):
+    """``out[g] = min(out[g], f)`` (rows may repeat a ``g``), and ``who[g] = by`` where lowered."""
+    order = np.lexsort((f, g))
+    g, f, by = g[order], f[order], by[order]
+    first = np.ones(g.size, bool)
+    first[1:] = g[1:] != g[:-1]  # each stretch's least
+    g, f, by = g[first], f[first], by[first]
+    low = f < out[g]
+    out[g[low]], who[g[low]] = f[low], by[low]
 
 
 class _Polyline:
