@@ -21,6 +21,8 @@ from closed_forms import circle_meet
 from machdyn.linkage import Linkage
 from test_linkage_circuit_narrow import reached_without_a_change_point
 
+pytestmark = pytest.mark.usefixtures("backend")  # NumPy, then the compiled kernel
+
 
 def parallelogram_and_near_miss(margin):
     """``parallelogram_and_arm``'s parallelogram (driven at c1) and a second four-bar

@@ -152,12 +152,13 @@ def parallelogram_change_points():
     return theta
 
 
-def reached_without_a_change_point(th, start, follow):
+def reached_without_a_change_point(th, start, follow, cps=None):
     """Per sample of a sweep ``th`` of the crank: reached from the drawn crank angle
-    ``start`` without passing a change point (one at the sample itself counts: a toggle),
-    straight from the drawing (the angle within 180° of it) or, along the sweep, from
-    the sample before if that one was reached."""
-    cps = parallelogram_change_points()
+    ``start`` without passing a change point (``cps``, the parallelogram's by default;
+    one at the sample itself counts: a toggle), straight from the drawing (the angle
+    within 180° of it) or, along the sweep (``follow``), from the sample before if that
+    one was reached."""
+    cps = parallelogram_change_points() if cps is None else cps
 
     def passes(a, b):  # a change point in [a, b] (either way, angles unwrapped)
         lo, hi = min(a, b) - 1e-9, max(a, b) + 1e-9

@@ -24,7 +24,7 @@ module tells which samples the drawing reaches without that
   straight path from the drawing (angles within π of the drawn ones). The
   path is scanned in steps of :data:`H` (scaled driver units: radians, or
   typical lengths) and where it leaves narrowed 64-fold seven times; between
-  scanned points, where an RRR dyad's margin dips, it is scanned again
+  scanned points, where an RRR or RRP dyad's margin dips, it is scanned again
   (:meth:`_Scan.dips`): an excursion narrower than a step is found, and so is
   a change point on the path, which is flagged (not passed) with several drivers.
 * **Change points** (:func:`change_points`, :func:`flips`): where a dyad's two
@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import kernel
-from .program import NO_ASSEMBLY, Dyad, General, Program, RArm
+from .program import NO_ASSEMBLY, Dyad, General, PArm, Program, RArm, Ref
 
 if TYPE_CHECKING:
     from .builder import Linkage
@@ -370,28 +370,29 @@ def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
 def _failing(lk: Linkage, model: _Model, info: _Info):
     """A function: driver values (drivers × m) → per group and point, it does not close.
 
-    With ``margins`` it also returns each RRR dyad's margin (:func:`_margins`,
-    :func:`_rrr_dyads` order) at each point. One run of the program serves
-    both, by whichever engine :func:`machdyn.linkage.kernel.run` picks (the
-    compiled kernel when it serves): it reports only the dyads' pivots
-    (:func:`_pivots`), from which the margins are measured.
+    With ``margins`` it also returns the margin (:func:`_margin`) of each
+    watched dyad (:func:`_watched`, in its order) at each point. One run of
+    the program serves both, by whichever engine
+    :func:`machdyn.linkage.kernel.run` picks (the compiled kernel when it
+    serves): it reports only the points the margins are measured from
+    (:func:`_gauges`).
     """
     program = model.program
     walls = [i for i, d in enumerate(lk._drivers) if d in lk._actuators]
-    dyads = _rrr_dyads(program)
-    tables, sides = _pivots(model, info, dyads)
+    tables, sides = _gauges(model, info, _watched(program))
 
     def failing(x: np.ndarray, margins: bool = False) -> Any:
         out = np.zeros((len(program.deps), x.shape[1]), bool)
-        M = np.empty((len(dyads), x.shape[1])) if margins else None
+        M = np.empty((len(sides), x.shape[1])) if margins else None
         for k in range(0, x.shape[1], CHUNK):
             part = x[:, k : k + CHUNK]
             U = np.zeros((4 * part.shape[0], part.shape[1]))
             U[0::4] = part
             with np.errstate(all="ignore"):
                 run = kernel.run(program, tables, U, 0, False)
-                if M is not None:  # (the pivots' rows: each dyad's two in turn)
-                    M[:, k : k + CHUNK] = _margin(np.abs(run.pts[0::2] - run.pts[1::2]), sides)
+                if M is not None:  # (each dyad's three points in turn)
+                    P = run.pts
+                    M[:, k : k + CHUNK] = _margin(P[0::3], P[1::3], P[2::3], sides)
             out[:, k : k + CHUNK] = run.codes == NO_ASSEMBLY
         for i in walls:  # an actuator's length stays > 0: its group does not close
             out[_group_of_driver(model, i)] |= x[i] <= 0.0
@@ -400,18 +401,19 @@ def _failing(lk: Linkage, model: _Model, info: _Info):
     return failing
 
 
-def _pivots(model: _Model, info: _Info, dyads: list[tuple[int, Dyad]]) -> tuple[Any, np.ndarray]:
-    """Run tables that report only the RRR dyads' pivots, and each dyad's sides.
+def _gauges(model: _Model, info: _Info, dyads: list[tuple[int, Dyad]]) -> tuple[Any, np.ndarray]:
+    """Run tables that report only the points the ``dyads``' margins are measured from.
 
-    Returns ``(tables, sides)``: the tables' points are each dyad's two
-    centres in turn (rows ``2j`` and ``2j + 1`` for dyad ``j``), ``sides``
-    (dyads × 2) its arms' lengths ``e, f``. No link angles or lengths are
+    Returns ``(tables, sides)``: the tables' points are each dyad's three
+    points of :func:`_gauge` in turn (rows ``3j`` to ``3j + 2`` for dyad ``j``),
+    ``sides`` (dyads × 2) its two lengths. No link angles or lengths are
     reported, so a scan's run does little more than solve the groups.
     """
-    if "pivots" not in model.cache:
+    if "gauges" not in model.cache:
         from .kernel import Tables
 
-        refs = [r for _, s in dyads for r in (s.arm1.centre, s.arm2.centre)]
+        gauges = [_gauge(s) for _, s in dyads]
+        refs = [r for points, _ in gauges for r in points]
         none = np.zeros(0)
         tables = Tables(
             np.zeros(0, np.int64),
@@ -424,9 +426,9 @@ def _pivots(model: _Model, info: _Info, dyads: list[tuple[int, Dyad]]) -> tuple[
             info.tables.start,
             info.tables.scale,
         )
-        sides = np.array([(s.arm1.length, s.arm2.length) for _, s in dyads], float)
-        model.cache["pivots"] = (tables, sides.reshape(-1, 2))
-    return model.cache["pivots"]  # type: ignore[return-value]
+        sides = np.array([lengths for _, lengths in gauges], float).reshape(-1, 2)
+        model.cache["gauges"] = (tables, sides)
+    return model.cache["gauges"]  # type: ignore[return-value]
 
 
 def _group_of_driver(model: _Model, d: int) -> int:
@@ -512,7 +514,7 @@ class _Scan:
         self.lk, self.model, self.info = lk, model, info
         self.failing = _failing(lk, model, info)
         self.scale = info.scale[:, None]
-        self.dyads = _rrr_dyads(model.program) or None
+        self.dyads = _watched(model.program) or None
         self.dyad_group = np.array([g for g, _ in self.dyads or ()], np.int64)
 
     def steps(self, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
@@ -526,9 +528,9 @@ class _Scan:
         """Per stretch ``p0 → p1`` (columns): where the first group stops closing.
 
         Returns ``(out, who)``: the fraction of the stretch at its first point
-        (steps of :data:`H`) where a group does not close, or where an RRR
+        (steps of :data:`H`) where a group does not close, or where a watched
         dyad passes a change point (:meth:`dips`; ``who``: its group, else -1);
-        1: only at its end (``at_end``); 2: nowhere. With RRR dyads, stretches
+        1: only at its end (``at_end``); 2: nowhere. With watched dyads, stretches
         that join (one starting where the one before ends: a sweep's) are
         scanned as one polyline (:class:`_Polyline`).
         """
@@ -556,12 +558,12 @@ class _Scan:
         return out, who
 
     def dips(self, line: _Polyline, M: np.ndarray, closes: np.ndarray, out, who) -> None:
-        """Lower ``out`` where an RRR dyad stops closing between two scanned points.
+        """Lower ``out`` where a dyad stops closing between two scanned points.
 
         A path can leave where the dyads close, and come back, between two
         points :data:`H` apart; or pass a change point of a dyad (its margin
         touching 0, closing on both sides: its two forms cross). Along the
-        scanned polyline ``line`` each RRR dyad's margin ``M`` (:func:`_margin`,
+        scanned polyline ``line`` each watched dyad's margin ``M`` (:func:`_margin`,
         at every point; ``closes`` there) is smooth but for kinks at joints:
         where the parabola through three neighbouring points of the polyline
         (all closing; across a joint too, so a sweep whose samples are one step
@@ -642,12 +644,12 @@ class _Scan:
         past, scanned = both[:, : out.size], both[:, out.size :]
         group = np.where(past.any(axis=0), np.argmax(past, axis=0), np.argmax(scanned, axis=0))
         # every group closes: a change point found by :meth:`dips` (never at a leg's end,
-        # where ``out`` is 1 because the solve itself failed there, nor without RRR dyads)
+        # where ``out`` is 1 because the solve itself failed there, nor without watched dyads)
         change = ~past.any(axis=0) & ~scanned.any(axis=0) & (out < 1.0)
         if self.dyads is None:
             change[:] = False
         if change.any():  # the dyad that passed it (else, should rounding have made a point
-            # found not closing close when scanned again: the RRR dyad of the least margin there)
+            # found not closing close when scanned again: the dyad of the least margin there)
             _, M = self.failing(p0[:, change] + b[change] * (p1 - p0)[:, change], True)
             pick = self.dyad_group[np.argmin(np.where(np.isnan(M), np.inf, np.abs(M)), axis=0)]
             group[change] = np.where(who[change] >= 0, who[change], pick)
@@ -729,25 +731,65 @@ def _rrr_dyads(program: Program) -> list[tuple[int, Dyad]]:
     ]
 
 
+def _watched(program: Program) -> list[tuple[int, Dyad]]:
+    """The dyads whose margins a scan watches: the RRR dyads, then the RRP (and PRR) ones.
+
+    (Pinned or guided on known bodies, no driven arm; with their groups.)
+    """
+    rrp = [
+        (g, s)
+        for g, s in zip(program.group_of_step, program.steps, strict=True)
+        if isinstance(s, Dyad)
+        and isinstance(s.arm1, RArm) != isinstance(s.arm2, RArm)
+        and all(a.driver < 0 for a in (s.arm1, s.arm2) if isinstance(a, RArm))
+    ]
+    return _rrr_dyads(program) + rrp
+
+
+def _gauge(s: Dyad) -> tuple[tuple[Ref, Ref, Ref], tuple[float, float]]:
+    """Three material points and two lengths giving the dyad's margin (:func:`_margin`).
+
+    RRR: its pivots (the second twice) and its arms' lengths ``e, f``. RRP: its
+    R arm's pivot ``A``, the line's point ``G`` and the point a unit along the
+    line from it (on the same link), and ``(a, NaN)``, ``a`` the R arm's length.
+    """
+    a1, a2 = s.arm1, s.arm2
+    if isinstance(a1, RArm) and isinstance(a2, RArm):
+        return (a1.centre, a2.centre, a2.centre), (a1.length, a2.length)
+    r, p = (a1, a2) if isinstance(a1, RArm) else (a2, a1)
+    assert isinstance(r, RArm) and isinstance(p, PArm)
+    link, G = p.G
+    return (r.centre, p.G, (link, G + p.u0 / abs(p.u0))), (r.length, math.nan)
+
+
 def _margins(dyads: list[tuple[int, Dyad]], st: Any) -> np.ndarray:
-    """Per RRR dyad and sample of the state ``st``: its margin (:func:`_margin`)."""
-    with np.errstate(all="ignore"):
-        D = [np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre)) + np.zeros(st.n)
-             for _, s in dyads]  # fmt: skip
-    return _margin(np.array(D), np.array([(s.arm1.length, s.arm2.length) for _, s in dyads]))
+    """Per dyad and sample of the state ``st``: its margin (:func:`_margin`)."""
+    gauges = [_gauge(s) for _, s in dyads]
+    zero = np.zeros(st.n)
+    P = [[st.pos(r) + zero for r in points] for points, _ in gauges]
+    sides = np.array([lengths for _, lengths in gauges], float).reshape(-1, 2)
+    return _margin(*(np.array([p[k] for p in P]).reshape(-1, st.n) for k in range(3)), sides)
 
 
-def _margin(D: np.ndarray, sides: np.ndarray) -> np.ndarray:
-    """``min(D − |e − f|, e + f − D) / (e + f)`` per dyad (rows; ``sides``: its ``e, f``).
+def _margin(A: np.ndarray, B: np.ndarray, C: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    """Per dyad (rows), its relative margin from its points of :func:`_gauge`.
 
-    ``D`` between its pivots: negative where it does not close, 0 at a toggle.
-    NaN where its pivots meet (a kite's crank over the far pivot, where the
-    dyad turns freely: not a crossing of its forms).
+    Negative where it does not close, 0 at a toggle. RRR (``sides``: ``e, f``):
+    ``min(D − |e − f|, e + f − D) / (e + f)``, ``D = |A − B|`` between its
+    pivots; NaN where they meet (a kite's crank over the far pivot, where the
+    dyad turns freely: not a crossing of its forms). RRP (``sides``: ``a``,
+    NaN): ``(a − |h|) / a``, ``h`` the distance of the R arm's pivot ``A`` from
+    the line through ``B`` along ``C − B`` (0 where the arm stands square to
+    the line: two forms meet; a change point where that touches 0 and the
+    dyad closes on both sides, as an isosceles slider-crank's).
     """
     e, f = sides[:, :1], sides[:, 1:]
     with np.errstate(all="ignore"):
-        m = np.minimum(D - np.abs(e - f), e + f - D) / (e + f)
-        return np.where(1e-6 * (e + f) < D, m, np.nan)
+        D = np.abs(A - B)
+        m = np.where(1e-6 * (e + f) < D, np.minimum(D - np.abs(e - f), e + f - D) / (e + f), np.nan)
+        u = C - B
+        h = ((A - B) * np.conj(u)).imag / np.abs(u)
+        return np.where(np.isnan(f), (e - np.abs(h)) / e, m)
 
 
 # -------------------------------------------------------------- change points
