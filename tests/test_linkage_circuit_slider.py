@@ -7,9 +7,10 @@ equals the rod's length: the rod's circle about A touches the line), the block
 sits on O2, and the dyad's two forms — ``B = 2 r cos θ`` (the drawn one) and
 ``B = 0`` — cross. Holding the drawn assembly sign through it goes on along the
 other form; with a second driver machdyn flags the samples past it (as for an
-RRR dyad's, ``test_linkage_circuit_narrow.py``). The references are written
-here: the change points and the drawn form in closed form, the samples reached
-without passing one (``reached_without_a_change_point``).
+RRR dyad's, ``test_linkage_circuit_narrow.py``); with one driver it follows
+the drawn form through it (as a parallelogram's, ``test_linkage_change_point.py``).
+The references are written here: the change points and the drawn form in closed
+form, the samples reached without passing one (``reached_without_a_change_point``).
 """
 
 from __future__ import annotations
@@ -60,3 +61,25 @@ def test_a_path_through_a_sliders_change_point_is_flagged_not_crossed(step, foll
     for r in m.reason[~expected]:
         assert "passes a change point of RRP dyad (rod, block)" in r, r
         assert r.endswith(f"cannot reach this input along {word} on its drawn form"), r
+
+
+def slider_crank():
+    A = R * np.exp(1j * T0)
+    lk = Linkage({"O2": 0j, "A": A, "B": 2 * R * math.cos(T0) + 0j}).ground("O2")
+    lk.link("crank", "O2", "A").link("rod", "A", "B").link("block", "B")
+    return lk.slider("block", "ground", "B", 0.0, through="O2", name="guide").drive("crank")
+
+
+@pytest.mark.parametrize("follow", [True, False])
+def test_one_driver_follows_the_drawn_form_through_a_sliders_change_point(follow):
+    # one driver: the drawn form goes on by continuity, as a parallelogram's does
+    # (test_linkage_change_point.py); it showed B = 0 past 90° before
+    lk = slider_crank()
+    th = np.radians(np.arange(30.0, 390.0 + 0.5, 1.0))
+    m = lk.solve(th, velocity=1.0, continuation=follow)
+    at = np.abs(np.cos(th)) < 1e-9  # the crank square to the slide: a toggle
+    assert at.sum() == 2 and (m.ok == ~at).all(), m.reason[~m.ok]
+    B, V = m.points["B"][m.ok], m.point_velocity["B"][m.ok]
+    assert np.allclose(B, 2 * R * np.cos(th[m.ok]), atol=1e-9)
+    assert np.allclose(V, -2 * R * np.sin(th[m.ok]), atol=1e-8)  # d(2r cos θ)/dt, ω = 1
+    assert np.allclose(np.abs(R * np.exp(1j * th[m.ok]) - B), R, atol=1e-9)

@@ -28,8 +28,9 @@ module tells which samples the drawing reaches without that
   (:meth:`_Scan.dips`): an excursion narrower than a step is found, and so is
   a change point on the path, which is flagged (not passed) with several drivers.
 * **Change points** (:func:`change_points`, :func:`flips`): where a dyad's two
-  forms cross (a parallelogram four-bar in line), a sweep with one angle
-  driver follows the drawn form by continuity, turning that dyad's assembly sign.
+  forms cross (a parallelogram four-bar in line, an isosceles slider-crank's
+  crank square to the slide), a sweep with one angle driver follows the drawn
+  form by continuity, turning that dyad's assembly sign.
 """
 
 from __future__ import annotations
@@ -798,13 +799,16 @@ def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, f
 
     At a change point (a four-bar with ``s + l = p + q``: all its pivots in
     line) a dyad's two circles touch while it closes on both sides: its two
-    forms (a parallelogram's and an antiparallelogram's) meet and cross there.
+    forms (a parallelogram's and an antiparallelogram's) meet and cross there;
+    so do an RRP dyad's where its rod's circle touches the slide line (an
+    isosceles slider-crank, crank = rod, with the crank square to the slide).
     Holding the drawn assembly sign through it would go on along the *other*
     form; the drawn form goes on smoothly (the coupler angle and its rate
     continuous: a parallelogram's coupler stays parallel to the ground) with
     the other sign, and that is the one a sweep follows (:func:`flips`).
-    Found once per model: each RRR dyad's margin ``min(D − |e − f|, e + f − D)``
-    (``D`` between its pivots, relative to ``e + f``) over a turn of the driver
+    Found once per model: each RRR and RRP dyad's margin (:func:`_margin`;
+    an RRR dyad's ``min(D − |e − f|, e + f − D)``, ``D`` between its pivots,
+    relative to ``e + f``) over a turn of the driver
     (720 values), every dip that closes on both sides narrowed 32-fold seven
     times; a change point where its least margin is within
     :data:`machdyn.classify.CHANGE_POINT_RTOL` of zero. Values in
@@ -815,7 +819,7 @@ def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, f
     from ..classify import CHANGE_POINT_RTOL
 
     program, found = model.program, []
-    dyads = _rrr_dyads(program)
+    dyads = _watched(program)
     one = len(lk._drivers) == 1 and lk._drivers[0] in info.angle_drivers
     if one and dyads and not any(isinstance(s, General) for s in program.steps):
 
