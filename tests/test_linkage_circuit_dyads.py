@@ -1,7 +1,7 @@
 """Several drivers, two RRR dyads: each dyad's dip between scanned points is followed on its own.
 
 Where an RRR dyad's margin dips between two scanned points of a path, the dip is
-scanned again around *that dyad's* least margin (``circuit._Scan.dips``), not the
+scanned again around *that dyad's* least margin (``paths._Scan.dips``), not the
 least over all dyads: a second dyad whose margin stays small but positive
 elsewhere (a four-bar a little off the change-point condition) must not draw the
 search away from the first one's change point. The references are written here:

@@ -4,7 +4,7 @@ A five-bar (cranks O1-A and O2-B, driven both; links A-C and B-C) closes while
 ``D = |A − B| ≤ e + f``. Its pivot distance is largest, ``D = r1 + d + r2``, at
 ``θ1 = 180°, θ2 = 0°``; with ``e + f`` a little less, the drivers' straight path
 through that pose leaves where the dyad closes for a stretch narrower than the
-scan's step (``circuit.H``, half a degree): found by the dyad's margin between
+scan's step (``paths.H``, half a degree): found by the dyad's margin between
 scanned points. The reference is written here: ``D`` along the path, its crossing
 of ``e + f`` by Brent's method (two-circle condition, Norton, *Design of
 Machinery*, §4.5).
@@ -20,7 +20,7 @@ import pytest
 from scipy.optimize import brentq
 
 from closed_forms import circle_meet
-from machdyn.linkage import Linkage, circuit
+from machdyn.linkage import Linkage, paths
 
 D12, R1, R2 = 3.0, 1.0, 1.2
 START = np.array([math.pi - 0.5, 0.5])  # the drawing's crank angles
@@ -55,9 +55,9 @@ def leaves(reason):
 
 @pytest.mark.parametrize("steps", [0.3, 0.05])
 def test_a_stretch_out_narrower_than_a_step_is_found(steps):
-    lk, reach = five_bar(steps * circuit.H)
+    lk, reach = five_bar(steps * paths.H)
     s_out = brentq(lambda s: dist(s)[0] - reach, 0.25, 0.5, xtol=1e-14)  # where it leaves
-    assert 0 < 0.5 - s_out < 0.5 * circuit.H  # the premise: narrower than a step
+    assert 0 < 0.5 - s_out < 0.5 * paths.H  # the premise: narrower than a step
     m = lk.solve({"c1": END[0], "c2": END[1]})  # a pose solved alone: the straight path
     assert not bool(m.ok)
     reason = str(m.reason)
@@ -72,7 +72,7 @@ def test_a_stretch_out_narrower_than_a_step_is_found(steps):
 
 
 def test_a_sweep_along_the_path_stops_at_the_narrow_stretch():
-    lk, reach = five_bar(0.3 * circuit.H)
+    lk, reach = five_bar(0.3 * paths.H)
     s = np.linspace(0.0, 1.0, 801)
     u = START[:, None] + s * (END - START)[:, None]
     m = lk.solve({"c1": u[0], "c2": u[1]})
@@ -85,9 +85,9 @@ def test_a_sweep_along_the_path_stops_at_the_narrow_stretch():
 @pytest.mark.parametrize("count", [200, 2000])
 def test_a_sweep_of_small_steps_stops_at_a_narrow_stretch_between_its_samples(count):
     # samples 0.29° and 0.029° apart (less than a scan step), none in the stretch out
-    lk, reach = five_bar(0.05 * circuit.H)
+    lk, reach = five_bar(0.05 * paths.H)
     s = (np.arange(count) + 0.5) / count
-    assert np.max(np.abs(np.diff(s))) * SPAN < circuit.H
+    assert np.max(np.abs(np.diff(s))) * SPAN < paths.H
     assert (dist(s) <= reach).all()  # the premise: every sample closes
     s_out = brentq(lambda x: dist(x)[0] - reach, 0.25, 0.5, xtol=1e-14)
     u = START[:, None] + s * (END - START)[:, None]
@@ -101,7 +101,7 @@ def test_a_sweep_of_small_steps_stops_at_a_narrow_stretch_between_its_samples(co
 
 def test_a_path_that_stays_inside_is_not_flagged():
     # the same five-bar, the path shifted so that D stays below e + f all along it
-    lk, reach = five_bar(0.3 * circuit.H)
+    lk, reach = five_bar(0.3 * paths.H)
     end = END + np.array([0.0, 0.02])
     s = np.linspace(0.0, 1.0, 20001)
     u = START[:, None] + s * (end - START)[:, None]
@@ -177,9 +177,9 @@ def reached_without_a_change_point(th, start, follow, cps=None):
 
 @pytest.mark.parametrize("step", [0.1, 0.4, 1.0])
 def test_a_sweep_of_small_steps_is_watched_between_its_samples(step):
-    # the review of 2026-11-25: at 0.4° steps (less than a scan step, circuit.H = 0.5°)
+    # the review of 2026-11-25: at 0.4° steps (less than a scan step, paths.H = 0.5°)
     # 449 samples past the change point were shown ok on the crossed form
-    assert math.degrees(circuit.H) == 0.5
+    assert math.degrees(paths.H) == 0.5
     lk = parallelogram_and_arm()
     th = np.radians(np.arange(60.0, 400.0 + step / 2, step))
     m = lk.solve({"c1": th, "arm": 0.5 * th})
