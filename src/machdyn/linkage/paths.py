@@ -15,10 +15,12 @@ not passed). The margins serve the change points of a lone driver too
 from __future__ import annotations
 
 import math
+import time
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import jit
 from . import kernel
 from .program import NO_ASSEMBLY, Dyad, PArm, Program, RArm, Ref
 
@@ -66,29 +68,37 @@ def _failing(lk: Linkage, model: _Model, info: _Info):
     """A function: driver values (drivers × m) → per group and point, it does not close.
 
     With ``margins`` it also returns the margin (:func:`_margin`) of each
-    watched dyad (:func:`_watched`, in its order) at each point. One run of
-    the program serves both, by whichever engine
-    :func:`machdyn.linkage.kernel.run` picks (the compiled kernel when it
-    serves): it reports only the points the margins are measured from
-    (:func:`_gauges`).
+    watched dyad (:func:`_watched`, in its order) at each point, from the same
+    run of the program: the compiled kernel's when :mod:`machdyn.jit` serves
+    it (or the plain-Python twin's for a pose or two; :func:`machdyn.linkage.kernel.run`,
+    reporting only the points the margins are measured from, :class:`_Gauges`),
+    else NumPy's, the margins read off its state.
     """
     program = model.program
     walls = [i for i, d in enumerate(lk._drivers) if d in lk._actuators]
-    tables, sides = _gauges(model, info, _watched(program))
+    gauges = _gauges(model, info)
 
     def failing(x: np.ndarray, margins: bool = False) -> Any:
         out = np.zeros((len(program.deps), x.shape[1]), bool)
-        M = np.empty((len(sides), x.shape[1])) if margins else None
+        M = np.empty((len(gauges.sides), x.shape[1])) if margins else None
         for k in range(0, x.shape[1], CHUNK):
             part = x[:, k : k + CHUNK]
-            U = np.zeros((4 * part.shape[0], part.shape[1]))
-            U[0::4] = part
+            n = part.shape[1]
             with np.errstate(all="ignore"):
-                run = kernel.run(program, tables, U, 0, False)
-                if M is not None:  # (each dyad's three points in turn)
-                    P = run.pts
-                    M[:, k : k + CHUNK] = _margin(P[0::3], P[1::3], P[2::3], sides)
-            out[:, k : k + CHUNK] = run.codes == NO_ASSEMBLY
+                if n > kernel.SCALAR_MAX and kernel.compiled_kernel(n) is None:  # NumPy
+                    t = time.perf_counter()
+                    st, codes = program.run([[row, 0.0, 0.0, 0.0] for row in part], n, 0, False)
+                    if M is not None:
+                        M[:, k : k + CHUNK] = gauges.of_state(st)
+                    jit.charge(time.perf_counter() - t)
+                else:
+                    U = np.zeros((4 * part.shape[0], n))
+                    U[0::4] = part
+                    run = kernel.run(program, gauges.tables, U, 0, False)
+                    codes = run.codes
+                    if M is not None:
+                        M[:, k : k + CHUNK] = gauges.margins(run.pts)
+            out[:, k : k + CHUNK] = codes == NO_ASSEMBLY
         for i in walls:  # an actuator's length stays > 0: its group does not close
             out[_group_of_driver(model, i)] |= x[i] <= 0.0
         return out if M is None else (out, M)
@@ -96,34 +106,58 @@ def _failing(lk: Linkage, model: _Model, info: _Info):
     return failing
 
 
-def _gauges(model: _Model, info: _Info, dyads: list[tuple[int, Dyad]]) -> tuple[Any, np.ndarray]:
-    """Run tables that report only the points the ``dyads``' margins are measured from.
-
-    Returns ``(tables, sides)``: the tables' points are each dyad's three
-    points of :func:`_gauge` in turn (rows ``3j`` to ``3j + 2`` for dyad ``j``),
-    ``sides`` (dyads × 2) its two lengths. No link angles or lengths are
-    reported, so a scan's run does little more than solve the groups.
-    """
+def _gauges(model: _Model, info: _Info) -> _Gauges:
+    """The model's :class:`_Gauges` (of :func:`_watched`), built once."""
     if "gauges" not in model.cache:
-        from .kernel import Tables
-
-        gauges = [_gauge(s) for _, s in dyads]
-        refs = [r for points, _ in gauges for r in points]
-        none = np.zeros(0)
-        tables = Tables(
-            np.zeros(0, np.int64),
-            np.array([i for i, _ in refs], np.int64),
-            np.array([x for _, r in refs for x in (r.real, r.imag)], float),
-            np.zeros(0, np.int64),
-            none,
-            np.zeros(0, np.int8),
-            none,
-            info.tables.start,
-            info.tables.scale,
-        )
-        sides = np.array([lengths for _, lengths in gauges], float).reshape(-1, 2)
-        model.cache["gauges"] = (tables, sides)
+        model.cache["gauges"] = _Gauges(_watched(model.program), info)
     return model.cache["gauges"]  # type: ignore[return-value]
+
+
+class _Gauges:
+    """The points the ``dyads``' margins are measured from (:func:`_gauge`), and the margins.
+
+    ``refs``: the distinct material points; ``rows`` (dyads × 3): each dyad's
+    three of them; ``sides`` (dyads × 2): its two lengths. ``tables`` report
+    those points only (no link angles, no lengths), so that a run of the
+    compiled kernel does little more than solve the groups.
+    """
+
+    def __init__(self, dyads: list[tuple[int, Dyad]], info: _Info | None = None) -> None:
+        self.refs: list[Ref] = []
+        seen: dict[Ref, int] = {}
+        rows, sides = [], []
+        for _, s in dyads:
+            points, lengths = _gauge(s)
+            rows.append([seen.setdefault(r, len(seen)) for r in points])
+            sides.append(lengths)
+        self.refs = list(seen)
+        self.rows = np.array(rows, np.int64).reshape(-1, 3)
+        self.sides = np.array(sides, float).reshape(-1, 2)
+        if info is not None:
+            from .kernel import Tables
+
+            none = np.zeros(0)
+            self.tables = Tables(
+                np.zeros(0, np.int64),
+                np.array([i for i, _ in self.refs], np.int64),
+                np.array([x for _, r in self.refs for x in (r.real, r.imag)], float),
+                np.zeros(0, np.int64),
+                none,
+                np.zeros(0, np.int8),
+                none,
+                info.tables.start,
+                info.tables.scale,
+            )
+
+    def margins(self, P: np.ndarray) -> np.ndarray:
+        """The margins (dyads × samples) given the points ``P`` (:attr:`refs` × samples)."""
+        A, B, C = (P[self.rows[:, k]] for k in range(3))
+        return _margin(A, B, C, self.sides)
+
+    def of_state(self, st: Any) -> np.ndarray:
+        """The margins at the samples of the program's state ``st``."""
+        zero = np.zeros(st.n)
+        return self.margins(np.array([st.pos(r) + zero for r in self.refs]).reshape(-1, st.n))
 
 
 def _group_of_driver(model: _Model, d: int) -> int:
@@ -444,7 +478,7 @@ def _watched(program: Program) -> list[tuple[int, Dyad]]:
 def _gauge(s: Dyad) -> tuple[tuple[Ref, Ref, Ref], tuple[float, float]]:
     """Three material points and two lengths giving the dyad's margin (:func:`_margin`).
 
-    RRR: its pivots (the second twice) and its arms' lengths ``e, f``. RRP: its
+    RRR: its pivots (the second twice: not used) and its arms' lengths ``e, f``. RRP: its
     R arm's pivot ``A``, the line's point ``G`` and the point a unit along the
     line from it (on the same link), and ``(a, NaN)``, ``a`` the R arm's length.
     """
@@ -459,11 +493,7 @@ def _gauge(s: Dyad) -> tuple[tuple[Ref, Ref, Ref], tuple[float, float]]:
 
 def _margins(dyads: list[tuple[int, Dyad]], st: Any) -> np.ndarray:
     """Per dyad and sample of the state ``st``: its margin (:func:`_margin`)."""
-    gauges = [_gauge(s) for _, s in dyads]
-    zero = np.zeros(st.n)
-    P = [[st.pos(r) + zero for r in points] for points, _ in gauges]
-    sides = np.array([lengths for _, lengths in gauges], float).reshape(-1, 2)
-    return _margin(*(np.array([p[k] for p in P]).reshape(-1, st.n) for k in range(3)), sides)
+    return _Gauges(dyads).of_state(st)
 
 
 def _margin(A: np.ndarray, B: np.ndarray, C: np.ndarray, sides: np.ndarray) -> np.ndarray:
@@ -478,10 +508,25 @@ def _margin(A: np.ndarray, B: np.ndarray, C: np.ndarray, sides: np.ndarray) -> n
     the line: two forms meet; a change point where that touches 0 and the
     dyad closes on both sides, as an isosceles slider-crank's).
     """
+    slide = np.isnan(sides[:, 1])
+    if slide.any():  # each kind's rows apart (the other formula would be wasted on them)
+        m = np.empty(np.shape(A))
+        for rows, fn in ((~slide, _margin_rrr), (slide, _margin_rrp)):
+            if rows.any():
+                m[rows] = fn(A[rows], B[rows], C[rows], sides[rows])
+        return m
+    return _margin_rrr(A, B, C, sides)
+
+
+def _margin_rrr(A: np.ndarray, B: np.ndarray, _: np.ndarray, sides: np.ndarray) -> np.ndarray:
     e, f = sides[:, :1], sides[:, 1:]
     with np.errstate(all="ignore"):
         D = np.abs(A - B)
-        m = np.where(1e-6 * (e + f) < D, np.minimum(D - np.abs(e - f), e + f - D) / (e + f), np.nan)
-        u = C - B
-        h = ((A - B) * np.conj(u)).imag / np.abs(u)
-        return np.where(np.isnan(f), (e - np.abs(h)) / e, m)
+        m = np.minimum(D - np.abs(e - f), e + f - D) / (e + f)
+        return np.where(1e-6 * (e + f) < D, m, np.nan)
+
+
+def _margin_rrp(A: np.ndarray, B: np.ndarray, C: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    a, u = sides[:, :1], C - B
+    with np.errstate(all="ignore"):
+        return (a - np.abs(((A - B) * np.conj(u)).imag / np.abs(u))) / a
