@@ -8,8 +8,10 @@ found accepted: a driver given twice to ``machdyn linkage`` (``--at crank=90
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from machdyn.cli import main
@@ -123,4 +125,17 @@ def test_bad_input_is_one_line_naming_the_field(args, field, capsys):
 
 def test_a_driver_held_once_still_works(capsys):
     assert main(["linkage", FOURBAR, "--at", "crank=91"]) in (0, None)
-    assert "yes" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    header = lines.index("Kinematics of hw6") + 1
+    row = dict(zip(lines[header].split()[::2], lines[header + 1].split(), strict=False))
+    # the drawn circuit at theta2 = 91 deg, by two circles: |B - A| = 7, |B - O4| = 6, with B
+    # on the side of A -> O4 where it is drawn at theta2 = 0 (y_B > 0)
+    A, O4 = 4 * np.exp(1j * np.radians(91.0)), 8.0 + 0j
+    d = abs(O4 - A)
+    along = (d**2 + 7**2 - 6**2) / (2 * d)
+    B = A + (O4 - A) / d * complex(along, math.sqrt(7**2 - along**2))
+    assert float(row["theta_crank"]) == 91.0
+    assert float(row["theta_coupler"]) == pytest.approx(math.degrees(np.angle(B - A)), abs=1e-4)
+    assert float(row["theta_rocker"]) == pytest.approx(math.degrees(np.angle(B - O4)), abs=1e-4)
+    assert lines[header + 1].split()[-1] == "yes"

@@ -56,12 +56,11 @@ def test_a_bad_budget_is_refused_by_name(bad):
     assert info.value.field == "max_evaluations"
 
 
-def test_several_drivers_are_held_to_the_budget_too():
+def _five_bar():
     from machdyn.linkage import Linkage
-    from machdyn.simulate import simulate_drivers
 
     pts = {"O2": 0j, "O5": 6 + 0j, "A": 2j, "D": 6 + 2j, "C": 3 + 5j}
-    lk = (
+    return (
         Linkage(pts)
         .ground("O2", "O5")
         .link("2", "O2", "A", mass=1.0, inertia=0.3)
@@ -70,8 +69,14 @@ def test_several_drivers_are_held_to_the_budget_too():
         .link("5", "O5", "D", mass=1.0, inertia=0.3)
         .drive("2", "5")
     )
+
+
+def test_several_drivers_are_held_to_the_budget_too():
+    from machdyn.simulate import simulate_drivers
+
     with pytest.raises(machdyn.InputError) as info:
-        simulate_drivers(lk, {"2": 10.0, "5": -10.0}, t_end=1e6, gravity=9.81, max_evaluations=100)
+        simulate_drivers(_five_bar(), {"2": 10.0, "5": -10.0}, t_end=1e6, gravity=9.81,
+                         max_evaluations=100)  # fmt: skip
     assert info.value.field == "t_end"
 
 
@@ -94,12 +99,17 @@ def test_cli_refuses_a_huge_t_end_in_one_line(tmp_path, capsys):
     assert "t_end" in err and "2,000 evaluations" in err and "Traceback" not in err
 
 
-def test_the_public_default_budget_is_the_documented_one():
-    """``simulate`` writes the default budget out (its module stays light); it is the one."""
-    import inspect
+def test_the_default_budget_is_the_paths_own(monkeypatch):
+    """Tabulated runs take MAX_EVALUATIONS, runs solving the model at every evaluation
+    (table=False, several drivers; ms each) SOLVED_EVALUATIONS: each default, made small
+    here, is the one a run without ``max_evaluations`` is refused by."""
+    from machdyn.simulate import _integrate, _setup, simulate_drivers
 
-    from machdyn.simulate import simulate_drivers
-    from machdyn.simulate._integrate import MAX_EVALUATIONS
-
-    for run in (simulate, simulate_drivers):
-        assert inspect.signature(run).parameters["max_evaluations"].default == MAX_EVALUATIONS
+    assert (_integrate.MAX_EVALUATIONS, _integrate.SOLVED_EVALUATIONS) == (2_000_000, 50_000)
+    monkeypatch.setattr(_setup, "MAX_EVALUATIONS", 300)
+    monkeypatch.setattr(_setup, "SOLVED_EVALUATIONS", 200)
+    for table, limit in ((True, "300"), (False, "200")):
+        with pytest.raises(machdyn.InputError, match=f"more than the {limit} evaluations"):
+            simulate(FB, MOTOR, t_end=1e6, table=table, **MASSES)
+    with pytest.raises(machdyn.InputError, match="more than the 200 evaluations"):
+        simulate_drivers(_five_bar(), {"2": 10.0, "5": -10.0}, t_end=1e6, gravity=9.81)

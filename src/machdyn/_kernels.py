@@ -32,7 +32,7 @@ import math
 
 import llvmlite.binding
 import numpy as np
-from numba import njit
+from ._numba_cache import njit
 
 from .fourbar import INDETERMINATE, NOT_ASSEMBLABLE, OK, TOGGLE, WRONG_FORM
 

@@ -42,7 +42,7 @@ import math
 
 import llvmlite.binding
 import numpy as np
-from numba import njit
+from ._numba_cache import njit
 
 from ._kernels import angle as _angle_2pi
 from ._kernels import sincos

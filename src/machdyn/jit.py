@@ -134,12 +134,27 @@ def load() -> bool:
         try:
             from . import _kernels as module
 
-            module.warm_up()
+            warm(module)
         except Exception as exc:  # any failure of an optional accelerator: stay on NumPy
             _failure = f"{type(exc).__name__}: {exc}"
             return False
         _kernels = module
         return True
+
+
+def warm(module: ModuleType) -> None:
+    """Call a compiled module's ``warm_up()``; once more if numba raised a RuntimeError.
+
+    numba adds a freshly compiled kernel to its dispatcher before it writes the
+    on-disk cache, so a failure of the write (CI once saw numba's "no compiled
+    object yet" with two processes compiling into one fresh cache; see
+    :mod:`machdyn._numba_cache`) leaves the kernel usable in this process: the
+    second call finds it compiled. A real fault fails twice and is raised.
+    """
+    try:
+        module.warm_up()
+    except RuntimeError:
+        module.warm_up()
 
 
 def kernels(poses: int) -> ModuleType | None:

@@ -161,7 +161,7 @@ def compiled_kernel(n: int) -> ModuleType | None:
         try:
             from .. import _linkage_kernels as module
 
-            module.warm_up()
+            jit.warm(module)
         except Exception as exc:  # an optional accelerator: NumPy serves
             if not _kernel_failure(exc):
                 raise

@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from .._numba_cache import njit
 
 from .._kernels import angle, sincos
 from ._kernels_pose import _first_pose, _near, _pose

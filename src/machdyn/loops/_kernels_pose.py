@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._numba_cache import njit
 
 __all__: list[str] = []
 

@@ -125,7 +125,7 @@ def simulate(
     atol: float = 1e-10,
     method: str = "DOP853",
     max_step: float | None = None,
-    max_evaluations: int = 2_000_000,
+    max_evaluations: int | None = None,
     table: bool = True,
     table_tol: float = 1e-9,
     steady_tol: float = 1e-7,
@@ -175,12 +175,14 @@ def simulate(
         Passed to :func:`scipy.integrate.solve_ivp` (``atol`` is for θ and ω;
         the work integrals get it scaled to the energies; ``max_step`` None: no
         limit).
-    max_evaluations : int
-        Budget of the run: evaluations of the equation of motion (default
-        2,000,000: about a minute, thousands of turns of a tabulated four-bar;
-        a steady state usually takes a few thousand). A run that needs more is
-        refused, naming ``t_end`` (or ``turns``, ``until``) and the time it had
-        reached, instead of running for as long as a huge ``t_end`` asks.
+    max_evaluations : int, optional
+        Budget of the run: evaluations of the equation of motion. A run that
+        needs more is refused, naming ``t_end`` (or ``turns``, ``until``) and the
+        time it had reached, instead of running for as long as a huge ``t_end``
+        asks. Default: 2,000,000 when tabulated (about a minute, thousands of
+        turns of a four-bar; a steady state usually takes a few thousand);
+        50,000 when the model is solved at every evaluation (``table=False``
+        or several drivers, 1–5 ms each: a few minutes at most).
     table : bool
         Tabulate the coefficients once (default, fast) or solve the model at
         every step (``False``: slow, for checking).

@@ -27,11 +27,13 @@ from .result import Energy, Event, SteadyState
 
 __all__ = ["OverBudget", "Runner"]
 
-#: Default budget of one run: evaluations of the equation of motion (``max_evaluations``).
-#: About a minute of a tabulated four-bar (30 µs each), some 4,000 turns; a steady state
-#: usually takes a few thousand. (``simulate``'s signature writes it out, so that
-#: ``import machdyn.simulate`` stays light; a test holds the two equal.)
+#: Default budget of a tabulated run: evaluations of the equation of motion
+#: (``max_evaluations``). About a minute of a tabulated four-bar (30 µs each), some 4,000
+#: turns; a steady state usually takes a few thousand.
 MAX_EVALUATIONS = 2_000_000
+#: Default budget of a run that solves the model at every evaluation (``table=False``, or a
+#: linkage with several drivers): 1–5 ms each, so a few minutes at most instead of hours.
+SOLVED_EVALUATIONS = 50_000
 
 
 class Runner:

@@ -8,7 +8,7 @@ from typing import Any
 
 from .._validate import boolean, choice, finite_scalar, in_range, integer, nonnegative, positive
 from ..errors import InputError
-from ._integrate import MAX_EVALUATIONS
+from ._integrate import MAX_EVALUATIONS, SOLVED_EVALUATIONS
 from ._plant import make_plant
 from .loads import Load
 from .motors import Motor, as_motor
@@ -105,9 +105,11 @@ def solver_options(
     max_step: Any,
     table: Any,
     table_tol: Any,
-    max_evaluations: Any = MAX_EVALUATIONS,
+    max_evaluations: Any = None,
 ) -> dict[str, Any]:
-    """The integration's options, checked."""
+    """The integration's options, checked (``max_evaluations`` None: the default of the path)."""
+    if max_evaluations is None:
+        max_evaluations = MAX_EVALUATIONS if boolean("table", table) else SOLVED_EVALUATIONS
     return {
         "max_evaluations": integer("max_evaluations", max_evaluations, minimum=100, maximum=10**10),
         "samples": integer("samples", samples, minimum=2, maximum=10**7),

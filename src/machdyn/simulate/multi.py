@@ -38,7 +38,7 @@ import numpy as np
 
 from .._summary import Summarized
 from ..errors import InputError
-from ._integrate import MAX_EVALUATIONS, OverBudget
+from ._integrate import OverBudget
 
 __all__ = ["MultiSimulation", "simulate_drivers"]
 
@@ -137,7 +137,7 @@ def simulate_drivers(
     rtol: float = 1e-9,
     atol: float = 1e-10,
     method: str = "DOP853",
-    max_evaluations: int = MAX_EVALUATIONS,
+    max_evaluations: int | None = None,
     **options: Any,
 ) -> MultiSimulation:
     """Integrate the motion of a Linkage with several drivers under their motors.
@@ -157,7 +157,9 @@ def simulate_drivers(
         Start values (default: the drawing) and rates (default: at rest).
     samples, rtol, atol, method, max_evaluations : optional
         As for :func:`machdyn.simulate` (a run needing more evaluations of the
-        equation of motion than ``max_evaluations`` is refused, naming ``t_end``).
+        equation of motion than ``max_evaluations`` is refused, naming ``t_end``;
+        default 50,000, the budget of a model solved at every evaluation: each
+        takes some 4 ms here, so a few minutes at most).
     **options
         The linkage's own loads, as :meth:`Linkage.forces` takes them
         (``gravity``, ``external_forces``, ``external_torques``, ``viscous``).

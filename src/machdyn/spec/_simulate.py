@@ -121,8 +121,9 @@ SIMULATE = Table(
         samples=optional(Integer(2, 1_000_000), "time samples in the output (2001)"),
         max_evaluations=optional(
             Integer(100, 10**10),
-            "budget of the run: evaluations of the equation of motion (2,000,000); "
-            "a run that needs more is refused",
+            "budget of the run: evaluations of the equation of motion (2,000,000 tabulated; "
+            "50,000 for several drivers, solved at every evaluation); a run that needs more "
+            "is refused",
         ),
     ),
     doc="forward dynamics for `machdyn simulate`: the motor, flywheel and when to stop",

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from .._numba_cache import njit
 
 from .._kernels import OK, _unit_vectors, sincos
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from .._numba_cache import njit
 
 from ._atlas_kernels import _lm_problem
 
