@@ -53,6 +53,7 @@ def leaves(reason):
     return float(found[1]), float(found[2])
 
 
+@pytest.mark.usefixtures("backend")  # NumPy, then the compiled kernel
 @pytest.mark.parametrize("steps", [0.3, 0.05])
 def test_a_stretch_out_narrower_than_a_step_is_found(steps):
     lk, reach = five_bar(steps * paths.H)
@@ -82,6 +83,7 @@ def test_a_sweep_along_the_path_stops_at_the_narrow_stretch():
     assert not m.ok[first_gap:].any()  # in the stretch (does not close) and past it
 
 
+@pytest.mark.usefixtures("backend")  # NumPy, then the compiled kernel
 @pytest.mark.parametrize("count", [200, 2000])
 def test_a_sweep_of_small_steps_stops_at_a_narrow_stretch_between_its_samples(count):
     # samples 0.29° and 0.029° apart (less than a scan step), none in the stretch out
