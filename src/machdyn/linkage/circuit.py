@@ -106,7 +106,7 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     drawing, the mechanism stops where the first of its groups stops closing
     (a toggle), so what it reaches is the connected range around the drawn
     value on which *every* group closes. Returns ``(lo, hi, groups, period)``
-    — that range (edges refined by :func:`_refine`; ±inf where a length driver's
+    — that range (edges refined by :func:`~.paths._refine`; ±inf where a length driver's
     groups close beyond ±10 typical lengths), the first group (in solving
     order) that stops closing at its upper and at its lower end, and 2π for an
     angle (None for a length) — or None when the groups close everywhere. Not
@@ -237,7 +237,7 @@ def _ends(t0: float, period: float | None, scans: list, lone: _Lone) -> tuple | 
 
     ``scans``: the upward and the downward scan, each ``(values, failing, solved)``
     as :class:`_Lone` gives them. A general group's core starts each pass of
-    :func:`_refine` from its solution at the last value known to close (the
+    :func:`~.paths._refine` from its solution at the last value known to close (the
     scan's, then each pass's): no pass marches from the drawing again.
     """
     a, b, there, seeds = [], [], [], []
@@ -272,7 +272,7 @@ def _ends(t0: float, period: float | None, scans: list, lone: _Lone) -> tuple | 
 
 
 class _FromLast:
-    """:func:`_refine`'s test for :func:`_ends`: which values close, each from where it last did.
+    """:func:`~.paths._refine`'s test for :func:`_ends`: which values close, each from its last.
 
     NumPy (:meth:`_Lone.near`): every value solved alone from the solution at its
     bracket's last value known to close, each pass's (:meth:`keep`). Where the
@@ -346,7 +346,7 @@ def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, f
     form; the drawn form goes on smoothly (the coupler angle and its rate
     continuous: a parallelogram's coupler stays parallel to the ground) with
     the other sign, and that is the one a sweep follows (:func:`flips`).
-    Found once per model: each RRR and RRP dyad's margin (:func:`_margin`;
+    Found once per model: each RRR and RRP dyad's margin (:func:`~.paths._margin`;
     an RRR dyad's ``min(D − |e − f|, e + f − D)``, ``D`` between its pivots,
     relative to ``e + f``) over a turn of the driver
     (720 values), every dip that closes on both sides narrowed 32-fold seven

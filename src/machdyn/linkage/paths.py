@@ -174,7 +174,7 @@ def _path_lost(
 ) -> tuple[np.ndarray, np.ndarray, Any] | None:
     """Several drivers: the samples no path of the module's reaches inside where groups close.
 
-    Returns as :func:`off_circuit`.
+    Returns as :func:`machdyn.linkage.circuit.off_circuit`.
     """
     n, start = U0.shape[1], info.start[:, None]
     follow = follow and n > 1  # one pose: its path is the straight one
