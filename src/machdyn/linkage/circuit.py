@@ -272,7 +272,7 @@ def _ends(t0: float, period: float | None, scans: list, lone: _Lone) -> tuple | 
 
 
 class _FromLast:
-    """:func:`~.paths._refine`'s test for :func:`_ends`: which values close, each from its last.
+    """The test :func:`_ends` gives :func:`~.paths._refine`: which values close (from the last).
 
     NumPy (:meth:`_Lone.near`): every value solved alone from the solution at its
     bracket's last value known to close, each pass's (:meth:`keep`). Where the
