@@ -32,8 +32,8 @@ import math
 
 import llvmlite.binding
 import numpy as np
-from ._numba_cache import njit
 
+from ._numba_cache import njit
 from .fourbar import INDETERMINATE, NOT_ASSEMBLABLE, OK, TOGGLE, WRONG_FORM
 
 # The solve kernels write up to 14 arrays; LLVM vectorises a loop only if it may check

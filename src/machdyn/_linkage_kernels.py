@@ -42,10 +42,10 @@ import math
 
 import llvmlite.binding
 import numpy as np
-from ._numba_cache import njit
 
 from ._kernels import angle as _angle_2pi
 from ._kernels import sincos
+from ._numba_cache import njit
 from .linkage._scalar import CRANK, DYAD, MOTOR, NF, NI, RPP, RPR, SINGULAR_SINE
 
 # "contract" lets LLVM fuse a * b + c; "arcp" turns a division by a value used

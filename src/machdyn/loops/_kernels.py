@@ -30,9 +30,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from .._numba_cache import njit
 
 from .._kernels import angle, sincos
+from .._numba_cache import njit
 from ._kernels_pose import _first_pose, _near, _pose
 
 __all__ = ["sweep"]

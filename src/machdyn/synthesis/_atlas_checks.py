@@ -5,7 +5,8 @@ Each refined fit is checked by the four-bar's own code
 branch (no toggle between targets), order, Grashof/crank requirement and
 minimum transmission angle; fits a hair past Grashof's change point are moved
 onto it; copies of one linkage are dropped and the survivors thinned to
-distinct linkages. Used by :mod:`~machdyn.synthesis.atlas_path`.
+distinct linkages. Used by :mod:`~machdyn.synthesis.atlas_path` and
+:mod:`~machdyn.synthesis.sixbar_path`.
 """
 
 from __future__ import annotations

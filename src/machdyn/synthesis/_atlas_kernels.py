@@ -17,9 +17,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from .._numba_cache import njit
 
 from .._kernels import OK, _unit_vectors, sincos
+from .._numba_cache import njit
 
 __all__ = [
     "bound_topk",
@@ -27,7 +27,6 @@ __all__ = [
     "coupler_jacobian",
     "even_circuit_curves",
     "lm_refine",
-    "sixbar_coupler",
     "timed_scores",
 ]
 
@@ -233,120 +232,6 @@ def timed_scores(lengths, offsets, cos2, sin2, close_tol, ip, im, a, centred, th
                 best[m, lo + j] = top_g[j]
                 h[m, lo + j] = complex(top_hr[j], top_hi[j])
                 qm[m, lo + j] = complex(top_mr[j], top_mi[j])
-
-
-# --------------------------------------------------------------------------------------
-# six-bar coupler point and its derivatives (the six-bar refinement's Jacobian)
-
-#: Partial derivatives carried: the 15 design numbers and the crank angle.
-_NG = 16
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _sixbar_frame(G, slot_o, slot_x, wr, wi, iu, iv, out):  # pragma: no cover - compiled
-    """``out = o + (u + jv)(x − o)`` with its gradient, (u, v) the design numbers iu, iv."""
-    o_r, o_i = G[slot_o, 0, _NG], G[slot_o, 1, _NG]
-    dr = G[slot_x, 0, _NG] - o_r
-    di = G[slot_x, 1, _NG] - o_i
-    G[out, 0, _NG] = o_r + wr * dr - wi * di
-    G[out, 1, _NG] = o_i + wr * di + wi * dr
-    for j in range(_NG):
-        ddr = G[slot_x, 0, j] - G[slot_o, 0, j]
-        ddi = G[slot_x, 1, j] - G[slot_o, 1, j]
-        G[out, 0, j] = G[slot_o, 0, j] + wr * ddr - wi * ddi
-        G[out, 1, j] = G[slot_o, 1, j] + wr * ddi + wi * ddr
-    G[out, 0, iu] += dr
-    G[out, 1, iu] += di
-    G[out, 0, iv] -= di
-    G[out, 1, iv] += dr
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _sixbar_dyad(G, sa, sc, a, ia, b, ib, sign, out):  # pragma: no cover - compiled
-    """RRR pin ``out`` (|out − A| = a, |out − C| = b, the engine's dyads.rrr) and its gradient.
-
-    The gradient solves the two circle equations differentiated (Cramer's
-    rule). False where the circles do not meet.
-    """
-    ar, ai = G[sa, 0, _NG], G[sa, 1, _NG]
-    acr = G[sc, 0, _NG] - ar
-    aci = G[sc, 1, _NG] - ai
-    d2 = acr * acr + aci * aci
-    d = math.sqrt(d2)
-    if not d > 0.0:
-        return False
-    x = (a * a - b * b + d2) / (2.0 * d)
-    h2 = (a - x) * (a + x)
-    if not h2 >= -1e-14 * a * a:
-        return False
-    h = sign * math.sqrt(max(h2, 0.0))
-    ur, ui = acr / d, aci / d
-    er = ar + x * ur - h * ui
-    ei = ai + x * ui + h * ur
-    G[out, 0, _NG], G[out, 1, _NG] = er, ei
-    w1r, w1i = er - ar, ei - ai
-    w2r, w2i = er - G[sc, 0, _NG], ei - G[sc, 1, _NG]
-    det = w1r * w2i - w1i * w2r
-    if det == 0.0:
-        return False
-    for j in range(_NG):
-        q1 = w1r * G[sa, 0, j] + w1i * G[sa, 1, j] + (a if j == ia else 0.0)
-        q2 = w2r * G[sc, 0, j] + w2i * G[sc, 1, j] + (b if j == ib else 0.0)
-        G[out, 0, j] = (q1 * w2i - q2 * w1i) / det
-        G[out, 1, j] = (w1r * q2 - w2r * q1) / det
-    return True
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def sixbar_coupler(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok):  # pragma: no cover - compiled
-    """Coupler point of a placed six-bar at crank angles ``theta`` and its derivatives.
-
-    ``x`` (15): ``O2x O2y θ1 r1 r2 r3 r4 cu cv du dv a b pu pv`` (see
-    :mod:`machdyn.synthesis.sixbar_path`); ``s4, s6`` the dyads' assembly signs,
-    ``l1, l2`` the links (1–4) carrying C and D, ``on6`` 1 if the point is on link 6.
-    Writes ``P`` (K,) complex, ``J`` (K, 15) complex, ``Jt`` (K,) complex, ``ok`` (K,).
-    """
-    # slots: 0 O2, 1 O4, 2 A, 3 B, 4 C, 5 D, 6 E, 7 P; last index _NG holds the value
-    G = np.zeros((8, 2, _NG + 1))
-    frames_o = np.array([0, 0, 0, 2, 1])  # link 1: O2→O4, 2: O2→A, 3: A→B, 4: O4→B
-    frames_x = np.array([0, 1, 2, 3, 3])
-    c1, s1 = math.cos(x[2]), math.sin(x[2])
-    for k in range(theta.size):
-        G[:] = 0.0
-        G[0, 0, _NG], G[0, 1, _NG] = x[0], x[1]
-        G[0, 0, 0], G[0, 1, 1] = 1.0, 1.0
-        # O4 = O2 + r1 e^{jθ1}
-        G[1, 0, _NG] = x[0] + x[3] * c1
-        G[1, 1, _NG] = x[1] + x[3] * s1
-        G[1, 0, 0], G[1, 1, 1] = 1.0, 1.0
-        G[1, 0, 2], G[1, 1, 2] = -x[3] * s1, x[3] * c1
-        G[1, 0, 3], G[1, 1, 3] = c1, s1
-        # A = O2 + r2 e^{j(θ1 + θ)}
-        ca, sa = math.cos(x[2] + theta[k]), math.sin(x[2] + theta[k])
-        G[2, 0, _NG] = x[0] + x[4] * ca
-        G[2, 1, _NG] = x[1] + x[4] * sa
-        G[2, 0, 0], G[2, 1, 1] = 1.0, 1.0
-        G[2, 0, 2], G[2, 1, 2] = -x[4] * sa, x[4] * ca
-        G[2, 0, 15], G[2, 1, 15] = -x[4] * sa, x[4] * ca
-        G[2, 0, 4], G[2, 1, 4] = ca, sa
-        good = _sixbar_dyad(G, 2, 1, x[5], 5, x[6], 6, s4, 3)
-        if good:
-            _sixbar_frame(G, frames_o[l1], frames_x[l1], x[7], x[8], 7, 8, 4)
-            _sixbar_frame(G, frames_o[l2], frames_x[l2], x[9], x[10], 9, 10, 5)
-            good = _sixbar_dyad(G, 4, 5, x[11], 11, x[12], 12, s6, 6)
-        ok[k] = good
-        if not good:
-            P[k] = complex(np.nan, np.nan)
-            for j in range(15):
-                J[k, j] = complex(np.nan, np.nan)
-            Jt[k] = complex(np.nan, np.nan)
-            continue
-        base = 5 if on6 else 4
-        _sixbar_frame(G, base, 6, x[13], x[14], 13, 14, 7)
-        P[k] = complex(G[7, 0, _NG], G[7, 1, _NG])
-        for j in range(15):
-            J[k, j] = complex(G[7, 0, j], G[7, 1, j])
-        Jt[k] = complex(G[7, 0, 15], G[7, 1, 15])
 
 
 # --------------------------------------------------------------------------------------

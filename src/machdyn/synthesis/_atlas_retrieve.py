@@ -97,7 +97,7 @@ def _arc_starts(rows, curves, pts, count):
     # a coarse arc fit is enough to pick the curves to re-fit: every other sample (half
     # the work of all 128)
     target = interpolate_open(pts, 24)
-    transforms, residual = align_partial(target, curves[:, ::ARC_STRIDE])
+    transforms, residual = align_partial(target, curves[:, ::ARC_STRIDE], single=True)
     order = np.argsort(residual)[:RESCORE]
     rows, transforms = rows[order], transforms[order]
     transforms, miss = _fit_to_points(rows, transforms, pts)

@@ -1,11 +1,17 @@
-"""Compiled (numba) six-bar coupler points for the timed scan of six-bar path synthesis.
+"""Compiled (numba) kernels of six-bar path synthesis: points, Jacobian, refinement, ordering.
 
 Imported only when :mod:`machdyn.jit` lets the compiled kernels serve (the
 caller decides, as :func:`machdyn.synthesis.sixbar_path.coupler_function`
-does); :func:`machdyn.synthesis.sixbar.sixbar_points` (NumPy, the engine's
-``dyads.rrr``) is the reference it is tested against. One pass per linkage and
-crank angle, no temporaries: the scan of thousands of atlas entries at tens of
-starting angles costs milliseconds instead of the NumPy path's seconds.
+does). The timed scan's coupler points (:func:`sixbar_points_into`; its
+reference :func:`machdyn.synthesis.sixbar.sixbar_points`, NumPy, the engine's
+``dyads.rrr``): one pass per linkage and crank angle, no temporaries, so the
+scan of thousands of atlas entries at tens of starting angles costs
+milliseconds instead of the NumPy path's seconds. The coupler point with its
+derivatives (:func:`sixbar_coupler`; reference
+:func:`machdyn.synthesis.sixbar_path.sixbar_coupler`, NumPy forward mode), the
+refinement's loop (:func:`refine_loop`; reference ``sixbar_path._loop``) and
+the ordering of a placed curve's samples (:func:`ordered_samples`; reference
+``sixbar_path._ordered_samples``).
 """
 
 from __future__ import annotations
@@ -13,11 +19,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from .._numba_cache import njit
 
-from ._atlas_kernels import sixbar_coupler
-
-__all__ = ["refine_loop", "sixbar_points_into"]
+__all__ = ["ordered_samples", "refine_loop", "sixbar_coupler", "sixbar_points_into"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -101,6 +106,120 @@ def sixbar_points_compiled(meta: np.ndarray, theta: np.ndarray) -> np.ndarray:
     P = np.empty((meta.size, np.size(theta)), complex)
     sixbar_points_into(f, np.ascontiguousarray(links), np.ascontiguousarray(theta, float), P)
     return P
+
+
+# --------------------------------------------------------------------------------------
+# six-bar coupler point and its derivatives (the six-bar refinement's Jacobian)
+
+#: Partial derivatives carried: the 15 design numbers and the crank angle.
+_NG = 16
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _sixbar_frame(G, slot_o, slot_x, wr, wi, iu, iv, out):  # pragma: no cover - compiled
+    """``out = o + (u + jv)(x − o)`` with its gradient, (u, v) the design numbers iu, iv."""
+    o_r, o_i = G[slot_o, 0, _NG], G[slot_o, 1, _NG]
+    dr = G[slot_x, 0, _NG] - o_r
+    di = G[slot_x, 1, _NG] - o_i
+    G[out, 0, _NG] = o_r + wr * dr - wi * di
+    G[out, 1, _NG] = o_i + wr * di + wi * dr
+    for j in range(_NG):
+        ddr = G[slot_x, 0, j] - G[slot_o, 0, j]
+        ddi = G[slot_x, 1, j] - G[slot_o, 1, j]
+        G[out, 0, j] = G[slot_o, 0, j] + wr * ddr - wi * ddi
+        G[out, 1, j] = G[slot_o, 1, j] + wr * ddi + wi * ddr
+    G[out, 0, iu] += dr
+    G[out, 1, iu] += di
+    G[out, 0, iv] -= di
+    G[out, 1, iv] += dr
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _sixbar_dyad(G, sa, sc, a, ia, b, ib, sign, out):  # pragma: no cover - compiled
+    """RRR pin ``out`` (|out − A| = a, |out − C| = b, the engine's dyads.rrr) and its gradient.
+
+    The gradient solves the two circle equations differentiated (Cramer's
+    rule). False where the circles do not meet.
+    """
+    ar, ai = G[sa, 0, _NG], G[sa, 1, _NG]
+    acr = G[sc, 0, _NG] - ar
+    aci = G[sc, 1, _NG] - ai
+    d2 = acr * acr + aci * aci
+    d = math.sqrt(d2)
+    if not d > 0.0:
+        return False
+    x = (a * a - b * b + d2) / (2.0 * d)
+    h2 = (a - x) * (a + x)
+    if not h2 >= -1e-14 * a * a:
+        return False
+    h = sign * math.sqrt(max(h2, 0.0))
+    ur, ui = acr / d, aci / d
+    er = ar + x * ur - h * ui
+    ei = ai + x * ui + h * ur
+    G[out, 0, _NG], G[out, 1, _NG] = er, ei
+    w1r, w1i = er - ar, ei - ai
+    w2r, w2i = er - G[sc, 0, _NG], ei - G[sc, 1, _NG]
+    det = w1r * w2i - w1i * w2r
+    if det == 0.0:
+        return False
+    for j in range(_NG):
+        q1 = w1r * G[sa, 0, j] + w1i * G[sa, 1, j] + (a if j == ia else 0.0)
+        q2 = w2r * G[sc, 0, j] + w2i * G[sc, 1, j] + (b if j == ib else 0.0)
+        G[out, 0, j] = (q1 * w2i - q2 * w1i) / det
+        G[out, 1, j] = (w1r * q2 - w2r * q1) / det
+    return True
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def sixbar_coupler(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok):  # pragma: no cover - compiled
+    """Coupler point of a placed six-bar at crank angles ``theta`` and its derivatives.
+
+    ``x`` (15): ``O2x O2y θ1 r1 r2 r3 r4 cu cv du dv a b pu pv`` (see
+    :mod:`machdyn.synthesis.sixbar_path`); ``s4, s6`` the dyads' assembly signs,
+    ``l1, l2`` the links (1–4) carrying C and D, ``on6`` 1 if the point is on link 6.
+    Writes ``P`` (K,) complex, ``J`` (K, 15) complex, ``Jt`` (K,) complex, ``ok`` (K,).
+    """
+    # slots: 0 O2, 1 O4, 2 A, 3 B, 4 C, 5 D, 6 E, 7 P; last index _NG holds the value
+    G = np.zeros((8, 2, _NG + 1))
+    frames_o = np.array([0, 0, 0, 2, 1])  # link 1: O2→O4, 2: O2→A, 3: A→B, 4: O4→B
+    frames_x = np.array([0, 1, 2, 3, 3])
+    c1, s1 = math.cos(x[2]), math.sin(x[2])
+    for k in range(theta.size):
+        G[:] = 0.0
+        G[0, 0, _NG], G[0, 1, _NG] = x[0], x[1]
+        G[0, 0, 0], G[0, 1, 1] = 1.0, 1.0
+        # O4 = O2 + r1 e^{jθ1}
+        G[1, 0, _NG] = x[0] + x[3] * c1
+        G[1, 1, _NG] = x[1] + x[3] * s1
+        G[1, 0, 0], G[1, 1, 1] = 1.0, 1.0
+        G[1, 0, 2], G[1, 1, 2] = -x[3] * s1, x[3] * c1
+        G[1, 0, 3], G[1, 1, 3] = c1, s1
+        # A = O2 + r2 e^{j(θ1 + θ)}
+        ca, sa = math.cos(x[2] + theta[k]), math.sin(x[2] + theta[k])
+        G[2, 0, _NG] = x[0] + x[4] * ca
+        G[2, 1, _NG] = x[1] + x[4] * sa
+        G[2, 0, 0], G[2, 1, 1] = 1.0, 1.0
+        G[2, 0, 2], G[2, 1, 2] = -x[4] * sa, x[4] * ca
+        G[2, 0, 15], G[2, 1, 15] = -x[4] * sa, x[4] * ca
+        G[2, 0, 4], G[2, 1, 4] = ca, sa
+        good = _sixbar_dyad(G, 2, 1, x[5], 5, x[6], 6, s4, 3)
+        if good:
+            _sixbar_frame(G, frames_o[l1], frames_x[l1], x[7], x[8], 7, 8, 4)
+            _sixbar_frame(G, frames_o[l2], frames_x[l2], x[9], x[10], 9, 10, 5)
+            good = _sixbar_dyad(G, 4, 5, x[11], 11, x[12], 12, s6, 6)
+        ok[k] = good
+        if not good:
+            P[k] = complex(np.nan, np.nan)
+            for j in range(15):
+                J[k, j] = complex(np.nan, np.nan)
+            Jt[k] = complex(np.nan, np.nan)
+            continue
+        base = 5 if on6 else 4
+        _sixbar_frame(G, base, 6, x[13], x[14], 13, 14, 7)
+        P[k] = complex(G[7, 0, _NG], G[7, 1, _NG])
+        for j in range(15):
+            J[k, j] = complex(G[7, 0, j], G[7, 1, j])
+        Jt[k] = complex(G[7, 0, 15], G[7, 1, 15])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -203,7 +322,7 @@ def _residuals(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _dyad_point(ar, ai, cr, ci, a, b, sign):  # pragma: no cover - compiled
-    """The pin of ``_atlas_kernels._sixbar_dyad`` without its gradient: the same arithmetic.
+    """The pin of :func:`_sixbar_dyad` without its gradient: the same arithmetic.
 
     ``(x, y, ok)``; not ok where the circles do not meet or the pin lies on the
     line of centres' ends (the gradient's ``det`` is zero), as there.
@@ -231,7 +350,7 @@ def _dyad_point(ar, ai, cr, ci, a, b, sign):  # pragma: no cover - compiled
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _in_frame(o_r, o_i, x_r, x_i, wr, wi):  # pragma: no cover - compiled
-    """``o + (u + jv)(x − o)``: ``_atlas_kernels._sixbar_frame``'s value, the same arithmetic."""
+    """``o + (u + jv)(x − o)``: :func:`_sixbar_frame`'s value, the same arithmetic."""
     dr = x_r - o_r
     di = x_i - o_i
     return o_r + wr * dr - wi * di, o_i + wr * di + wi * dr
@@ -241,7 +360,7 @@ def _in_frame(o_r, o_i, x_r, x_i, wr, wi):  # pragma: no cover - compiled
 def _probe(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, r):  # pragma: no cover
     """:func:`_residuals`' residuals alone, without the Jacobian (the geodesic probe's).
 
-    The coupler point by the same arithmetic as ``_atlas_kernels.sixbar_coupler``
+    The coupler point by the same arithmetic as :func:`sixbar_coupler`
     computes its value, so ``r`` is the same to the bit, except at a pose where a
     derivative exceeds ``steep`` (a dyad at its toggle): ``_residuals`` counts it as
     apart, this probe does not look.
@@ -325,3 +444,61 @@ def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, fl
             if lam > 1e15:
                 break
     return z
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _ordered_total(c, start, way, back):  # pragma: no cover - compiled
+    """The least sum of squared distances along one ordering of the samples, and its end.
+
+    ``c`` (K, N): squared distance of target k to sample j; the samples are taken
+    ``start, start + way, …`` (mod N). ``back`` (K − 1, N), written unless it has no
+    rows: for target k at the j-th sample of the ordering, the sample (of the
+    ordering) of target k − 1 — the first least ``total`` up to j, as
+    :func:`machdyn.synthesis.sixbar_path._ordered_samples`'s running minimum.
+    """
+    k_count, n = c.shape
+    order = np.empty(n, np.int64)
+    for j in range(n):
+        order[j] = (start + way * j + n) % n
+    total = np.empty(n)
+    for j in range(n):
+        total[j] = c[0, order[j]]
+    keep = back.shape[0] > 0
+    for k in range(1, k_count):
+        run, arg = total[0], 0
+        for j in range(n):
+            if total[j] < run:
+                run, arg = total[j], j
+            if keep:
+                back[k - 1, j] = arg
+            total[j] = c[k, order[j]] + run
+    end = 0
+    for j in range(1, n):
+        if total[j] < total[end]:
+            end = j
+    return total[end], end
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def ordered_samples(c, rolls, out):  # pragma: no cover - compiled
+    """:func:`machdyn.synthesis.sixbar_path._ordered_samples`'s dynamic programme, compiled.
+
+    ``c`` (K, N) finite: squared distances of the targets to the curve's samples;
+    the sample indices of the least ordered sum go into ``out`` (K,). The same
+    orderings (``rolls`` starting samples, forward then backward from each) and
+    the same comparisons, so the same choices, ties included.
+    """
+    k_count, n = c.shape
+    none = np.empty((0, n), np.int64)
+    best, w_start, w_way = np.inf, 0, 1
+    for start in range(0, n, n // rolls):
+        for way in (1, -1):
+            value, _ = _ordered_total(c, start, way, none)
+            if value < best or (start == 0 and way == 1):
+                best, w_start, w_way = value, start, way
+    back = np.empty((k_count - 1, n), np.int64)
+    _, j = _ordered_total(c, w_start, w_way, back)
+    for k in range(k_count - 1, -1, -1):
+        out[k] = (w_start + w_way * j + n) % n
+        if k:
+            j = back[k - 1, j]

@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from .._numba_cache import njit
 
+from .._numba_cache import njit
 from ._atlas_kernels import _lm_problem
 
 __all__ = ["descend"]
