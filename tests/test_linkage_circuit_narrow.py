@@ -4,7 +4,7 @@ A five-bar (cranks O1-A and O2-B, driven both; links A-C and B-C) closes while
 ``D = |A − B| ≤ e + f``. Its pivot distance is largest, ``D = r1 + d + r2``, at
 ``θ1 = 180°, θ2 = 0°``; with ``e + f`` a little less, the drivers' straight path
 through that pose leaves where the dyad closes for a stretch narrower than the
-scan's step (``circuit.H``, half a degree): found by the dyad's margin between
+scan's step (``paths.H``, half a degree): found by the dyad's margin between
 scanned points. The reference is written here: ``D`` along the path, its crossing
 of ``e + f`` by Brent's method (two-circle condition, Norton, *Design of
 Machinery*, §4.5).
@@ -20,7 +20,7 @@ import pytest
 from scipy.optimize import brentq
 
 from closed_forms import circle_meet
-from machdyn.linkage import Linkage, circuit
+from machdyn.linkage import Linkage, paths
 
 D12, R1, R2 = 3.0, 1.0, 1.2
 START = np.array([math.pi - 0.5, 0.5])  # the drawing's crank angles
@@ -53,11 +53,12 @@ def leaves(reason):
     return float(found[1]), float(found[2])
 
 
+@pytest.mark.usefixtures("backend")  # NumPy, then the compiled kernel
 @pytest.mark.parametrize("steps", [0.3, 0.05])
 def test_a_stretch_out_narrower_than_a_step_is_found(steps):
-    lk, reach = five_bar(steps * circuit.H)
+    lk, reach = five_bar(steps * paths.H)
     s_out = brentq(lambda s: dist(s)[0] - reach, 0.25, 0.5, xtol=1e-14)  # where it leaves
-    assert 0 < 0.5 - s_out < 0.5 * circuit.H  # the premise: narrower than a step
+    assert 0 < 0.5 - s_out < 0.5 * paths.H  # the premise: narrower than a step
     m = lk.solve({"c1": END[0], "c2": END[1]})  # a pose solved alone: the straight path
     assert not bool(m.ok)
     reason = str(m.reason)
@@ -72,7 +73,7 @@ def test_a_stretch_out_narrower_than_a_step_is_found(steps):
 
 
 def test_a_sweep_along_the_path_stops_at_the_narrow_stretch():
-    lk, reach = five_bar(0.3 * circuit.H)
+    lk, reach = five_bar(0.3 * paths.H)
     s = np.linspace(0.0, 1.0, 801)
     u = START[:, None] + s * (END - START)[:, None]
     m = lk.solve({"c1": u[0], "c2": u[1]})
@@ -82,9 +83,27 @@ def test_a_sweep_along_the_path_stops_at_the_narrow_stretch():
     assert not m.ok[first_gap:].any()  # in the stretch (does not close) and past it
 
 
+@pytest.mark.usefixtures("backend")  # NumPy, then the compiled kernel
+@pytest.mark.parametrize("count", [200, 2000])
+def test_a_sweep_of_small_steps_stops_at_a_narrow_stretch_between_its_samples(count):
+    # samples 0.29° and 0.029° apart (less than a scan step), none in the stretch out
+    lk, reach = five_bar(0.05 * paths.H)
+    s = (np.arange(count) + 0.5) / count
+    assert np.max(np.abs(np.diff(s))) * SPAN < paths.H
+    assert (dist(s) <= reach).all()  # the premise: every sample closes
+    s_out = brentq(lambda x: dist(x)[0] - reach, 0.25, 0.5, xtol=1e-14)
+    u = START[:, None] + s * (END - START)[:, None]
+    m = lk.solve({"c1": u[0], "c2": u[1]})
+    # past the stretch, the straight path from the drawing crosses it too
+    assert (m.ok == (s < s_out)).all()
+    first = int(np.argmax(s > s_out))
+    sweep = f"path along the sweep (before sample {first}) leaves where RRR dyad (l3, l4)"
+    assert sweep in m.reason[first], m.reason[first]
+
+
 def test_a_path_that_stays_inside_is_not_flagged():
     # the same five-bar, the path shifted so that D stays below e + f all along it
-    lk, reach = five_bar(0.3 * circuit.H)
+    lk, reach = five_bar(0.3 * paths.H)
     end = END + np.array([0.0, 0.02])
     s = np.linspace(0.0, 1.0, 20001)
     u = START[:, None] + s * (end - START)[:, None]
@@ -122,3 +141,56 @@ def test_a_change_point_on_the_path_of_several_drivers_is_flagged_not_crossed(fo
         assert r.endswith("cannot reach this input along " + ("them" if follow else "it")
                           + " on its drawn form")  # fmt: skip
     assert np.isnan(m.theta["cp"][crosses]).all()
+
+
+def parallelogram_change_points():
+    """The crank angles (rad, [0, 2π)) of the change points of ``parallelogram_and_arm``,
+    written here: the crank O2-A (2) lies along the ground line O2-O4 (5) where
+    ``sin θ = 0``; there ``D = |A − O4|`` is 7 = e + f or 3 = |e − f| (the coupler 5 and the
+    rocker 2 in line: the two circles touch)."""
+    theta = np.array([0.0, math.pi])
+    D = np.abs(2 * np.exp(1j * theta) - 5)
+    assert np.allclose(D, [5 - 2, 5 + 2])  # |e − f|, e + f of the dyad (cp, r)
+    return theta
+
+
+def reached_without_a_change_point(th, start, follow, cps=None):
+    """Per sample of a sweep ``th`` of the crank: reached from the drawn crank angle
+    ``start`` without passing a change point (``cps``, the parallelogram's by default;
+    one at the sample itself counts: a toggle), straight from the drawing (the angle
+    within 180° of it) or, along the sweep (``follow``), from the sample before if that
+    one was reached."""
+    cps = parallelogram_change_points() if cps is None else cps
+
+    def passes(a, b):  # a change point in [a, b] (either way, angles unwrapped)
+        lo, hi = min(a, b) - 1e-9, max(a, b) + 1e-9
+        return any(math.floor((hi - c) / (2 * math.pi)) >= math.ceil((lo - c) / (2 * math.pi))
+                   for c in cps)  # fmt: skip
+
+    out = []
+    for k, t in enumerate(th):
+        straight = start + (t - start + math.pi) % (2 * math.pi) - math.pi
+        ok = not passes(start, straight)
+        if follow and k and out[-1]:
+            ok = ok or not passes(th[k - 1], t)
+        out.append(ok)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("step", [0.1, 0.4, 1.0])
+def test_a_sweep_of_small_steps_is_watched_between_its_samples(step):
+    # the review of 2026-11-25: at 0.4° steps (less than a scan step, paths.H = 0.5°)
+    # 449 samples past the change point were shown ok on the crossed form
+    assert math.degrees(paths.H) == 0.5
+    lk = parallelogram_and_arm()
+    th = np.radians(np.arange(60.0, 400.0 + step / 2, step))
+    m = lk.solve({"c1": th, "arm": 0.5 * th})
+    expected = reached_without_a_change_point(th, math.radians(60.0), True)
+    assert expected.sum() > 100 and (~expected).sum() > 100  # the premise: both kinds
+    assert (m.ok == expected).all(), np.flatnonzero(m.ok != expected)
+    # ok: the drawn form, the coupler parallel to the ground (θ_cp = 0: written here)
+    assert np.allclose(m.theta["cp"][m.ok], 0.0, atol=1e-9)
+    assert np.isnan(m.theta["cp"][~m.ok]).all()
+    at = np.abs(np.sin(th)) < 1e-9  # at a change point: a toggle
+    for r in m.reason[~expected & ~at]:
+        assert "passes a change point of RRR dyad (cp, r)" in r, r

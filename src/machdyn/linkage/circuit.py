@@ -13,7 +13,7 @@ module tells which samples the drawing reaches without that
   the drawing that stays in it; found once per model and then one comparison
   per sample. A general group closes where the core, following the driver
   from the drawing, assembles it.
-* **Several drivers** (:func:`_path_lost`): what the drawing reaches is a
+* **Several drivers** (:func:`machdyn.linkage.paths._path_lost`): what the drawing reaches is a
   region of the drivers' values, so reaching a sample depends on the path the
   drivers take to it. For a sweep that path is the motion itself: from the
   drawn pose straight to the first sample, then sample to sample, each
@@ -22,14 +22,15 @@ module tells which samples the drawing reaches without that
   that sample, and once the path has left that region no later sample is.
   Samples solved independently (grids, ``continuation=False``) each take the
   straight path from the drawing (angles within π of the drawn ones). The
-  path is scanned in steps of :data:`H` (scaled driver units: radians, or
+  path is scanned in steps of :data:`~machdyn.linkage.paths.H` (scaled driver units: radians, or
   typical lengths) and where it leaves narrowed 64-fold seven times; between
-  scanned points, where an RRR dyad's margin dips, it is scanned again
-  (:meth:`_Scan.dips`): an excursion narrower than a step is found, and so is
+  scanned points, where an RRR or RRP dyad's margin dips, it is scanned again
+  (:mod:`machdyn.linkage.paths`): an excursion narrower than a step is found, and so is
   a change point on the path, which is flagged (not passed) with several drivers.
 * **Change points** (:func:`change_points`, :func:`flips`): where a dyad's two
-  forms cross (a parallelogram four-bar in line), a sweep with one angle
-  driver follows the drawn form by continuity, turning that dyad's assembly sign.
+  forms cross (a parallelogram four-bar in line, an isosceles slider-crank's
+  crank square to the slide), a sweep with one angle driver follows the drawn
+  form by continuity, turning that dyad's assembly sign.
 """
 
 from __future__ import annotations
@@ -39,23 +40,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import kernel
-from .program import NO_ASSEMBLY, Dyad, General, Program, RArm
+from .paths import CUTS, _margins, _path_lost, _refine, _watched
+from .program import NO_ASSEMBLY, General, Program
 
 if TYPE_CHECKING:
     from .builder import Linkage
     from .sweep import _Info
     from .topology import _Model
-
-#: Largest step of a path scan: half a degree, or 1/115 of a typical length.
-H = 2.0 * np.pi / 720
-#: Path points per program run of a scan (memory: a few MB per group).
-CHUNK = 200_000
-#: Values a bracket is cut at in each pass of :func:`_refine` (64 cells).
-CUTS = 65
-#: A dyad's relative margin below which a dip between two scanned points is looked at
-#: closely (:meth:`_Scan.dips`): the parabola through three points may miss its least.
-DIP = 1e-4
 
 
 def off_circuit(
@@ -115,12 +106,12 @@ def _circuit(lk: Linkage, model: _Model, info: _Info) -> tuple | None:
     drawing, the mechanism stops where the first of its groups stops closing
     (a toggle), so what it reaches is the connected range around the drawn
     value on which *every* group closes. Returns ``(lo, hi, groups, period)``
-    — that range (edges refined by :func:`_refine`; ±inf where a length driver's
+    — that range (edges refined by :func:`~.paths._refine`; ±inf where a length driver's
     groups close beyond ±10 typical lengths), the first group (in solving
     order) that stops closing at its upper and at its lower end, and 2π for an
     angle (None for a length) — or None when the groups close everywhere. Not
     asked (None): several drivers (the reachable set is a region of the
-    drivers' space, not a range: :func:`_path_lost`). A group the closed
+    drivers' space, not a range: :func:`~machdyn.linkage.paths._path_lost`). A group the closed
     forms do not cover (the vector-loop core) closes where the core, following
     the driver from the drawing on the drawn branch, assembles it.
     """
@@ -246,7 +237,7 @@ def _ends(t0: float, period: float | None, scans: list, lone: _Lone) -> tuple | 
 
     ``scans``: the upward and the downward scan, each ``(values, failing, solved)``
     as :class:`_Lone` gives them. A general group's core starts each pass of
-    :func:`_refine` from its solution at the last value known to close (the
+    :func:`~.paths._refine` from its solution at the last value known to close (the
     scan's, then each pass's): no pass marches from the drawing again.
     """
     a, b, there, seeds = [], [], [], []
@@ -281,7 +272,7 @@ def _ends(t0: float, period: float | None, scans: list, lone: _Lone) -> tuple | 
 
 
 class _FromLast:
-    """:func:`_refine`'s test for :func:`_ends`: which values close, each from where it last did.
+    """The test :func:`_ends` gives :func:`~.paths._refine`: which values close (from the last).
 
     NumPy (:meth:`_Lone.near`): every value solved alone from the solution at its
     bracket's last value known to close, each pass's (:meth:`keep`). Where the
@@ -328,30 +319,6 @@ class _FromLast:
                 vs[v] = np.where(np.isfinite(new), new, old)  # (j = 0: the row's own start)
 
 
-def _refine(
-    a: np.ndarray, b: np.ndarray, state, at_a: Any, kept=None
-) -> tuple[np.ndarray, np.ndarray]:
-    """Narrow brackets ``[a, b]`` (arrays) where ``state`` changes from ``at_a`` to not.
-
-    Each pass cuts every bracket in 64 and keeps the first cell where the state
-    changes, all brackets in one call of ``state`` (:data:`CUTS` values a
-    bracket): seven passes narrow them 64⁷ ≈ 4·10¹² times (a bisection needs 42
-    calls for that). ``kept``, if given, hears which of its values each bracket
-    starts the next pass from.
-    """
-    k = np.linspace(0.0, 1.0, CUTS)
-    for _ in range(7):
-        x = a[:, None] + (b - a)[:, None] * k
-        same = state(x.ravel()).reshape(x.shape) == np.reshape(at_a, (-1, 1))
-        j = np.maximum(np.argmin(same, axis=1), 1)  # the first cell past the change
-        j = np.where(same.all(axis=1), CUTS - 1, j)  # (rounding: no change seen, keep the end)
-        rows = np.arange(x.shape[0])
-        a, b = x[rows, j - 1], x[rows, j]
-        if kept is not None:
-            kept(j - 1)
-    return a, b
-
-
 def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
     """The samples assembled outside the drawn range, on the other circuit (None: none)."""
     lo, hi, _, period = arc
@@ -366,300 +333,22 @@ def _off_circuit(arc: tuple, theta: np.ndarray, codes: np.ndarray):
     return away if away.any() else None
 
 
-# ------------------------------------------------------------- several drivers
-def _failing(lk: Linkage, model: _Model, info: _Info):
-    """A function: driver values (drivers × m) → per group and point, it does not close.
-
-    Given RRR ``dyads`` (:func:`_rrr_dyads`) it also returns their margins
-    (:func:`_margins`) at each point, from the same (NumPy) run of the program.
-    """
-    program = model.program
-    walls = [i for i, d in enumerate(lk._drivers) if d in lk._actuators]
-
-    def failing(x: np.ndarray, dyads: Any = None) -> Any:
-        out = np.zeros((len(program.deps), x.shape[1]), bool)
-        M = None if dyads is None else np.empty((len(dyads), x.shape[1]))
-        for k in range(0, x.shape[1], CHUNK):
-            part = x[:, k : k + CHUNK]
-            with np.errstate(all="ignore"):
-                if M is None:
-                    U = np.zeros((4 * part.shape[0], part.shape[1]))
-                    U[0::4] = part
-                    codes = kernel.run(program, info.tables, U, 0, False).codes
-                else:
-                    u = [[row, 0.0, 0.0, 0.0] for row in part]
-                    st, codes = program.run(u, part.shape[1], 0, False)
-                    M[:, k : k + CHUNK] = _margins(dyads, st)
-            out[:, k : k + CHUNK] = codes == NO_ASSEMBLY
-        for i in walls:  # an actuator's length stays > 0: its group does not close
-            out[_group_of_driver(model, i)] |= x[i] <= 0.0
-        return out if M is None else (out, M)
-
-    return failing
-
-
-def _group_of_driver(model: _Model, d: int) -> int:
-    """The group whose step reads driver ``d`` (an actuator: the dyad with its bar)."""
-    for g, step in zip(model.program.group_of_step, model.program.steps, strict=True):
-        arms = [getattr(step, a, None) for a in ("arm1", "arm2")]
-        if getattr(step, "driver", -1) == d or any(getattr(a, "driver", -1) == d for a in arms):
-            return g
-    return 0
-
-
-def _path_lost(
-    lk: Linkage, model: _Model, info: _Info, U0: np.ndarray, codes: np.ndarray, follow: bool
-) -> tuple[np.ndarray, np.ndarray, Any] | None:
-    """Several drivers: the samples no path of the module's reaches inside where groups close.
-
-    Returns as :func:`off_circuit`.
-    """
-    n, start = U0.shape[1], info.start[:, None]
-    follow = follow and n > 1  # one pose: its path is the straight one
-    angle = np.array([d in info.angle_drivers for d in lk._drivers])[:, None]
-    turns = np.where(angle, 2.0 * np.pi * np.round((U0 - start) / (2.0 * np.pi)), 0.0)
-    ends = U0 - turns  # each sample, its angles within π of the drawn ones
-    scan = _Scan(lk, model, info)
-    at_end = (codes == NO_ASSEMBLY).any(axis=0)
-    for i, d in enumerate(lk._drivers):
-        if d in lk._actuators:
-            at_end |= ends[i] <= 0.0
-    k = np.arange(n)
-    if follow:  # the sweep's legs: drawing → sample 0 → sample 1 ...
-        along = U0 - turns[:, :1]
-        prev = np.concatenate((start, along[:, :-1]), axis=1)
-        leg_out = scan.first_out(prev, along, at_end)
-        broken = leg_out <= 1.0
-        if not broken.any():
-            return None
-        todo = np.flatnonzero(~at_end & (k >= np.argmax(broken)))
-    else:
-        todo = np.flatnonzero(~at_end)
-    straight = np.full(n, 2.0)
-    straight[todo] = scan.first_out(start, ends[:, todo], at_end[todo])
-    reached = ~at_end & (straight > 1.0)
-    if follow:  # or reached along the sweep from the last sample reached
-        last_break = np.maximum.accumulate(np.where(broken, k, -1))
-        last_seed = np.maximum.accumulate(np.where(reached, k, -1))
-        reached = ~at_end & (last_seed >= last_break)
-    away = ~at_end & ~reached
-    if not away.any():
-        return None
-    idx = np.flatnonzero(away)
-    group, where, change = scan.exit(np.broadcast_to(start, ends[:, idx].shape), ends[:, idx],
-                                     straight[idx])  # fmt: skip
-    texts = [
-        scan.text(g, w, "straight path from the drawing to this input", c)
-        for g, w, c in zip(group, where.T, change, strict=True)
-    ]
-    if follow:  # and where the sweep left after the last sample it reached
-        after = np.minimum.accumulate(np.where(broken, k, n)[::-1])[::-1]  # next break from k
-        legs, inverse = np.unique(after[last_seed[idx] + 1], return_inverse=True)
-        g_leg, w_leg, c_leg = scan.exit(prev[:, legs], along[:, legs], leg_out[legs])
-        w_leg += turns[:, :1]
-        sweep = [scan.text(g, w, f"path along the sweep (before sample {j})", c)
-                 for g, w, j, c in zip(g_leg, w_leg.T, legs, c_leg, strict=True)]  # fmt: skip
-        texts = [f"{sweep[i]}; {t}" for i, t in zip(inverse.ravel(), texts, strict=True)]
-        change = change | c_leg[inverse.ravel()]
-    mark = np.zeros(codes.shape, bool)
-    mark[group, idx] = True
-    reason = np.empty(idx.size, object)
-    word = "along them" if follow else "along it"
-    reason[:] = [
-        f"{t}: the mechanism cannot reach this input {word} "
-        + ("on its drawn form" if c else "without being taken apart")
-        for t, c in zip(texts, change, strict=True)
-    ]
-    return mark, away, reason
-
-
-class _Scan:
-    """Straight stretches of the drivers' values scanned for where a group stops closing."""
-
-    def __init__(self, lk: Linkage, model: _Model, info: _Info) -> None:
-        self.lk, self.model, self.info = lk, model, info
-        self.failing = _failing(lk, model, info)
-        self.scale = info.scale[:, None]
-        self.dyads = _rrr_dyads(model.program) or None
-
-    def steps(self, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
-        """The number of steps of :data:`H` (at least one) scanning each stretch ``p0 → p1``."""
-        count = np.ceil(np.max(np.abs(p1 - p0) / self.scale, axis=0) / H).astype(np.int64)
-        return np.maximum(count, 1)
-
-    def first_out(self, p0: np.ndarray, p1: np.ndarray, at_end: np.ndarray) -> np.ndarray:
-        """Per stretch ``p0 → p1`` (columns): where the first group stops closing.
-
-        The fraction of the stretch at its first point (steps of :data:`H`) where
-        a group does not close; 1: only at its end (``at_end``); 2: nowhere.
-        """
-        p0 = np.broadcast_to(p0, p1.shape)
-        if not p1.shape[1]:
-            return np.zeros(0)
-        count = self.steps(p0, p1)
-        if self.dyads is not None and (count >= 2).any():  # every point, margins too
-            leg = np.repeat(np.arange(p1.shape[1]), count + 1)
-            first = np.concatenate(([0], np.cumsum(count + 1)[:-1]))
-            idx = np.arange(leg.size) - np.repeat(first, count + 1)
-            frac = idx / count[leg]
-            fail, M = self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg], self.dyads)
-            bad = np.flatnonzero(fail.any(axis=0) & (idx > 0) & (idx < count[leg]))
-            out = np.where(at_end, 1.0, 2.0)
-            np.minimum.at(out, leg[bad], frac[bad])
-            self.dips(p0, p1, leg, idx, frac, M, ~fail.any(axis=0), out)
-            return out
-        # count − 1 points inside each, then its end
-        leg = np.repeat(np.arange(p1.shape[1]), count - 1)
-        first = np.concatenate(([0], np.cumsum(count - 1)[:-1]))
-        inner = np.arange(leg.size) - np.repeat(first, count - 1) + 1
-        frac = inner / np.repeat(count, count - 1)
-        out = np.where(at_end, 1.0, 2.0)
-        if leg.size:
-            bad = np.flatnonzero(self.failing(p0[:, leg] + frac * (p1 - p0)[:, leg]).any(axis=0))
-            np.minimum.at(out, leg[bad], frac[bad])
-        return out
-
-    def dips(self, p0, p1, leg, idx, frac, M, closes, out) -> None:
-        """Lower ``out`` where an RRR dyad stops closing between two scanned points.
-
-        A stretch can leave where the dyads close, and come back, between two
-        points :data:`H` apart; or pass a change point of a dyad (its margin
-        touching 0, closing on both sides: its two forms cross). Along it each
-        RRR dyad's margin ``M`` (:func:`_margins`, at every point ``idx`` of each
-        stretch ``leg``, at its fraction ``frac``; ``closes`` there) is smooth:
-        where the parabola through three neighbouring points (all closing) has
-        its least within two steps of the middle one and below :data:`DIP`,
-        those four steps are scanned again in 64 cells, then around the least
-        margin (seven passes; each later one keeps two of the 64 cells, about
-        32-fold), until a point is found where a group does not close; or,
-        failing that, a margin within :data:`machdyn.classify.CHANGE_POINT_RTOL`
-        of 0 (a change point). Only stretches of two steps or more have a point
-        inside: a sweep whose samples are one step apart or closer is watched at
-        its samples only (docs/linkage.md says so).
-        """
-        i = np.flatnonzero((idx > 0) & (np.roll(idx, -1) > idx))  # a point inside a leg
-        lo, mid, hi = M[:, i - 1], M[:, i], M[:, i + 1]
-        with np.errstate(all="ignore"):
-            curve = hi - 2.0 * mid + lo
-            at = (lo - hi) / (2.0 * curve)  # the parabola's least, from the middle point
-            least = mid - (hi - lo) ** 2 / (8.0 * curve)
-            dip = (curve > 0) & (np.abs(at) <= 2.0) & (least < DIP)
-        k = i[dip.any(axis=0) & closes[i - 1] & closes[i] & closes[i + 1]]
-        step = frac[k] - frac[k - 1]  # (a margin is not quite a parabola: two steps each way)
-        g, f0, f1 = leg[k], np.maximum(frac[k] - 2 * step, 0.0), np.minimum(frac[k] + 2 * step, 1.0)
-        cut, m = np.linspace(0.0, 1.0, CUTS), len(self.lk._drivers)
-        at = least = np.zeros(g.size)
-        for _ in range(7):
-            keep = f0 < out[g]  # (not where the leg leaves before already)
-            g, f0, f1, at, least = g[keep], f0[keep], f1[keep], at[keep], least[keep]
-            if not g.size:
-                return
-            f = f0[:, None] + (f1 - f0)[:, None] * cut  # cells × CUTS
-            z = (p0[:, g, None] + f[None] * (p1 - p0)[:, g, None]).reshape(m, -1)
-            fail, least = self.failing(z, self.dyads)
-            bad = fail.any(axis=0).reshape(f.shape)
-            hit = bad.any(axis=1)
-            np.minimum.at(out, g[hit], f[hit, np.argmax(bad[hit], axis=1)])
-            with np.errstate(all="ignore"):
-                least = np.nanmin(least, axis=0).reshape(f.shape)  # over the dyads
-            j = np.argmin(np.where(np.isnan(least), np.inf, least), axis=1)
-            rows = np.arange(g.size)
-            at, least = f[rows, j], least[rows, j]
-            f0 = f[rows, np.maximum(j - 1, 0)]
-            f1 = f[rows, np.minimum(j + 1, CUTS - 1)]
-            g, f0, f1, at, least = g[~hit], f0[~hit], f1[~hit], at[~hit], least[~hit]
-        # closing on both sides of a margin of 0: a change point (the dyad's forms cross)
-        from ..classify import CHANGE_POINT_RTOL
-
-        cross = np.abs(least) <= CHANGE_POINT_RTOL
-        np.minimum.at(out, g[cross], at[cross])
-
-    def exit(self, p0: np.ndarray, p1: np.ndarray, out: np.ndarray):
-        """Where each stretch leaves, from its first failing fraction ``out`` (as scanned).
-
-        The first group not closing just past it, and the last values where all close.
-        """
-        a, b = np.maximum(out - 1.0 / self.steps(p0, p1), 0.0), out
-        m = len(self.lk._drivers)
-
-        def closes(x: np.ndarray) -> np.ndarray:
-            f = x.reshape(p1.shape[1], -1)
-            z = p0[:, :, None] + f[None] * (p1 - p0)[:, :, None]
-            return ~self.failing(z.reshape(m, -1)).any(axis=0)
-
-        a, b = _refine(a, b, closes, True)
-        # the first group not closing just past the edge (at the scanned point, should
-        # rounding put the edge's far side back inside)
-        both = self.failing(np.concatenate((p0 + b * (p1 - p0), p0 + out * (p1 - p0)), axis=1))
-        past, scanned = both[:, : out.size], both[:, out.size :]
-        group = np.where(past.any(axis=0), np.argmax(past, axis=0), np.argmax(scanned, axis=0))
-        # every group closes: a change point found by :meth:`dips` (never at a leg's end,
-        # where ``out`` is 1 because the solve itself failed there, nor without RRR dyads)
-        change = ~past.any(axis=0) & ~scanned.any(axis=0) & (out < 1.0)
-        if self.dyads is None:
-            change[:] = False
-        if change.any():  # the RRR dyad of the least margin there
-            _, M = self.failing(p0[:, change] + b[change] * (p1 - p0)[:, change], self.dyads)
-            pick = np.argmin(np.where(np.isnan(M), np.inf, np.abs(M)), axis=0)
-            group[change] = np.array([g for g, _ in self.dyads])[pick]
-        return group, p0 + a * (p1 - p0), change
-
-    def text(self, g: int, at: np.ndarray, path: str, change: bool = False) -> str:
-        """``group`` and where ``path`` leaves it (or passes a change point of it)."""
-        values = [
-            f"{d} = {math.degrees(x):.5g}°" if d in self.info.angle_drivers else f"{d} = {x:.6g}"
-            for d, x in zip(self.lk._drivers, at, strict=True)
-        ]
-        name = self.model.groups[g].name
-        if change:
-            return (
-                f"the drivers' {path} passes a change point of {name} at {', '.join(values)} "
-                "(its two forms cross there; with several drivers machdyn does not follow "
-                "the drawn form through one)"
-            )
-        return f"the drivers' {path} leaves where {name} closes at {', '.join(values)}"
-
-
-def _rrr_dyads(program: Program) -> list[tuple[int, Dyad]]:
-    """The RRR dyads of ``program`` (pinned to known bodies, no driven arm), with their groups."""
-    return [
-        (g, s)
-        for g, s in zip(program.group_of_step, program.steps, strict=True)
-        if isinstance(s, Dyad)
-        and all(isinstance(a, RArm) and a.driver < 0 for a in (s.arm1, s.arm2))
-    ]
-
-
-def _margins(dyads: list[tuple[int, Dyad]], st: Any) -> np.ndarray:
-    """Per RRR dyad and sample of the state ``st``: ``min(D − |e − f|, e + f − D) / (e + f)``.
-
-    ``D`` between its pivots: negative where it does not close, 0 at a toggle.
-    NaN where its pivots meet (a kite's crank over the far pivot, where the
-    dyad turns freely: not a crossing of its forms).
-    """
-    rows = []
-    with np.errstate(all="ignore"):
-        for _, s in dyads:
-            D = np.abs(st.pos(s.arm1.centre) - st.pos(s.arm2.centre))
-            e, f = s.arm1.length, s.arm2.length
-            m = np.minimum(D - abs(e - f), e + f - D) / (e + f)
-            rows.append(np.where(1e-6 * (e + f) < D, m, np.nan))
-    return np.array(rows)
-
-
 # -------------------------------------------------------------- change points
 def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, float], ...]:
     """Where a dyad passes a change point, for a lone angle driver: ``(group, value)`` pairs.
 
     At a change point (a four-bar with ``s + l = p + q``: all its pivots in
     line) a dyad's two circles touch while it closes on both sides: its two
-    forms (a parallelogram's and an antiparallelogram's) meet and cross there.
+    forms (a parallelogram's and an antiparallelogram's) meet and cross there;
+    so do an RRP dyad's where its rod's circle touches the slide line (an
+    isosceles slider-crank, crank = rod, with the crank square to the slide).
     Holding the drawn assembly sign through it would go on along the *other*
     form; the drawn form goes on smoothly (the coupler angle and its rate
     continuous: a parallelogram's coupler stays parallel to the ground) with
     the other sign, and that is the one a sweep follows (:func:`flips`).
-    Found once per model: each RRR dyad's margin ``min(D − |e − f|, e + f − D)``
-    (``D`` between its pivots, relative to ``e + f``) over a turn of the driver
+    Found once per model: each RRR and RRP dyad's margin (:func:`~.paths._margin`;
+    an RRR dyad's ``min(D − |e − f|, e + f − D)``, ``D`` between its pivots,
+    relative to ``e + f``) over a turn of the driver
     (720 values), every dip that closes on both sides narrowed 32-fold seven
     times; a change point where its least margin is within
     :data:`machdyn.classify.CHANGE_POINT_RTOL` of zero. Values in
@@ -670,7 +359,7 @@ def change_points(lk: Linkage, model: _Model, info: _Info) -> tuple[tuple[int, f
     from ..classify import CHANGE_POINT_RTOL
 
     program, found = model.program, []
-    dyads = _rrr_dyads(program)
+    dyads = _watched(program)
     one = len(lk._drivers) == 1 and lk._drivers[0] in info.angle_drivers
     if one and dyads and not any(isinstance(s, General) for s in program.steps):
 

@@ -68,7 +68,8 @@ class Tables:
     scale: np.ndarray  # per driver: 1 (an angle) or the typical length
     lists: tuple[list, ...] = ()  # the same as Python lists, for the plain-Python twin
     wrapped: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # rows from atan2
-    packed: tuple[np.ndarray, np.ndarray] | None = None  # for the compiled kernel (:func:`pack`)
+    # for the compiled kernel, per program run with these tables (:func:`pack`)
+    packed: dict[int, tuple[Program, np.ndarray, np.ndarray]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.lists = tuple(
@@ -218,8 +219,9 @@ def pack(program: Program, tables: Tables) -> tuple[np.ndarray, np.ndarray]:
     length's links. Floats: the step rows, drawn angles, point offsets, length
     offsets, the drivers' drawn values and scales, and the path's step.
     """
-    if tables.packed is not None:
-        return tables.packed
+    hit = tables.packed.get(id(program))
+    if hit is not None and hit[0] is program:  # (the program kept: its id is not reused)
+        return hit[1], hit[2]
     enc = program.encoded
     t = tables
     ints = [enc.pi, t.links, t.exact.astype(np.int64), t.pts_i, t.lens_i]
@@ -231,8 +233,8 @@ def pack(program: Program, tables: Tables) -> tuple[np.ndarray, np.ndarray]:
             *ends_i, *ends_f, len(program.deps)]  # fmt: skip
     ii = np.concatenate([np.array(head, np.int64), *[np.asarray(a, np.int64) for a in ints]])
     ff = np.concatenate([np.asarray(a, float) for a in floats])
-    tables.packed = (ii, ff)
-    return tables.packed
+    tables.packed[id(program)] = (program, ii, ff)
+    return ii, ff
 
 
 def run_compiled(kern, program, tables, U, order, follow) -> Outputs | None:

@@ -25,9 +25,10 @@ import numpy as np
 from ..errors import ModelError
 from . import kernel
 from ._common import GROUND, _ref_angle, _typical_length
-from .circuit import _refine, flips, off_circuit
+from .circuit import flips, off_circuit
 from .kernel import STEP, Outputs, Tables, has_general, run
 from .kinematics import LinkageMotion, _cg_drawn
+from .paths import _refine
 from .program import NO_ASSEMBLY, OFF_BRANCH, OK, SINGULAR, Program, blank, unwrap
 
 if TYPE_CHECKING:
