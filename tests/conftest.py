@@ -58,3 +58,16 @@ def backend(request: pytest.FixtureRequest):
         jit.set_mode("on")
     yield request.param
     jit.set_mode("off")
+
+
+@pytest.fixture
+def compiled():
+    """The compiled kernels serve this test (the suite runs NumPy, "off" above), the mode
+    restored after: for tests of what only the compiled path does, or that would take
+    minutes on NumPy (timed six-bar and many-point atlas searches)."""
+    pytest.importorskip("numba", reason="numba is not installed on this Python")
+    assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
+    before = jit.mode()
+    jit.set_mode("on")
+    yield
+    jit.set_mode(before)

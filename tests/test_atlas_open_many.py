@@ -11,25 +11,13 @@ scalar minimisation; no machdyn solver).
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from tests.test_synthesis_path_atlas import _curve_distance
 
-from machdyn import jit
 from machdyn.fourbar import FourBar
 from machdyn.synthesis import PlacedFourBar, _atlas_retrieve, atlas_path, build_atlas
 from machdyn.synthesis.atlas_path import MANY_POINTS, path_from_atlas
 from machdyn.synthesis.atlas_store import META_DTYPE
 from machdyn.synthesis.circuits import circuit_points
-
-
-@pytest.fixture
-def compiled():
-    pytest.importorskip("numba", reason="numba is not installed on this Python")
-    assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
-    before = jit.mode()  # (the suite runs with "off": conftest.py)
-    jit.set_mode("on")
-    yield
-    jit.set_mode(before)
 
 
 def _row(r1, r3, r4, p, delta, circuit):

@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 from tests.test_synthesis_path_atlas import _curve_distance
 
-from machdyn import jit
 from machdyn.fourbar import FourBar
 from machdyn.synthesis import PlacedFourBar
 from machdyn.synthesis.atlas_path import UNTIMED_MET, _long_polished
@@ -40,15 +39,6 @@ NEAR = Refined(
     -np.ones(9), 8.94892242079734e-06, True,
 )  # fmt: skip
 OPTIONS = dict(timing=None, crank=True, mu_min=0.0, fixed={}, max_length=None, pivot_box=None)
-
-
-@pytest.fixture
-def compiled():
-    pytest.importorskip("numba", reason="numba is not installed on this Python")
-    assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
-    jit.set_mode("on")
-    yield
-    jit.set_mode("off")
 
 
 def _worst(fit, targets) -> float:

@@ -11,11 +11,9 @@ from __future__ import annotations
 from types import SimpleNamespace
 
 import numpy as np
-import pytest
 from tests.closed_forms import circle_meet
 from tests.test_synthesis_path_atlas import _curve_distance
 
-from machdyn import jit
 from machdyn.fourbar import FourBar
 from machdyn.synthesis import PlacedFourBar
 from machdyn.synthesis import atlas_path as AP
@@ -27,15 +25,6 @@ OPTIONS = dict(timing=None, crank=True, mu_min=0.0, fixed={}, max_length=None, p
 #: A crank-rocker and nine points on a 1.6 rad arc of its crank (an open target).
 TRUTH = PlacedFourBar(FourBar(3.0, 1.0, 3.5, 3.2, coupler=(2.0, 0.8)), 1 + 1j, 0.4, 1)
 THETA = 0.7 + np.linspace(0.0, 1.6, 9)
-
-
-@pytest.fixture
-def compiled():
-    pytest.importorskip("numba", reason="numba is not installed on this Python")
-    assert jit.load(), f"the compiled kernels do not load: {jit.reason()}"
-    jit.set_mode("on")
-    yield
-    jit.set_mode("off")
 
 
 def _closed_curve(r1, r3, r4, p, delta, samples=128):

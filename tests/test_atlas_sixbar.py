@@ -437,19 +437,6 @@ def _drawn(x, theta2, fixed):
     return j["B"], j["E"]
 
 
-@pytest.fixture
-def compiled():
-    """The compiled kernels serve this test (the suite runs NumPy; both loops are tested equal
-    above): a timed six-bar synthesis refines hundreds of starts."""
-    pytest.importorskip("numba")
-    from machdyn import jit
-
-    assert jit.load(), jit.reason()
-    jit.set_mode("on")
-    yield
-    jit.set_mode("off")
-
-
 @pytest.fixture(scope="module")
 def atlas6(tmp_path_factory):
     folder = tmp_path_factory.mktemp("six")

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from machdyn import _parallel, jit
+from machdyn import _parallel
 from machdyn.fourbar import FourBar
 from machdyn.synthesis import (
     PlacedFourBar,
@@ -27,14 +27,6 @@ from machdyn.synthesis import (
 from machdyn.synthesis._atlas_retrieve import _angle_table, _timed_fits, _timed_scores_numpy
 from machdyn.synthesis.atlas import coupler_points
 from machdyn.synthesis.atlas_store import sample_fourbars
-
-
-@pytest.fixture
-def compiled(request):
-    if not jit.load():
-        pytest.skip(f"compiled kernels unavailable: {jit.reason()}")
-    jit.set_mode("on")
-    request.addfinalizer(lambda: jit.set_mode("off"))
 
 
 def _assembles(rows, theta) -> np.ndarray:
