@@ -201,7 +201,7 @@ class _Decomposer:
     # ------------------------------------------------------------------ search
     def relevant(self, S: set[str]) -> list[_Con]:
         seen, out = set(), []
-        for n in S:
+        for n in sorted(S, key=self.geo.index.__getitem__):  # the links' order, not the set's
             for c in self.touching[n]:
                 if id(c) not in seen and c.a in S | self.known and c.b in S | self.known:
                     seen.add(id(c))
