@@ -93,18 +93,23 @@ def _worst(fit, targets) -> float:
     return float(np.max(d)) / size
 
 
+def _solvers_used(monkeypatch) -> list[str]:
+    """The solver of each refinement atlas_path makes from now on (a spy on its refine)."""
+    solvers: list[str] = []
+
+    def spy(*args, **kwargs):
+        solvers.append(kwargs.get("solver", "trf"))
+        return refine_module.refine(*args, **kwargs)
+
+    monkeypatch.setattr(AP, "refine", spy)
+    return solvers
+
+
 def test_lm_look_meets_an_open_target_without_trf(compiled, monkeypatch):
     targets = TRUTH.pose(THETA)[2]
     branch = np.full(THETA.size, float(TRUTH.branch))
     start = Refined(_start(1.01), THETA, branch, 1.0, False)
-    solvers = []
-    real = AP.refine
-
-    def spy(*args, **kwargs):
-        solvers.append(kwargs.get("solver", "trf"))
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(AP, "refine", spy)
+    solvers = _solvers_used(monkeypatch)
     fits, met = AP._polished([start], targets, OPTIONS, 1)
     assert met and _worst(fits[0], targets) <= 1e-6
     assert solvers == ["lm"]  # met by the look: no trf refinement
@@ -115,14 +120,7 @@ def test_later_rounds_refine_by_the_compiled_lm(compiled, monkeypatch):
     targets = TRUTH.pose(THETA)[2]
     branch = np.full(THETA.size, float(TRUTH.branch))
     starts = [(_start(s), THETA + 0.02, branch) for s in (1.03, 0.97, 1.05)]
-    solvers = []
-    real = refine_module.refine
-
-    def spy(*args, **kwargs):
-        solvers.append(kwargs.get("solver", "trf"))
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(AP, "refine", spy)
+    solvers = _solvers_used(monkeypatch)
     fits = AP._screened(starts, targets, OPTIONS, lm=True)
     fits, met = AP._polished(fits, targets, OPTIONS, 8, 100, lm=True)
     assert met and _worst(fits[0], targets) <= 1e-6
