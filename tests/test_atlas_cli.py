@@ -73,7 +73,7 @@ def test_synth_path_prints_candidates_and_writes_specs(folder, tmp_path, capsys,
     text = capsys.readouterr().out
     assert "Path synthesis from the atlas" in text and "GCRR" in text
     # the geometry table: one value per column, the best candidate's lengths on its row 1
-    geometry = text[text.index("Their geometry"):].splitlines()
+    geometry = text[text.index("Their geometry") :].splitlines()
     assert geometry[1].split() == ["#", "r1", "r2", "r3", "r4", "p", "delta(deg)", "O2", "x",
                                    "O2", "y", "theta1(deg)"]  # fmt: skip
     row = [float(v) for v in geometry[2].split()]

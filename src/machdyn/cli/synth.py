@@ -455,9 +455,7 @@ def path_cmd(
             if res.candidates
             else "Best linkages found (with defects)"
         )
-        print_table(
-            title, ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"], fits
-        )
+        print_table(title, ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"], fits)
         print_table(
             "Their geometry (lengths in the points' units; delta: coupler point from AB)",
             ["#", "r1", "r2", "r3", "r4", "p", "delta(deg)", "O2 x", "O2 y", "theta1(deg)"],
