@@ -115,6 +115,17 @@ def test_a_synthesised_fourbar_file_opens_drawn_named_and_on_its_closed_form_pat
     assert gone in p.page.locator("#status").inner_text()
     assert renamed in js(p, "() => window.studio.plots.selected")
     p.shot("studio-21b-plot-of-a-deleted-joint")
+    # undo the deletion, then the renaming: the plot follows the link back to its old name
+    for _ in range(2):
+        before = analysed(p)
+        p.page.click("#undo")
+        settle(p, before)
+    deadline = time.monotonic() + 30
+    while q not in js(p, "() => Object.keys(window.studio.result.columns)"):
+        assert time.monotonic() < deadline, "the plot did not follow the renaming undone"
+        p.page.wait_for_timeout(50)
+    assert js(p, f"() => window.studio.result.columns[{q!r}]") == values
+    assert renamed not in js(p, "() => window.studio.plots.selected")
     p.page.click("#notice-close")
     assert not notice.is_visible()
     assert not p.errors, p.errors
