@@ -6,8 +6,8 @@ What the page shows is checked against the library computed another way: the cou
 curve on the screen against ``FourBar``'s closed form placed in the plane by hand
 (global = O2 + e^{jθ1}·local), the messages against the file's contents. Also: a plotted
 quantity follows its link's new name (the same numbers), one that disappears (its
-joint deleted) is named in a visible message, and link names are written on the drawing. One browser page for the module; screenshots in
-tests/screenshots/.
+joint deleted) is named in a visible message, and link names are written on the
+drawing. One browser page for the module; screenshots in tests/screenshots/.
 """
 
 from __future__ import annotations
