@@ -54,6 +54,7 @@ from ._atlas_retrieve import (
     TIMED_POOL,
     _arc_starts,
     _retrieve,
+    _retrieve_closed,
     _retrieve_timed,
     _retrieve_wide,
     _timed_starts,
@@ -415,13 +416,15 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     """
     fixed = options["fixed"]
     count = max(1, refine_count // 4) if {6, 8} & fixed.keys() else refine_count
-    # a closed path is traced in order on one assembly only by a link 2 that turns fully
-    # (see _in_order_angles): a closed target's starts are crank entries, crank or not
-    rows_crank = crank or closed
-    entries, transforms = _retrieve(atlas, pts, closed, rows_crank, retrieve, refine_count,
-                                    client, deadline)  # fmt: skip
+    spare = None  # a closed target's next-nearest crank entries, for its second round
+    if closed:
+        (entries, transforms), spare = _retrieve_closed(atlas, pts, crank, retrieve, refine_count,
+                                                        client, deadline)  # fmt: skip
+    else:
+        entries, transforms = _retrieve(atlas, pts, closed, crank, retrieve, refine_count, client,
+                                        deadline)  # fmt: skip
     if not deadline.passed():  # (past the deadline: the atlas's entries alone)
-        wide, placed = _retrieve_wide(atlas, pts, closed, rows_crank, count)
+        wide, placed = _retrieve_wide(atlas, pts, closed, crank, count)
         entries, transforms = np.concatenate([entries, wide]), np.concatenate([transforms, placed])
     t1 = time.perf_counter()
     first = _untimed_starts(entries, transforms, pts)
@@ -439,12 +442,14 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
     for r in range(1, UNTIMED_ROUNDS):
         if met or deadline.passed() or not _worth_a_round(fits, pts, closed):
             break
-        rows = atlas.entries(atlas.pool(OPEN_POOL, crank=rows_crank, draw=r))
+        rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank, draw=r))
         curves = even_curves(rows, man.circuit_samples, man.samples)
         entries, transforms = _arc_starts(rows, curves, arc, UNTIMED_LATER[0] * refine_count)
         starts = _untimed_starts(entries, transforms, pts)
         if r == 1 and UNTIMED_AGAIN:
             starts += first
+        if r == 1 and spare is not None:
+            starts += _untimed_starts(*spare, pts)
         more, met = _polished(_screened(starts, pts, options, deadline, lm=True), pts, options,
                               UNTIMED_LATER[1], UNTIMED_NFEV[1], deadline, lm=True)  # fmt: skip
         if closed:
