@@ -72,6 +72,14 @@ def test_synth_path_prints_candidates_and_writes_specs(folder, tmp_path, capsys,
     assert main(args) == 0  # the table
     text = capsys.readouterr().out
     assert "Path synthesis from the atlas" in text and "GCRR" in text
+    # the geometry table: one value per column, the best candidate's lengths on its row 1
+    geometry = text[text.index("Their geometry") :].splitlines()
+    assert geometry[1].split() == ["#", "r1", "r2", "r3", "r4", "p", "delta(deg)", "O2", "x",
+                                   "O2", "y", "theta1(deg)"]  # fmt: skip
+    row = [float(v) for v in geometry[2].split()]
+    assert row[0] == 1
+    np.testing.assert_allclose(row[1:5], [best[k] for k in ("r1", "r2", "r3", "r4")], rtol=1e-4)
+    np.testing.assert_allclose(row[7:9], [best["O2"]["x"], best["O2"]["y"]], rtol=1e-4, atol=1e-4)
 
 
 def test_synth_path_bad_input_is_one_line(folder, tmp_path, capsys):

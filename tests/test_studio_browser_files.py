@@ -5,14 +5,15 @@ path`` writes (with masses, loads and a table the studio cannot keep) and a hand
 What the page shows is checked against the library computed another way: the coupler
 curve on the screen against ``FourBar``'s closed form placed in the plane by hand
 (global = O2 + e^{jθ1}·local), the messages against the file's contents. Also: a plotted
-quantity that disappears (its link renamed) is named in a visible message, and link
-names are written on the drawing. One browser page for the module; screenshots in
-tests/screenshots/.
+quantity follows its link's new name (the same numbers), one that disappears (its
+joint deleted) is named in a visible message, and link names are written on the
+drawing. One browser page for the module; screenshots in tests/screenshots/.
 """
 
 from __future__ import annotations
 
 import cmath
+import time
 from pathlib import Path
 
 import numpy as np
@@ -72,26 +73,59 @@ def test_a_synthesised_fourbar_file_opens_drawn_named_and_on_its_closed_form_pat
     expected = O2 + np.asarray(m.coupler) * cmath.exp(1j * THETA1)
     rounding = 2 * 10.0 ** -r["scene"]["decimals"]
     assert np.all(m.ok) and np.max(np.abs(shown - expected)) < rounding
-    # a plotted quantity whose link is renamed: the page says it was taken off the plots
+    # a plotted quantity whose link is renamed follows the new name: the same numbers
     p.page.click("button[data-tab=plots]")
     q = next(n for n in js(p, "() => window.studio.result.names") if n.startswith("omega_rocker"))
     before = analysed(p)
     p.page.locator(f'#tab-plots input[data-q="{q}"]').check()
     settle(p, before)
-    assert q in js(p, "() => Object.keys(window.studio.result.columns)")
+    values = js(p, f"() => window.studio.result.columns[{q!r}]")
+    assert values is not None and len(values) == len(r["x"])
     p.page.click("button[data-tab=design]")
     p.page.click("#tab-design .lists a:text-is('rocker')")
     before = analysed(p)
     p.page.fill("h3 input.name", "follower")
     p.page.keyboard.press("Enter")
-    settle(p, before)
-    settle(p, analysed(p) - 1)  # the answer to the request that asked for the old name
+    renamed = q.replace("rocker", "follower")
+    deadline = time.monotonic() + 30
+    while renamed not in js(p, "() => Object.keys(window.studio.result.columns)"):
+        assert time.monotonic() < deadline, "the plot did not follow the renamed link"
+        p.page.wait_for_timeout(50)
+    assert js(p, "() => window.studio.plots.selected").count(renamed) == 1
+    assert js(p, f"() => window.studio.result.columns[{renamed!r}]") == values
     p.page.click("button[data-tab=plots]")
-    note = p.page.locator("#tab-plots .card.note")
-    assert note.is_visible() and q in note.inner_text() and "taken off" in note.inner_text()
-    assert q in p.page.locator("#status").inner_text()
+    assert p.page.locator(f'#tab-plots svg.chart path.series[data-q="{renamed}"]').count() == 1
+    assert p.page.locator("#tab-plots .card.note").count() == 0
     assert "follower" in p.page.locator("#canvas text.link-name").all_text_contents()
     p.shot("studio-21-plot-of-a-renamed-link")
+    # a plotted quantity that is gone (its joint deleted): the page says it was taken off
+    gone = next(n for n in js(p, "() => window.studio.result.names") if n.startswith("|VP|"))
+    before = analysed(p)
+    p.page.locator(f'#tab-plots input[data-q="{gone}"]').check()
+    settle(p, before)
+    p.page.click("button[data-tab=design]")
+    p.page.click("#tab-design .lists a:text-is('P')")
+    before = analysed(p)
+    p.page.click("#tab-design button:text-is('Delete joint')")
+    settle(p, before)
+    p.page.click("button[data-tab=plots]")
+    note = p.page.locator("#tab-plots .card.note")
+    note.wait_for(state="visible", timeout=30_000)
+    assert gone in note.inner_text() and "taken off" in note.inner_text()
+    assert gone in p.page.locator("#status").inner_text()
+    assert renamed in js(p, "() => window.studio.plots.selected")
+    p.shot("studio-21b-plot-of-a-deleted-joint")
+    # undo the deletion, then the renaming: the plot follows the link back to its old name
+    for _ in range(2):
+        before = analysed(p)
+        p.page.click("#undo")
+        settle(p, before)
+    deadline = time.monotonic() + 30
+    while q not in js(p, "() => Object.keys(window.studio.result.columns)"):
+        assert time.monotonic() < deadline, "the plot did not follow the renaming undone"
+        p.page.wait_for_timeout(50)
+    assert js(p, f"() => window.studio.result.columns[{q!r}]") == values
+    assert renamed not in js(p, "() => window.studio.plots.selected")
     p.page.click("#notice-close")
     assert not notice.is_visible()
     assert not p.errors, p.errors

@@ -438,27 +438,29 @@ def path_cmd(
             "seconds": res.seconds,
         }))  # fmt: skip
     else:
-        rows = []
+        fits, shapes = [], []
         for i, c in enumerate(shown, 1):
             pl = c.linkage
-            rows.append([
+            fits.append([
                 i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
-                c.barker_class, " ".join(f"{v:.4g}" for v in pl.lengths),
-                f"{pl.fourbar.coupler[0]:.4g} {np.degrees(pl.fourbar.coupler[1]):.1f}",
-                f"{_point(pl.O2)} {np.degrees(pl.theta1):.1f}", f"{np.degrees(c.mu_min):.1f}",
-                "; ".join(c.defects) or "-",
+                c.barker_class, f"{np.degrees(c.mu_min):.1f}", "; ".join(c.defects) or "-",
+            ])  # fmt: skip
+            p, delta = pl.fourbar.coupler
+            shapes.append([
+                i, *(f"{v:.5g}" for v in (*pl.lengths, p)), f"{np.degrees(delta):.2f}",
+                f"{pl.O2.real:.5g}", f"{pl.O2.imag:.5g}", f"{np.degrees(pl.theta1):.2f}",
             ])  # fmt: skip
         title = (
             "Path synthesis from the atlas"
             if res.candidates
             else "Best linkages found (with defects)"
         )
+        print_table(title, ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"], fits)
         print_table(
-            title,
-            ["#", "max dist", "% of size", "class", "r1 r2 r3 r4", "p delta(deg)",
-             "O2 theta1(deg)", "mu min(deg)", "defects"],
-            rows,
-        )  # fmt: skip
+            "Their geometry (lengths in the points' units; delta: coupler point from AB)",
+            ["#", "r1", "r2", "r3", "r4", "p", "delta(deg)", "O2 x", "O2 y", "theta1(deg)"],
+            shapes,
+        )
         print(f"specs: {', '.join(files)}")
         secs = res.seconds
         print(

@@ -10,6 +10,16 @@ function swatch(colour) { const i = h("i", {}); i.style.background = colour; ret
 
 function unitOf(name) { const m = /\[([^\]]*)\]\s*$/.exec(name); return m ? m[1] : ""; }
 
+// Whether `after` is `before` with some of its occurrences of `old` written `now` (and differs).
+function swapped(before, after, old, now) {
+  const go = (i, j) => {
+    if (i === before.length || j === after.length) return i === before.length && j === after.length;
+    if (before.startsWith(old, i) && after.startsWith(now, j) && go(i + old.length, j + now.length)) return true;
+    return before[i] === after[j] && go(i + 1, j + 1);
+  };
+  return before !== after && go(0, 0);
+}
+
 function ticks(lo, hi, target = 5) {
   const span = hi - lo || Math.abs(hi) || 1;
   const raw = span / target, p = Math.pow(10, Math.floor(Math.log10(raw)));
@@ -27,11 +37,32 @@ export class Plots {
     this.filter = "";
     this.charts = [];
     this.gone = [];  // asked-for quantities the last answer had no column for (its `unknown`)
+    this.seen = null;  // the last answer's names and the design's link and joint names then
+  }
+
+  // A link or joint renamed (or its renaming undone or redone): its plots follow the new
+  // name. A plot follows only when the new answer has as many columns and the one at its
+  // place is its name with the old name written anew; otherwise it is taken off, as before.
+  followRenames(r) {
+    const part = this.app.store.part || {};
+    const before = this.seen;
+    this.seen = { names: r.names, ids: new Set([...Object.keys(part.links || {}), ...Object.keys(part.points || {})]) };
+    if (!before || !r.unknown || !r.unknown.length || before.names.length !== r.names.length) return;
+    const old = [...before.ids].filter((n) => !this.seen.ids.has(n));
+    const now = [...this.seen.ids].filter((n) => !before.ids.has(n));
+    if (old.length !== 1 || now.length !== 1) return;
+    const moved = new Map();
+    for (const n of r.unknown) {
+      const i = before.names.indexOf(n);
+      if (i >= 0 && swapped(n, r.names[i], old[0], now[0])) moved.set(n, r.names[i]);
+    }
+    this.selected = this.selected.map((n) => moved.get(n) || n);
+    r.unknown = r.unknown.filter((n) => !moved.has(n));
   }
 
   goneText() {
     const n = this.gone.length;
-    return `${n === 1 ? "This plot was" : "These plots were"} taken off: ${this.gone.join(", ")} — the design no longer has ${n === 1 ? "that quantity" : "those quantities"} (a link or joint renamed or deleted?). Tick others below.`;
+    return `${n === 1 ? "This plot was" : "These plots were"} taken off: ${this.gone.join(", ")} — the design no longer has ${n === 1 ? "that quantity" : "those quantities"} (its link or joint deleted?). Tick others below.`;
   }
 
   defaults(r) {
@@ -54,6 +85,7 @@ export class Plots {
   wanted() { return this.selected.length ? this.selected : null; }
 
   setResult(r) {
+    this.followRenames(r);
     if (r.unknown && r.unknown.length) {
       this.gone = [...new Set([...this.gone, ...r.unknown])];
       this.selected = this.selected.filter((n) => !r.unknown.includes(n));
