@@ -537,8 +537,10 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     if round_ > 1:  # a kind round: entries of the kinds of the best fits (_kind_round)
         pools = _kind_round(atlas, fits, pts, near, memo)
     else:
-        pools = [np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
-                 near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]]  # fmt: skip
+        pools = [
+            np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
+            near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
+        ]  # fmt: skip
     pools = [idx for idx in pools if idx.size]
     chosen = []
     # (kind rounds: the first round's starting angles, the grid turned by one whole step)
@@ -593,7 +595,8 @@ def _kind_round(atlas, fits, pts, near, memo) -> list[np.ndarray]:
         return []
     first = memo.get("kinds")
     if first is None:
-        kinds = [k for k, rms in ranked[:SIXBAR_KIND_MOST] if rms <= SIXBAR_KIND_BAND * ranked[0][1]]
+        band = SIXBAR_KIND_BAND * ranked[0][1]
+        kinds = [k for k, rms in ranked[:SIXBAR_KIND_MOST] if rms <= band]
         memo["kinds"] = memo["round_kinds"] = kinds
         return [_kind_pool(atlas, k) for k in kinds]
     pools = [_kind_pool(atlas, k, near, spread=False) for k in first]
@@ -987,10 +990,9 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     t_begin = time.perf_counter()
     for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
         gate = SIXBAR_GATE[timing is not None]
-        if timing is None and round_ >= gate and min((f[2] for f in fits), default=np.inf) <= (
-            SIXBAR_CRAWL * size
-        ):  # an untimed fit crawling to the targets: the long polish's, not a wider round's
-            break
+        crawl = min((f[2] for f in fits), default=np.inf) <= SIXBAR_CRAWL * size
+        if timing is None and round_ >= gate and crawl:
+            break  # an untimed fit crawling to the targets: the long polish's, not a wider round
         if round_ >= gate and long[0] and not (met or near or deadline.passed()):
             # a late round only while the best fits, polished long, leave the targets unmet
             fits.sort(key=lambda f: f[2])
