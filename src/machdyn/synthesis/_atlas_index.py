@@ -168,10 +168,12 @@ class Atlas:
         if self._plain is None:  # (the chunks' arrays: a row's view is cheaper than a memmap's)
             self._plain = [np.asarray(d) for d in self.desc]
         chunk = np.searchsorted(self.offsets, idx, side="right") - 1
-        rows = (idx - self.offsets[chunk]).tolist()
-        # (the candidates lie in many chunks, a few in each: read row by row)
-        d = np.array([self._plain[c][r] for c, r in zip(chunk.tolist(), rows, strict=True)],
-                     dtype=np.float64).reshape(idx.size, variants.shape[1])  # fmt: skip
+        d = np.empty((idx.size, variants.shape[1]), dtype=np.float64)
+        order = np.argsort(chunk, kind="stable")  # (each chunk's rows in one read)
+        cuts = np.searchsorted(chunk[order], np.arange(len(self.desc) + 1))
+        for c in np.flatnonzero(np.diff(cuts)):
+            at = order[cuts[c] : cuts[c + 1]]
+            d[at] = self._plain[c][idx[at] - self.offsets[c]]  # (float32 -> float64 exactly)
         v = np.asarray(variants, dtype=np.float64)
         acc = d[:, :1] * v[:, 0]  # (n, 4)
         for j in range(1, v.shape[1]):

@@ -403,31 +403,47 @@ SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25
 #: Rounds of starts while no fit meets the targets (untimed, timed). The second round of a
 #: timed target scans the first pool again on grids of starting angles turned by half a
 #: step (the best-scoring entries and angles change, and with them the basins the starts
-#: lie in), its third entries of the best fit's kind (:data:`SIXBAR_KIND_POOL`), its fourth
-#: entries of the kind of the best fit of another kind; a later round of an untimed target
-#: takes the next-best-placed entries of a retrieval :data:`SIXBAR_WIDER` times wider.
-#: The fourth round: where the best fits are of a neighbouring kind (Stephenson 1-3 on 6 for
-#: a Stephenson 2-4 on 6, Watt I 3-4 on 5 for a 3-4 on 6), the third scans the wrong kind;
-#: on seed 17's three such misses the generating kind was the second best after two rounds
-#: (1.2e-4, 7.7e-4, 2.7e-6 of the size) and a fourth round of it met two (1.6e-15, 2.0e-15).
-#: It runs only when three rounds leave a target unmet, and their best fits polished long
-#: too (:data:`SIXBAR_GATE`).
-SIXBAR_ROUNDS = (2, 4)  # untimed, timed
-#: From this round of starts on (0 the first), a round runs only when the best fits so far,
-#: polished long (:data:`SIXBAR_LONG`, as after the rounds; each fit once), still leave the
-#: targets unmet. Seed 2026's timed six-bar 43: its best fit after three rounds (3.1e-7 of
-#: the size, from the first) polished to 9e-16, and the fourth round it had run for nothing.
-SIXBAR_GATE = 3
-SIXBAR_WIDER = (5, 3)  # untimed later rounds: entries retrieved ×5, placed starts ×3
-#: The third round of a timed target scans this many entries spread over those of the kind
-#: of the best fit so far (chain, dyad links, the point's link: :func:`_kind_pool`). Where
-#: the best fits are of the generating kind but at a local minimum, the starts in the
-#: generating six-bar's basin are few (0.25–1.2 % of random entries of its kind, for seed
-#: 7's missed Watt I 3-4 on 5) and no score finds them (they ranked 500th to 150,000th by
-#: shape and by the timed scan): more entries of that kind are what helps. A third round,
-#: not a share of the second: that share lost a target the whole rescan met (best fits of
-#: another kind).
+#: lie in); its third and fourth are kind rounds (:func:`_kind_round`): entries of the
+#: kinds of its best fits. A later round of an untimed target takes the next-best-placed
+#: entries of a retrieval :data:`SIXBAR_WIDER` times wider than the round before. An
+#: untimed third round and a timed fourth run only when the rounds before leave a target
+#: unmet, and their best fits polished long too (:data:`SIXBAR_GATE`).
+SIXBAR_ROUNDS = (3, 4)  # untimed, timed
+#: From this round of starts on (0 the first; untimed, timed), a round runs only when the
+#: best fits so far, polished long (:data:`SIXBAR_LONG`, as after the rounds; each fit
+#: once), still leave the targets unmet. Seed 2026's timed six-bar 43: its best fit after
+#: three rounds (3.1e-7 of the size, from the first) polished to 9e-16, and the fourth round
+#: it had run for nothing; of the untimed targets two rounds leave unmet, most are met by
+#: that polish.
+SIXBAR_GATE = (2, 3)
+#: Untimed later rounds: entries retrieved ×5, placed starts ×3, each round again (the
+#: third: 25 times the first's retrieval, 4,000 entries, 360 placed). Seed 13's untimed
+#: Watt I 3-4 on 5 and on 6 (six-bars 10 and 11: 1.2e-2, 6.1e-3 of the size after two rounds)
+#: are met by the third (2.8e-15); a fourth (125 times) cost 4 s more and met none. No third
+#: round where the best fit is within :data:`SIXBAR_CRAWL` (seeds 13 and 17: three targets
+#: at 1e-8–8e-8 took it for nothing, 1.2–1.6 s of CPU).
+SIXBAR_WIDER = (5, 3)
+#: A kind round scans this many entries spread over those of a kind (chain, dyad links, the
+#: point's link: :func:`_kind_pool`). Where the best fits are of the generating kind but at
+#: a local minimum, the starts in the generating six-bar's basin are few (0.25–1.2 % of
+#: random entries of its kind, for seed 7's missed Watt I 3-4 on 5) and no score finds them
+#: (they ranked 500th to 150,000th by shape and by the timed scan): more entries of that
+#: kind are what helps. A round of its own, not a share of the second: that share lost a
+#: target the whole rescan met (best fits of another kind).
 SIXBAR_KIND_POOL = 1_000
+#: Kind rounds (:func:`_kind_round`): the first scans every kind whose best fit is within
+#: ``SIXBAR_KIND_BAND`` times the best kind's best fit, at most ``SIXBAR_KIND_MOST`` kinds,
+#: and polishes ``SIXBAR_KIND_POLISH`` fits per kind scanned. Over the benchmark's timed
+#: targets that reach a kind round (seeds 2026, 7, 13, 17), where the next kind's best fit
+#: was within 10 times the leader's, the generating kind was second five times (2nd/1st
+#: 1.0–6.7) and first four times (1.1–3.2); where the next was 29 times or more behind, the
+#: leader was the generating kind in three of four. Which of two close kinds leads is chance,
+#: decided by which starts the rounds happened to have (seed 2026's six-bar 29 lost its
+#: second-round start with the atlas query's exact re-ranking). The met fits of kind rounds
+#: ranked 0th–13th after their screening steps.
+SIXBAR_KIND_BAND = 10.0
+SIXBAR_KIND_MOST = 2
+SIXBAR_KIND_POLISH = 16
 #: No third (or fourth) round where the best fit's RMS is within this share of the size: such
 #: a fit is crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
 #: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
@@ -471,16 +487,19 @@ def _design_of(row, h, t, mirror: float = 1.0) -> tuple[np.ndarray, dict[str, in
 
 
 def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=None,
-                  compiled=False, round_=0, fits=()):  # fmt: skip
+                  compiled=False, round_=0, fits=(), memo=None):  # fmt: skip
     """Refinement starts ``(x0, θ0, fixed)`` for six-bars: placed atlas entries.
 
     ``compiled``: the timed scan computes its coupler points on the compiled
     kernel (:mod:`machdyn.synthesis._sixbar_kernels`) rather than in NumPy.
     ``round_``: the round of starts (see :data:`SIXBAR_ROUNDS`); a later round's
     starts may repeat an earlier round's (the caller drops those). ``fits``: the
-    fits so far ``(x, θ, rms, fixed)``: a timed target's third round scans entries
-    of the best one's kind (:data:`SIXBAR_KIND_POOL`), its fourth of the kind of the
-    best fit of another kind.
+    fits so far ``(x, θ, rms, fixed)``: a timed target's third and fourth rounds scan
+    entries of the kinds of the best ones (:func:`_kind_round`). ``memo``: a dict
+    kept by the caller across the rounds of one synthesis: the entries nearest to
+    the targets by shape are retrieved once into it (the second round rescans the
+    first pool, and the fourth takes entries of its kinds from them; a query on the
+    10^6 six-bar atlas costs about 0.3 s of CPU), and the kinds scanned.
     """
     from ._atlas_retrieve import _retrieve
     from .descriptor import curve_descriptor, interpolate_closed, resample_closed
@@ -489,7 +508,8 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     starts = []
     if timing is None:
         if round_:
-            retrieve, refine_count = retrieve * SIXBAR_WIDER[0], refine_count * SIXBAR_WIDER[1]
+            retrieve *= SIXBAR_WIDER[0] ** round_
+            refine_count *= SIXBAR_WIDER[1] ** round_
         rows, transforms = _retrieve(atlas, pts, closed, True, retrieve, refine_count, client)
         u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
         local = sixbar_points(rows, u)[0]
@@ -500,60 +520,111 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
             x0, fixed = _design_of(row, h, t)
             starts.append((x0, u[near], fixed))
         return starts
-    third = round_ > 1  # a third (fourth) round: entries of the best (next) kind (_kind_pool)
+    memo = {} if memo is None else memo
     near = np.zeros(0, np.int64)
-    if closed and not third:  # the entries whose whole curve looks like the target's
-        dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
-        even = resample_closed(dense, atlas.manifest.samples)
-        q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
-        wanted = max(k for _, k in SIXBAR_TIMED_POOLS) * retrieve
-        near = atlas.nearest(q, min(wanted, len(atlas)), client=client)[0]
+    if closed:  # the entries whose whole curve looks like the target's (retrieved once)
+        wanted = min(max(k for _, k in SIXBAR_TIMED_POOLS) * retrieve, len(atlas))
+        if memo.get("near", (None, 0))[1] != wanted:
+            dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
+            even = resample_closed(dense, atlas.manifest.samples)
+            q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
+            memo["near"] = (atlas.nearest(q, wanted, client=client)[0], wanted)
+        near = memo["near"][0]
     # pools, each with its own best starts (see SIXBAR_TIMED_POOLS). Their best-scoring
     # starts lie in different basins (the timed fit is over-determined: near the truth it
     # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    pools = [_kind_pool(atlas, pts, fits, round_ - 2)] if third else [
-        np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
-        near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
-    ]  # fmt: skip
+    if round_ > 1:  # a kind round: entries of the kinds of the best fits (_kind_round)
+        pools = _kind_round(atlas, fits, pts, near, memo)
+    else:
+        pools = [
+            np.union1d(atlas.pool(size, crank=True), near[: k * retrieve]) if size else
+            near[: k * retrieve] for size, k in SIXBAR_TIMED_POOLS[: 1 if round_ else None]
+        ]  # fmt: skip
     pools = [idx for idx in pools if idx.size]
-    for best in _timed_best(atlas, pools, timing, pts, refine_count, compiled, shift=0.5 * round_):
+    chosen = []
+    # (kind rounds: the first round's starting angles, the grid turned by one whole step)
+    for best in _timed_best(atlas, pools, timing, pts, refine_count, compiled,
+                            shift=0.5 * min(round_, 2)):  # fmt: skip
         for i, h, t, g0, mirror in best:
             if (i, mirror) not in seen:
                 seen.add((i, mirror))
-                x0, fixed = _design_of(atlas.entries(np.array([i]))[0], h, t, mirror)
-                starts.append((x0, g0 + timing, fixed))
+                chosen.append((i, h, t, g0, mirror))
+    rows = atlas.entries(np.array([c[0] for c in chosen], np.int64))  # (one read for all)
+    for row, (_, h, t, g0, mirror) in zip(rows, chosen, strict=True):
+        x0, fixed = _design_of(row, h, t, mirror)
+        starts.append((x0, g0 + timing, fixed))
     return starts
 
 
-def _kind_pool(atlas, pts, fits, rank: int = 0) -> np.ndarray:
-    """Flat indices of :data:`SIXBAR_KIND_POOL` crank entries of the best fit's kind.
+def _ranked_kinds(fits, pts) -> list[tuple[tuple[int, int], float]]:
+    """The kinds of the fits, ``((topology, on), rms)`` best first by each kind's best fit.
 
-    The kind: the chain and the dyad's links (``topology``) and the link that
-    carries the point (``on``); the entries are spread evenly over those of the
-    atlas. ``rank`` 1: the kind of the best fit of another kind (the kinds ranked
-    by their best fits), and so on. None without ``fits``, where the best fit is
-    within :data:`SIXBAR_CRAWL` of the targets' size, or with fewer kinds.
+    A kind: the chain and the dyad's links (``topology``) and the link that carries
+    the point (``on``). Fits that come apart (``inf``) rank no kind. Empty where the
+    best fit is within :data:`SIXBAR_CRAWL` of the targets' size (the long polish's).
     """
-    best = min(fits, key=lambda f: f[2], default=None)
-    if best is None or best[2] <= SIXBAR_CRAWL * float(np.max(np.abs(pts - pts.mean()))):
-        return np.zeros(0, np.int64)
-    fx = best[3]
-    if rank:
-        kinds: dict[tuple[int, int], float] = {}
-        for f in fits:
-            key = (f[3]["topology"], f[3]["on"])
-            if np.isfinite(f[2]) and f[2] < kinds.get(key, np.inf):
-                kinds[key] = f[2]
-        others = sorted((k for k in kinds if k != (fx["topology"], fx["on"])), key=kinds.get)
-        if len(others) < rank:
-            return np.zeros(0, np.int64)
-        fx = dict(zip(("topology", "on"), others[rank - 1], strict=True))
-    sel = [crank & (np.asarray(m["topology"]) == fx["topology"]) & (np.asarray(m["on"]) == fx["on"])
-           for crank, m in zip(atlas._crank, atlas.meta, strict=True)]  # fmt: skip
-    allowed = np.flatnonzero(np.concatenate(sel))
+    kinds: dict[tuple[int, int], float] = {}
+    for f in fits:
+        key = (int(f[3]["topology"]), int(f[3]["on"]))
+        if np.isfinite(f[2]) and f[2] < kinds.get(key, np.inf):
+            kinds[key] = float(f[2])
+    ranked = sorted(kinds.items(), key=lambda kv: (kv[1], kv[0]))
+    if ranked and ranked[0][1] <= SIXBAR_CRAWL * float(np.max(np.abs(pts - pts.mean()))):
+        return []
+    return ranked
+
+
+def _kind_round(atlas, fits, pts, near, memo) -> list[np.ndarray]:
+    """The pools of entries of a kind round (a timed target's third or fourth round).
+
+    The first kind round: for each kind whose best fit is within
+    :data:`SIXBAR_KIND_BAND` times the best kind's (at most :data:`SIXBAR_KIND_MOST`
+    kinds, best first: :func:`_ranked_kinds`), entries spread over the kind. The
+    second: for the same kinds, their entries among ``near`` (the entries nearest to
+    the targets by shape, which the first round's pools held among all kinds); and
+    where the first took one kind only, entries spread over the next kind. Each pool
+    gives its own best starts. ``memo["kinds"]``: the first kind round's kinds;
+    ``memo["round_kinds"]``: the kinds of the round (the caller polishes
+    :data:`SIXBAR_KIND_POLISH` fits per kind). No pools where the best fit is within
+    :data:`SIXBAR_CRAWL` of the targets' size.
+    """
+    ranked = _ranked_kinds(fits, pts)
+    if not ranked:
+        memo["round_kinds"] = []
+        return []
+    first = memo.get("kinds")
+    if first is None:
+        band = SIXBAR_KIND_BAND * ranked[0][1]
+        kinds = [k for k, rms in ranked[:SIXBAR_KIND_MOST] if rms <= band]
+        memo["kinds"] = memo["round_kinds"] = kinds
+        return [_kind_pool(atlas, k) for k in kinds]
+    pools = [_kind_pool(atlas, k, near, spread=False) for k in first]
+    other = [k for k, _ in ranked if k not in first][: max(0, SIXBAR_KIND_MOST - len(first))]
+    pools += [_kind_pool(atlas, k) for k in other]
+    memo["round_kinds"] = first + other
+    return pools
+
+
+def _kind_pool(atlas, kind: tuple[int, int], near=(), spread=True) -> np.ndarray:
+    """Flat indices of crank entries of one kind ``(topology, on)``.
+
+    With ``spread``, :data:`SIXBAR_KIND_POOL` entries spread evenly over the atlas's
+    entries of the kind; and the entries of ``near`` (flat indices of crank entries,
+    e.g. the nearest to the targets by shape) that are of the kind.
+    """
+    allowed = np.zeros(0, np.int64)
+    if spread:
+        sel = [crank & (np.asarray(m["topology"]) == kind[0]) & (np.asarray(m["on"]) == kind[1])
+               for crank, m in zip(atlas._crank, atlas.meta, strict=True)]  # fmt: skip
+        allowed = np.flatnonzero(np.concatenate(sel))
     if allowed.size > SIXBAR_KIND_POOL:
         allowed = allowed[np.linspace(0, allowed.size - 1, SIXBAR_KIND_POOL).astype(np.int64)]
+    near = np.asarray(near, dtype=np.int64)
+    if near.size:
+        rows = atlas.entries(near)
+        ok = (rows["topology"] == kind[0]) & (rows["on"] == kind[1])
+        allowed = np.union1d(allowed, near[ok])  # (near holds crank entries only)
     return allowed
 
 
@@ -888,6 +959,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     rounds, long = SIXBAR_ROUNDS[timing is not None], SIXBAR_LONG if compiled else (0, 0)
     if not compiled and timing is not None:  # MACHDYN_JIT=off: the NumPy loop's smaller budget
         (screen, most), rounds = SIXBAR_TIMED_NUMPY, 1
+    elif not compiled:  # (untimed: no third round, whose placements cost seconds in NumPy)
+        rounds = min(rounds, 2)
     options = dict(timing=timing, compiled=compiled)
     checked: dict[int, Any] = {}  # the Linkage's check of the fits met so far, by id
 
@@ -913,10 +986,14 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                 met = met or getattr(check(fits[i]), "ok", False)
         return met
 
-    fits, loop, met, near, seen, scan = [], [], False, False, set(), 0.0
+    fits, loop, met, near, seen, scan, memo = [], [], False, False, set(), 0.0, {}
     t_begin = time.perf_counter()
     for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
-        if round_ >= SIXBAR_GATE and long[0] and not (met or near or deadline.passed()):
+        gate = SIXBAR_GATE[timing is not None]
+        crawl = min((f[2] for f in fits), default=np.inf) <= SIXBAR_CRAWL * size
+        if timing is None and round_ >= gate and crawl:
+            break  # an untimed fit crawling to the targets: the long polish's, not a wider round
+        if round_ >= gate and long[0] and not (met or near or deadline.passed()):
             # a late round only while the best fits, polished long, leave the targets unmet
             fits.sort(key=lambda f: f[2])
             met = polish_long(range(min(long[0], len(fits))))
@@ -924,12 +1001,14 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
             break
         t0 = time.perf_counter()
         starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
-                               client, compiled, round_, fits)  # fmt: skip
+                               client, compiled, round_, fits, memo=memo)  # fmt: skip
         starts = [s for s in starts if s[0].tobytes() not in seen]
         seen.update(s[0].tobytes() for s in starts)
         scan += time.perf_counter() - t0
         steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
         later = SIXBAR_LATER_TIMED if round_ and timing is not None else (30, most)
+        if round_ > 1 and timing is not None:  # a kind round: polished per kind scanned
+            later = (later[0], SIXBAR_KIND_POLISH * max(1, len(memo.get("round_kinds", ()))))
         more, met = polished_sixbars(starts, pts, later[1], check, steps, screen=later[0],
                                      **options)  # fmt: skip
         fits += more
