@@ -101,3 +101,27 @@ def test_fine_round_starts_recover_the_arc_among_random_curves(compiled):
     fits, met = AP._long_polished(fits, TARGETS, OPTIONS, met, [])
     best = next(f for f in fits if np.ptp(f.branch) == 0)
     assert _worst(best, TARGETS) <= 1e-6
+
+
+def test_arc_share_of_a_fit_is_the_targets_share_of_its_curve():
+    """The share that picks the fine round: the targets' polyline over the length of the
+    fit's coupler curve, against the curve swept here by circle intersections."""
+    from machdyn.synthesis.refine import Refined
+
+    fb = TRUTH.fourbar
+    x = np.array([fb.r1, fb.r2, fb.r3, fb.r4, *fb.coupler, TRUTH.O2.real, TRUTH.O2.imag,
+                  TRUTH.theta1])  # fmt: skip
+    fit = Refined(x, THETA, np.full(THETA.size, float(TRUTH.branch)), 0.0, True)
+    th = np.linspace(0.0, 2 * np.pi, 20_000, endpoint=False)
+    a = fb.r2 * np.exp(1j * th)
+    shares = []
+    for side in (1.0, -1.0):  # the truth's assembly: the side whose curve holds the targets
+        b = np.array([circle_meet(v, fb.r3, complex(fb.r1), fb.r4, side) for v in a])
+        curve = TRUTH.O2 + np.exp(1j * TRUTH.theta1) * (a + fb.coupler[0] * np.exp(
+            1j * fb.coupler[1]) * (b - a) / fb.r3)  # fmt: skip
+        if np.max(_polygon_distance(TARGETS, curve)) < 1e-6 * SIZE:
+            closed = np.r_[curve, curve[:1]]
+            shares.append(np.sum(np.abs(np.diff(TARGETS))) / np.sum(np.abs(np.diff(closed))))
+    assert len(shares) == 1 and 0.15 < shares[0] < 0.2
+    assert abs(AP._arc_share(fit, TARGETS) - shares[0]) < 1e-3 * shares[0]
+    assert AP._arc_share(fit, TARGETS) < AP.UNTIMED_SHORT  # a short arc: the fine round

@@ -92,6 +92,39 @@ def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=N
     return rows[order], transforms[order]
 
 
+#: Closed untimed targets: the nearest entries by descriptor taken for spare starts, as a
+#: multiple of ``retrieve`` (see _retrieve_closed).
+CLOSED_SPARE = 2
+
+
+def _retrieve_closed(atlas: Atlas, pts, crank, retrieve, refine_count, client=None,
+                     deadline: _Deadline = _NEVER):  # fmt: skip
+    """A closed untimed target's nearest entries, placed: the first round's and spare ones.
+
+    One query of the :data:`CLOSED_SPARE` · ``retrieve`` nearest entries by
+    descriptor. Returns the rows and placements of :func:`_retrieve` (the
+    ``refine_count`` best-placed of the ``retrieve`` nearest: the same), and the
+    ``refine_count`` best-placed entries whose link 2 turns fully (Barker's GCCC and
+    GCRR) among the others: a closed path is traced in order on one assembly only by
+    such a linkage, and a second round starts from them.
+    """
+    man = atlas.manifest
+    dense = interpolate_closed(pts, 8 * man.samples)
+    even = resample_closed(dense, man.samples)
+    q = curve_descriptor(even, man.harmonics, resampled=True)
+    idx, _ = atlas._query(q, CLOSED_SPARE * retrieve, crank, client, deadline)
+    rows = atlas.entries(idx)  # (best first: the first `retrieve` are _retrieve's)
+    curves = even_curves(rows, man.circuit_samples, man.samples)
+    transforms, residual = align_closed(even, curves)
+    first = np.argsort(residual[:retrieve])[:refine_count]
+    rest = np.full(rows.size, np.inf)
+    rest[retrieve:] = residual[retrieve:]
+    rest[rows["barker"] > 2] = np.inf
+    spare = np.argsort(rest)[:refine_count]
+    spare = spare[np.isfinite(rest[spare])]
+    return (rows[first], transforms[first]), (rows[spare], transforms[spare])
+
+
 def _arc_starts(rows, curves, pts, count, fine: bool = False):
     """The ``count`` rows whose curves pass nearest an open target, and their placements.
 
