@@ -308,6 +308,17 @@ def test_a_watt_ii_1_4_fit_stalled_on_its_second_loop_is_met_loop_by_loop(compil
     assert found and min(found) <= 1e-6 * size
 
 
+def _sixbar_29():
+    """The benchmark's seed 2026 six-bar 29 (Watt I 3-4 on 6) placed as there: the 12 timed
+    crank angles, the targets (by circle intersections) and their size."""
+    row = sample_sixbars(np.random.default_rng(2026), 60)[29]
+    assert TOPOLOGIES[int(row["topology"])][0] == (3, 4) and row["on"] == 6
+    theta = 0.4 + np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    h, t = 0.4151367945088143 - 2.75731312380802j, 0.34200855532889624 + 1.0084923235757468j
+    targets = t + h * _independent(row, theta)
+    return theta, targets, np.max(np.abs(targets - targets.mean()))
+
+
 def test_a_later_timed_round_screens_its_starts_long_enough_to_rank_them(compiled):
     # the benchmark's timed miss (seed 2026, six-bar 29: Watt I 3-4 on 6, placed as there):
     # the 160 starts of its second round on the 10^6 six-bar atlas (entries placed by the
@@ -322,12 +333,7 @@ def test_a_later_timed_round_screens_its_starts_long_enough_to_rank_them(compile
         sixbar_result,
     )
 
-    row = sample_sixbars(np.random.default_rng(2026), 60)[29]
-    assert TOPOLOGIES[int(row["topology"])][0] == (3, 4) and row["on"] == 6
-    theta = 0.4 + np.linspace(0, 2 * np.pi, 12, endpoint=False)
-    h, t = 0.4151367945088143 - 2.75731312380802j, 0.34200855532889624 + 1.0084923235757468j
-    targets = t + h * _independent(row, theta)
-    size = np.max(np.abs(targets - targets.mean()))
+    theta, targets, size = _sixbar_29()
     data = np.load(Path(__file__).parent / "data" / "sixbar_timed_starts.npz")
     keys = ("s4", "s6", "topology", "on")
     starts = [
@@ -707,12 +713,7 @@ def test_a_kind_round_meets_a_target_whose_kind_was_second_best(compiled):
         sixbar_result,
     )
 
-    row = sample_sixbars(np.random.default_rng(2026), 60)[29]
-    assert TOPOLOGIES[int(row["topology"])][0] == (3, 4) and row["on"] == 6
-    theta = 0.4 + np.linspace(0, 2 * np.pi, 12, endpoint=False)
-    h, t = 0.4151367945088143 - 2.75731312380802j, 0.34200855532889624 + 1.0084923235757468j
-    targets = t + h * _independent(row, theta)
-    size = np.max(np.abs(targets - targets.mean()))
+    theta, targets, size = _sixbar_29()
     data = np.load(Path(__file__).parent / "data" / "sixbar_kind_round_starts.npz")
     keys = ("s4", "s6", "topology", "on")
 
