@@ -599,32 +599,28 @@ def _kind_round(atlas, fits, pts, near, memo) -> list[np.ndarray]:
         kinds = [k for k, rms in ranked[:SIXBAR_KIND_MOST] if rms <= band]
         memo["kinds"] = memo["round_kinds"] = kinds
         return [_kind_pool(atlas, k) for k in kinds]
-    pools = [_kind_pool(atlas, k, near, spread=False) for k in first]
+    near = np.asarray(near, dtype=np.int64)
+    rows = atlas.entries(near) if near.size else None  # (one read for every kind; near
+    # holds crank entries only, each kind's sorted as the spread pools are)
+    pools = [np.zeros(0, np.int64) if rows is None else
+             np.unique(near[(rows["topology"] == k[0]) & (rows["on"] == k[1])])
+             for k in first]  # fmt: skip
     other = [k for k, _ in ranked if k not in first][: max(0, SIXBAR_KIND_MOST - len(first))]
     pools += [_kind_pool(atlas, k) for k in other]
     memo["round_kinds"] = first + other
     return pools
 
 
-def _kind_pool(atlas, kind: tuple[int, int], near=(), spread=True) -> np.ndarray:
-    """Flat indices of crank entries of one kind ``(topology, on)``.
+def _kind_pool(atlas, kind: tuple[int, int]) -> np.ndarray:
+    """Flat indices of :data:`SIXBAR_KIND_POOL` crank entries of one kind ``(topology, on)``.
 
-    With ``spread``, :data:`SIXBAR_KIND_POOL` entries spread evenly over the atlas's
-    entries of the kind; and the entries of ``near`` (flat indices of crank entries,
-    e.g. the nearest to the targets by shape) that are of the kind.
+    Spread evenly over the atlas's entries of the kind.
     """
-    allowed = np.zeros(0, np.int64)
-    if spread:
-        sel = [crank & (np.asarray(m["topology"]) == kind[0]) & (np.asarray(m["on"]) == kind[1])
-               for crank, m in zip(atlas._crank, atlas.meta, strict=True)]  # fmt: skip
-        allowed = np.flatnonzero(np.concatenate(sel))
+    sel = [crank & (np.asarray(m["topology"]) == kind[0]) & (np.asarray(m["on"]) == kind[1])
+           for crank, m in zip(atlas._crank, atlas.meta, strict=True)]  # fmt: skip
+    allowed = np.flatnonzero(np.concatenate(sel))
     if allowed.size > SIXBAR_KIND_POOL:
         allowed = allowed[np.linspace(0, allowed.size - 1, SIXBAR_KIND_POOL).astype(np.int64)]
-    near = np.asarray(near, dtype=np.int64)
-    if near.size:
-        rows = atlas.entries(near)
-        ok = (rows["topology"] == kind[0]) & (rows["on"] == kind[1])
-        allowed = np.union1d(allowed, near[ok])  # (near holds crank entries only)
     return allowed
 
 
