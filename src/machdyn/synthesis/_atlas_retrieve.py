@@ -204,8 +204,7 @@ def _fit_to_points(rows, transforms, pts, rounds: int = ICP_ROUNDS, line: int = 
     if line:
         h, t = _line_rounds(Q, h, t, few, line)
     near, i = _nearest_on(Q, h, t, pts, index=True)
-    miss = np.sqrt(np.mean(np.abs(t[:, None] + h[:, None] * near - pts[None, :]) ** 2, axis=1))
-    miss = np.where(np.isfinite(miss), miss / size, np.inf)
+    miss = _rms_miss(h, t, near, pts) / size
     # a rocker's circuit runs on both assemblies (sign of sin u): targets met on both
     # need a pass through a toggle, a branch defect that no refinement mends: last
     side = np.sign(np.sin(2 * np.pi * i / DENSE))
@@ -224,9 +223,7 @@ def _line_rounds(Q, h, t, pts, rounds: int, along: float = 0.01):
     """
 
     def miss(h, t):
-        near = _nearest_on(Q, h, t, pts)
-        rms = np.sqrt(np.mean(np.abs(t[:, None] + h[:, None] * near - pts[None, :]) ** 2, axis=1))
-        return np.where(np.isfinite(rms), rms, np.inf)
+        return _rms_miss(h, t, _nearest_on(Q, h, t, pts), pts)
 
     current = miss(h, t)
     eye = np.eye(4)
@@ -257,6 +254,16 @@ def _line_rounds(Q, h, t, pts, rounds: int, along: float = 0.01):
             np.where(better, new, current),
         )
     return h, t
+
+
+def _rms_miss(h, t, near, pts) -> np.ndarray:
+    """Per curve, the RMS distance of the targets from their placed nearest points.
+
+    ``near`` (N, K) in the curves' frames, placed by ``t + h·near``; ``inf`` where the
+    RMS is not finite.
+    """
+    rms = np.sqrt(np.mean(np.abs(t[:, None] + h[:, None] * near - pts[None, :]) ** 2, axis=1))
+    return np.where(np.isfinite(rms), rms, np.inf)
 
 
 def _nearest_on(Q, h, t, pts, index=False, tangent=False):
