@@ -17,13 +17,8 @@ import numpy as np
 import pytest
 from tests.test_synthesis_path_atlas import _coupler, _curve_distance
 
-from machdyn.synthesis.atlas_path import (
-    UNTIMED_MET,
-    _in_order_angles,
-    _reseeded,
-    open_atlas,
-    path_from_atlas,
-)
+from machdyn.synthesis._atlas_closed import _in_order_angles, _reseeded
+from machdyn.synthesis.atlas_path import UNTIMED_MET, open_atlas, path_from_atlas
 from machdyn.synthesis.atlas_store import build_atlas
 from machdyn.synthesis.refine import Refined
 
