@@ -40,3 +40,25 @@ def test_open_targets_from_known_sixbars_of_every_kind_are_recovered(atlas6, tim
         if timed:  # at the prescribed crank angles
             turned = np.angle(np.exp(1j * (best.theta2 - best.theta2[0] - (theta - theta[0]))))
             assert np.max(np.abs(turned)) <= 1e-9, kind
+
+
+FOUR_BAR_ONLY = [
+    {"O2": 0.5 + 0.2j},
+    {"theta1": 0.3},
+    {"absolute_timing": True},
+    {"max_length": 20.0},
+    {"pivot_box": (-5, -5, 5, 5)},
+]
+
+
+@pytest.mark.parametrize("option", FOUR_BAR_ONLY)
+def test_four_bar_placement_limits_on_a_sixbar_atlas_name_the_option(atlas6, option):
+    # each refused with the option the caller gave as the field (all were "O2" before)
+    from machdyn.errors import InputError
+
+    theta = np.linspace(0.0, 2.0, 6)
+    targets = np.exp(1j * theta) * (1 + 0.2 * theta)
+    with pytest.raises(InputError) as err:
+        path_from_atlas(targets, atlas6, closed=False, timing=theta, **option)
+    assert err.value.field == next(iter(option))
+    assert "four-bar atlases only" in str(err.value)
