@@ -62,3 +62,41 @@ def test_four_bar_placement_limits_on_a_sixbar_atlas_name_the_option(atlas6, opt
         path_from_atlas(targets, atlas6, closed=False, timing=theta, **option)
     assert err.value.field == next(iter(option))
     assert "four-bar atlases only" in str(err.value)
+
+
+def test_synth_path_writes_sixbars_as_current_machine_files(atlas6, tmp_path, capsys, compiled):
+    # an open, timed six-bar target through the CLI: each candidate is written as a
+    # `machdyn = 1` machine file (docs/spec.md), which `machdyn run` reads without the
+    # old-file note (the six-bar files were old linkage files before 2026-11-25), and its
+    # P at the drawn crank angle is the first target (the coupler point of the entry drawn
+    # by circle intersections)
+    import json
+    import tomllib
+
+    from machdyn.cli import main
+
+    row = atlas6.entries([777])[0]
+    theta = 0.3 + np.linspace(0.0, 2.2, 7)
+    P = 2 - 1j + 1.5 * _independent(row, theta)
+    file = tmp_path / "p.csv"
+    file.write_text("x,y,theta2_deg\n" + "".join(
+        f"{float(p.real)!r},{float(p.imag)!r},{float(np.degrees(t))!r}\n"
+        for p, t in zip(P, theta, strict=True)))  # fmt: skip
+    out = tmp_path / "c"
+    args = ["synth", "path", str(file), "--open", "--timing", "--atlas", str(atlas6.path),
+            "--out", str(out), "-n", "1", "--mu-min", "0"]  # fmt: skip
+    assert main(args) == 0
+    capsys.readouterr()
+    spec = out / "candidate_1.toml"
+    doc = tomllib.loads(spec.read_text())
+    assert doc["machdyn"] == 1 and set(doc["linkage"]) == {"candidate"}
+    assert main(["run", str(spec), "--json"]) == 0
+    captured = capsys.readouterr()
+    assert "old linkage file" not in captured.err + captured.out
+    (part,) = json.loads(captured.out)["parts"].values()
+    points = part["tables"]["points"]
+    rows = [dict(zip(points["columns"], r, strict=True)) for r in points["rows"]]
+    assert len(rows) == 37 and all(r["ok"] for r in rows)  # round the whole turn
+    x, y = (next(k for k in rows[0] if k.startswith(f"P_{c}")) for c in "xy")
+    size = np.max(np.abs(P - P.mean()))
+    assert abs(complex(rows[0][x], rows[0][y]) - P[0]) <= 1e-6 * size
