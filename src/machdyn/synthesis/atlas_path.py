@@ -724,6 +724,11 @@ def _constraints(O2, theta1, absolute_timing, max_length, pivot_box, timing, atl
         if box.size != 4 or not (box[0] < box[2] and box[1] < box[3]):
             raise InputError("pivot_box", "must be (xmin, ymin, xmax, ymax) with min < max")
         pivot_box = tuple(float(v) for v in box)
-    if (fixed or max_length is not None or pivot_box) and atlas.manifest.kind == "sixbar":
-        raise InputError("O2", "placement and size limits are for four-bar atlases only")
+    if atlas.manifest.kind == "sixbar":  # the first of them given names the field
+        given = {"O2": O2 is not None, "theta1": theta1 is not None,
+                 "absolute_timing": absolute_timing, "max_length": max_length is not None,
+                 "pivot_box": pivot_box is not None}  # fmt: skip
+        for name in (k for k, v in given.items() if v):
+            raise InputError(name, "placement and size limits are for four-bar atlases only "
+                             "(this atlas holds six-bars): leave it out")  # fmt: skip
     return fixed, max_length, pivot_box
