@@ -23,7 +23,8 @@
 This module holds the synthesis's steps and rounds; the stages live in private
 modules: the opened atlas and its query (``_atlas_index``), retrieval and
 placement (``_atlas_retrieve``), the checks (``_atlas_checks``), the result and
-its notes (``_atlas_result``); six-bar atlases go to
+its notes (``_atlas_result``), a closed untimed target's search with any input and
+its fits re-seeded in order (``_atlas_closed``); six-bar atlases go to
 :mod:`~machdyn.synthesis.sixbar_path`.
 """
 
