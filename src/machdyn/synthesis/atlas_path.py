@@ -228,7 +228,9 @@ def path_from_atlas(
     n : int
         How many distinct linkages to return.
     crank : bool
-        Require link 2 to turn fully (a motor drives it round).
+        Require link 2 to turn fully (a motor drives it round). False: any input;
+        a closed untimed path is then searched as with True first and among
+        linkages of every class after (relaxing it loses no fit that True finds).
     mu_min : float
         Smallest acceptable transmission angle, radians.
     tolerance : float, optional
