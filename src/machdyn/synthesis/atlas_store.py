@@ -24,6 +24,7 @@ computed: an entry rebuilds to exactly the curve its descriptor came from.
 from __future__ import annotations
 
 import json
+import mmap
 import os
 import zlib
 from dataclasses import dataclass, field
@@ -175,12 +176,18 @@ def _npy_bytes(array: np.ndarray) -> bytes:
 
 
 def crc_of(file: Path) -> int:
-    """CRC-32 of a file's bytes (read in 64 MB pieces)."""
-    crc = 0
+    """CRC-32 of a file's bytes, read through a memory map.
+
+    Mapped, the bytes are the operating system's cached pages themselves:
+    ``read`` would copy each piece into a fresh buffer, which costs more than
+    the CRC (on the project's machine 1.9 s instead of 0.75 s of CPU for the
+    10^7 atlas's 1.5 GB, most of it the kernel's copying and page faults).
+    """
     with open(file, "rb") as fh:
-        while piece := fh.read(1 << 26):
-            crc = zlib.crc32(piece, crc)
-    return crc
+        if os.fstat(fh.fileno()).st_size == 0:  # (an empty file cannot be mapped)
+            return zlib.crc32(b"")
+        with mmap.mmap(fh.fileno(), 0, access=mmap.ACCESS_READ) as data:
+            return zlib.crc32(data)
 
 
 # --------------------------------------------------------------------------------------
