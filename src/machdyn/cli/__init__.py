@@ -40,19 +40,26 @@ def __getattr__(name: str) -> Any:
 
 
 def _command(args: list[str]) -> Any:
-    """The click command for ``args``: ``machdyn run`` and ``studio`` load only what they need.
+    """The click command for ``args``: ``machdyn run``, ``studio`` and ``synth`` load only what
+    they need.
 
     Importing every subcommand costs about 0.15 s; ``machdyn run`` on a
-    four-bar file has a cold-start budget of 0.6 s in all.
+    four-bar file has a cold-start budget of 0.6 s in all, and a ``machdyn synth
+    path`` call is timed whole by those who try it (docs/synthesis.md).
     """
-    if args[:1] in (["run"], ["studio"]):  # (the studio's start-up budget is 2 s)
+    if args[:1] in (["run"], ["studio"], ["synth"]):  # (the studio's start-up budget is 2 s)
+        fast = typer.Typer(add_completion=False, pretty_exceptions_enable=False)
+        fast.callback()(lambda: None)
+        if args[0] == "synth":
+            from .synth import synth_app
+
+            fast.add_typer(synth_app, name="synth")
+            return typer.main.get_command(fast)
         if args[0] == "run":
             from .run import run as command
         else:
             from .studio import studio as command
 
-        fast = typer.Typer(add_completion=False, pretty_exceptions_enable=False)
-        fast.callback()(lambda: None)
         fast.command(args[0])(command)
         return typer.main.get_command(fast)
     return _full_command()
