@@ -12,6 +12,8 @@ Run:
                                                    # open-timed targets of random crank-rockers
     python benchmarks/bench_atlas.py --atlas DIR --hard [--repeats 3] [--time-limit 2.5]
                                                    # awkward open targets: time per target
+    python benchmarks/bench_atlas.py --atlas DIR --cold 5 [--kinds open,closed]
+                                                   # the first synthesis of a fresh process
 
 Targets (issue 14): >= 10^7 four-bars in <= 15 min and <= 4 GB on the 2-core machine;
 linear in workers within +-20 % from 1 to 2; query on a 10^7 atlas <= 1 s; query + refine
@@ -382,6 +384,95 @@ def hard_bench(at, repeats: int, time_limit: float | None) -> None:
           + (f" (time_limit {time_limit:g} s)" if time_limit is not None else ""))  # fmt: skip
 
 
+#: --cold's child: what a user's script does (import, open the atlas, one synthesis),
+#: then the same call twice more in the same process (the warm peers: the second call
+#: of a process with the compiled kernels builds the atlas's compact tables, so the third
+#: is the warm one). Prints one JSON line.
+_COLD_CHILD = """
+import json, sys, time
+t0, c0 = time.perf_counter(), time.process_time()
+import numpy as np
+from machdyn.synthesis import open_atlas, path_from_atlas
+t1, c1 = time.perf_counter(), time.process_time()
+at = open_atlas(sys.argv[1], verify=False)
+t2, c2 = time.perf_counter(), time.process_time()
+pts = np.array([complex(*p) for p in json.loads(sys.argv[2])])
+options = json.loads(sys.argv[3])
+calls = []
+for _ in range(3):
+    w, c = time.perf_counter(), time.process_time()
+    res = path_from_atlas(pts, at, n=3, mu_min=0.0, **options)
+    calls.append((time.perf_counter() - w, time.process_time() - c, res.seconds,
+                  float(np.max(res.best.distance))))
+from machdyn import jit
+print(json.dumps({"import": [t1 - t0, c1 - c0], "open": [t2 - t1, c2 - c1], "calls": calls,
+                  "numba": "numba" in sys.modules, "compiled": jit.active()}))
+"""
+
+
+def _cold_targets() -> dict:
+    """--cold's targets (kind -> points, options): a known crank-rocker's coupler curve,
+    12 points round it (closed, untimed and timed) or 9 on a 2-rad arc (open, untimed and
+    timed), as :func:`query_bench`'s linkage."""
+    known = PlacedFourBar(FourBar(5, 2, 5, 4, coupler=(3.0, 0.6)), 1 + 2j, 0.3, 1)
+    th = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    arc = np.linspace(0.3, 2.3, 9)
+    return {
+        "closed": (known.pose(th)[2], {}),
+        "timed": (known.pose(th)[2], {"timing": th.tolist()}),
+        "open": (known.pose(arc)[2], {"closed": False}),
+        "open-timed": (known.pose(arc)[2], {"closed": False, "timing": arc.tolist()}),
+    }
+
+
+def cold_bench(folder: Path, count: int, kinds) -> None:
+    """The first synthesis of a fresh process, ``count`` processes per kind, interleaved.
+
+    Each child (:data:`_COLD_CHILD`, run by this Python with this environment: set
+    ``MACHDYN_JIT`` or ``PYTHONDONTWRITEBYTECODE`` for the parent to pass them on) imports
+    machdyn, opens the atlas (``verify=False``) and runs one synthesis, then the same call
+    twice more (the warm peers, same process, right after). Printed per kind, medians: the
+    whole process's wall and CPU (start to exit, children's rusage; it includes the two
+    warm calls), the first call's wall and CPU, the second's and third's; whether numba
+    was imported and the compiled kernels loaded; the worst best-miss of the first and
+    the third call (absolute, in the targets' units).
+    """
+    import json
+    import os
+    import resource
+    import subprocess
+    import sys
+
+    targets = _cold_targets()
+    rows = {k: [] for k in kinds}
+    for _ in range(count):
+        for kind in kinds:
+            pts, options = targets[kind]
+            args = [sys.executable, "-c", _COLD_CHILD, str(folder),
+                    json.dumps([[p.real, p.imag] for p in pts]), json.dumps(options)]  # fmt: skip
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            t0 = time.perf_counter()
+            out = subprocess.run(args, capture_output=True, text=True, check=True).stdout
+            wall = time.perf_counter() - t0
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+            rows[kind].append((wall, cpu, json.loads(out.strip().splitlines()[-1])))
+    env = {k: os.environ.get(k, "") for k in ("MACHDYN_JIT", "PYTHONDONTWRITEBYTECODE")}
+    print(f"  cold synthesis, {count} fresh processes per kind, interleaved; {env}")
+    for kind, runs in rows.items():
+        med = statistics.median
+        calls = [[r[2]["calls"][i] for r in runs] for i in range(3)]
+        wall, cpu = ([f"{med(c[j] for c in call):.2f}" for call in calls] for j in (0, 1))
+        print(f"    {kind:10s} process wall {med(r[0] for r in runs):.2f} s CPU "
+              f"{med(r[1] for r in runs):.2f} s (import {med(r[2]['import'][1] for r in runs):.2f}"
+              f", open {med(r[2]['open'][1] for r in runs):.2f} s CPU); calls 1/2/3 wall "
+              f"{' / '.join(wall)} s, CPU {' / '.join(cpu)} s; numba imported "
+              f"{sum(r[2]['numba'] for r in runs)}/{len(runs)}, compiled "
+              f"{sum(r[2]['compiled'] for r in runs)}/{len(runs)}; best miss call 1 "
+              f"{max(c[3] for c in calls[0]):.1e}, call 3 {max(c[3] for c in calls[2]):.1e}",
+              flush=True)  # fmt: skip
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--atlas", type=Path, help="an existing atlas to query")
@@ -417,7 +508,20 @@ def main() -> None:
     ap.add_argument("--hard", action="store_true", help="with --atlas: awkward open targets")
     ap.add_argument("--repeats", type=int, default=1, help="of each --hard target (best taken)")
     ap.add_argument("--time-limit", type=float, default=None, help="of each --hard synthesis")
+    ap.add_argument(
+        "--cold",
+        type=int,
+        default=0,
+        metavar="N",
+        help="with --atlas: N fresh processes per --kinds target, each one synthesis + the same again",
+    )
     args = ap.parse_args()
+    if args.atlas is not None and args.cold:  # (before this process loads the kernels)
+        kinds = args.kinds.split(",")
+        if not set(kinds) <= set(RECOVERY_KINDS):
+            ap.error(f"--kinds: choose from {', '.join(RECOVERY_KINDS)}")
+        cold_bench(args.atlas, args.cold, kinds)
+        return
     jit.load()
     print(f"kernels: {'compiled' if jit.active() else 'NumPy'}")
     if args.atlas is not None and args.hard:
