@@ -93,7 +93,10 @@ def _nearest_passes(d, count: int = 3):
 
 
 def _assembles_to(f, good, end):
-    """``end`` if ``f`` is finite there, else the farthest angle toward it where it is (bisection)."""
+    """``end`` if ``f`` is finite there, else the farthest angle toward it where it is.
+
+    (Bisection from ``good``, where ``f`` is finite.)
+    """
     if np.isfinite(f(end)):
         return end
     bad = end
