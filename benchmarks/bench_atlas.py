@@ -197,13 +197,16 @@ def sixbar_bench(at, count: int) -> None:
               f"<= 1e-6 on {sum(e <= 1e-6 for e in errors)} of {count}")  # fmt: skip
 
 
-def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
+def sixbar_recovery(at, count: int, seed: int = 2026, kinds=("untimed", "timed")) -> None:
     """Recovery of random six-bars: ``count`` crank-driven six-bars drawn as the atlas
     draws them (:func:`~machdyn.synthesis.sixbar.sample_sixbars`, every chain, attachment
     and coupler link; another seed, so none is an atlas entry), each placed in the
     plane by a random rotation, scale and offset; 12 points at crank angles
     0.4 + k·30°. Recovered: the best result's largest distance ≤ 1e-6 of the
     targets' size, untimed and timed (``mu_min=0``: this measures recovery).
+    ``kinds`` may add "open" and "open-timed": 8 points over a part of the turn (a
+    span of 60–180° of the crank from a random angle; drawn after the others, so the
+    closed targets are the same whichever kinds run).
     """
     from machdyn.synthesis.sixbar import TOPOLOGIES, sample_sixbars, sixbar_points
 
@@ -213,15 +216,25 @@ def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
     warm = sixbar_points(sample_sixbars(np.random.default_rng(seed - 1), 1), th)[0][0]
     for kw in ({}, {"timing": th}):  # not timed: the compiled kernels' first load
         path_from_atlas(warm, at, n=1, mu_min=0.0, **kw)
-    for label in ("untimed", "timed"):
+    for label in SIXBAR_KINDS:
         errors, cpus, walls, misses = [], [], [], {}
         for row in rows:
             h = rng.uniform(0.5, 3.0) * np.exp(1j * rng.uniform(0, 2 * np.pi))
-            targets = complex(*rng.normal(size=2)) + h * sixbar_points(row[None], th)[0][0]
+            move = complex(*rng.normal(size=2))
+            theta = th
+            if label.startswith("open"):
+                start, span = rng.uniform(0, 2 * np.pi), np.radians(rng.uniform(60, 180))
+                theta = start + np.linspace(0, span, 8)
+            if label not in kinds:
+                continue
+            targets = move + h * sixbar_points(row[None], theta)[0][0]
             size = float(np.max(np.abs(targets - targets.mean())))
-            kw = {"timing": th} if label == "timed" else {}
+            kw = {"timing": theta} if label.endswith("timed") else {}
+            closed = not label.startswith("open")
             t, cpu, res = timed_cpu(
-                lambda p=targets, kw=kw: path_from_atlas(p, at, n=1, mu_min=0.0, **kw)
+                lambda p=targets, kw=kw, c=closed: path_from_atlas(
+                    p, at, closed=c, n=1, mu_min=0.0, **kw
+                )
             )
             e = float(np.max(res.best.distance)) / size
             errors.append(e), cpus.append(cpu), walls.append(t)
@@ -230,11 +243,14 @@ def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
                 key = f"{chain} {l1}-{l2} on {int(row['on'])}"
                 misses[key] = misses.get(key, 0) + 1
                 print(f"    {label} miss: six-bar {len(errors) - 1} ({key}), {e:.1e}")
+        if label not in kinds:
+            continue
         ok = sum(e <= 1e-6 for e in errors)
         slow = sorted(range(count), key=lambda i: -cpus[i])[:5]
         print(f"    {label} slowest: " + ", ".join(
             f"six-bar {i} {cpus[i]:.2f} s CPU ({errors[i]:.1e})" for i in slow))  # fmt: skip
-        print(f"  six-bar recovery ({label}, 12 points) of {count} random six-bars: "
+        points = 8 if label.startswith("open") else 12
+        print(f"  six-bar recovery ({label}, {points} points) of {count} random six-bars: "
               f"{ok} of {count} to <= 1e-6 of the size; error median "
               f"{statistics.median(errors):.1e}, worst {max(errors):.1e}; CPU median "
               f"{statistics.median(cpus):.2f} s, max {max(cpus):.2f} s; wall median "
@@ -242,6 +258,8 @@ def sixbar_recovery(at, count: int, seed: int = 2026) -> None:
 
 
 RECOVERY_KINDS = ("closed", "timed", "open", "open-timed")
+#: --sixbar-kinds: closed untimed and timed (12 points round the turn), open ones (8 points).
+SIXBAR_KINDS = ("untimed", "timed", "open", "open-timed")
 
 
 def _random_crank_rocker(rng):
@@ -382,6 +400,11 @@ def main() -> None:
     )
     ap.add_argument("--sixbar-seed", type=int, default=2026, help="of --sixbar-recovery's six-bars")
     ap.add_argument(
+        "--sixbar-kinds",
+        default="untimed,timed",
+        help=f"of --sixbar-recovery's targets, of {','.join(SIXBAR_KINDS)}",
+    )
+    ap.add_argument(
         "--recovery",
         type=int,
         default=0,
@@ -410,8 +433,11 @@ def main() -> None:
                          args.verbose)  # fmt: skip
         return
     if args.atlas is not None and args.sixbar_recovery:
+        kinds = args.sixbar_kinds.split(",")
+        if not set(kinds) <= set(SIXBAR_KINDS):
+            ap.error(f"--sixbar-kinds: choose from {', '.join(SIXBAR_KINDS)}")
         sixbar_recovery(open_atlas(args.atlas, verify=False), args.sixbar_recovery,
-                        args.sixbar_seed)  # fmt: skip
+                        args.sixbar_seed, kinds)  # fmt: skip
         return
     if args.build is not None:
         t, m = timed(lambda: build_atlas(args.build, args.count, scheduler=args.scheduler,

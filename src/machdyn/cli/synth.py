@@ -496,26 +496,34 @@ def _print_sixbars(res, shown, files, size, json) -> None:
         [[i, f"{r['max_distance']:.3e}", f"{100 * r['max_distance_over_size']:.2e}", r["chain"],
           "; ".join(r["defects"]) or "-"] for i, r in enumerate(rows, 1)],
     )  # fmt: skip
-    print(f"specs (machdyn linkage files): {', '.join(files)}")
+    print(f"specs: {', '.join(files)}")
     if res.note:
         print(f"note: {res.note}")
 
 
 def sixbar_spec(c, title: str) -> str:
-    """A six-bar result as a ``machdyn linkage`` TOML file (drawn at the first target's pose)."""
+    """A six-bar result as a machine file (``machdyn = 1``; docs/spec.md's linkage part).
+
+    Drawn at the first target's pose (the points in the plane), driven by the crank
+    round a turn from there.
+    """
     lk = c.linkage
-    ground = ", ".join(f'"{p}"' for p in lk.ground_points)
-    lines = [f'title = "{title}: {c.chain}"', f"ground = [{ground}]", 'drive = ["crank"]',
-             'report = ["P"]', "", "[points]"]  # fmt: skip
+
+    def names(points) -> str:
+        return ", ".join(f'"{p}"' for p in points)
+
+    lines = ["machdyn = 1", f'title = "{title}: {c.chain}"', "", "[linkage.candidate]",
+             f"ground = [{names(lk.ground_points)}]", 'drive = ["crank"]', 'report = ["P"]',
+             "", "[linkage.candidate.points]"]  # fmt: skip
     for name, z in lk.points.items():
         lines.append(f"{name} = [{float(z.real)!r}, {float(z.imag)!r}]")
+    lines += ["", "[linkage.candidate.links]"]
     for name, link in lk.links.items():
-        if name == "ground":
-            continue
-        pts = ", ".join(f'"{p}"' for p in link.points)
-        lines += ["", "[[link]]", f'name = "{name}"', f"points = [{pts}]"]
+        if name != "ground":
+            lines.append(f"{name} = {{ points = [{names(link.points)}] }}")
     start = float(np.degrees(c.design[2] + c.theta2[0]))
-    lines += ["", "[motion.crank]", f"sweep = [{start!r}, {start + 360!r}, 10]"]
+    lines += ["", "[linkage.candidate.motion]",
+              f'crank = {{ sweep = ["{start!r} deg", "{start + 360!r} deg", 10] }}']  # fmt: skip
     return "\n".join(lines) + "\n"
 
 

@@ -183,10 +183,7 @@ def _fit_to_points(rows, transforms, pts, rounds: int = ICP_ROUNDS, line: int = 
     the size (N,). Of a target of more than :data:`ICP_POINTS` points, that many
     spread evenly along it are re-fitted (the misses are of all the points).
     """
-    f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
-    Q, _ = circuit_points(f["r1"], 1.0, f["r3"], f["r4"], f["p"], f["delta"],
-                          rows["circuit"].astype(float), DENSE)  # fmt: skip
-    Q = np.where(np.isfinite(Q), Q, np.inf)
+    Q = _dense_curves(rows)
     size = float(np.max(np.abs(pts - pts.mean())))
     few = pts
     if pts.size > ICP_POINTS:
@@ -210,6 +207,25 @@ def _fit_to_points(rows, transforms, pts, rounds: int = ICP_ROUNDS, line: int = 
     side = np.sign(np.sin(2 * np.pi * i / DENSE))
     mixed = (rows["barker"] > 2) & (np.ptp(side, axis=1) > 0)
     return np.column_stack([h, t]), np.where(mixed, miss + 1.0, miss)
+
+
+def _dense_curves(rows) -> np.ndarray:
+    """Atlas entries' curves at :data:`DENSE` samples in their own frames (inf where apart).
+
+    A four-bar's round its circuit (:func:`~machdyn.synthesis.circuits.circuit_points`);
+    a six-bar's (crank-driven) round a turn of its crank
+    (:func:`~machdyn.synthesis.sixbar.sixbar_points`), as
+    :func:`~machdyn.synthesis.atlas_store.even_curves` draws each kind.
+    """
+    if "topology" in rows.dtype.names:
+        from .sixbar import sixbar_points
+
+        Q = sixbar_points(rows, np.linspace(0.0, 2 * np.pi, DENSE, endpoint=False))[0]
+    else:
+        f = {k: rows[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
+        Q, _ = circuit_points(f["r1"], 1.0, f["r3"], f["r4"], f["p"], f["delta"],
+                              rows["circuit"].astype(float), DENSE)  # fmt: skip
+    return np.where(np.isfinite(Q), Q, np.inf)
 
 
 def _line_rounds(Q, h, t, pts, rounds: int, along: float = 0.01):
