@@ -231,7 +231,7 @@ def sixbar_recovery(at, count: int, seed: int = 2026, kinds=("untimed", "timed")
                 continue
             targets = move + h * sixbar_points(row[None], theta)[0][0]
             size = float(np.max(np.abs(targets - targets.mean())))
-            kw = {"timing": theta} if label.endswith("timed") else {}
+            kw = {"timing": theta} if label in ("timed", "open-timed") else {}  # (not "untimed")
             closed = not label.startswith("open")
             t, cpu, res = timed_cpu(
                 lambda p=targets, kw=kw, c=closed: path_from_atlas(

@@ -17,10 +17,12 @@ their distances to the targets are measured by the Linkage's own solver.
 from __future__ import annotations
 
 import time
+import weakref
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.lib.recfunctions import structured_to_unstructured
 
 from ..errors import ModelError
 from ._atlas_index import _NEVER
@@ -403,19 +405,21 @@ SIXBAR_TIMED_POOLS = ((SIXBAR_TIMED_POOL, 1), (4 * SIXBAR_TIMED_POOL, 4), (0, 25
 #: Rounds of starts while no fit meets the targets (untimed, timed). The second round of a
 #: timed target scans the first pool again on grids of starting angles turned by half a
 #: step (the best-scoring entries and angles change, and with them the basins the starts
-#: lie in); its third and fourth are kind rounds (:func:`_kind_round`): entries of the
-#: kinds of its best fits. A later round of an untimed target takes the next-best-placed
-#: entries of a retrieval :data:`SIXBAR_WIDER` times wider than the round before. An
-#: untimed third round and a timed fourth run only when the rounds before leave a target
-#: unmet, and their best fits polished long too (:data:`SIXBAR_GATE`).
-SIXBAR_ROUNDS = (3, 4)  # untimed, timed
+#: lie in); its third is a neighbour round (:func:`_neighbour_starts`: entries nearest to
+#: its best fits in their design numbers, placed as those fits are), its fourth and fifth
+#: are kind rounds (:func:`_kind_round`): entries of the kinds of its best fits. A later
+#: round of an untimed target takes the next-best-placed entries of a retrieval
+#: :data:`SIXBAR_WIDER` times wider than the round before. An untimed third round and a
+#: timed fifth run only when the rounds before leave a target unmet, and their best fits
+#: polished long too (:data:`SIXBAR_GATE`).
+SIXBAR_ROUNDS = (3, 5)  # untimed, timed
 #: From this round of starts on (0 the first; untimed, timed), a round runs only when the
 #: best fits so far, polished long (:data:`SIXBAR_LONG`, as after the rounds; each fit
 #: once), still leave the targets unmet. Seed 2026's timed six-bar 43: its best fit after
 #: three rounds (3.1e-7 of the size, from the first) polished to 9e-16, and the fourth round
 #: it had run for nothing; of the untimed targets two rounds leave unmet, most are met by
 #: that polish.
-SIXBAR_GATE = (2, 3)
+SIXBAR_GATE = (2, 4)
 #: Untimed later rounds: entries retrieved ×5, placed starts ×3, each round again (the
 #: third: 25 times the first's retrieval, 4,000 entries, 360 placed). Seed 13's untimed
 #: Watt I 3-4 on 5 and on 6 (six-bars 10 and 11: 1.2e-2, 6.1e-3 of the size after two rounds)
@@ -534,7 +538,9 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     # starts lie in different basins (the timed fit is over-determined: near the truth it
     # has real local minima), and a target missed from one pool is often met from another
     seen: set[tuple[int, float]] = set()
-    if round_ > 1:  # a kind round: entries of the kinds of the best fits (_kind_round)
+    if round_ == 2:  # the neighbour round: entries placed as the best fits are
+        return _neighbour_starts(atlas, fits, pts)
+    if round_ > 2:  # a kind round: entries of the kinds of the best fits (_kind_round)
         pools = _kind_round(atlas, fits, pts, near, memo)
     else:
         pools = [
@@ -622,6 +628,122 @@ def _kind_pool(atlas, kind: tuple[int, int]) -> np.ndarray:
     if allowed.size > SIXBAR_KIND_POOL:
         allowed = allowed[np.linspace(0, allowed.size - 1, SIXBAR_KIND_POOL).astype(np.int64)]
     return allowed
+
+
+#: The neighbour round (a timed target's third, :func:`_neighbour_starts`): the kinds whose
+#: best fits are taken (at most; within :data:`SIXBAR_KIND_BAND` of the best kind's), the
+#: distinct best fits of each, and the atlas entries nearest to each fit in its design
+#: numbers. A timed fit is over-determined: near the truth it has real local minima,
+#: and the entries nearest to the truth by shape or by the timed scan are seldom in its
+#: basin. Seed 13's six-bar 39 (Stephenson 1-3 on 6): of the 300 entries of its kind
+#: nearest to the known six-bar in design numbers, 72 converge placed as it is (its
+#: similarity and crank angles) but 6 placed by the timed scan, none of whose scores rank
+#: among a pool's best 160; its best fits of its kind stop at 1.7e-2 of the size, and of the
+#: 200 entries nearest to each placed as it is, 39, 18 and 16 converge (300 steps).
+SIXBAR_NEIGHBOURS = (3, 1, 40)
+#: The neighbour round's screening steps and most fits polished (as :data:`SIXBAR_LATER_TIMED`):
+#: its starts lie around a fit, and those in the truth's basin lead after few steps (six-bar
+#: 39's three met starts of 40 ranked first to third after 30, 60 or 100 steps).
+SIXBAR_NEIGHBOUR_POLISH = (30, 16)
+
+
+#: The atlas rows' design numbers, in :func:`_design_numbers`' order.
+_NUMBERS = ("r1", "r3", "r4", "cu", "cv", "du", "dv", "a", "b", "pu", "pv")
+
+
+def _design_numbers(values: np.ndarray, mirror: Any = 1.0) -> np.ndarray:
+    """Atlas rows' design numbers in one metric (:func:`_neighbour_starts`').
+
+    ``values``: the rows' :data:`_NUMBERS`, one row each. Logs of the lengths over the
+    crank, the link-frame coordinates as they are (``v`` negated for a mirror image;
+    ``mirror`` ±1, one for all rows or one each).
+    """
+    out = np.array(values, dtype=float, ndmin=2)
+    out[:, [0, 1, 2, 7, 8]] = np.log(out[:, [0, 1, 2, 7, 8]])
+    out[:, [4, 6, 10]] *= np.asarray(mirror, dtype=float).reshape(-1, 1)
+    return out
+
+
+def _fit_numbers(x: np.ndarray) -> np.ndarray:
+    """A placed design's numbers in :func:`_design_numbers`' metric (positive lengths)."""
+    r2 = abs(x[4])
+    lengths = np.log(np.abs(x[[3, 5, 6, 11, 12]]) / r2)
+    return np.array([lengths[0], lengths[1], lengths[2], *x[7:11], lengths[3], lengths[4],
+                     x[13], x[14]])  # fmt: skip
+
+
+def _kind_entries(atlas, fixed) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The crank entries a fit of ``fixed``'s kind and assembly signs can be placed from.
+
+    An entry of the same signs as it is, or of both signs opposite as its mirror image
+    (:func:`_design_of`). Returns flat indices, mirrors (±1) and design numbers
+    (:func:`_design_numbers`, float32), kept per opened atlas: reading them costs about
+    0.02 s a kind on the 10^6 six-bar atlas, and a benchmark's syntheses ask for the same
+    few kinds again (at most 4 MB each).
+    """
+    cache = _ENTRIES.setdefault(atlas, {})
+    if "codes" not in cache:  # each entry's kind and signs as one number; -1: no crank
+        cache["codes"] = [
+            np.where(crank, (m["topology"].astype(np.int16) * 8 + m["on"]) * 9
+                     + (m["s4"] + 1) * 3 + m["s6"] + 1, -1)
+            for crank, m in zip(atlas._crank, atlas.meta, strict=True)
+        ]  # fmt: skip
+    key = (fixed["topology"], fixed["on"], fixed["s4"], fixed["s6"])
+    if key not in cache:
+        base = (fixed["topology"] * 8 + fixed["on"]) * 9
+        same = base + (fixed["s4"] + 1) * 3 + fixed["s6"] + 1
+        mirrored = base + (1 - fixed["s4"]) * 3 + 1 - fixed["s6"]
+        idx, values, mirrors = [], [], []
+        for c, (code, m) in enumerate(zip(cache["codes"], atlas.meta, strict=True)):
+            sel = np.flatnonzero((code == same) | (code == mirrored))
+            idx.append(sel + atlas.offsets[c])
+            # (the fields as columns of a view: gathering them costs a third of the rows')
+            values.append(structured_to_unstructured(m[list(_NUMBERS)], copy=False)[sel])
+            mirrors.append(np.where(code[sel] == same, 1.0, -1.0))
+        mirrors = np.concatenate(mirrors)
+        numbers = _design_numbers(np.concatenate(values), mirrors).astype(np.float32)
+        cache[key] = (np.concatenate(idx), mirrors.astype(np.int8), numbers)
+    return cache[key]
+
+
+#: :func:`_kind_entries`' entries, per opened atlas.
+_ENTRIES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _neighbour_starts(atlas, fits, pts) -> list:
+    """Starts ``(x0, θ0, fixed)`` of the neighbour round (a timed target's third).
+
+    For each of the best kinds (:func:`_ranked_kinds`; at most
+    ``SIXBAR_NEIGHBOURS[0]``, within :data:`SIXBAR_KIND_BAND` of the best) its
+    ``SIXBAR_NEIGHBOURS[1]`` best distinct fits; for each, the ``SIXBAR_NEIGHBOURS[2]``
+    entries of its kind and signs nearest to it in design numbers
+    (:func:`_kind_entries`), placed by the fit's own similarity (its ground pivot,
+    ground line and crank) at the fit's crank angles. Where the fits stop at local
+    minima near the truth, these starts lie around them, and some in the truth's basin.
+    """
+    kinds_most, per_kind, count = SIXBAR_NEIGHBOURS
+    ranked = _ranked_kinds(fits, pts)
+    band = SIXBAR_KIND_BAND * ranked[0][1] if ranked else 0.0
+    kinds = [k for k, rms in ranked[:kinds_most] if rms <= band]
+    starts = []
+    for kind in kinds:
+        taken: list[np.ndarray] = []
+        for x, theta, rms, fixed in sorted(fits, key=lambda f: f[2]):
+            if len(taken) == per_kind:
+                break
+            if (fixed["topology"], fixed["on"]) != kind or not np.isfinite(rms):
+                continue
+            v = _fit_numbers(x)
+            if not np.all(np.isfinite(v)) or any(np.allclose(v, w, atol=1e-6) for w in taken):
+                continue
+            taken.append(v)
+            idx, mirrors, numbers = _kind_entries(atlas, fixed)
+            near = np.argsort(np.sum((numbers - v) ** 2, axis=1), kind="stable")[:count]
+            h, t = abs(x[4]) * np.exp(1j * x[2]), complex(x[0], x[1])
+            for row, mirror in zip(atlas.entries(idx[near]), mirrors[near], strict=True):
+                x0, fx = _design_of(row, h, t, float(mirror))
+                starts.append((x0, np.asarray(theta, float).copy(), fx))
+    return starts
 
 
 def polished_sixbars(starts, pts, most, check, steps, *, timing=None, compiled=False,
@@ -1003,7 +1125,9 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         scan += time.perf_counter() - t0
         steps = SIXBAR_POLISH // 2 if round_ else SIXBAR_POLISH  # later rounds: shorter
         later = SIXBAR_LATER_TIMED if round_ and timing is not None else (30, most)
-        if round_ > 1 and timing is not None:  # a kind round: polished per kind scanned
+        if round_ == 2 and timing is not None:  # the neighbour round
+            later = SIXBAR_NEIGHBOUR_POLISH
+        if round_ > 2 and timing is not None:  # a kind round: polished per kind scanned
             later = (later[0], SIXBAR_KIND_POLISH * max(1, len(memo.get("round_kinds", ()))))
         more, met = polished_sixbars(starts, pts, later[1], check, steps, screen=later[0],
                                      **options)  # fmt: skip
