@@ -513,7 +513,7 @@ def main() -> None:
         type=int,
         default=0,
         metavar="N",
-        help="with --atlas: N fresh processes per --kinds target, each one synthesis + the same again",
+        help="with --atlas: N fresh processes per --kinds target, one synthesis + 2 more each",
     )
     args = ap.parse_args()
     if args.atlas is not None and args.cold:  # (before this process loads the kernels)

@@ -1,4 +1,4 @@
-"""``machdyn synth ...`` builds only the synth group (as ``run`` and ``studio``): a fresh process."""
+"""``machdyn synth ...`` builds only the synth group (as ``run`` and ``studio`` do)."""
 
 from __future__ import annotations
 

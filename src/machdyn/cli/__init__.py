@@ -40,8 +40,7 @@ def __getattr__(name: str) -> Any:
 
 
 def _command(args: list[str]) -> Any:
-    """The click command for ``args``: ``machdyn run``, ``studio`` and ``synth`` load only what
-    they need.
+    """The click command for ``args``: ``run``, ``studio`` and ``synth`` load only what they need.
 
     Importing every subcommand costs about 0.15 s; ``machdyn run`` on a
     four-bar file has a cold-start budget of 0.6 s in all, and a ``machdyn synth
