@@ -5,7 +5,7 @@ arcs of an evenly spread pool (re-fitted to the points themselves), random
 four-bars of wide proportions, and for timed targets a scan of every pool
 entry's starting crank angle; each start is an atlas linkage placed on the
 target by a rotation, scale and offset. Used by
-:mod:`~machdyn.synthesis.atlas_path` (and :mod:`~machdyn.synthesis.sixbar_path`).
+:mod:`~machdyn.synthesis.atlas_path` (and :mod:`~machdyn.synthesis._sixbar_starts`).
 """
 
 from __future__ import annotations

@@ -1,17 +1,17 @@
 """Compiled (numba) kernels of six-bar path synthesis: points, Jacobian, refinement, ordering.
 
 Imported only when :mod:`machdyn.jit` lets the compiled kernels serve (the
-caller decides, as :func:`machdyn.synthesis.sixbar_path.coupler_function`
+caller decides, as :func:`machdyn.synthesis._sixbar_refine.coupler_function`
 does). The timed scan's coupler points (:func:`sixbar_points_into`; its
 reference :func:`machdyn.synthesis.sixbar.sixbar_points`, NumPy, the engine's
 ``dyads.rrr``): one pass per linkage and crank angle, no temporaries, so the
 scan of thousands of atlas entries at tens of starting angles costs
 milliseconds instead of the NumPy path's seconds. The coupler point with its
 derivatives (:func:`sixbar_coupler`; reference
-:func:`machdyn.synthesis.sixbar_path.sixbar_coupler`, NumPy forward mode), the
-refinement's loop (:func:`refine_loop`; reference ``sixbar_path._loop``) and
+:func:`machdyn.synthesis._sixbar_refine.sixbar_coupler`, NumPy forward mode), the
+refinement's loop (:func:`refine_loop`; reference ``_sixbar_refine._loop``) and
 the ordering of a placed curve's samples (:func:`ordered_samples`; reference
-``sixbar_path._ordered_samples``).
+``_sixbar_starts._ordered_samples``).
 """
 
 from __future__ import annotations
@@ -175,7 +175,7 @@ def sixbar_coupler(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok):  # pragma: no c
     """Coupler point of a placed six-bar at crank angles ``theta`` and its derivatives.
 
     ``x`` (15): ``O2x O2y θ1 r1 r2 r3 r4 cu cv du dv a b pu pv`` (see
-    :mod:`machdyn.synthesis.sixbar_path`); ``s4, s6`` the dyads' assembly signs,
+    :mod:`machdyn.synthesis._sixbar_refine`); ``s4, s6`` the dyads' assembly signs,
     ``l1, l2`` the links (1–4) carrying C and D, ``on6`` 1 if the point is on link 6.
     Writes ``P`` (K,) complex, ``J`` (K, 15) complex, ``Jt`` (K,) complex, ``ok`` (K,).
     """
@@ -393,7 +393,7 @@ def _probe(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, r):  # pragma:
 @njit(cache=True, nogil=True, error_model="numpy")
 def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, floor, iterations):
     # pragma: no cover - compiled
-    """:func:`machdyn.synthesis.sixbar_path.refine_sixbar`'s damped Gauss–Newton loop, compiled.
+    """:func:`machdyn.synthesis._sixbar_refine.refine_sixbar`'s damped Gauss–Newton loop, compiled.
 
     The same steps (Marquardt's scaling with the least damping ``floor`` of the
     largest diagonal, Transtrum's geodesic acceleration with ``h = 0.1``, λ ÷3 on
@@ -419,7 +419,7 @@ def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, fl
             _lu_solve(M, piv, -g, v)
         else:
             v[:] = math.nan
-        if np.all(np.isfinite(v)):  # geodesic acceleration (see sixbar_path._geodesic)
+        if np.all(np.isfinite(v)):  # geodesic acceleration (see _sixbar_refine._geodesic)
             _probe(z + h * v, timing, timed, targets, scale, s4, s6, l1, l2, on6, r_h)
             curvature = 2.0 / h * ((r_h - r) / h - J @ v)
             _lu_solve(M, piv, -(J.T @ curvature), a)
@@ -454,7 +454,7 @@ def _ordered_total(c, start, way, back):  # pragma: no cover - compiled
     ``start, start + way, …`` (mod N). ``back`` (K − 1, N), written unless it has no
     rows: for target k at the j-th sample of the ordering, the sample (of the
     ordering) of target k − 1 — the first least ``total`` up to j, as
-    :func:`machdyn.synthesis.sixbar_path._ordered_samples`'s running minimum.
+    :func:`machdyn.synthesis._sixbar_starts._ordered_samples`'s running minimum.
     """
     k_count, n = c.shape
     order = np.empty(n, np.int64)
@@ -481,7 +481,7 @@ def _ordered_total(c, start, way, back):  # pragma: no cover - compiled
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def ordered_samples(c, rolls, out):  # pragma: no cover - compiled
-    """:func:`machdyn.synthesis.sixbar_path._ordered_samples`'s dynamic programme, compiled.
+    """:func:`machdyn.synthesis._sixbar_starts._ordered_samples`'s dynamic programme, compiled.
 
     ``c`` (K, N) finite: squared distances of the targets to the curve's samples;
     the sample indices of the least ordered sum go into ``out`` (K,). The same
