@@ -71,25 +71,41 @@ def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=N
     """
     man = atlas.manifest
     if closed:
-        dense = interpolate_closed(pts, 8 * man.samples)
-        even = resample_closed(dense, man.samples)
-        q = curve_descriptor(even, man.harmonics, resampled=True)
-        idx, _ = atlas._query(q, retrieve, crank, client, deadline)
-        rows = atlas.entries(idx)
-        curves = even_curves(rows, man.circuit_samples, man.samples)
-        transforms, residual = align_closed(even, curves)
-    else:
-        rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank))
-        curves: list = []
-        step = rows.size if deadline is _NEVER else POOL_SLICE  # (no limit: one call, as ever)
-        for lo in range(0, rows.size, step):
-            if curves and deadline.passed():
-                break
-            curves.append(even_curves(rows[lo : lo + step], man.circuit_samples, man.samples))
-        curves = np.concatenate(curves)
-        return _arc_starts(rows[: len(curves)], curves, pts, refine_count)
-    order = np.argsort(residual)[:refine_count]
-    return rows[order], transforms[order]
+        rows, transforms, residual = _nearest_placed(atlas, pts, retrieve, crank, client,
+                                                     deadline)  # fmt: skip
+        order = np.argsort(residual)[:refine_count]
+        return rows[order], transforms[order]
+    rows = atlas.entries(atlas.pool(OPEN_POOL, crank=crank))
+    curves: list = []
+    step = rows.size if deadline is _NEVER else POOL_SLICE  # (no limit: one call, as ever)
+    for lo in range(0, rows.size, step):
+        if curves and deadline.passed():
+            break
+        curves.append(even_curves(rows[lo : lo + step], man.circuit_samples, man.samples))
+    curves = np.concatenate(curves)
+    return _arc_starts(rows[: len(curves)], curves, pts, refine_count)
+
+
+def _even_target(man, pts) -> np.ndarray:
+    """A closed target resampled as the atlas holds its curves (``man.samples`` points).
+
+    Evenly spaced along the periodic spline through the targets.
+    """
+    return resample_closed(interpolate_closed(pts, 8 * man.samples), man.samples)
+
+
+def _nearest_placed(atlas: Atlas, pts, k, crank, client=None, deadline: _Deadline = _NEVER):
+    """The ``k`` entries nearest a closed target by descriptor (best first), placed on it.
+
+    Returns the rows, their placements ``(h, t)`` (:func:`align_closed`) and misfits.
+    """
+    man = atlas.manifest
+    even = _even_target(man, pts)
+    q = curve_descriptor(even, man.harmonics, resampled=True)
+    idx, _ = atlas._query(q, k, crank, client, deadline)
+    rows = atlas.entries(idx)
+    transforms, residual = align_closed(even, even_curves(rows, man.circuit_samples, man.samples))
+    return rows, transforms, residual
 
 
 #: Closed untimed targets: the nearest entries by descriptor taken for spare starts, as a
@@ -108,14 +124,9 @@ def _retrieve_closed(atlas: Atlas, pts, crank, retrieve, refine_count, client=No
     GCRR) among the others: a closed path is traced in order on one assembly only by
     such a linkage, and a second round starts from them.
     """
-    man = atlas.manifest
-    dense = interpolate_closed(pts, 8 * man.samples)
-    even = resample_closed(dense, man.samples)
-    q = curve_descriptor(even, man.harmonics, resampled=True)
-    idx, _ = atlas._query(q, CLOSED_SPARE * retrieve, crank, client, deadline)
-    rows = atlas.entries(idx)  # (best first: the first `retrieve` are _retrieve's)
-    curves = even_curves(rows, man.circuit_samples, man.samples)
-    transforms, residual = align_closed(even, curves)
+    # (best first: the first `retrieve` are _retrieve's)
+    rows, transforms, residual = _nearest_placed(atlas, pts, CLOSED_SPARE * retrieve, crank,
+                                                 client, deadline)  # fmt: skip
     first = np.argsort(residual[:retrieve])[:refine_count]
     rest = np.full(rows.size, np.inf)
     rest[retrieve:] = residual[retrieve:]
@@ -335,8 +346,7 @@ def _retrieve_wide(atlas: Atlas, pts, closed, crank, refine_count):
     curves = _wide_curves(crank, man.circuit_samples, man.samples)
     if not closed:
         return _arc_starts(rows, curves, pts, refine_count)
-    even = resample_closed(interpolate_closed(pts, 8 * man.samples), man.samples)
-    transforms, residual = align_closed(even, curves)
+    transforms, residual = align_closed(_even_target(man, pts), curves)
     order = np.argsort(residual)[:refine_count]
     return rows[order], transforms[order]
 
@@ -380,8 +390,7 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
     man = atlas.manifest
     idx = atlas.pool(TIMED_POOL, crank=True)
     if closed:
-        dense = interpolate_closed(pts, 8 * man.samples)
-        q = curve_descriptor(resample_closed(dense, man.samples), man.harmonics, resampled=True)
+        q = curve_descriptor(_even_target(man, pts), man.harmonics, resampled=True)
         idx = np.union1d(idx, atlas._query(q, retrieve, True, client, deadline)[0])
     wide = _wide_rows(True)[: None if 9 in fixed else WIDE_TIMED]  # θ0 scanned: fewer
     wide = wide[:0] if deadline.passed() else wide

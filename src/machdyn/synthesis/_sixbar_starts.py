@@ -110,8 +110,8 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     first pool, and the fourth takes entries of its kinds from them; a query on the
     10^6 six-bar atlas costs about 0.3 s of CPU), and the kinds scanned.
     """
-    from ._atlas_retrieve import _retrieve
-    from .descriptor import curve_descriptor, interpolate_closed, resample_closed
+    from ._atlas_retrieve import _even_target, _retrieve
+    from .descriptor import curve_descriptor
     from .sixbar import sixbar_points
 
     starts = []
@@ -134,8 +134,7 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     if closed:  # the entries whose whole curve looks like the target's (retrieved once)
         wanted = min(max(k for _, k in SIXBAR_TIMED_POOLS) * retrieve, len(atlas))
         if memo.get("near", (None, 0))[1] != wanted:
-            dense = interpolate_closed(pts, 8 * atlas.manifest.samples)
-            even = resample_closed(dense, atlas.manifest.samples)
+            even = _even_target(atlas.manifest, pts)
             q = curve_descriptor(even, atlas.manifest.harmonics, resampled=True)
             memo["near"] = (atlas.nearest(q, wanted, client=client)[0], wanted)
         near = memo["near"][0]
