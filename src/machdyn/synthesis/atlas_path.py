@@ -338,15 +338,15 @@ def path_from_atlas(
     if timing is not None and not absolute_timing:
         timing = timing - timing[0]  # increments from the first target
     t0 = time.perf_counter()
+    # one choice of kernels for the whole synthesis: the compiled ones unless
+    # MACHDYN_JIT=off. (Left to the gates, auto kept a fresh process's four-bar search on
+    # NumPy and scipy's trf throughout: each asks for fewer poses than jit.BUDGET, so it
+    # ran a search other than the one benchmarked, which loads the kernels first.)
+    if jit.mode() != "off":
+        jit.load()
     if atlas.manifest.kind == "sixbar":
         return _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve,
                             refine_count, client, start, deadline)  # fmt: skip
-    # one choice for the whole synthesis, as the six-bars': the compiled kernels unless
-    # MACHDYN_JIT=off. Without this, auto left a fresh process on NumPy and scipy's trf
-    # throughout (each of the synthesis's gates asks for fewer poses than jit.BUDGET), a
-    # search other than the one benchmarked (the benchmarks load the kernels first)
-    if jit.mode() != "off":
-        jit.load()
     if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
         refine_count *= 4
     options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,

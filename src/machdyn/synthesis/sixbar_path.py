@@ -236,7 +236,7 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     from .. import jit
 
     size = float(np.max(np.abs(pts - pts.mean())))
-    compiled = jit.mode() != "off" and jit.load()  # one choice for the whole synthesis
+    compiled = jit.active()  # (path_from_atlas loaded the kernels unless they are off)
     # six-bars: many atlas entries draw nearly the same curve, so many are screened; timed
     # targets many more (their fit is over-determined: real local minima near the truth)
     screen, most = (SIXBAR_SCREEN, SIXBAR_POLISH_MAX) if timing is None else SIXBAR_TIMED
