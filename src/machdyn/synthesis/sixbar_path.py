@@ -39,6 +39,7 @@ from ._sixbar_starts import (  # noqa: F401  (re-imported: tests and docs take t
     SIXBAR_KIND_BAND,
     SIXBAR_KIND_POOL,
     SIXBAR_NEIGHBOURS,
+    SIXBAR_UNTRIED,
     _design_of,
     _kind_pool,
     _kind_round,
@@ -118,7 +119,7 @@ SIXBAR_NEAR = 1e-8
 #: :data:`SIXBAR_WIDER` times wider than the round before. An untimed third round and a
 #: timed fifth run only when the rounds before leave a target unmet, and their best fits
 #: polished long too (:data:`SIXBAR_GATE`).
-SIXBAR_ROUNDS = (3, 5)  # untimed, timed
+SIXBAR_ROUNDS = (3, 6)  # untimed, timed
 #: From this round of starts on (0 the first; untimed, timed), a round runs only when the
 #: best fits so far, polished long (:data:`SIXBAR_LONG`, as after the rounds; each fit
 #: once), still leave the targets unmet. Seed 2026's timed six-bar 43: its best fit after
@@ -307,7 +308,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         if round_ == 2 and timing is not None:  # the neighbour round
             later = SIXBAR_NEIGHBOUR_POLISH
         if round_ > 2 and timing is not None:  # a kind round: polished per kind scanned
-            later = (later[0], SIXBAR_KIND_POLISH * max(1, len(memo.get("round_kinds", ()))))
+            per_kind = SIXBAR_KIND_POLISH if round_ < 5 else SIXBAR_UNTRIED[2]
+            later = (later[0], per_kind * max(1, len(memo.get("round_kinds", ()))))
         more, met = polished_sixbars(starts, pts, later[1], check, steps, screen=later[0],
                                      **options)  # fmt: skip
         fits += more
