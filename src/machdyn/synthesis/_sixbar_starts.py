@@ -71,7 +71,7 @@ SIXBAR_KIND_MOST = 2
 #: against 1e-5 for the best kind's), so the kind rounds, which scan the best two, never
 #: reach it: of 160 starts from 1,000 entries spread over its kind, the one that converges
 #: ranked 21st by the scan and first after 100 steps.
-SIXBAR_UNTRIED = (3, 48, 4)
+SIXBAR_UNTRIED = (3, 32, 2)
 #: No third (or fourth) round where the best fit's RMS is within this share of the size: such
 #: a fit is crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
 #: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
