@@ -143,6 +143,8 @@ def finite_scalar(
     ...
     machdyn.errors.InputError: omega2: must be a real number, got the complex (1+2j) ...
     """
+    if type(value) in (float, int) and -limit <= value <= limit:  # False for NaN
+        return float(value)  # a plain number in range: what the checks below return
     out = _real(field, value, unit)
     if not np.isfinite(out):
         raise InputError(field, f"must be finite, got {out}")
