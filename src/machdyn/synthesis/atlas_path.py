@@ -360,21 +360,27 @@ def path_from_atlas(
         fits, t1 = _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client,
                                  options, deadline)  # fmt: skip
     else:
-        starts = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count, client, fixed,
-                                 deadline)  # fmt: skip
+        starts, next_best = _retrieve_timed(atlas, pts, timing, closed, retrieve, refine_count,
+                                            client, fixed, deadline)  # fmt: skip
         t1 = time.perf_counter()
         # the few best go on until they converge (the rest rarely overtake them)
         fits, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
                               deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
-        # an open arc met by no start but nearly met by one: fresh pools of the atlas (a
-        # closed timed target's nearest entries by shape are already in; an arc's are not)
+        # an open arc met by no start but nearly met by one: the first pool's next-best
+        # starts, then fresh pools of the atlas (a closed timed target's nearest entries by
+        # shape are already in; an arc's are not), of the rows not scored yet. (A small
+        # atlas's pools overlap: 10^4 entries hold ~5,000 crank rows, nearly all in each.)
+        seen = atlas.pool(TIMED_POOL, crank=True)
         for r in range(1, TIMED_ROUNDS if not closed else 1):
             if met or deadline.passed() or not fits or fits[0].rms > TIMED_NEAR_MISS * size:
                 break
-            rows = atlas.entries(atlas.pool(TIMED_POOL, crank=True, draw=r))
-            more = _screened(_timed_starts(rows, pts, timing, refine_count, fixed), pts, options,
-                             deadline)  # fmt: skip
-            more, met = _polished(more, pts, options, POLISH, deadline=deadline, tries=TIMED_TRIES)
+            more = next_best if r == 1 else []
+            idx = np.setdiff1d(atlas.pool(TIMED_POOL, crank=True, draw=r), seen)
+            seen = np.union1d(seen, idx)
+            if idx.size:
+                more = more + _timed_starts(atlas.entries(idx), pts, timing, refine_count, fixed)
+            more, met = _polished(_screened(more, pts, options, deadline), pts, options, POLISH,
+                                  deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     # a closed untimed target with any input was searched with link 2 held a crank first
