@@ -142,7 +142,7 @@ def test_the_rows_kept_hold_the_exact_top_k_and_the_heap_its_scores(k):
         head, tail, rows, hs, ts, longest2 = _table(K, desc, rows, cols, groups, kcol=1)
         out = np.empty(rows.size, np.int64)
         score = np.empty(rows.size, np.float64)
-        n = K.bound_topk(head, tail, rows, 1, desc, v[:, cols].copy(), qn, np.sum(v**2, axis=1),
+        n, _ = K.bound_topk(head, tail, rows, 1, desc, v[:, cols].copy(), qn, np.sum(v**2, axis=1),
                          hs, ts, longest2, v, 1e-4, 1e-5, best, out, score)  # fmt: skip
         kept |= {(c, int(r)) for r in out[:n]}
         exact = np.max(desc[out[:n]].astype(np.float64) @ v.T, axis=1)

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._summary import Summarized
-from .._validate import LIMIT, finite_array
+from .._validate import finite_array
 from ..errors import InputError, ModelError
 from ..loops.result import Motion
 from ._common import _is_zero, _ref_angle
@@ -99,7 +99,7 @@ def _warn_degrees(lk: Linkage, vals: dict[str, np.ndarray]) -> None:
 
 def _per_driver(field: str, value: Any, drivers: tuple[str, ...], required: bool):
     if len(drivers) == 1 and type(value) in (float, int):  # the editor's one-pose call
-        return {drivers[0]: _driver_array(field, value)}
+        return {drivers[0]: finite_array(field, value)}
     if isinstance(value, Mapping):
         extra = [k for k in value if k not in drivers]
         if extra:
@@ -110,21 +110,14 @@ def _per_driver(field: str, value: Any, drivers: tuple[str, ...], required: bool
         missing = [d for d in drivers if d not in value]
         if missing and required:
             raise ModelError(f"{field}: no value for driver(s) {', '.join(missing)}")
-        return {d: _driver_array(f"{field}[{d}]", value.get(d, 0.0)) for d in drivers}
+        return {d: finite_array(f"{field}[{d}]", value.get(d, 0.0)) for d in drivers}
     if len(drivers) != 1 and not required and np.ndim(value) == 0:
-        return {d: _driver_array(f"{field}[{d}]", value) for d in drivers}
+        return {d: finite_array(f"{field}[{d}]", value) for d in drivers}
     if len(drivers) != 1:
         raise ModelError(
             f"{field}: give a mapping {{driver: values}} for the drivers {', '.join(drivers)}"
         )
-    return {drivers[0]: _driver_array(field, value)}
-
-
-def _driver_array(field: str, value: Any) -> np.ndarray:
-    """``finite_array``, with a shortcut for a plain number (an editor's one-pose call)."""
-    if type(value) in (float, int) and -LIMIT <= value <= LIMIT:  # False for NaN
-        return np.array(float(value))
-    return finite_array(field, value)
+    return {drivers[0]: finite_array(field, value)}
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ..loops.result import blank
 from .dyads import _line_line, _pair, _rpr, _rrp, _rrr, cross
 
 #: Status codes of a group at a sample.
@@ -133,13 +134,6 @@ def _r_term(k: int, L: list[Any], e: Any, w: list[Any]) -> Any:
         - 3.0 * L[0] * om * al
         + 1j * (3.0 * L[2] * om + 3.0 * L[1] * al - L[0] * om * om * om)
     ) * e
-
-
-def blank(n: int) -> np.ndarray:
-    """``n`` empty reasons (an object array of ''; 20× faster than ``np.full`` for objects)."""
-    out = np.empty(n, dtype=object)
-    out.fill("")
-    return out
 
 
 def _sine(c1: Any, c2: Any) -> Any:

@@ -208,6 +208,28 @@ class Compiled:
         return dyad_arrays(self)
 
     @cached_property
+    def kernel_sweepable(self) -> bool:
+        """Whether the compiled sweep can follow the model (``_jit_sweep.sweepable``)."""
+        from ._jit_sweep import sweepable
+
+        return sweepable(self)
+
+    @cached_property
+    def input_names(self) -> tuple[str, ...]:
+        """The inputs' names, in the order of ``inputs``."""
+        return tuple(self.names[i] for i in self.inputs)
+
+    @cached_property
+    def unknown_names(self) -> tuple[str, ...]:
+        """The unknowns' names, in the order of ``unknown`` (the rows of ``q``)."""
+        return tuple(self.names[i] for i in self.unknown)
+
+    @cached_property
+    def group_names(self) -> tuple[tuple[str, ...], ...]:
+        """Each group's unknowns (``Group.names``), in solving order."""
+        return tuple(g.names for g in self.groups)
+
+    @cached_property
     def sign_identified(self) -> bool:
         """True when every group's determinant sign identifies its root."""
         return all(g.identified_by_sign for g in self.groups)

@@ -183,9 +183,9 @@ def sweep(
     costs (for the ``auto`` rule of :mod:`machdyn.jit`).
     """
     n = u.shape[1]
-    if not sweepable(c):
+    if not c.kernel_sweepable:
         return None
-    if not np.abs(u).max(initial=0.0) <= INPUT_LIMIT:
+    if u.size and not (u.max() <= INPUT_LIMIT and u.min() >= -INPUT_LIMIT):  # False for NaN
         return None
     if jit.kernels(int(n * cost)) is None:
         return None
@@ -196,16 +196,17 @@ def sweep(
         return None
     ng = len(c.groups)
     orders = len(u_rates) if u_rates else 0
-    zeros = np.zeros_like(u)
-    r1, r2, r3 = ((list(u_rates) if u_rates else []) + [zeros] * 3)[:3]
+    # the rates of orders not asked for are never read: any array of u's shape stands in
+    r1, r2, r3 = ((list(u_rates) if u_rates else []) + [u] * 3)[:3]
     branch = np.zeros(ng) if want is None else np.array(want, dtype=float)
+    # every output is written at every sample when the kernel returns n (read only then)
     X = np.empty((len(c.names), n))
-    rates = np.full((orders, len(c.names), n), np.nan)
-    det, rcond, resid = np.zeros(n), np.zeros(n), np.full(n, np.inf)
-    gdet, grc = np.zeros((ng, n)), np.zeros((ng, n))
-    code = np.zeros(n, dtype=np.int8)
+    rates = np.empty((orders, len(c.names), n))
+    det, rcond, resid = np.empty(n), np.empty(n), np.empty(n)
+    gdet, grc = np.empty((ng, n)), np.empty((ng, n))
+    code = np.empty(n, dtype=np.int8)
     points = np.empty((orders + 1, c.points.shape[0], n), dtype=complex)
-    group = np.full(n, -1, dtype=np.int16)
+    group = np.empty(n, dtype=np.int16)
     try:
         done = _kernels.sweep(
             *c.kernel_arrays,

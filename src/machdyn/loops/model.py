@@ -17,6 +17,7 @@ import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -27,7 +28,7 @@ from ..errors import InputError, ModelError
 from . import solve as _solve
 from ._equations import derivatives, point_motion, residual_and_jacobian
 from ._parse import parse_linear, parse_signed_sum
-from .result import Motion, SystemReport
+from .result import Motion, SystemReport, blank
 
 __all__ = ["LoopSystem", "Vector"]
 
@@ -421,7 +422,11 @@ class LoopSystem:
             )
         arrays = [finite_array(n, values[n]) for n in inputs]
         try:
-            shape = np.broadcast_shapes(*(a.shape for a in arrays))
+            shape = (
+                arrays[0].shape
+                if len(arrays) == 1
+                else np.broadcast_shapes(*(a.shape for a in arrays))
+            )
         except ValueError:
             raise InputError(
                 "values", f"input arrays of shapes {[a.shape for a in arrays]} do not broadcast"
@@ -531,7 +536,7 @@ class LoopSystem:
         inputs = self._inputs or tuple(values)
         c = self._checked(inputs)
         u, shape = self._input_arrays(values, inputs)
-        unknowns = [c.names[i] for i in c.unknown]
+        unknowns = c.unknown_names
         guess = mapping("guess", guess, "approximate values of the unknowns")
         missing = [n for n in unknowns if n not in guess]
         if missing:
@@ -628,14 +633,17 @@ class LoopSystem:
             if acceleration is not None or jerk is not None:
                 raise ModelError("acceleration/jerk need the input velocity too (velocity=...)")
             return None
-        return [
-            self._rates("velocity", velocity, inputs, shape, required=True),
-            self._rates("acceleration", acceleration, inputs, shape, required=False),
-            self._rates("jerk", jerk, inputs, shape, required=False),
-        ][:order]
+        out = []
+        given = (("velocity", velocity), ("acceleration", acceleration), ("jerk", jerk))
+        for k, (field, rates) in enumerate(given):
+            if k < order or rates is not None:  # rates given beyond ``order`` are checked too
+                checked = self._rates(field, rates, inputs, shape, required=k == 0)
+                if k < order:
+                    out.append(checked)
+        return out
 
     def _finish(self, c, x0, code, resid, shape, u_rates, pos=None) -> Motion:
-        inputs = tuple(c.names[i] for i in c.inputs)
+        inputs = c.input_names
         states = [x0]
         if u_rates is not None:
             rates, det, rcond, gdet, grc = _derivatives(c, x0, u_rates, pos)
@@ -643,40 +651,37 @@ class LoopSystem:
         else:
             det, rcond, gdet, grc = _determinants(c, x0, pos)
         group = pos.group.copy() if pos is not None else np.full(x0.shape[1], -1, np.int16)
-        singular = (code == _solve.OK) & ~(rcond >= _solve.SINGULAR_RCOND) & (len(c.unknown) > 0)
-        code = np.where(singular, _solve.SINGULAR, code)
-        if len(c.groups) > 1 and singular.any():
-            group[singular] = np.argmin(np.nan_to_num(grc[:, singular], nan=np.inf), axis=0)
+        singular = ~(rcond >= _solve.SINGULAR_RCOND)  # True where rcond is NaN too
+        singular &= code == _solve.OK
+        if singular.any() and len(c.unknown):
+            code = np.where(singular, _solve.SINGULAR, code)
+            if len(c.groups) > 1:
+                group[singular] = np.argmin(np.nan_to_num(grc[:, singular], nan=np.inf), axis=0)
         ok = code == _solve.OK
         bad_pos = (code != _solve.OK) & (code != _solve.SINGULAR)
-        mask = [bad_pos] + [~ok] * (len(states) - 1)
-        masked = pos is not None and pos.points is not None  # the compiled sweep's
-        if masked:
+        if pos is not None and pos.points is not None:  # the compiled sweep's: masked already
             pts = list(pos.points)
-        else:
+        else:  # NaN where not assembled (positions) or not ok (rates)
             terms = pos.reuse[0] if pos is not None and pos.reuse is not None else None
             pts = point_motion(c, states, terms)
-
-        def pack(arr: np.ndarray, bad: np.ndarray) -> np.ndarray:
-            return arr.reshape(shape) if masked else np.where(bad, np.nan, arr).reshape(shape)
-
-        per_var = [
-            {name: pack(s[i], m) for i, name in enumerate(c.names)}
-            for s, m in zip(states, mask, strict=True)
-        ]
-        point_names = list(self._points)
-        per_pt = [
-            {name: pack(p[i], m) for i, name in enumerate(point_names)}
-            for p, m in zip(pts, mask, strict=True)
-        ]
-        for name in inputs:  # inputs are known even where the pose is not
-            per_var[0][name] = x0[c.inputs[inputs.index(name)]].reshape(shape).copy()
-        frozen = [_freeze(d) for d in per_var]
-        frozen_pts = [_freeze(d) for d in per_pt]
+            mask = [bad_pos] + [~ok] * (len(states) - 1)
+            states = [np.where(m, np.nan, a) for a, m in zip(states, mask, strict=True)]
+            pts = [np.where(m, np.nan, a) for a, m in zip(pts, mask, strict=True)]
+        # read-only stacks: the rows below, views of them, are read-only too
+        for a in (*states, *pts):
+            a.flags.writeable = False
+        per_var = [_by_name(c.names, a, shape) for a in states]
+        per_pt = [_by_name(tuple(self._points), a, shape) for a in pts]
+        for i, name in zip(c.inputs, inputs, strict=True):  # known even where the pose is not
+            value = x0[i].reshape(shape).copy()
+            value.flags.writeable = False
+            per_var[0][name] = value
+        frozen = [MappingProxyType(d) for d in per_var]
+        frozen_pts = [MappingProxyType(d) for d in per_pt]
         extra = [None] * (4 - len(frozen))
-        signs = np.sign(gdet)
-        signs[:, bad_pos] = 0.0
-        signs[np.isnan(signs)] = 0.0
+        branch, signs = _sign(det), _sign(gdet)
+        branch[bad_pos] = 0
+        signs[:, bad_pos] = 0
         return Motion(
             positions=frozen[0],
             velocity=(frozen + extra)[1],
@@ -689,11 +694,11 @@ class LoopSystem:
             ok=ok.reshape(shape),
             reason=_reasons(c, code, group).reshape(shape),
             residual=np.where(bad_pos, np.nan, resid).reshape(shape),
-            branch=np.where(bad_pos, 0, np.sign(det)).astype(np.int8).reshape(shape),
+            branch=branch.reshape(shape),
             inputs=inputs,
             angles=c.angle_names,
-            groups=tuple(g.names for g in c.groups),
-            group_branch=signs.astype(np.int8).reshape((len(c.groups), *shape)),
+            groups=c.group_names,
+            group_branch=signs.reshape((len(c.groups), *shape)),
         )
 
 
@@ -784,10 +789,28 @@ def _determinants(c, x0: np.ndarray, pos) -> tuple[np.ndarray, ...]:
     return det, rcond, gdet, grc
 
 
+def _by_name(names: tuple[str, ...], stack: np.ndarray, shape: tuple[int, ...]) -> dict:
+    """``{name: row}`` of ``stack`` (one row per name), each row (a view) shaped ``shape``."""
+    if len(shape) == 1:  # the rows have the shape already: iterating gives the views
+        return dict(zip(names, stack, strict=True))
+    return {name: stack[i].reshape(shape) for i, name in enumerate(names)}
+
+
+def _sign(a: np.ndarray) -> np.ndarray:
+    """The sign of ``a`` as int8 (-1, 0, 1), 0 where NaN.
+
+    Examples
+    --------
+    >>> _sign(np.array([-2.0, -0.0, 3.0, np.nan])).tolist()
+    [-1, 0, 1, 0]
+    """
+    return (a > 0).view(np.int8) - (a < 0).view(np.int8)
+
+
 def _reasons(c, code: np.ndarray, group: np.ndarray) -> np.ndarray:
     """Per-sample reason texts; a flag about one group names it (when there are several)."""
     if not code.any():
-        return np.full(code.shape, "", dtype=object)
+        return blank(code.shape)
     reasons = np.array(_solve.REASONS, dtype=object)[code]
     named = (group >= 0) & ((code == _solve.LOST) | (len(c.groups) > 1)) & (code != _solve.OK)
     for gi, g in enumerate(c.groups):
@@ -798,11 +821,3 @@ def _reasons(c, code: np.ndarray, group: np.ndarray) -> np.ndarray:
         if sel.any():
             reasons[sel] = f"cannot assemble: group {g.label} cannot close at this input"
     return reasons
-
-
-def _freeze(d: dict[str, np.ndarray]) -> Mapping[str, np.ndarray]:
-    from types import MappingProxyType
-
-    for value in d.values():
-        value.flags.writeable = False
-    return MappingProxyType(d)

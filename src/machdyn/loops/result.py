@@ -13,6 +13,19 @@ from ..errors import UnknownNameError
 __all__ = ["Motion", "SystemReport"]
 
 
+def blank(shape: int | tuple[int, ...]) -> np.ndarray:
+    """Empty reasons: an object array of ``''`` (several times faster than ``np.full``).
+
+    Examples
+    --------
+    >>> blank(2).tolist()
+    ['', '']
+    """
+    out = np.empty(shape, dtype=object)
+    out.fill("")
+    return out
+
+
 @dataclass(frozen=True)
 class SystemReport:
     """Equation/unknown count of a loop system (what :meth:`LoopSystem.check` returns).

@@ -384,6 +384,13 @@ def _sweep_numpy(
     return _closure(c, u, _verify(c, u, pos, sing_tol))
 
 
+#: The kernel's codes 0 ok, 1 no assembly, 2 singular as this module's (None: the same).
+_KERNEL_CODES = (
+    None
+    if (OK, NO_ASSEMBLY, SINGULAR) == (0, 1, 2)
+    else np.array([OK, NO_ASSEMBLY, SINGULAR], dtype=np.int8)
+)
+
 #: The NumPy continuation costs about this many four-bar closed-form poses per pose
 #: (a few µs): the ``auto`` rule of :mod:`machdyn.jit` counts a sweep accordingly.
 NUMPY_POSE_COST = 40
@@ -420,10 +427,9 @@ def _sweep_compiled(
     if res is None:
         return None
     x, rates, points, det, rcond, gdet, grc, resid, code, group, want = res
-    codes = np.array([OK, NO_ASSEMBLY, SINGULAR], dtype=np.int8)[code]
     return Positions(
         x[c.unknown],
-        codes,
+        code if _KERNEL_CODES is None else _KERNEL_CODES[code],
         resid,
         det,
         rcond,

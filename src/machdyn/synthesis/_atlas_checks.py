@@ -13,9 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..classify import classify
 from ..errors import InputError
-from ..fourbar import FourBar
+from ..fourbar import FourBar, positions
 from .path import PathSynthesis, _mu_min
 from .placed import PlacedFourBar
 from .refine import refine
@@ -44,10 +43,11 @@ def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesi
         other = PlacedFourBar(fb, placed.O2, placed.theta1, int(b))
         _, _, P[sel], ok[sel] = other.pose(theta[sel])
     distance = np.where(ok, np.abs(P - pts), np.inf)
-    cls = classify(*fb.lengths)
+    cls = fb.classification  # (classify(*fb.lengths), made by FourBar)
     is_crank = 2 in cls.cranks
     dense = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
-    okd = placed.pose(dense)[3] if is_crank else np.ones(dense.size, bool)
+    # (where the linkage assembles over a turn: the mask of placed.pose, without its points)
+    okd = positions(*fb.lengths, dense, placed.branch)[2] if is_crank else np.ones(720, bool)
     lengths = {k: np.array([v]) for k, v in zip(("r1", "r2", "r3", "r4"), fb.lengths, strict=True)}
     mu = float(_mu_min(lengths, dense, okd[None, :])[0]) if is_crank else float("nan")
     in_order = _in_order(theta, closed, timing)

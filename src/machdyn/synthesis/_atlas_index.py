@@ -6,11 +6,12 @@ entries to a descriptor in any of its four variants by one float32 matrix
 product per block of rows (BLAS) and a partial sort, on threads or as Dask
 tasks (:func:`chunk_topk_file`), and spreads pools of entries over the atlas
 for open targets. From an atlas's second query on (compiled), a compact table
-derived from the chunks (int16 head columns, uint16 norms of the others, sorted
-by a key column; built once, in memory) bounds every score, and only the rows
-whose bound beats the k-th best so far are scored (:func:`bounded_topk`). Either
-way, the candidates (every row that may be among the best k, and a few more) are
-ranked by their exact scores in float64, best first and equal scores by index
+derived from a chunk (int16 head columns, uint16 norms of the others, sorted by a
+key column; built once, in memory, a budget of chunks per query) bounds every
+score, and only the rows whose bound beats the k-th best so far are scored
+(:func:`bounded_topk`); the chunks without one are scored by BLAS. Either way, the
+candidates (every row that may be among the best k, and a few more) are ranked by
+their exact scores in float64, best first and equal scores by index
 (:meth:`Atlas._exact_scores`): every path gives the same top k for the same atlas
 and target. Used by :mod:`~machdyn.synthesis.atlas_path`.
 """
@@ -148,9 +149,9 @@ class Atlas:
             parts = list(enumerate(client.gather(futures)))
         idx = np.concatenate([top + self.offsets[c] for c, (top, _) in parts]).astype(np.int64)
         near = np.concatenate([s for _, (_, s) in parts]).astype(np.float64)
-        if near.size > k:  # the candidates that can be among the best k (see score_band)
+        if near.size > k:  # the candidates that can be among the best k (float64 scores)
             kth = np.partition(near, near.size - k)[near.size - k]
-            idx = idx[near >= kth - score_band(variants)]
+            idx = idx[near >= kth - SCORE_SLACK]
         score = self._exact_scores(idx, variants)
         order = np.lexsort((idx, -score))[:k]  # best first; equal scores by index
         return idx[order], 2.0 - 2.0 * score[order]
@@ -174,57 +175,84 @@ class Atlas:
         for c in np.flatnonzero(np.diff(cuts)):
             at = order[cuts[c] : cuts[c + 1]]
             d[at] = self._plain[c][idx[at] - self.offsets[c]]  # (float32 -> float64 exactly)
-        v = np.asarray(variants, dtype=np.float64)
-        acc = d[:, :1] * v[:, 0]  # (n, 4)
-        for j in range(1, v.shape[1]):
-            acc += d[:, j : j + 1] * v[:, j]
-        return acc.max(axis=1) if acc.size else np.empty(0)
+        return exact_scores(d, variants)
 
     def _local_topk(self, variants: np.ndarray, k: int, crank: bool,
                     deadline: _Deadline = _NEVER) -> list:  # fmt: skip
         """The best ``k`` of every chunk, on the threads of :mod:`machdyn._parallel`.
 
         Each thread scores a run of chunks (the BLAS products, the comparisons, the
-        partial sort and the compiled kernels release the GIL). From an atlas's second
-        query on (compiled), each chunk goes through :func:`bounded_topk`: a bound of
-        every row's score from the compact table (:meth:`_tables`), the exact score of
-        the rows whose bound beats the thread's k-th best so far, which rises as it
-        goes; the first query (often the only one of a process) scores every row by
-        :func:`chunk_topk` instead, keeping what beats its own k-th best so far. Either
-        way the union holds the exact top k. Returns ``(chunk, (rows, scores))`` for
-        the chunks scored: past the ``deadline``, each thread stops after its current
-        chunk.
+        partial sort and the compiled kernels release the GIL) and keeps a heap of the
+        best ``k`` float64 scores it met, its root the floor that later chunks must
+        beat. From an atlas's second query on (compiled), a chunk whose
+        compact tables exist (:meth:`_tables`) goes through :func:`bounded_topk`: a
+        bound of every row's score from the table, the exact score of the rows whose
+        bound beats the floor. The others are scored by :func:`chunk_topk` (every row,
+        BLAS), and each query builds the tables of at most :data:`TABLE_BUDGET` of them
+        (:meth:`_to_build`), so that no query pays for the whole atlas's tables: the
+        first query (often the only one of a process) builds none. A thread whose
+        bound passes more than :data:`BOUND_FALLBACK` of a chunk's rows (a target in a
+        dense cluster of near-equal curves, where the bound's resolution cannot tell
+        them apart) scores the rest of its chunks by BLAS, which is cheaper then. The
+        union holds the exact top k whichever way each chunk went. Returns ``(chunk,
+        (rows, scores))`` for the chunks scored: past the ``deadline``, each thread
+        stops after its current chunk.
         """
         from .. import jit
         from .._parallel import for_slices
 
         parts: list = [None] * len(self.desc)
         starts = self.offsets[:-1]
-        # compact tables from an atlas's second query on (the first query, often the
-        # only one of a process, scores every row: building the tables costs more)
         two = jit.active() and self._queries > 0
         self._queries += 1
+        build: frozenset = frozenset()
         if two:
             stage = _FirstStage(variants, *self._query_plan())
+            build = self._to_build(crank)
 
         def run(sl: slice) -> None:
-            floor, kept = -np.inf, np.empty(0, np.float32)  # (chunk_topk's)
-            best = np.full(k, -np.inf)  # (bounded_topk's heap of the thread's best scores)
+            best = np.full(k, -np.inf)  # (a min-heap of the thread's best scores)
+            bounded = two
             for c in np.flatnonzero((starts >= sl.start) & (starts < sl.stop)):
-                if two:
-                    parts[c] = bounded_topk(self.desc[c], self._tables(c, crank), stage, best)
+                if bounded and (c in build or self._has_tables(c, crank)):
+                    rows, score, scored = bounded_topk(self.desc[c], self._tables(c, crank),
+                                                       stage, best)  # fmt: skip
+                    parts[c] = rows, score
+                    bounded = scored <= BOUND_FALLBACK * self.desc[c].shape[0]
                 else:
                     ok = self._crank[c] if crank else None
-                    parts[c] = chunk_topk(self.desc[c], ok, variants, k, floor)
-                    kept = np.concatenate([kept, parts[c][1]])
-                    if kept.size >= k:  # the k-th best so far: later chunks must beat it
-                        kept = np.partition(kept, kept.size - k)[kept.size - k :]
-                        floor = float(kept[0])
+                    parts[c] = chunk_topk(self.desc[c], ok, variants, k, float(best[0]))
+                    _raise_floor(best, parts[c][1])
                 if deadline.passed():
                     break
 
         for_slices(run, len(self))
         return [(c, p) for c, p in enumerate(parts) if p is not None]
+
+    def _has_tables(self, c: int, crank: bool) -> bool:
+        """Whether chunk ``c``'s compact tables for a query with (or without) ``crank`` exist."""
+        return (c, True) in self._compact and (crank or (c, False) in self._compact)
+
+    def _to_build(self, crank: bool) -> frozenset:
+        """The chunks whose compact tables this query builds: :data:`TABLE_BUDGET` tables at most.
+
+        Of the chunks lacking some (the crank rows' table; unless ``crank``, the
+        others' too), evenly spread over the atlas: each thread of :meth:`_local_topk`
+        scores a run of chunks, and builds its share.
+        """
+        need = [(c, 2 - ((c, True) in self._compact) - ((c, False) in self._compact or crank))
+                for c in range(len(self.desc))]  # fmt: skip
+        todo = [(c, n) for c, n in need if n > 0]
+        if sum(n for _, n in todo) <= TABLE_BUDGET:
+            return frozenset(c for c, _ in todo)
+        picks, spent = [], 0
+        step = len(todo) * np.mean([n for _, n in todo]) / TABLE_BUDGET
+        for i in np.unique((np.arange(len(todo) / step) * step).astype(int)):
+            c, n = todo[i]
+            if spent + n <= TABLE_BUDGET:
+                picks.append(c)
+                spent += n
+        return frozenset(picks)
 
     def _query_plan(self) -> tuple[np.ndarray, np.ndarray, int]:
         """The compact tables' columns: the :data:`HEAD` of most energy, the groups, the key.
@@ -252,10 +280,10 @@ class Atlas:
 
         Each ``(head, tail, rows, hs, ts, longest2)`` (see
         :func:`~machdyn.synthesis._atlas_kernels.compact_rows`), sorted by the key
-        column (:meth:`_query_plan`) and built by the first query that needs it: the
-        :data:`HEAD` columns as int16 and the norms of the :data:`TAIL_GROUPS` groups
-        of the others as uint16 (rounded up), ``2 (HEAD + TAIL_GROUPS)`` bytes a row,
-        and the rows (int32): 110 MB for the 5·10^6 crank rows of 10^7 entries (the
+        column (:meth:`_query_plan`) and built by the query that picks the chunk
+        (:meth:`_to_build`): the :data:`HEAD` columns as int16 and the norms of the
+        :data:`TAIL_GROUPS` groups of the others as uint16 (rounded up), ``2 (HEAD +
+        TAIL_GROUPS)`` bytes a row, and the rows (int32): 110 MB for the 5·10^6 crank rows of 10^7 entries (the
         queries with ``crank``; timed targets always), 220 MB for all of them.
         """
         from ._atlas_kernels import compact_rows
@@ -308,15 +336,18 @@ def chunk_topk(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Rows and scores (cosine) of the ``k`` best allowed entries of one chunk (BLAS products).
 
-    The scores are float32 (within :func:`score_band` of the exact ones): the rows
-    kept are the chunk's ``k`` best and those within the band of the k-th, less any
-    more than the band below ``floor`` (the k-th best of the chunks seen so far),
-    so that they hold every row of the exact top k (:meth:`Atlas._query` ranks
-    them by their exact scores). The product runs in blocks of :data:`BLAS_ROWS`
-    rows: below that size OpenBLAS computes on the calling thread, above it wakes
-    its thread pool, which on a busy 2-core machine costs ~20 ms per call
-    (measured: 65,536 rows in one call 29 ms, in blocks of 2,048 0.7 ms).
-    Scale-out is the chunks' job.
+    Every row is scored in float32 (within :func:`score_band` of the exact score):
+    the rows within the band of the chunk's k-th best, less any more than the band
+    below ``floor`` (the k-th best of the chunks seen so far), hold every row of
+    the exact top k. Those are scored again in float64 (:func:`exact_scores`), and
+    the rows within :data:`SCORE_SLACK` of the k-th best of those scores (and of
+    ``floor``) are returned, with their float64 scores (:meth:`Atlas._query` ranks
+    them): a target among many near-equal curves, whose float32 band holds
+    thousands of rows a chunk, hands on only the few that may tie. The product
+    runs in blocks of :data:`BLAS_ROWS` rows: below that size OpenBLAS computes on
+    the calling thread, above it wakes its thread pool, which on a busy 2-core
+    machine costs ~20 ms per call (measured: 65,536 rows in one call 29 ms, in
+    blocks of 2,048 0.7 ms). Scale-out is the chunks' job.
     """
     n = desc.shape[0]
     prod = np.empty((n, variants.shape[0]), dtype=np.float32)
@@ -334,7 +365,25 @@ def chunk_topk(
     if rows.size > k:  # the k best, and every row whose exact score may tie them
         best = score[rows]
         rows = rows[best >= np.partition(best, best.size - k)[best.size - k] - band]
-    return rows, score[rows]
+    exact = exact_scores(np.asarray(desc[rows], dtype=np.float64), variants)
+    least = floor
+    if rows.size > k:
+        least = max(least, float(np.partition(exact, exact.size - k)[exact.size - k]))
+    keep = exact >= least - SCORE_SLACK
+    return rows[keep], exact[keep]
+
+
+def exact_scores(d: np.ndarray, variants: np.ndarray) -> np.ndarray:
+    """The scores (cosine, best of the variants) of the descriptor rows ``d`` (n, D), in float64.
+
+    One fixed order of operations (a column at a time, the same for every row and
+    every batch): a row's score does not depend on the other rows given.
+    """
+    v = np.asarray(variants, dtype=np.float64)
+    acc = d[:, :1] * v[:, 0]  # (n, 4)
+    for j in range(1, v.shape[1]):
+        acc += d[:, j : j + 1] * v[:, j]
+    return acc.max(axis=1) if acc.size else np.empty(0)
 
 
 def score_band(variants: np.ndarray) -> float:
@@ -359,13 +408,19 @@ def score_band(variants: np.ndarray) -> float:
 #: The query's first stage (see Atlas._local_topk): the descriptor columns kept per row
 #: (the HEAD of most energy), and the groups of the others whose norms are kept; the
 #: compiled kernel is written for these counts. Its slack over the float32 bound (the
-#: rounding of ten float32 products is below 1e-6), and the exact scores' margin (a
-#: row scored within it of the k-th best so far is kept: its ranking score, summed in
-#: another order by Atlas._exact_scores, may tie the k-th best's).
+#: rounding of ten float32 products is below 1e-6), and the float64 scores' margin (a
+#: row scored within it of the k-th best so far is kept: its ranking score, perhaps
+#: summed in another order by Atlas._exact_scores, may tie the k-th best's; two float64
+#: sums of the same 32 products differ by less than 1e-14).
 HEAD = 6
 TAIL_GROUPS = 3
 BOUND_SLACK = 1e-4
-SCORE_SLACK = 1e-5
+SCORE_SLACK = 1e-9
+#: Compact tables (a chunk's crank rows, or its others) a query builds at most (see
+#: Atlas._local_topk); and the share of a chunk's rows scored exactly past which a
+#: thread scores its other chunks by BLAS.
+TABLE_BUDGET = 24
+BOUND_FALLBACK = 0.2
 
 
 class _FirstStage:
@@ -410,22 +465,36 @@ def bounded_topk(desc, tables, stage: _FirstStage, best: np.ndarray):
     (:func:`~machdyn.synthesis._atlas_kernels.bound_topk`) that updates ``best``.
     Returns the rows and (float64) scores of those scored within
     :data:`SCORE_SLACK` of the floor after the chunk (its best ``k`` and any that
-    may tie them).
+    may tie them), and how many rows were scored exactly.
     """
     from ._atlas_kernels import bound_topk
 
     desc = np.asarray(desc)  # (a memory map: the array it maps)
-    found, scores = [], []
+    found, scores, scored = [], [], 0
     for head, tail, rows, hs, ts, longest2 in tables:
         out, score = np.empty(rows.size, np.int64), np.empty(rows.size, np.float64)
-        n = bound_topk(head, tail, rows, stage.kcol, desc, stage.head, stage.norms,
+        n, m = bound_topk(head, tail, rows, stage.kcol, desc, stage.head, stage.norms,
                        stage.squares, hs, ts, longest2, stage.variants, BOUND_SLACK,
                        SCORE_SLACK, best, out, score)  # fmt: skip
         found.append(out[:n])
         scores.append(score[:n])
+        scored += m
     rows, score = np.concatenate(found), np.concatenate(scores)
     keep = score >= best[0] - SCORE_SLACK  # (best[0]: the k-th best of the thread so far)
-    return rows[keep], score[keep]
+    return rows[keep], score[keep], scored
+
+
+def _raise_floor(best: np.ndarray, scores: np.ndarray) -> None:
+    """Put ``scores`` into the heap ``best`` (in place): its ``k`` highest values, ascending.
+
+    Every value a float64 score of a row of its own (no row twice), as the compiled
+    stage puts in: the root is then at most the exact k-th best score, give or take
+    the rounding that :data:`SCORE_SLACK` covers (an ascending array is a min-heap,
+    as :func:`~machdyn.synthesis._atlas_kernels.bound_topk` reads it).
+    """
+    k = best.size
+    merged = np.concatenate([best, np.asarray(scores, dtype=np.float64)])
+    best[:] = np.sort(np.partition(merged, merged.size - k)[merged.size - k :])
 
 
 def chunk_topk_file(path: str, index: int, variants: np.ndarray, k: int, crank: bool):

@@ -616,7 +616,8 @@ def bound_topk(
     score) and, above the floor, into the heap. While the
     heap is empty (a thread's first chunk), the ``2k`` rows of highest bound are
     scored first: the floor then starts near its final value instead of rising
-    row by row. Returns how many rows went into ``out``.
+    row by row. Returns how many rows went into ``out`` and how many were scored
+    (the pass's cost: a query whose bound passes most rows is cheaper by BLAS).
     """
     n = head.shape[1]
     k = best.size
@@ -635,6 +636,7 @@ def bound_topk(
     slack += allowance
     block = 512
     count = 0
+    scored = 0
     seen = np.zeros(0, np.bool_)
     if not best[0] > -np.inf and n > 0:  # the first rows scored: the 2k of highest bound
         every = np.empty(n, np.float32)
@@ -646,6 +648,7 @@ def bound_topk(
         for i in range(n):
             if seen[i]:
                 count = _scored(desc, rows[i], variants, margin, best, out, score, count)
+                scored += 1
     qk = np.empty(4)
     for v in range(4):
         qk[v] = qhead[v, kcol]
@@ -669,6 +672,7 @@ def bound_topk(
                 touched += desc[due[i], 0] + desc[due[i], w - 1]
             for i in range(m):
                 count = _scored(desc, due[i], variants, margin, best, out, score, count)
+            scored += m
     if touched == 1.25e300:  # (never: keeps the reads)
         best[0] = best[0]
-    return count
+    return count, scored
