@@ -406,7 +406,7 @@ def test_a_last_timed_round_runs_only_while_the_best_fits_polished_long_miss(
     # miss (the benchmark's seed 2026 six-bar 43: best 3.1e-7 of the size after the first
     # round, 9e-16 polished). Each round of starts is stubbed to one fit (screened 0 steps):
     # a known six-bar disturbed by 1e-4 (the polish meets it, by circle intersections, at
-    # the prescribed crank angles: four rounds), or one apart everywhere (five rounds)
+    # the prescribed crank angles: four rounds), or one apart everywhere (all six rounds)
     from machdyn.synthesis import sixbar_path as sp
 
     row = sample_sixbars(np.random.default_rng(2026), 60)[43]
@@ -419,7 +419,7 @@ def test_a_last_timed_round_runs_only_while_the_best_fits_polished_long_miss(
     near[3:] *= 1 + 1e-4 * np.random.default_rng(1).normal(size=12)
     apart = x.copy()
     apart[11:13] *= 0.01  # links 5 and 6 far too short to meet
-    for start, wanted in ((near, [0, 1, 2, 3]), (apart, [0, 1, 2, 3, 4])):
+    for start, wanted in ((near, [0, 1, 2, 3]), (apart, [0, 1, 2, 3, 4, 5])):
         rounds = []
 
         def starts(*args, start=start, rounds=rounds, **kw):
@@ -665,6 +665,34 @@ def test_a_kind_round_scans_entries_of_the_best_fits_kind(atlas6, compiled):
 
 def _kinds_of(starts):
     return sorted({(f["topology"], f["on"]) for _, _, f in starts})
+
+
+def test_the_third_kind_round_scans_the_best_kinds_no_round_has_scanned(atlas6, compiled):
+    # sixbar_starts.SIXBAR_UNTRIED: seed 21's timed six-bar 43 (Watt I 2-3 on 5) has a wide
+    # basin, but its kind's best fit ranks fifth (73 times behind the best kind's), so neither
+    # kind round scans it; a timed target's sixth round, while the five before leave it
+    # unmet, scans the next-best kinds that no kind round has scanned (at most three, from
+    # entries spread over each kind, SIXBAR_UNTRIED[1] starts each)
+    from machdyn.synthesis.sixbar_path import SIXBAR_UNTRIED, sixbar_starts
+
+    row = atlas6.entries([321])[0]
+    theta = 0.9 + np.linspace(0, 2 * np.pi, 10, endpoint=False)
+    targets = 1 + 2j + 1.5 * _independent(row, theta)
+    size = np.max(np.abs(targets - targets.mean()))
+    ranked = [(5, 5), (2, 6), (4, 6), (5, 6), (2, 5), (3, 5), (0, 6)]  # seed 21's six-bar 43
+
+    def fit(kind, rms):
+        return (np.zeros(15), theta, rms * size, dict(s4=1, s6=1, topology=kind[0], on=kind[1]))
+
+    fits = [fit(k, 1e-5 * 25**i) for i, k in enumerate(ranked)]
+    args = (atlas6, targets, theta - theta[0], True, 40, 8, None, True)
+    memo: dict = {}
+    assert _kinds_of(sixbar_starts(*args, 3, fits, memo=memo)) == [(5, 5)]
+    assert _kinds_of(sixbar_starts(*args, 4, fits, memo=memo)) <= [(2, 6), (5, 5)]
+    sixth = sixbar_starts(*args, 5, fits, memo=memo)
+    assert _kinds_of(sixth) == sorted(ranked[2 : 2 + SIXBAR_UNTRIED[0]])
+    for kind in ranked[2 : 2 + SIXBAR_UNTRIED[0]]:  # each kind its own best starts
+        assert sum((f["topology"], f["on"]) == kind for _, _, f in sixth) == SIXBAR_UNTRIED[1]
 
 
 def test_close_kinds_are_both_scanned_whichever_leads(atlas6, compiled):

@@ -154,12 +154,15 @@ def _unique(fits: list, size: float) -> list:
     and pivot over the size, angles in radians) and on the same assemblies.
     """
     kept: list = []
-    keys: list[np.ndarray] = []
+    keys = None  # (the kept fits' keys, a row each: one comparison with all of them)
     for f in fits:
         key = _design_key(f, size)
-        if all(np.max(np.abs(key - k)) > SAME for k in keys):
+        if keys is None:
+            keys = np.empty((len(fits), key.size))
+        m = len(kept)
+        if np.all(np.max(np.abs(keys[:m] - key), axis=1) > SAME):
+            keys[m] = key
             kept.append(f)
-            keys.append(key)
     return kept
 
 

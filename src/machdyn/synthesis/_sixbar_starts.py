@@ -64,6 +64,14 @@ SIXBAR_KIND_POOL = 1_000
 #: ranked 0th–13th after their screening steps.
 SIXBAR_KIND_BAND = 10.0
 SIXBAR_KIND_MOST = 2
+#: The third kind round (a timed target's sixth round, run while five leave it unmet): the
+#: kinds it scans (the best by their best fits of those neither kind round before scanned),
+#: the starts from each kind's pool, and the fits polished per kind. Seed 21's timed six-bar
+#: 43 (Watt I 2-3 on 5, a wide basin) ranks fifth by its kind's best fit (7.3e-4 of the size
+#: against 1e-5 for the best kind's), so the kind rounds, which scan the best two, never
+#: reach it: of 160 starts from 1,000 entries spread over its kind, the one that converges
+#: ranked 21st by the scan and first after 100 steps.
+SIXBAR_UNTRIED = (3, 32, 2)
 #: No third (or fourth) round where the best fit's RMS is within this share of the size: such
 #: a fit is crawling along its valley (seed 2026's six-bars 52 and 59, 2e-8 and 4e-8 after the first
 #: round), which the long polish follows (a third round cost them CPU, and six-bar 59's
@@ -154,6 +162,8 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
     pools = [idx for idx in pools if idx.size]
     chosen = []
     # (kind rounds: the first round's starting angles, the grid turned by one whole step)
+    if round_ > 4:  # the third kind round: fewer starts of each of more kinds
+        refine_count = SIXBAR_UNTRIED[1]
     for best in _timed_best(atlas, pools, timing, pts, refine_count, compiled,
                             shift=0.5 * min(round_, 2)):  # fmt: skip
         for i, h, t, g0, mirror in best:
@@ -186,7 +196,7 @@ def _ranked_kinds(fits, pts) -> list[tuple[tuple[int, int], float]]:
 
 
 def _kind_round(atlas, fits, pts, near, memo) -> list[np.ndarray]:
-    """The pools of entries of a kind round (a timed target's third or fourth round).
+    """The pools of entries of a kind round (a timed target's fourth, fifth or sixth round).
 
     The first kind round: for each kind whose best fit is within
     :data:`SIXBAR_KIND_BAND` times the best kind's (at most :data:`SIXBAR_KIND_MOST`
@@ -194,16 +204,23 @@ def _kind_round(atlas, fits, pts, near, memo) -> list[np.ndarray]:
     second: for the same kinds, their entries among ``near`` (the entries nearest to
     the targets by shape, which the first round's pools held among all kinds); and
     where the first took one kind only, entries spread over the next kind. Each pool
-    gives its own best starts. ``memo["kinds"]``: the first kind round's kinds;
-    ``memo["round_kinds"]``: the kinds of the round (the caller polishes
-    :data:`SIXBAR_KIND_POLISH` fits per kind). No pools where the best fit is within
-    :data:`SIXBAR_CRAWL` of the targets' size.
+    gives its own best starts. The third: entries spread over each of the best kinds
+    (at most ``SIXBAR_UNTRIED[0]``) that neither of the first two scanned, fewer starts
+    from each (:data:`SIXBAR_UNTRIED`). ``memo["kinds"]``: the first kind round's kinds;
+    ``memo["tried"]``: the first two's; ``memo["round_kinds"]``: the kinds of the round
+    (the caller polishes :data:`SIXBAR_KIND_POLISH` fits per kind, ``SIXBAR_UNTRIED[2]``
+    in the third). No pools where the best fit is within :data:`SIXBAR_CRAWL` of the
+    targets' size.
     """
     ranked = _ranked_kinds(fits, pts)
     if not ranked:
         memo["round_kinds"] = []
         return []
     first = memo.get("kinds")
+    if "tried" in memo:  # the third kind round: the best kinds no round has scanned yet
+        fresh = [k for k, _ in ranked if k not in memo["tried"]][: SIXBAR_UNTRIED[0]]
+        memo["round_kinds"] = fresh
+        return [_kind_pool(atlas, k) for k in fresh]
     if first is None:
         band = SIXBAR_KIND_BAND * ranked[0][1]
         kinds = [k for k, rms in ranked[:SIXBAR_KIND_MOST] if rms <= band]
@@ -217,7 +234,7 @@ def _kind_round(atlas, fits, pts, near, memo) -> list[np.ndarray]:
              for k in first]  # fmt: skip
     other = [k for k, _ in ranked if k not in first][: max(0, SIXBAR_KIND_MOST - len(first))]
     pools += [_kind_pool(atlas, k) for k in other]
-    memo["round_kinds"] = first + other
+    memo["round_kinds"] = memo["tried"] = first + other
     return pools
 
 

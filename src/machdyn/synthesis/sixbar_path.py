@@ -39,6 +39,7 @@ from ._sixbar_starts import (  # noqa: F401  (re-imported: tests and docs take t
     SIXBAR_KIND_BAND,
     SIXBAR_KIND_POOL,
     SIXBAR_NEIGHBOURS,
+    SIXBAR_UNTRIED,
     _design_of,
     _kind_pool,
     _kind_round,
@@ -104,7 +105,9 @@ SIXBAR_LONG = (2, 6000)
 #: A six-bar whose RMS distance is below this share of the size meets the targets.
 SIXBAR_MET = 1e-12
 #: Six-bars: a fit this near (RMS over the size) takes no more rounds of starts (its valley
-#: is polished longer instead; see sixbar_path.SIXBAR_ROUNDS).
+#: is polished longer instead; see sixbar_path.SIXBAR_ROUNDS). Not a fit the Linkage's check
+#: rejected: 8 timed open points (16 equations, 16 unknowns) have exact fits that cannot turn
+#: their crank (seed 2026's open timed six-bar 21 stopped at 9.1e-6 behind two such).
 SIXBAR_NEAR = 1e-8
 #: Rounds of starts while no fit meets the targets (untimed, timed). The second round of a
 #: timed target scans the first pool again on grids of starting angles turned by half a
@@ -116,7 +119,7 @@ SIXBAR_NEAR = 1e-8
 #: :data:`SIXBAR_WIDER` times wider than the round before. An untimed third round and a
 #: timed fifth run only when the rounds before leave a target unmet, and their best fits
 #: polished long too (:data:`SIXBAR_GATE`).
-SIXBAR_ROUNDS = (3, 5)  # untimed, timed
+SIXBAR_ROUNDS = (3, 6)  # untimed, timed
 #: From this round of starts on (0 the first; untimed, timed), a round runs only when the
 #: best fits so far, polished long (:data:`SIXBAR_LONG`, as after the rounds; each fit
 #: once), still leave the targets unmet. Seed 2026's timed six-bar 43: its best fit after
@@ -254,6 +257,17 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
                                                    tolerance, mu_min))  # fmt: skip
         return checked[id(fit)][1]
 
+    def alive(fit) -> bool:
+        """Whether a fit is unchecked, or checked and found without defect.
+
+        A fit the check rejected (an exact one that cannot turn its crank, say) is no lead:
+        it neither ends the rounds (as near) nor picks their kinds, nor is polished long.
+        """
+        return id(fit) not in checked or getattr(checked[id(fit)][1], "ok", False)
+
+    def live(fits):
+        return [f for f in fits if alive(f)]
+
     polished: dict[int, Any] = {}  # the fits polished long so far, by id
 
     def polish_long(order):
@@ -274,18 +288,18 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
     t_begin = time.perf_counter()
     for round_ in range(rounds):  # rounds of fresh starts while none meets the targets
         gate = SIXBAR_GATE[timing is not None]
-        crawl = min((f[2] for f in fits), default=np.inf) <= SIXBAR_CRAWL * size
+        crawl = min((f[2] for f in live(fits)), default=np.inf) <= SIXBAR_CRAWL * size
         if timing is None and round_ >= gate and crawl:
             break  # an untimed fit crawling to the targets: the long polish's, not a wider round
         if round_ >= gate and long[0] and not (met or near or deadline.passed()):
             # a late round only while the best fits, polished long, leave the targets unmet
             fits.sort(key=lambda f: f[2])
-            met = polish_long(range(min(long[0], len(fits))))
+            met = polish_long([i for i, f in enumerate(fits) if alive(f)][: long[0]])
         if met or near or (round_ and deadline.passed()):
             break
         t0 = time.perf_counter()
         starts = sixbar_starts(atlas, pts, timing, closed, retrieve, screen * refine_count,
-                               client, compiled, round_, fits, memo=memo)  # fmt: skip
+                               client, compiled, round_, live(fits), memo=memo)  # fmt: skip
         starts = [s for s in starts if s[0].tobytes() not in seen]
         seen.update(s[0].tobytes() for s in starts)
         scan += time.perf_counter() - t0
@@ -294,7 +308,8 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
         if round_ == 2 and timing is not None:  # the neighbour round
             later = SIXBAR_NEIGHBOUR_POLISH
         if round_ > 2 and timing is not None:  # a kind round: polished per kind scanned
-            later = (later[0], SIXBAR_KIND_POLISH * max(1, len(memo.get("round_kinds", ()))))
+            per_kind = SIXBAR_KIND_POLISH if round_ < 5 else SIXBAR_UNTRIED[2]
+            later = (later[0], per_kind * max(1, len(memo.get("round_kinds", ()))))
         more, met = polished_sixbars(starts, pts, later[1], check, steps, screen=later[0],
                                      **options)  # fmt: skip
         fits += more
@@ -309,11 +324,11 @@ def _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve, ref
             loop = second_loop_fits(fits, pts, compiled)
             fits += loop
             met = any(f[2] <= SIXBAR_MET * size and getattr(check(f), "ok", False) for f in loop)
-        near = min((f[2] for f in fits), default=np.inf) <= SIXBAR_NEAR * size
+        near = min((f[2] for f in live(fits)), default=np.inf) <= SIXBAR_NEAR * size
     fits.sort(key=lambda f: f[2])
     if not met and long[0] and not deadline.passed():  # the best crawl along narrow valleys:
-        order = list(range(min(long[0], len(fits))))  # polish longer (and the best loop fit)
-        order += [i for i, f in enumerate(fits) if loop and f is loop[0] and i >= long[0]]
+        order = [i for i, f in enumerate(fits) if alive(f)][: long[0]]  # polish longer
+        order += [i for i, f in enumerate(fits) if loop and f is loop[0] and i not in order]
         polish_long(order)
     for fit in fits[:refine_count]:
         check(fit)
