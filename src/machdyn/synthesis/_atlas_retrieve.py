@@ -58,12 +58,12 @@ POOL_SLICE = 1_000
 #: Entries scanned for timed targets, and crank angles tried for the first target.
 TIMED_POOL = 5_000
 TIMED_GRID = 60
-#: Timed targets: the pool's starts ranked up to this many times ``refine_count`` are kept
-#: for a second round. On an atlas of 10^4 entries (5,034 crank rows: a fresh pool of 5,000
-#: shares 4,966 with the first) the open-timed targets bench_atlas --recovery 20 missed (1
-#: in 20 on seeds 3, 7 and 11, by 1e-5 to 5e-4 of their size) were met by starts ranked
-#: 11-20, 11-20 and 41-80.
-TIMED_SPARE = 8
+#: Timed targets: the pool's next-best starts kept for a second round on a small atlas
+#: (ranked just below the ``refine_count`` best; see atlas_path.TIMED_ROUNDS). On an atlas
+#: of 10^4 entries (5,034 crank rows: a fresh pool of 5,000 shares 4,966 with the first)
+#: the open-timed targets bench_atlas --recovery 20 missed (1 in 20 on seeds 3, 7 and 11,
+#: by 1e-5 to 5e-4 of their size) were met by starts ranked 11-20, 11-20 and 41-80.
+TIMED_SPARE = 70
 
 
 def _retrieve(atlas: Atlas, pts, closed, crank, retrieve, refine_count, client=None,
@@ -525,8 +525,8 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
     keeps them (a scale only, or a scale and rotation). Past the ``deadline``, the
     query scores no more chunks (:meth:`Atlas._query`) and the wide rows are left out.
     Returns the starts (the ``refine_count`` best of the pool's rows and of the wide
-    rows) and the pool's next best, ranked ``refine_count`` to
-    ``TIMED_SPARE * refine_count`` (for a later round, see ``atlas_path.TIMED_ROUNDS``).
+    rows) and the pool's :data:`TIMED_SPARE` next best (for a later round on a small
+    atlas, see ``atlas_path.TIMED_ROUNDS``).
     """
     fixed = fixed or {}
     man = atlas.manifest
@@ -545,7 +545,7 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
     starts, next_best, lo = [], [], 0
     for i, (rows, count) in enumerate(groups):
         part = tuple(x[:, lo : lo + rows.size] for x in scored)
-        ranked = _timed_starts(rows, pts, timing, count * (TIMED_SPARE if i == 0 else 1), fixed,
+        ranked = _timed_starts(rows, pts, timing, count + (TIMED_SPARE if i == 0 else 0), fixed,
                                part)  # fmt: skip
         starts += ranked[:count]
         next_best += ranked[count:]

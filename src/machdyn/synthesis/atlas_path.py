@@ -366,17 +366,18 @@ def path_from_atlas(
         # the few best go on until they converge (the rest rarely overtake them)
         fits, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
                               deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
-        # an open arc met by no start but nearly met by one: the first pool's next-best
-        # starts, then fresh pools of the atlas (a closed timed target's nearest entries by
-        # shape are already in; an arc's are not), of the rows not scored yet. (A small
-        # atlas's pools overlap: 10^4 entries hold ~5,000 crank rows, nearly all in each.)
+        # an open arc met by no start but nearly met by one: fresh pools of the atlas (a
+        # closed timed target's nearest entries by shape are already in; an arc's are
+        # not), of the rows not scored yet. A small atlas's pools overlap (10^4 entries
+        # hold ~5,000 crank rows, nearly all in each): a fresh pool of fewer than half a
+        # pool's new rows brings the first pool's next-best starts too (TIMED_SPARE).
         seen = atlas.pool(TIMED_POOL, crank=True)
         for r in range(1, TIMED_ROUNDS if not closed else 1):
             if met or deadline.passed() or not fits or fits[0].rms > TIMED_NEAR_MISS * size:
                 break
-            more = next_best if r == 1 else []
             idx = np.setdiff1d(atlas.pool(TIMED_POOL, crank=True, draw=r), seen)
             seen = np.union1d(seen, idx)
+            more = next_best if r == 1 and idx.size < TIMED_POOL // 2 else []
             if idx.size:
                 more = more + _timed_starts(atlas.entries(idx), pts, timing, refine_count, fixed)
             more, met = _polished(_screened(more, pts, options, deadline), pts, options, POLISH,
