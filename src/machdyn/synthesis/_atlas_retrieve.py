@@ -11,6 +11,7 @@ target by a rotation, scale and offset. Used by
 from __future__ import annotations
 
 import functools
+import weakref
 
 import numpy as np
 
@@ -357,26 +358,156 @@ def _retrieve_wide(atlas: Atlas, pts, closed, crank, refine_count):
     return rows[order], transforms[order]
 
 
+#: Entries whose starts are computed at once (see _untimed_starts).
+STARTS_BLOCK = 64
+
+
 def _start_untimed(row, tr, pts):
     """Refinement start of an atlas entry placed by ``tr = (h, t)``: design, θ_k, assembly_k."""
-    h, t = tr
-    if not np.isfinite(h) or h == 0:
-        return None
-    r1, r3, r4, p, delta = (float(row[k]) for k in ("r1", "r3", "r4", "p", "delta"))
-    circuit = float(row["circuit"])
-    s, rot = abs(h), np.angle(h)
-    # dense samples of the circuit, to start each target at its nearest point
-    local, theta2 = circuit_points([r1], 1.0, [r3], [r4], [p], [delta], [circuit], 720)
-    c, hw, ck = circuit_range(r1, 1.0, r3, r4, circuit)
-    u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
-    _, branch = circuit_angles(u, c, hw, ck, circuit)
-    x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, delta, t.real, t.imag, rot])
-    near = np.argmin(np.abs((t + h * local[0])[None, :] - pts[:, None]), axis=1)
-    return x0, theta2[0][near], branch[near]
+    return _untimed_starts(np.asarray(row).reshape(1), np.reshape(tr, (1, 2)), pts)[0]
 
 
 def _untimed_starts(entries, transforms, pts) -> list:
-    return [_start_untimed(row, tr, pts) for row, tr in zip(entries, transforms, strict=True)]
+    """Refinement starts of atlas entries placed by ``transforms`` (rows ``(h, t)``).
+
+    Each a design ``x0`` (the entry scaled, turned and moved by its placement), the
+    input angle and assembly of each target's nearest of 720 samples round the
+    entry's circuit; None where the placement is not finite or zero. All the entries'
+    circuits at once (one entry at a time, the 240 starts of a neighbour round took
+    0.2 s); the same numbers as entry by entry (elementwise operations).
+    """
+    entries = np.asarray(entries)
+    transforms = np.asarray(transforms, dtype=complex).reshape(-1, 2)
+    if entries.size > STARTS_BLOCK:  # (a block's samples stay in cache: a third of the time)
+        return [s for lo in range(0, entries.size, STARTS_BLOCK)
+                for s in _untimed_starts(entries[lo : lo + STARTS_BLOCK],
+                                         transforms[lo : lo + STARTS_BLOCK], pts)]  # fmt: skip
+    if entries.size == 0:
+        return []
+    f = {k: entries[k].astype(float) for k in ("r1", "r3", "r4", "p", "delta")}
+    circuit = entries["circuit"].astype(float)
+    h, t = transforms[:, 0], transforms[:, 1]
+    ok = np.isfinite(h) & (h != 0)
+    # (element by element, as numpy's scalars do it: its array abs rounds otherwise)
+    s = np.array([abs(v) for v in h], dtype=float)
+    rot = np.array([np.angle(v) for v in h], dtype=float)
+    # dense samples of each circuit, to start each target at its nearest point
+    local, theta2 = circuit_points(f["r1"], 1.0, f["r3"], f["r4"], f["p"], f["delta"], circuit,
+                                   720)  # fmt: skip
+    c, hw, ck = circuit_range(f["r1"], 1.0, f["r3"], f["r4"], circuit)
+    u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    _, branch = circuit_angles(u[None, :], c[:, None], hw[:, None], ck[:, None], circuit[:, None])
+    x0 = np.column_stack([f["r1"] * s, s, f["r3"] * s, f["r4"] * s, f["p"] * s, f["delta"],
+                          t.real, t.imag, rot])  # fmt: skip
+    with np.errstate(invalid="ignore", over="ignore"):
+        placed = t[:, None] + h[:, None] * local  # (N, 720)
+        near = np.argmin(np.abs(placed[:, None, :] - pts[None, :, None]), axis=2)  # (N, K)
+    n = np.arange(entries.size)[:, None]
+    return [(x0[i], theta2[n[i], near[i]], branch[n[i], near[i]]) if ok[i] else None
+            for i in range(entries.size)]  # fmt: skip
+
+
+#: The neighbour round of an open untimed target (see _neighbour_starts): the distinct best
+#: fits taken (at least NEIGHBOUR_APART apart in design numbers) and the atlas entries nearest
+#: to each, among the first NEIGHBOUR_ROWS of the atlas (a random sample of it, as every chunk
+#: is: a tenth of the 10^7).
+NEIGHBOURS = (4, 40)
+NEIGHBOUR_APART = 0.05
+NEIGHBOUR_ROWS = 1_000_000
+NEIGHBOUR_ICP = 3
+
+
+def _design_numbers(r1, r2, r3, r4, p, delta) -> np.ndarray:
+    """Four-bars' design numbers (N, 5): ``ln`` of r1, r3, r4 over r2, the coupler point over r3.
+
+    The coupler point as ``(p/r3) e^{jδ}`` in the coupler's own frame (A at 0, B at 1),
+    its real and imaginary parts: the numbers in which the session-11 study measured
+    how far a fit lies from a target's drawing linkage (its basin about 0.3 across).
+    """
+    values = (np.asarray(v, dtype=float) for v in (r1, r2, r3, r4, p, delta))
+    r1, r2, r3, r4, p, delta = np.broadcast_arrays(*values)
+    c = p / r3 * np.exp(1j * delta)
+    return np.stack([np.log(r1 / r2), np.log(r3 / r2), np.log(r4 / r2), c.real, c.imag], axis=-1)
+
+
+def _neighbour_table(atlas: Atlas, crank: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Flat indices, design numbers (float32, (5, rows)) and squared norms of the rows searched.
+
+    The first :data:`NEIGHBOUR_ROWS` of the atlas (crank entries only with ``crank``),
+    kept per opened atlas: computing them takes ~0.1 s, once (20 MB).
+    """
+    cache = _NEIGHBOUR_TABLES.setdefault(atlas, {})
+    if crank not in cache:
+        idx, numbers, left = [], [], NEIGHBOUR_ROWS
+        for c, m in enumerate(atlas.meta):
+            if left <= 0:
+                break
+            m = m[:left]
+            left -= m.size
+            sel = np.flatnonzero(m["barker"] <= 2) if crank else np.arange(m.size)
+            m = m[sel]
+            idx.append(sel + atlas.offsets[c])
+            numbers.append(_design_numbers(m["r1"], 1.0, m["r3"], m["r4"], m["p"], m["delta"]))
+        # (one row per number: the fits' distances are then a (fits, 5) x (5, rows) product,
+        # 0.02 s over 10^6 rows, where rows x numbers took 0.17 s)
+        table = np.ascontiguousarray(np.concatenate(numbers).T, dtype=np.float32)
+        cache[crank] = (np.concatenate(idx), table, np.einsum("ij,ij->j", table, table))
+    return cache[crank]
+
+
+#: :func:`_neighbour_table`'s tables, per opened atlas.
+_NEIGHBOUR_TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _neighbour_starts(atlas: Atlas, fits, pts, crank: bool) -> list:
+    """Starts of an open untimed target's neighbour round: entries near its best fits.
+
+    For each of the ``NEIGHBOURS[0]`` best fits (by RMS, whether or not an answer)
+    whose design numbers (:func:`_design_numbers`) lie :data:`NEIGHBOUR_APART` from
+    those taken already, the ``NEIGHBOURS[1]`` entries nearest to it among
+    :func:`_neighbour_table`'s, placed as the fit is (its crank length, ground line
+    and pivot), re-placed by the point-to-point re-fit (:func:`_fit_to_points`) and
+    started at their nearest points to the targets (:func:`_untimed_starts`).
+
+    An open target's fits can stall in local minima while the pools' 4,000 entries
+    hold none of the few tens to hundreds of the 10^7 that refine to an exact answer
+    (``bench_atlas_random.py --kinds open``: seed 1's cases 13 and 14, seed 3's case 13,
+    non-Grashof rockers' arcs). Their best fits lie 0.4–4 in these numbers from the
+    drawing linkage and its twin driven by link 4 (a basin is about 0.3 across), so the
+    round seldom reaches the drawing linkage itself; what it reaches is another exact
+    answer, by chance: from the first round's fits of seed 1's case 13, the 40 entries
+    nearest to its third fit hold one in each of five disjoint 10^6-entry tenths of the
+    atlas; seed 3's case 13 is met from the first tenth's only, seed 1's case 14 from none
+    (see docs/synthesis.md, session 12). The search is a (fits, 5) x (5, rows) product
+    and a partial sort (~0.05 s); the round's screening and polish about as much again.
+    """
+    most, count = NEIGHBOURS
+    idx, table, norms = _neighbour_table(atlas, crank)
+    if table.shape[1] <= count:
+        return []
+    keys, places = [], []
+    for f in sorted(fits, key=lambda f: f.rms):
+        if len(keys) == most:
+            break
+        x = f.x
+        with np.errstate(all="ignore"):
+            key = _design_numbers(abs(x[0]), abs(x[1]), abs(x[2]), abs(x[3]), x[4], x[5])
+        if not np.all(np.isfinite(key)) or any(np.max(np.abs(key - k)) <= NEIGHBOUR_APART
+                                               for k in keys):  # fmt: skip
+            continue
+        keys.append(key)
+        places.append((abs(x[1]) * np.exp(1j * x[8]), complex(x[6], x[7])))
+    if not keys:
+        return []
+    # squared distances less the fits' own norms: one matrix product over the rows
+    d = np.asarray(keys, dtype=np.float32) @ table
+    d *= np.float32(-2.0)
+    d += norms
+    near = np.argpartition(d, count, axis=1)[:, :count]  # (fits, count)
+    rows = atlas.entries(idx[near.ravel()])
+    transforms = np.repeat(np.array(places, dtype=complex), count, axis=0)
+    transforms, _ = _fit_to_points(rows, transforms, pts, rounds=NEIGHBOUR_ICP)
+    return _untimed_starts(rows, transforms, pts)
 
 
 def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, client=None,

@@ -56,6 +56,7 @@ from ._atlas_result import NEAR, POLISH, PathCandidates, _far_note, _limit_note,
 from ._atlas_retrieve import (
     TIMED_POOL,
     _arc_starts,
+    _neighbour_starts,
     _retrieve,
     _retrieve_closed,
     _retrieve_timed,
@@ -129,6 +130,10 @@ UNTIMED_SHORT = 0.3
 #: rockers) are met from the first pool's 14th, 33rd and 35th best arcs (see docs/synthesis.md,
 #: session 11).
 OPEN_SPARE = 4
+#: Open untimed targets that the pool rounds leave unmet but near (see _worth_a_round) take
+#: one more round from the atlas entries nearest to their best fits in design numbers
+#: (:func:`~machdyn.synthesis._atlas_retrieve._neighbour_starts`; docs/synthesis.md, session 12).
+OPEN_NEIGHBOURS = True
 #: Untimed: the second round screens the first round's starts again by the LM too
 #: (``--seed 3`` open case 2, missed by 1.6e-3 of the size after trf, is met from them).
 UNTIMED_AGAIN = True
@@ -524,6 +529,17 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
         if closed:
             more, met = _reseeded(more, pts, options, deadline)
         fits = sorted(fits + more, key=lambda f: f.rms)
+        fits, met = _long_polished(fits, pts, options, met, longer, deadline)
+    if OPEN_NEIGHBOURS and not closed and not (met or deadline.passed()) and fits \
+            and _worth_a_round(fits, pts, closed):  # fmt: skip
+        # the neighbour round: the atlas's entries nearest to the best fits (see
+        # _neighbour_starts), screened and polished as a later round's starts
+        starts = _neighbour_starts(atlas, fits, pts, crank)
+        more, met = _polished(_screened(starts, pts, options, deadline, lm=True), pts, options,
+                              UNTIMED_LATER[1], UNTIMED_NFEV[1], deadline, lm=True)  # fmt: skip
+        # only its best go on: every fit kept is checked and compared with every other one
+        # at the end (the 240 screened ones cost seed 3's case 13 ~1 s of CPU there)
+        fits = sorted(fits + more[:REFINE], key=lambda f: f.rms)
         fits, met = _long_polished(fits, pts, options, met, longer, deadline)
     return fits, t1
 
