@@ -418,8 +418,12 @@ BOUND_SLACK = 1e-4
 SCORE_SLACK = 1e-9
 #: Compact tables (a chunk's crank rows, or its others) a query builds at most (see
 #: Atlas._local_topk); and the share of a chunk's rows scored exactly past which a
-#: thread scores its other chunks by BLAS.
-TABLE_BUDGET = 24
+#: thread scores its other chunks by BLAS. 80: the 153 crank tables of 10^7 entries are
+#: complete after a process's third query (24: its eighth, and the literature's case 3,
+#: whose queries come early in bench_atlas_literature's process, took 0.25 s wall, not
+#: 0.07 s: its swarm ratio at machdyn's wall time fell to 10.1x median); the longest of
+#: bench_atlas.py's 20 queries 0.39 s (24: 0.28 s), quiet, 2026-11-25.
+TABLE_BUDGET = 80
 BOUND_FALLBACK = 0.2
 
 
