@@ -8,22 +8,21 @@ dense cluster (80 rows whose scores near it lie within 1e-7 of each other, insid
 float32 scores' band, as the near-circular curves of the 10^7 atlas crowd), every
 query from the first on, with the tables partly built, with and without ``crank``,
 with the fallback never and always taken, is compared with a brute-force ranking
-written here: every score summed exactly (``math.fsum`` of the float64 products of
-the float32 descriptor and variant, exact themselves), best first, equal scores by
-the lower flat index.
+written in tests/test_atlas_topk.py: every score summed exactly (``math.fsum`` of the
+float64 products of the float32 descriptor and variant, exact themselves), best first,
+equal scores by the lower flat index.
 """
 
 from __future__ import annotations
 
-import math
 from itertools import pairwise
 
 import numpy as np
 import pytest
+from tests.test_atlas_topk import _brute_force, _exact_scores
 
 from machdyn import jit
 from machdyn.synthesis import _atlas_index, build_atlas, open_atlas
-from machdyn.synthesis.descriptor import descriptor_variants
 
 N, CHUNK = 3600, 300
 
@@ -47,21 +46,6 @@ def crowded_atlas(tmp_path_factory):
     for c, p in enumerate(names):
         np.save(p, desc[c * CHUNK : (c + 1) * CHUNK])
     return folder, desc, spots[: 3 * 40 : 3], centre
-
-
-def _exact_scores(desc, q):
-    """Every row's best score over the query's four variants, each sum rounded once."""
-    v = descriptor_variants(q).astype(np.float64)  # (the query in float32, as stored)
-    products = desc.astype(np.float64)[:, None, :] * v  # (exact: 24-bit times 24-bit)
-    return np.array([max(map(math.fsum, row)) for row in products.tolist()])
-
-
-def _brute_force(scores, allowed, k):
-    """Flat indices and scores of the best k allowed rows (ties by the lower index)."""
-    rows = np.flatnonzero(allowed)
-    ranked = sorted(zip(scores[rows].tolist(), rows.tolist(), strict=True),
-                    key=lambda t: (-t[0], t[1]))[:k]  # fmt: skip
-    return np.array([r for _, r in ranked]), np.array([s for s, _ in ranked])
 
 
 def _targets(desc, copied, centre, rng, count):
