@@ -385,9 +385,10 @@ def hard_bench(at, repeats: int, time_limit: float | None) -> None:
 
 
 #: --cold's child: what a user's script does (import, open the atlas, one synthesis),
-#: then the same call twice more in the same process (the warm peers: the second call
-#: of a process with the compiled kernels builds the atlas's compact tables, so the third
-#: is the warm one). Prints one JSON line.
+#: then the same call twice more in the same process (the warm peers: from the second
+#: query of a process on, each query builds the compact tables of a budget of the atlas's
+#: chunks, _atlas_index.TABLE_BUDGET, so the later calls still pay part of that). Prints
+#: one JSON line.
 _COLD_CHILD = """
 import json, sys, time
 t0, c0 = time.perf_counter(), time.process_time()

@@ -283,8 +283,9 @@ class Atlas:
         column (:meth:`_query_plan`) and built by the query that picks the chunk
         (:meth:`_to_build`): the :data:`HEAD` columns as int16 and the norms of the
         :data:`TAIL_GROUPS` groups of the others as uint16 (rounded up), ``2 (HEAD +
-        TAIL_GROUPS)`` bytes a row, and the rows (int32): 110 MB for the 5·10^6 crank rows of 10^7 entries (the
-        queries with ``crank``; timed targets always), 220 MB for all of them.
+        TAIL_GROUPS)`` bytes a row, and the rows (int32): 110 MB for the 5·10^6 crank
+        rows of 10^7 entries (the queries with ``crank``; timed targets always), 220 MB
+        for all of them.
         """
         from ._atlas_kernels import compact_rows
 
