@@ -52,7 +52,15 @@ from ._atlas_checks import (
 )
 from ._atlas_closed import _any_input, _reseeded
 from ._atlas_index import _NEVER, OPEN_POOL, RETRIEVE, Atlas, _Deadline, open_atlas
-from ._atlas_result import NEAR, POLISH, PathCandidates, _far_note, _limit_note, _rank
+from ._atlas_result import (
+    NEAR,
+    POLISH,
+    PathCandidates,
+    _closer_note,
+    _far_note,
+    _limit_note,
+    _rank,
+)
 from ._atlas_retrieve import (
     TIMED_POOL,
     _arc_starts,
@@ -164,6 +172,12 @@ TIMED_NEAR_MISS = 1e-2
 #: (RMS 4e-2), keep their POLISH fits and time.
 TIMED_TRIES = 12
 TIMED_TRIES_NEAR = 1e-3
+#: Starting angles scanned on the atlas's rocking rows for an open timed target with any
+#: input (_timed_any_input): every 2°, where the crank rows' whole turn takes 6°
+#: (TIMED_GRID). A rocker's reach may be a few tens of degrees and the timing most of it:
+#: a grid of 6° left the GRRC target of tests/test_atlas_timed_rocker.py (its θ0 free in
+#: 19.7–24.4°) one start at 24° and a fit 4.2e-3 of its size off, on 10^4 to 10^7 entries.
+TIMED_ROCKER_GRID = 180
 
 
 def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.ndarray | None]:
@@ -237,7 +251,8 @@ def path_from_atlas(
         part of a closed one), matched against arcs of the coupler curves.
     timing : sequence of float, optional
         Input-angle increments (radians) at which the targets must be reached
-        (prescribed timing); link 2 must then be a crank.
+        (prescribed timing). A closed path's input turns fully (link 2 a crank); an
+        open one's may be a rocker with ``crank=False``.
     n : int
         How many distinct linkages to return.
     crank : bool
@@ -336,7 +351,8 @@ def path_from_atlas(
     refine_count = integer("refine_count", refine_count, minimum=1, maximum=10_000)
     if client is not None and not callable(getattr(client, "submit", None)):
         raise InputError("client", "must be a distributed.Client (or None)")
-    crank = boolean("crank", crank) or timing is not None
+    # a closed timed path takes whole turns of the input: link 2 a crank
+    crank = boolean("crank", crank) or (timing is not None and closed)
     size = float(np.max(np.abs(pts - pts.mean())))
     fixed, max_length, pivot_box = _constraints(O2, theta1, absolute_timing, max_length,
                                                 pivot_box, timing, atlas)  # fmt: skip
@@ -354,8 +370,10 @@ def path_from_atlas(
                             refine_count, client, start, deadline)  # fmt: skip
     if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
         refine_count *= 4
-    options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,
-                   pivot_box=pivot_box)  # fmt: skip
+    # timed starts come from the atlas's crank rows, refined with link 2 held a crank (an
+    # open timed target with any input, unmet, then from its other rows: _timed_any_input)
+    options = dict(timing=timing, crank=crank or timing is not None, mu_min=mu_min, fixed=fixed,
+                   max_length=max_length, pivot_box=pivot_box)  # fmt: skip
     if timing is None:
         fits, t1 = _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client,
                                  options, deadline)  # fmt: skip
@@ -382,6 +400,10 @@ def path_from_atlas(
                 more = more + _timed_starts(atlas.entries(idx), pts, timing, refine_count, fixed)
             more, met = _polished(_screened(more, pts, options, deadline), pts, options, POLISH,
                                   deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
+            fits = sorted(fits + more, key=lambda f: f.rms)
+        if not crank and not met and not deadline.passed():
+            more = _timed_any_input(atlas, pts, timing, refine_count, dict(options, crank=False),
+                                    deadline)  # fmt: skip
             fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     # a closed untimed target with any input was searched with link 2 held a crank first
@@ -415,9 +437,42 @@ def path_from_atlas(
     note = _far_note(best, size, "linkage", " (is the path one a four-bar can trace?)")
     if best is not None and near and not chosen:
         note = "every linkage found has a defect (see rejected)"
+    elif chosen and not near and rejected and _rank(rejected[0])[1] <= NEAR * size:
+        note = _closer_note(best, rejected[0], size)
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
     note = _limit_note(note, deadline, time_limit, seconds["total"])
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+
+
+def _timed_any_input(atlas, pts, timing, refine_count, options,
+                     deadline: _Deadline = _NEVER) -> list:  # fmt: skip
+    """Timed fits of an open target whose input need not turn fully (a rocker's arc).
+
+    The timed rounds lay the timing on the whole turn of the atlas's crank rows; here
+    on the reach of its other rows (those of a pool of twice :data:`TIMED_POOL` rows;
+    a starting angle from which a row cannot reach every target scores nothing), the
+    starts refined with any input (``options``). A second pool while the first's best
+    fit is a near miss (:data:`TIMED_ROUNDS`, :data:`TIMED_NEAR_MISS`). Random
+    open-timed targets of every Barker class (seeds 1–3, 20 each, rocker inputs
+    nearly all): 3 of 20 met before (the crank rows alone), 58 of 60 with these.
+    Returns the fits, best first.
+    """
+    cranks = np.concatenate(atlas._crank)
+    size = float(np.max(np.abs(pts - pts.mean())))
+    fits: list = []
+    for r in range(TIMED_ROUNDS):
+        if r and (deadline.passed() or not fits or fits[0].rms > TIMED_NEAR_MISS * size):
+            break
+        idx = atlas.pool(2 * TIMED_POOL, crank=False, draw=r)
+        rows = atlas.entries(idx[~cranks[idx]])
+        starts = _timed_starts(rows, pts, timing, refine_count, options["fixed"],
+                               grid=TIMED_ROCKER_GRID)  # fmt: skip
+        more, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
+                              deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
+        fits = sorted(fits + more, key=lambda f: f.rms)
+        if met:
+            break
+    return fits
 
 
 def _screened(starts, pts, options, deadline: _Deadline = _NEVER, lm: bool = False) -> list:
