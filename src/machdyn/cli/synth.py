@@ -283,8 +283,11 @@ def function_cmd(
 def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | None]:
     r"""Target points from a CSV file: ``x,y`` per line (``x,y,theta2_deg`` with timing).
 
-    A first line that is not numbers is a header; blank lines and lines
-    starting with ``#`` are skipped.
+    Cells are separated by commas, semicolons, tabs or spaces (one kind per line). A
+    first line whose cells are all words is a header; blank lines and lines starting
+    with ``#`` are skipped. Every other line holds exactly two numbers (three with
+    timing), each finite: an empty cell, an extra column (a third one without
+    ``--timing``) or a NaN is refused with its line, never read as something else.
 
     Examples
     --------
@@ -294,30 +297,52 @@ def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | 
     >>> pts, th = read_points_csv(f, timing=True)
     >>> pts, np.degrees(th)
     (array([0.+0.j , 1.+0.5j]), array([ 0., 90.]))
+    >>> _ = f.write_text("x;y\n0;0\n1;0.5\n")
+    >>> read_points_csv(f, timing=False)[0]
+    array([0.+0.j , 1.+0.5j])
     """
     import csv
 
-    text = Path(file).read_text()
+    text = Path(file).read_text(encoding="utf-8-sig")  # (a byte-order mark is not a cell)
+    want = 3 if timing else 2
+    what = "x, y, theta2 (deg)" if timing else "x, y"
     rows = []
     first = True
-    for number, row in enumerate(csv.reader(text.splitlines()), 1):
-        cells = [c.strip() for c in row]
-        if not cells or not any(cells) or cells[0].startswith("#"):
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip() or line.lstrip().startswith("#"):
             continue
         header, first = first, False
-        try:
-            values = [float(c) for c in cells if c]
-        except ValueError:
-            if header and not any(_is_number(c) for c in cells):
-                continue  # a header
-            raise InputError(str(file), f"line {number}: expected numbers, got {row!r}") from None
-        want = 3 if timing else 2
-        if len(values) < want:
-            what = "x, y, theta2 (deg)" if timing else "x, y"
-            raise InputError(str(file), f"line {number}: expected {what}, got {len(values)} values")
-        rows.append(values[:want])
+        for sep in (";", ",", "\t"):
+            if sep in line:
+                cells = [c.strip() for c in next(csv.reader([line], delimiter=sep))]
+                break
+        else:
+            cells = line.split()
+        if header and all(c and any(ch.isalpha() for ch in c) and not _is_number(c) for c in cells):
+            continue  # a header: words only ("x, y, theta2_deg"; not "nan" nor "1,5")
+        values = []
+        for k, cell in enumerate(cells, 1):
+            if not cell:
+                raise InputError(str(file), f"line {number}: cell {k} is empty; expected {what}")
+            if not _is_number(cell):
+                hint = " (decimal commas are not read: write 1.5, not 1,5)" if "," in cell else ""
+                raise InputError(
+                    str(file), f"line {number}: expected numbers {what}, got {cell!r}{hint}"
+                )
+            values.append(float(cell))
+        if len(values) != want:
+            more = " (a third column is the input angle: add --timing)" if len(values) == 3 else ""
+            raise InputError(
+                str(file), f"line {number}: expected {what}, got {len(values)} values{more}"
+            )
+        bad = [c for c, v in zip(cells, values, strict=True) if not np.isfinite(v)]
+        if bad:
+            raise InputError(
+                str(file), f"line {number}: {bad[0]!r} is not a finite number; expected {what}"
+            )
+        rows.append(values)
     if not rows:
-        raise InputError(str(file), "holds no points (expected lines 'x,y')")
+        raise InputError(str(file), f"holds no points (expected lines '{what}')")
     data = np.array(rows, dtype=float)
     points = data[:, 0] + 1j * data[:, 1]
     return points, (np.radians(data[:, 2]) if timing else None)
@@ -401,6 +426,8 @@ def path_cmd(
     if not 0.0 <= mu_min < 90.0:
         raise InputError("--mu-min", f"must be between 0 and 90 deg, got {mu_min:g}")
     targets, theta = read_points_csv(points, timing)
+    if out.exists() and not out.is_dir():  # (before the synthesis, not after it)
+        raise InputError("--out", f"{out} is a file; give a folder for the candidates' specs")
     if time_limit is not None:  # (before the atlas is opened and verified)
         from .._validate import nonnegative
 

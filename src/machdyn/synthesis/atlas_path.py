@@ -167,6 +167,13 @@ TIMED_TRIES_NEAR = 1e-3
 
 
 def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    if _all_real(targets):  # x only, or x, y flattened: never points on the x axis by accident
+        n = np.size(targets)
+        raise InputError(
+            "targets",
+            f"got {n} real numbers, not points: give x + jy (complex) or (x, y) pairs, "
+            "e.g. an (N, 2) array of x, y",
+        )
     try:
         pts = as_points("targets", targets)
     except (OverflowError, TypeError) as exc:
@@ -176,7 +183,8 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
     if pts.size < need:
         raise InputError(
             "targets",
-            f"{pts.size} points are too few for a {kind} path: at least {need} are needed "
+            f"{pts.size} points are too few for {'an' if kind == 'open' else 'a'} {kind} path: "
+            f"at least {need} are needed "
             "(a four-bar's coupler curve has 9 free parameters; fewer points fit countless "
             "linkages: use motion generation, synthesis.three_position, for 2 or 3 positions)",
         )
@@ -184,23 +192,65 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
     size = float(np.max(np.abs(pts - centre)))
     if size == 0.0:
         raise InputError("targets", "all target points coincide")
-    if closed and timing is None and pts.size > need and abs(pts[-1] - pts[0]) <= 1e-9 * size:
-        pts = pts[:-1]  # a closed path written back to its start: the first point ends it
-    step = np.abs(np.diff(np.concatenate([pts, pts[:1]]) if closed else pts))
-    same = np.flatnonzero(step <= 1e-9 * size)
-    if same.size:
-        i = int(same[0])
-        raise InputError(
-            "targets",
-            f"points {i + 1} and {(i + 1) % pts.size + 1} coincide; give each point once",
-        )
     if timing is not None:
         timing = np.ravel(finite_array("timing", timing, "radian"))
         if timing.size != pts.size:
             raise InputError(
                 "timing", f"needs one angle per target ({pts.size}), got {timing.size}"
             )
+    # a closed path written back to its start: the first point ends it (timed: at the
+    # first point's input angle, a whole number of turns on)
+    if (
+        closed
+        and pts.size > need
+        and abs(pts[-1] - pts[0]) <= 1e-9 * size
+        and (timing is None or abs(_wrapped(timing[-1] - timing[0])) <= 1e-9)
+    ):
+        pts = pts[:-1]
+        timing = None if timing is None else timing[:-1]
+    step = np.abs(np.diff(np.concatenate([pts, pts[:1]]) if closed else pts))
+    same = np.flatnonzero(step <= 1e-9 * size)
+    if same.size:
+        i = int(same[0])
+        j = (i + 1) % pts.size
+        raise InputError(
+            "targets",
+            f"targets[{i}] and targets[{j}] (points {i + 1} and {j + 1}) coincide; "
+            "give each point once",
+        )
+    if timing is not None:
+        # one input angle (mod a turn) is one pose: two targets at it must be one point
+        order = np.argsort(np.mod(timing, 2 * np.pi), kind="stable")
+        gap = np.abs(_wrapped(np.diff(timing[np.r_[order, order[:1]]])))
+        for k in np.flatnonzero(gap <= 1e-9)[:1]:
+            i, j = sorted((int(order[k]), int(order[(k + 1) % order.size])))
+            if abs(pts[i] - pts[j]) <= 1e-9 * size:
+                raise InputError(
+                    "targets",
+                    f"targets[{i}] and targets[{j}] (points {i + 1} and {j + 1}) repeat one "
+                    "point at one input angle (mod 360 deg); give each point once",
+                )
+            raise InputError(
+                "timing",
+                f"timing[{i}] and timing[{j}] are one input angle (mod 360 deg) at two "
+                f"different targets (points {i + 1} and {j + 1}): a linkage passes one point "
+                "at each crank angle; give each target its own angle",
+            )
     return pts, timing
+
+
+def _wrapped(angle: Any) -> Any:
+    """Angles wrapped to [-pi, pi)."""
+    return np.mod(np.asarray(angle) + np.pi, 2 * np.pi) - np.pi
+
+
+def _all_real(value: Any) -> bool:
+    """True for a 1-D sequence of plain real numbers (not complex, not pairs)."""
+    if isinstance(value, np.ndarray):
+        return value.ndim == 1 and value.size > 1 and value.dtype.kind in "biuf"
+    if isinstance(value, list | tuple) and len(value) > 1:
+        return all(isinstance(v, int | float | np.integer | np.floating) for v in value)
+    return False
 
 
 @one_blas_thread
