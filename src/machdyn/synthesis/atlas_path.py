@@ -222,20 +222,15 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
         # one input angle (mod a turn) is one pose: two targets at it must be one point
         order = np.argsort(np.mod(timing, 2 * np.pi), kind="stable")
         gap = np.abs(_wrapped(np.diff(timing[np.r_[order, order[:1]]])))
-        for k in np.flatnonzero(gap <= 1e-9)[:1]:
+        for k in np.flatnonzero(gap <= 1e-9):
             i, j = sorted((int(order[k]), int(order[(k + 1) % order.size])))
-            if abs(pts[i] - pts[j]) <= 1e-9 * size:
+            if abs(pts[i] - pts[j]) > 1e-9 * size:
                 raise InputError(
-                    "targets",
-                    f"targets[{i}] and targets[{j}] (points {i + 1} and {j + 1}) repeat one "
-                    "point at one input angle (mod 360 deg); give each point once",
+                    "timing",
+                    f"timing[{i}] and timing[{j}] are one input angle (mod 360 deg) at two "
+                    f"different targets (points {i + 1} and {j + 1}): a linkage passes one "
+                    "point at each crank angle; give each target its own angle",
                 )
-            raise InputError(
-                "timing",
-                f"timing[{i}] and timing[{j}] are one input angle (mod 360 deg) at two "
-                f"different targets (points {i + 1} and {j + 1}): a linkage passes one point "
-                "at each crank angle; give each target its own angle",
-            )
     return pts, timing
 
 
