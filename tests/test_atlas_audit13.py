@@ -441,3 +441,20 @@ def test_out_that_is_a_file_is_refused_before_the_synthesis(atlas, tmp_path, cap
     taken.write_text("")
     status, out, err = _cli(["synth", "path", file, "--atlas", atlas.path, "--out", taken], capsys)
     assert "--out:" in _one_line_error(status, err) and "is a file" in err and out == ""
+
+
+def test_a_rockers_transmission_angle_is_not_printed_as_nan(atlas, tmp_path, capsys):
+    # an open arc of a non-Grashof rocker (s + l = 4 > p + q = 3.8), any input allowed:
+    # the table printed "nan" in its "mu min" column for the rocker candidates
+    theta = np.radians(np.linspace(40, 100, 9))
+    points = coupler_point(2.0, 1.5, 2.5, 1.8, 1.2, 0.5, theta)
+    file = tmp_path / "rocker.csv"
+    file.write_text("\n".join(_csv_lines(points)) + "\n")
+    args = ["synth", "path", file, "--open", "--no-crank", "--atlas", atlas.path, "-n", "3",
+            "--out", tmp_path / "o"]  # fmt: skip
+    status, out, err = _cli(args, capsys)
+    assert status == 0, err
+    table = out[: out.index("Their geometry")]
+    assert "nan" not in table.lower()
+    rows = [line.split() for line in table.splitlines()[2:] if line.strip()]
+    assert any(r[3].startswith("RRR") and r[4] == "-" for r in rows), table

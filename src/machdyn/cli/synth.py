@@ -470,7 +470,7 @@ def path_cmd(
             pl = c.linkage
             fits.append([
                 i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
-                c.barker_class, f"{np.degrees(c.mu_min):.1f}", "; ".join(c.defects) or "-",
+                c.barker_class, _deg(c.mu_min), "; ".join(c.defects) or "-",
             ])  # fmt: skip
             p, delta = pl.fourbar.coupler
             shapes.append([
@@ -498,6 +498,11 @@ def path_cmd(
             print(f"note: {res.note}")
     if not res.candidates:
         raise AssemblyError(res.note or "no defect-free linkage found for these targets")
+
+
+def _deg(angle: float) -> str:
+    """An angle in degrees for a table; "-" when there is none (a rocker's mu is not measured)."""
+    return f"{np.degrees(angle):.1f}" if np.isfinite(angle) else "-"
 
 
 def _print_sixbars(res, shown, files, size, json) -> None:
