@@ -136,7 +136,11 @@ def test_real_numbers_are_not_taken_for_points_on_the_x_axis(atlas, targets):
         (np.r_[TARGETS[:5], np.inf * 1j], {}, r"targets: must be finite"),
         (TARGETS, {"timing": np.r_[THETA[:-1], np.nan]}, r"timing: must be finite"),
         (np.full(8, 1 + 1j), {}, r"targets: all target points coincide"),
-        (np.r_[TARGETS[:6], TARGETS[5]], {}, r"targets\[5\] and targets\[6\] \(points 6 and 7\)"),
+        (
+            np.r_[TARGETS[:6], TARGETS[5]],
+            {},
+            r"points 6 and 7 coincide \(targets\[5\] and targets\[6\]\)",
+        ),
         (np.c_[TARGETS.real, TARGETS.imag, TARGETS.real], {}, r"targets: .*shape \(12, 3\)"),
         (TARGETS, {"timing": THETA[:5]}, r"timing: needs one angle per target \(12\), got 5"),
         (TARGETS, {"n": 0}, r"n: must be at least 1"),
@@ -243,7 +247,7 @@ def _with(points, *extra, theta=None):
     return "\n".join([*_csv_lines(points, theta), *extra])
 
 
-IDS = ["empty cell", "3 columns", "4 columns timed", "nan", "inf", "word", "decimal comma",
+IDS = ["empty cell", "4 columns", "4 columns timed", "nan", "inf", "word", "decimal comma",
        "empty file", "header only", "3 points", "timing missing"]  # fmt: skip
 
 
@@ -252,8 +256,8 @@ IDS = ["empty cell", "3 columns", "4 columns timed", "nan", "inf", "word", "deci
     [
         # an empty cell (was: the row read as (x, the third value))
         (_with(TARGETS[:5], "1.0,,2.0"), False, r"line 6: cell 2 is empty"),
-        # a third column without --timing (was: dropped, the angles ignored)
-        (_with(TARGETS, theta=np.degrees(THETA)), False, r"line 1: .*got 3 values.*--timing"),
+        # a fourth column without --timing (was: dropped)
+        (_with(TARGETS, "1,2,3,4"), False, r"line 13: expected x, y, got 4 values"),
         # four columns with --timing (was: the fourth dropped)
         ("\n".join(f"{s},0" for s in _csv_lines(TARGETS, THETA)), True, r"line 1: .*got 4 values"),
         (_with(TARGETS[:5], "nan,1"), False, r"line 6: 'nan' is not a finite"),
@@ -445,7 +449,8 @@ def test_out_that_is_a_file_is_refused_before_the_synthesis(atlas, tmp_path, cap
 
 def test_a_rockers_transmission_angle_is_not_printed_as_nan(atlas, tmp_path, capsys):
     # an open arc of a non-Grashof rocker (s + l = 4 > p + q = 3.8), any input allowed:
-    # the table printed "nan" in its "mu min" column for the rocker candidates
+    # the table printed "nan" in its "mu min" column for the rocker candidates (whose mu
+    # was not measured; since ee24cd5 it is, over the travel between the targets)
     theta = np.radians(np.linspace(40, 100, 9))
     points = coupler_point(2.0, 1.5, 2.5, 1.8, 1.2, 0.5, theta)
     file = tmp_path / "rocker.csv"
@@ -457,4 +462,17 @@ def test_a_rockers_transmission_angle_is_not_printed_as_nan(atlas, tmp_path, cap
     table = out[: out.index("Their geometry")]
     assert "nan" not in table.lower()
     rows = [line.split() for line in table.splitlines()[2:] if line.strip()]
-    assert any(r[3].startswith("RRR") and r[4] == "-" for r in rows), table
+    assert any(r[3].startswith("RRR") for r in rows), table
+    assert all(r[4] == "-" or 0 <= float(r[4]) <= 90 for r in rows), table
+
+
+def test_a_third_column_without_timing_is_ignored_with_a_warning(tmp_path):
+    from machdyn.cli.synth import read_points_csv
+
+    # (was: dropped without a word; the timed file of an untimed run is still read)
+    file = tmp_path / "timed.csv"
+    file.write_text("x,y,theta2\n" + "\n".join(_csv_lines(TARGETS, np.degrees(THETA))) + "\n")
+    with pytest.warns(UserWarning, match="third column .* ignored; add --timing"):
+        pts, theta = read_points_csv(file, timing=False)
+    np.testing.assert_array_equal(pts, TARGETS)
+    assert theta is None

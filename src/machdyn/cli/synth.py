@@ -286,8 +286,9 @@ def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | 
     Cells are separated by commas, semicolons, tabs or spaces (one kind per line). A
     first line whose cells are all words is a header; blank lines and lines starting
     with ``#`` are skipped. Every other line holds exactly two numbers (three with
-    timing), each finite: an empty cell, an extra column (a third one without
-    ``--timing``) or a NaN is refused with its line, never read as something else.
+    timing), each finite: an empty cell, a missing or extra column or a NaN is refused
+    with its line, never read as something else. A third column without timing (a
+    timed file in an untimed run) is ignored with a warning.
 
     Examples
     --------
@@ -302,12 +303,13 @@ def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | 
     array([0.+0.j , 1.+0.5j])
     """
     import csv
+    import warnings
 
     text = Path(file).read_text(encoding="utf-8-sig")  # (a byte-order mark is not a cell)
     want = 3 if timing else 2
     what = "x, y, theta2 (deg)" if timing else "x, y"
     rows = []
-    first = True
+    first, ignored = True, False
     for number, line in enumerate(text.splitlines(), 1):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
@@ -330,12 +332,19 @@ def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | 
                     str(file), f"line {number}: expected numbers {what}, got {cell!r}{hint}"
                 )
             values.append(float(cell))
+        if len(values) == 3 and not timing:  # a timed file in an untimed run: said, not silent
+            if not ignored:
+                warnings.warn(
+                    f"{file}: the third column (input angles?) is ignored; add --timing to "
+                    "prescribe them",
+                    UserWarning,
+                    stacklevel=2,
+                )
+            ignored = True
+            values = values[:2]
         if len(values) != want:
-            more = " (a third column is the input angle: add --timing)" if len(values) == 3 else ""
-            raise InputError(
-                str(file), f"line {number}: expected {what}, got {len(values)} values{more}"
-            )
-        bad = [c for c, v in zip(cells, values, strict=True) if not np.isfinite(v)]
+            raise InputError(str(file), f"line {number}: expected {what}, got {len(values)} values")
+        bad = [c for c, v in zip(cells, values, strict=False) if not np.isfinite(v)]
         if bad:
             raise InputError(
                 str(file), f"line {number}: {bad[0]!r} is not a finite number; expected {what}"

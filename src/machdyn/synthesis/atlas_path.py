@@ -215,7 +215,7 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
         j = (i + 1) % pts.size
         raise InputError(
             "targets",
-            f"targets[{i}] and targets[{j}] (points {i + 1} and {j + 1}) coincide; "
+            f"points {i + 1} and {j + 1} coincide (targets[{i}] and targets[{j}]); "
             "give each point once",
         )
     if timing is not None:
