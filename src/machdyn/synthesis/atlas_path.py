@@ -31,6 +31,7 @@ its fits re-seeded in order (``_atlas_closed``); six-bar atlases go to
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -155,6 +156,12 @@ UNTIMED_LONG = (3, 5000, 1000)
 #: literature's case 5, 10 points, lost its best SSE to the LM; the benchmarks' other
 #: targets have at most 18 points).
 MANY_POINTS = 24
+#: Untimed targets past MANY_TARGETS are searched on SEARCH_TARGETS of them (evenly along
+#: them) and the results checked on all: each untimed target adds an unknown (its input
+#: angle), and the refinement's steps cost the cube of the unknowns (500 points: 17.5 s
+#: of CPU, 2,000: over 150 s; the audit of 2026-11-25).
+MANY_TARGETS = 60
+SEARCH_TARGETS = 40
 #: Minimum number of target points: a closed or open path, with prescribed timing.
 MIN_POINTS = {"closed": 5, "open": 5, "timed": 4}
 #: Timed open targets: most rounds of retrieval (each a fresh pool) while none is met but
@@ -368,6 +375,15 @@ def path_from_atlas(
     if atlas.manifest.kind == "sixbar":
         return _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve,
                             refine_count, client, start, deadline)  # fmt: skip
+    if timing is None and pts.size > MANY_TARGETS:  # searched on some, checked on all
+        keep = _spread(pts.size, closed)
+        left = None if time_limit is None else max(0.0, time_limit - (time.perf_counter() - start))
+        found = path_from_atlas(
+            pts[keep], atlas, closed=closed, n=n, crank=crank, mu_min=mu_min,
+            tolerance=tolerance, retrieve=retrieve, refine_count=refine_count, client=client,
+            O2=O2, theta1=theta1, max_length=max_length, pivot_box=pivot_box, time_limit=left,
+        )  # fmt: skip
+        return _on_every_target(found, pts, keep, closed, crank, mu_min, tolerance, n, start)
     if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
         refine_count *= 4
     # timed starts come from the atlas's crank rows, refined with link 2 held a crank (an
@@ -442,6 +458,68 @@ def path_from_atlas(
     seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
     note = _limit_note(note, deadline, time_limit, seconds["total"])
     return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+
+
+def _spread(count: int, closed: bool) -> np.ndarray:
+    """:data:`SEARCH_TARGETS` indices of ``count`` targets, evenly along them (and both ends)."""
+    if closed:
+        return np.unique(np.floor(np.arange(SEARCH_TARGETS) * count / SEARCH_TARGETS).astype(int))
+    return np.unique(np.round(np.linspace(0, count - 1, SEARCH_TARGETS)).astype(int))
+
+
+def _on_every_target(found: PathCandidates, pts, keep, closed, crank, mu_min, tolerance, n,
+                     start) -> PathCandidates:  # fmt: skip
+    """``found`` (searched on the targets ``keep``) checked on every target.
+
+    Each linkage's input angle at every target is that of the nearest point of its
+    coupler curve (on its assembly; a dense sweep, then Gauss–Newton steps on the
+    distance), and the linkage is checked again (:func:`_checked`): distances,
+    order, branch, crank and transmission angle over all the targets.
+    """
+    from .refine import Refined, coupler_and_jacobian
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    sweep = np.linspace(0.0, 2 * np.pi, 3600, endpoint=False)
+    results = []
+    for r in (*found.candidates, *found.rejected):
+        pl = r.linkage
+        p, delta = pl.fourbar.coupler
+        x = np.array([*pl.lengths, p, delta, pl.O2.real, pl.O2.imag, pl.theta1])
+        branch = np.full(pts.size, float(pl.branch))
+        G, _, _, excess = coupler_and_jacobian(x, sweep, np.full(sweep.size, float(pl.branch)))
+        far = np.abs(G[None, :] - pts[:, None])
+        far[:, excess > 0] = np.inf
+        theta = sweep[np.argmin(far, axis=1)]
+        theta[keep] = r.theta2  # (the search's own angles there)
+        for _ in range(4):  # Gauss–Newton on |G(θ) − t|², each target alone
+            G, _, jt, _ = coupler_and_jacobian(x, theta, branch)
+            step = np.real(np.conj(G - pts) * jt) / np.maximum(np.abs(jt) ** 2, 1e-300)
+            theta = theta - np.clip(step, -0.05, 0.05)
+        G, _, _, excess = coupler_and_jacobian(x, theta, branch)
+        rms = float(np.sqrt(np.mean(np.abs(G - pts) ** 2)))
+        fit = Refined(x, theta, branch, rms, True)
+        checked = _checked(fit, pts, None, closed, crank, mu_min, tolerance)
+        if checked is not None and not checked.in_order and _in_order(theta[keep], closed, None):
+            # (order is judged on the targets searched: dense targets with noise, each
+            # projected onto the curve alone, step back and forth within the noise)
+            defects = tuple(d for d in checked.defects if not d.startswith("order defect"))
+            checked = replace(checked, in_order=True, defects=defects)
+        if checked is not None:
+            results.append(checked)
+    results.sort(key=_rank)
+    chosen = _distinct([r for r in results if r.ok], n, size)
+    rejected = tuple(r for r in results if not r.ok)[: max(n, 5)]
+    best = chosen[0] if chosen else (rejected[0] if rejected else None)
+    worst = float(np.max(best.distance)) / size if best is not None else np.inf
+    near = worst <= NEAR
+    note = _far_note(best, size, "linkage", " (is the path one a four-bar can trace?)")
+    if best is not None and near and not chosen:
+        note = "every linkage found has a defect (see rejected)"
+    searched = (f"searched on {len(keep)} of the {pts.size} targets (evenly along them), "
+                "checked on all")  # fmt: skip
+    note = f"{found.note}; {searched}; {note}" if found.note else f"{searched}; {note}"
+    seconds = dict(found.seconds, total=time.perf_counter() - start)
+    return PathCandidates(tuple(chosen), rejected, pts, near, note.rstrip("; "), seconds)
 
 
 def _timed_any_input(atlas, pts, timing, refine_count, options,
