@@ -443,9 +443,16 @@ def path_from_atlas(
         results.append(_checked(fit, pts, timing, closed, crank, mu_min, tolerance))
     results = [r for r in results if r is not None]
     t2 = time.perf_counter()
-    results.sort(key=_rank)
-    good = [r for r in results if r.ok]
-    chosen = _distinct(good, n, size)
+    chosen, rejected, near, note = _chosen(results, size, n)
+    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    note = _limit_note(note, deadline, time_limit, seconds["total"])
+    return PathCandidates(chosen, rejected, pts, near, note, seconds)
+
+
+def _chosen(results: list, size: float, n: int) -> tuple[tuple, tuple, bool, str]:
+    """Checked ``results`` sorted out: ``n`` distinct defect-free ones, the rejected, near, note."""
+    results = sorted(results, key=_rank)
+    chosen = tuple(_distinct([r for r in results if r.ok], n, size))
     rejected = tuple(r for r in results if not r.ok)[: max(n, 5)]
     best = chosen[0] if chosen else (rejected[0] if rejected else None)
     worst = float(np.max(best.distance)) / size if best is not None else np.inf
@@ -455,9 +462,7 @@ def path_from_atlas(
         note = "every linkage found has a defect (see rejected)"
     elif chosen and not near and rejected and _rank(rejected[0])[1] <= NEAR * size:
         note = _closer_note(best, rejected[0], size)
-    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
-    note = _limit_note(note, deadline, time_limit, seconds["total"])
-    return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+    return chosen, rejected, near, note
 
 
 def _spread(count: int, closed: bool) -> np.ndarray:
@@ -487,9 +492,9 @@ def _on_every_target(found: PathCandidates, pts, keep, closed, crank, mu_min, to
         x = np.array([*pl.lengths, p, delta, pl.O2.real, pl.O2.imag, pl.theta1])
         branch = np.full(pts.size, float(pl.branch))
         G, _, _, excess = coupler_and_jacobian(x, sweep, np.full(sweep.size, float(pl.branch)))
-        far = np.abs(G[None, :] - pts[:, None])
-        far[:, excess > 0] = np.inf
-        theta = sweep[np.argmin(far, axis=1)]
+        G = np.where(excess > 0, np.inf, G)  # (no point where it cannot be assembled)
+        theta = np.concatenate([sweep[np.argmin(np.abs(G[None, :] - part[:, None]), axis=1)]
+                                for part in np.array_split(pts, -(-pts.size // 256))])  # fmt: skip
         theta[keep] = r.theta2  # (the search's own angles there)
         for _ in range(4):  # Gauss–Newton on |G(θ) − t|², each target alone
             G, _, jt, _ = coupler_and_jacobian(x, theta, branch)
@@ -506,20 +511,12 @@ def _on_every_target(found: PathCandidates, pts, keep, closed, crank, mu_min, to
             checked = replace(checked, in_order=True, defects=defects)
         if checked is not None:
             results.append(checked)
-    results.sort(key=_rank)
-    chosen = _distinct([r for r in results if r.ok], n, size)
-    rejected = tuple(r for r in results if not r.ok)[: max(n, 5)]
-    best = chosen[0] if chosen else (rejected[0] if rejected else None)
-    worst = float(np.max(best.distance)) / size if best is not None else np.inf
-    near = worst <= NEAR
-    note = _far_note(best, size, "linkage", " (is the path one a four-bar can trace?)")
-    if best is not None and near and not chosen:
-        note = "every linkage found has a defect (see rejected)"
+    chosen, rejected, near, note = _chosen(results, size, n)
     searched = (f"searched on {len(keep)} of the {pts.size} targets (evenly along them), "
                 "checked on all")  # fmt: skip
     note = f"{found.note}; {searched}; {note}" if found.note else f"{searched}; {note}"
     seconds = dict(found.seconds, total=time.perf_counter() - start)
-    return PathCandidates(tuple(chosen), rejected, pts, near, note.rstrip("; "), seconds)
+    return PathCandidates(chosen, rejected, pts, near, note.rstrip("; "), seconds)
 
 
 def _timed_any_input(atlas, pts, timing, refine_count, options,
@@ -532,7 +529,7 @@ def _timed_any_input(atlas, pts, timing, refine_count, options,
     starts refined with any input (``options``). A second pool while the first's best
     fit is a near miss (:data:`TIMED_ROUNDS`, :data:`TIMED_NEAR_MISS`). Random
     open-timed targets of every Barker class (seeds 1–3, 20 each, rocker inputs
-    nearly all): 3 of 20 met before (the crank rows alone), 58 of 60 with these.
+    nearly all): 3 of 20 met before (the crank rows alone), 59 of 60 with these.
     Returns the fits, best first.
     """
     cranks = np.concatenate(atlas._crank)
