@@ -498,6 +498,17 @@ def path_cmd(
             shapes,
         )
         print(f"specs: {', '.join(files)}")
+        # linkages with defects that come far nearer than the defect-free ones: what stops them
+        miss = min((float(np.max(c.distance)) for c in res.candidates), default=0.0)
+        closer = [c for c in res.rejected if np.max(c.distance) < 0.5 * miss]
+        if closer:
+            print_table(
+                "Closer linkages with defects (not written)",
+                ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"],
+                [[i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
+                  c.barker_class, f"{np.degrees(c.mu_min):.1f}", "; ".join(c.defects)]
+                 for i, c in enumerate(closer[:n], 1)],
+            )  # fmt: skip
         secs = res.seconds
         print(
             f"retrieve {secs['retrieve']:.2f} s, refine {secs['refine']:.2f} s, "
