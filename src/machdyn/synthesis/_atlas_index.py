@@ -543,9 +543,11 @@ def open_atlas(path: Any, *, verify: bool = True) -> Atlas:
         try:
             d = np.load(folder / f"{chunk_name(i)}.desc.npy", mmap_mode="r")
             m = np.load(folder / f"{chunk_name(i)}.meta.npy", mmap_mode="r")
-        except (OSError, ValueError) as exc:
+        except Exception as exc:  # (np.load of a damaged header raises many kinds)
+            # (an empty file: EOFError, which click would turn into "aborted"; a flipped
+            # byte in the header: tokenize's TokenError or a SyntaxError; with verify=False)
             raise AtlasError(
-                folder, f"chunk {i} cannot be read ({exc}); rebuild the atlas"
+                folder, f"chunk {i} cannot be read ({type(exc).__name__}: {exc}); rebuild the atlas"
             ) from None
         want = SIXBAR_DTYPE if manifest.kind == "sixbar" else META_DTYPE
         if (
