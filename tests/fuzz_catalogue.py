@@ -1140,6 +1140,8 @@ def _add_atlas(c, fn, meth, targets) -> None:
     fn("machdyn.synthesis:open_atlas", path=str(_tiny_atlas().path))
     c["machdyn.synthesis:open_atlas"].accepts["path"] = {"text"}
     fn("machdyn.synthesis:curve_descriptor", z=np.exp(1j * np.linspace(0, 6, 40)) + 0.2)
+    coupled = __import__("machdyn.fourbar").fourbar.FourBar(5.0, 2.0, 5.0, 4.0, coupler=(3.0, 0.6))
+    fn("machdyn.synthesis:cognates", linkage=syn.PlacedFourBar(coupled, 1 + 2j, 0.3, 1))
     fn(
         "machdyn.synthesis:path_from_atlas",
         targets=targets,

@@ -241,6 +241,22 @@ def test_corrupted_stale_or_unfinished_atlases_are_refused(tmp_path):
     assert issubclass(AtlasError, InputError)
 
 
+def test_the_first_bad_chunk_is_named_whichever_thread_checks_it(tmp_path, monkeypatch):
+    monkeypatch.setenv("MACHDYN_THREADS", "2")
+    folder = tmp_path / "c"
+    build_atlas(folder, 1000, chunk_size=250, progress=False)  # 4 chunks, 2 a thread
+    late = folder / "chunk_00003.meta.npy"
+    late.write_bytes(late.read_bytes()[:-5])  # truncated: found by the second thread
+    with pytest.raises(AtlasError, match=r"chunk_00003\.meta\.npy has"):
+        open_atlas(folder)
+    early = folder / "chunk_00001.desc.npy"
+    data = bytearray(early.read_bytes())
+    data[100] ^= 0x01
+    early.write_bytes(bytes(data))
+    with pytest.raises(AtlasError, match=r"chunk_00001\.desc\.npy fails its CRC"):
+        open_atlas(folder)
+
+
 def test_dask_build_equals_serial_build(tmp_path, small_atlas):
     pytest.importorskip("distributed")
     folder = tmp_path / "d"

@@ -82,6 +82,38 @@ def test_synth_path_prints_candidates_and_writes_specs(folder, tmp_path, capsys,
     np.testing.assert_allclose(row[7:9], [best["O2"]["x"], best["O2"]["y"]], rtol=1e-4, atol=1e-4)
 
 
+def test_synth_path_shows_closer_linkages_whose_defects_stop_them(folder, tmp_path, capsys):
+    from tests.test_atlas_timed_rocker import CASES, _coupler, _reach
+
+    # a Grashof rocker-crank driven at its rocker, 7 timed points over most of its reach
+    lengths, coupler, side, O2, theta1, scale = CASES["GRRC"]
+    lo, hi = _reach(lengths)
+    theta = lo + (hi - lo) * np.linspace(0.05, 0.95, 7)
+    P = O2 + scale * np.exp(1j * theta1) * _coupler(lengths, coupler, 0j, 0.0, side, theta)
+    # its smallest transmission angle over that travel, by the law of cosines: under 30°
+    r1, r2, r3, r4 = lengths
+    travel = np.linspace(theta[0], theta[-1], 20001)
+    phi = np.arccos((r3**2 + r4**2 - np.abs(r2 * np.exp(1j * travel) - r1) ** 2) / (2 * r3 * r4))
+    mu = float(np.degrees(np.min(np.minimum(phi, np.pi - phi))))
+    assert mu < 25.0
+    file = tmp_path / "rocker.csv"
+    file.write_text(
+        "x,y,theta2\n"
+        + "".join(
+            f"{float(p.real)!r},{float(p.imag)!r},{float(np.degrees(t))!r}\n"
+            for p, t in zip(P, theta, strict=True)
+        )
+    )
+    out = tmp_path / "cands"
+    args = ["synth", "path", str(file), "--atlas", str(folder), "--open", "--timing",
+            "--no-crank", "-n", "3", "--out", str(out)]  # fmt: skip
+    main(args)  # (--mu-min 30 by default: the exact linkage has a defect)
+    text = capsys.readouterr().out
+    shown = "Closer linkages with defects" in text or "Best linkages found (with defects)" in text
+    assert shown, text
+    assert f"transmission angle falls to {mu:.1f} deg" in text, text
+
+
 def test_synth_path_bad_input_is_one_line(folder, tmp_path, capsys):
     bad = tmp_path / "bad.csv"
     bad.write_text("0,0\n1,x\n")

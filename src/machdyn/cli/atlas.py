@@ -75,7 +75,15 @@ def build_cmd(
         raise InputError("--count", f"must be between 1 and 10^9, got {count:,}")
     if workers is not None and workers < 1:
         raise InputError("--workers", f"must be at least 1, got {workers}")
+    if not 1 <= chunk_size <= 1 << 24:
+        raise InputError("--chunk-size", f"must be between 1 and {1 << 24:,}, got {chunk_size:,}")
+    if seed < 0:
+        raise InputError("--seed", f"must be zero or positive, got {seed}")
+    if kind not in ("fourbar", "sixbar"):
+        raise InputError("--kind", f"must be fourbar or sixbar, got {kind!r}")
     folder = path or default_atlas()
+    if folder.exists() and not folder.is_dir():
+        raise InputError("PATH", f"{folder} is a file; give a folder for the atlas")
     start = time.perf_counter()
     m = build_atlas(
         folder, count, chunk_size=chunk_size, seed=seed, scheduler=scheduler, workers=workers,

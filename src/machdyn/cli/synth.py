@@ -283,8 +283,12 @@ def function_cmd(
 def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | None]:
     r"""Target points from a CSV file: ``x,y`` per line (``x,y,theta2_deg`` with timing).
 
-    A first line that is not numbers is a header; blank lines and lines
-    starting with ``#`` are skipped.
+    Cells are separated by commas, semicolons, tabs or spaces (one kind per line). A
+    first line whose cells are all words is a header; blank lines and lines starting
+    with ``#`` are skipped. Every other line holds exactly two numbers (three with
+    timing), each finite: an empty cell, a missing or extra column or a NaN is refused
+    with its line, never read as something else. A third column without timing (a
+    timed file in an untimed run) is ignored with a warning.
 
     Examples
     --------
@@ -294,30 +298,60 @@ def read_points_csv(file: Path, timing: bool) -> tuple[np.ndarray, np.ndarray | 
     >>> pts, th = read_points_csv(f, timing=True)
     >>> pts, np.degrees(th)
     (array([0.+0.j , 1.+0.5j]), array([ 0., 90.]))
+    >>> _ = f.write_text("x;y\n0;0\n1;0.5\n")
+    >>> read_points_csv(f, timing=False)[0]
+    array([0.+0.j , 1.+0.5j])
     """
     import csv
+    import warnings
 
-    text = Path(file).read_text()
+    text = Path(file).read_text(encoding="utf-8-sig")  # (a byte-order mark is not a cell)
+    want = 3 if timing else 2
+    what = "x, y, theta2 (deg)" if timing else "x, y"
     rows = []
-    first = True
-    for number, row in enumerate(csv.reader(text.splitlines()), 1):
-        cells = [c.strip() for c in row]
-        if not cells or not any(cells) or cells[0].startswith("#"):
+    first, ignored = True, False
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip() or line.lstrip().startswith("#"):
             continue
         header, first = first, False
-        try:
-            values = [float(c) for c in cells if c]
-        except ValueError:
-            if header and not any(_is_number(c) for c in cells):
-                continue  # a header
-            raise InputError(str(file), f"line {number}: expected numbers, got {row!r}") from None
-        want = 3 if timing else 2
-        if len(values) < want:
-            what = "x, y, theta2 (deg)" if timing else "x, y"
+        for sep in (";", ",", "\t"):
+            if sep in line:
+                cells = [c.strip() for c in next(csv.reader([line], delimiter=sep))]
+                break
+        else:
+            cells = line.split()
+        if header and all(c and any(ch.isalpha() for ch in c) and not _is_number(c) for c in cells):
+            continue  # a header: words only ("x, y, theta2_deg"; not "nan" nor "1,5")
+        values = []
+        for k, cell in enumerate(cells, 1):
+            if not cell:
+                raise InputError(str(file), f"line {number}: cell {k} is empty; expected {what}")
+            if not _is_number(cell):
+                hint = " (decimal commas are not read: write 1.5, not 1,5)" if "," in cell else ""
+                raise InputError(
+                    str(file), f"line {number}: expected numbers {what}, got {cell!r}{hint}"
+                )
+            values.append(float(cell))
+        if len(values) == 3 and not timing:  # a timed file in an untimed run: said, not silent
+            if not ignored:
+                warnings.warn(
+                    f"{file}: the third column (input angles?) is ignored; add --timing to "
+                    "prescribe them",
+                    UserWarning,
+                    stacklevel=2,
+                )
+            ignored = True
+            values = values[:2]
+        if len(values) != want:
             raise InputError(str(file), f"line {number}: expected {what}, got {len(values)} values")
-        rows.append(values[:want])
+        bad = [c for c, v in zip(cells, values, strict=False) if not np.isfinite(v)]
+        if bad:
+            raise InputError(
+                str(file), f"line {number}: {bad[0]!r} is not a finite number; expected {what}"
+            )
+        rows.append(values)
     if not rows:
-        raise InputError(str(file), "holds no points (expected lines 'x,y')")
+        raise InputError(str(file), f"holds no points (expected lines '{what}')")
     data = np.array(rows, dtype=float)
     points = data[:, 0] + 1j * data[:, 1]
     return points, (np.radians(data[:, 2]) if timing else None)
@@ -401,6 +435,8 @@ def path_cmd(
     if not 0.0 <= mu_min < 90.0:
         raise InputError("--mu-min", f"must be between 0 and 90 deg, got {mu_min:g}")
     targets, theta = read_points_csv(points, timing)
+    if out.exists() and not out.is_dir():  # (before the synthesis, not after it)
+        raise InputError("--out", f"{out} is a file; give a folder for the candidates' specs")
     if time_limit is not None:  # (before the atlas is opened and verified)
         from .._validate import nonnegative
 
@@ -443,7 +479,7 @@ def path_cmd(
             pl = c.linkage
             fits.append([
                 i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
-                c.barker_class, f"{np.degrees(c.mu_min):.1f}", "; ".join(c.defects) or "-",
+                c.barker_class, _deg(c.mu_min), "; ".join(c.defects) or "-",
             ])  # fmt: skip
             p, delta = pl.fourbar.coupler
             shapes.append([
@@ -462,6 +498,17 @@ def path_cmd(
             shapes,
         )
         print(f"specs: {', '.join(files)}")
+        # linkages with defects that come far nearer than the defect-free ones: what stops them
+        miss = min((float(np.max(c.distance)) for c in res.candidates), default=0.0)
+        closer = [c for c in res.rejected if np.max(c.distance) < 0.5 * miss]
+        if closer:
+            print_table(
+                "Closer linkages with defects (not written)",
+                ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"],
+                [[i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
+                  c.barker_class, f"{np.degrees(c.mu_min):.1f}", "; ".join(c.defects)]
+                 for i, c in enumerate(closer[:n], 1)],
+            )  # fmt: skip
         secs = res.seconds
         print(
             f"retrieve {secs['retrieve']:.2f} s, refine {secs['refine']:.2f} s, "
@@ -471,6 +518,11 @@ def path_cmd(
             print(f"note: {res.note}")
     if not res.candidates:
         raise AssemblyError(res.note or "no defect-free linkage found for these targets")
+
+
+def _deg(angle: float) -> str:
+    """An angle in degrees for a table; "-" when there is none (a rocker's mu is not measured)."""
+    return f"{np.degrees(angle):.1f}" if np.isfinite(angle) else "-"
 
 
 def _print_sixbars(res, shown, files, size, json) -> None:

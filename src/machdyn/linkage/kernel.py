@@ -251,6 +251,10 @@ def run_compiled(kern, program, tables, U, order, follow) -> Outputs | None:
         return out
     ii, ff = pack(program, tables)
     Pf = pts.view(float)
+    # One layout for the kernel: U[:, mask] (the samples past a change point) is
+    # F-ordered, and numba would compile the whole kernel again for it (a second
+    # half-minute compile from an empty cache); the values read are the same.
+    U = np.ascontiguousarray(U)
     try:
         if n < THREADED:
             out.clean = kern.run(0, n, ii, ff, U, order, F, Pf, codes, follow) == 0

@@ -9,6 +9,7 @@ from __future__ import annotations
 from .atlas import CouplerAtlas, atlas, coupler_points
 from .atlas_path import Atlas, PathCandidates, open_atlas, path_from_atlas
 from .atlas_store import AtlasError, build_atlas
+from .cognates import cognates
 from .descriptor import curve_descriptor
 from .function import (
     FunctionGenerator,
@@ -52,6 +53,7 @@ __all__ = [
     "build_atlas",
     "chebyshev_spacing",
     "circumcentre",
+    "cognates",
     "coupler_points",
     "curve_descriptor",
     "driving_dyad",

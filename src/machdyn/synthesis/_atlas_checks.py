@@ -11,6 +11,8 @@ distinct linkages. Used by :mod:`~machdyn.synthesis.atlas_path` and
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 
 from ..errors import InputError
@@ -45,18 +47,22 @@ def _checked(fit, pts, timing, closed, crank, mu_min, tolerance) -> PathSynthesi
     distance = np.where(ok, np.abs(P - pts), np.inf)
     cls = fb.classification  # (classify(*fb.lengths), made by FourBar)
     is_crank = 2 in cls.cranks
-    dense = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
-    # (where the linkage assembles over a turn: the mask of placed.pose, without its points)
-    okd = positions(*fb.lengths, dense, placed.branch)[2] if is_crank else np.ones(720, bool)
+    if is_crank:  # over a turn
+        dense = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    else:  # over the input's travel from the first target to the last, through the others
+        travel = np.unwrap(fit.theta)
+        dense = np.concatenate([np.linspace(a, b, 60) for a, b in pairwise(travel)])
+    # (where the linkage assembles: the mask of placed.pose, without its points)
+    okd = positions(*fb.lengths, dense, placed.branch)[2]
     lengths = {k: np.array([v]) for k, v in zip(("r1", "r2", "r3", "r4"), fb.lengths, strict=True)}
-    mu = float(_mu_min(lengths, dense, okd[None, :])[0]) if is_crank else float("nan")
+    mu = float(_mu_min(lengths, dense, okd[None, :])[0])
     in_order = _in_order(theta, closed, timing)
     defects = []
     if crank and not is_crank:
         defects.append(f"link 2 is not a full-turn crank ({cls.code})")
     if branches.size > 1:
         defects.append("branch defect: the linkage must pass a toggle between targets")
-    if is_crank and mu < mu_min - np.radians(0.5):
+    if mu < mu_min - np.radians(0.5):
         defects.append(f"transmission angle falls to {np.degrees(mu):.1f} deg")
     if not in_order:
         defects.append("order defect: the coupler point meets the targets out of order")

@@ -82,6 +82,15 @@ def _far_note(best: PathSynthesis | None, size: float, linkage: str, hint: str =
             f"{100 * worst:.1f} % of the targets' size{hint}")  # fmt: skip
 
 
+def _closer_note(best: PathSynthesis, closer: PathSynthesis, size: float) -> str:
+    """The note when the defect-free results miss but one with defects comes near."""
+    worst = float(np.max(best.distance)) / size
+    near = float(np.max(closer.distance)) / size
+    return (f"the linkages free of defects miss by {100 * worst:.1f} % of the targets' size; "
+            f"one with defects comes within {100 * near:.1e} % ({'; '.join(closer.defects)}): "
+            "see rejected")  # fmt: skip
+
+
 def _limit_note(note: str, deadline: _Deadline, time_limit: float | None, total: float) -> str:
     """``note`` with, when the synthesis stopped at its time limit, a sentence saying so."""
     if not deadline.hit:

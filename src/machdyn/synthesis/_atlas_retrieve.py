@@ -553,16 +553,19 @@ def _retrieve_timed(atlas: Atlas, pts, timing, closed, retrieve, refine_count, c
     return starts, next_best
 
 
-def _timed_grid(fixed) -> np.ndarray:
-    """Starting crank angles θ0 scanned for timed targets (θ0 itself when it is held)."""
-    return np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, TIMED_GRID, endpoint=False)
+def _timed_grid(fixed, count: int = TIMED_GRID) -> np.ndarray:
+    """``count`` starting crank angles θ0 scanned for timed targets (θ0 itself when held)."""
+    return np.zeros(1) if 9 in fixed else np.linspace(0.0, 2 * np.pi, count, endpoint=False)
 
 
-def _timed_scored(rows, pts, timing, fixed) -> tuple:
-    """:func:`_timed_fits` of every row (score, θ0 index, h, t; each (2, rows)), on threads."""
+def _timed_scored(rows, pts, timing, fixed, grid: int = TIMED_GRID) -> tuple:
+    """:func:`_timed_fits` of every row (score, θ0 index, h, t; each (2, rows)), on threads.
+
+    ``grid``: the number of starting angles scanned (:func:`_timed_grid`).
+    """
     from .._parallel import for_slices
 
-    table = _angle_table(_timed_grid(fixed)[:, None] + timing[None, :])  # (G, K) angles
+    table = _angle_table(_timed_grid(fixed, grid)[:, None] + timing[None, :])  # (G, K) angles
     O2 = complex(fixed[6], fixed[7]) if 6 in fixed else None
     out = (np.empty((2, rows.size)), np.empty((2, rows.size), np.int64),
            np.empty((2, rows.size), complex), np.empty((2, rows.size), complex))  # fmt: skip
@@ -578,17 +581,20 @@ def _timed_scored(rows, pts, timing, fixed) -> tuple:
     return out
 
 
-def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None):
+def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None, grid=None):
     """The ``refine_count`` best timed starts among ``rows`` (both mirror images).
 
     ``scored``: :func:`_timed_scored` of these rows, when already computed.
+    ``grid``: the number of starting angles scanned (:data:`TIMED_GRID`).
     """
-    score, g, hh, off = (x.ravel() for x in scored or _timed_scored(rows, pts, timing, fixed))
+    grid = grid or TIMED_GRID
+    scored = scored or _timed_scored(rows, pts, timing, fixed, grid)
+    score, g, hh, off = (x.ravel() for x in scored)
     # (2, rows) each, flattened: all entries as stored, then all mirrored
     mirror = np.repeat([1.0, -1.0], rows.size)
     order = np.argsort(-score)[:refine_count]
     rows2 = np.concatenate([rows, rows])
-    grid = _timed_grid(fixed)
+    grid = _timed_grid(fixed, grid)
     starts = []
     for i in order:
         row, m, h = rows2[i], mirror[i], hh[i]

@@ -22,7 +22,14 @@ import numpy as np
 
 from .._numba_cache import njit
 
-__all__ = ["ordered_samples", "refine_loop", "sixbar_coupler", "sixbar_points_into"]
+__all__ = [
+    "ordered_samples",
+    "ordered_samples_many",
+    "refine_fit",
+    "refine_loop",
+    "sixbar_coupler",
+    "sixbar_points_into",
+]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -179,13 +186,34 @@ def sixbar_coupler(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok):  # pragma: no c
     ``l1, l2`` the links (1–4) carrying C and D, ``on6`` 1 if the point is on link 6.
     Writes ``P`` (K,) complex, ``J`` (K, 15) complex, ``Jt`` (K,) complex, ``ok`` (K,).
     """
+    _coupler_into(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok, np.empty((8, 2, _NG + 1)))
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _frame_slots(link):  # pragma: no cover - compiled
+    """Slots of link 1–4's origin and x-point (O2→O4, O2→A, A→B, O4→B: ground to rocker)."""
+    if link == 1:
+        return 0, 1
+    if link == 2:
+        return 0, 2
+    if link == 3:
+        return 2, 3
+    return 1, 3
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _coupler_into(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok, G):  # pragma: no cover - compiled
+    """:func:`sixbar_coupler` with its work array ``G`` (8, 2, 17) given.
+
+    ``G`` is zeroed once: every target writes the same entries of the ground
+    pivots and the crank pin and the whole of every later slot it reads.
+    """
     # slots: 0 O2, 1 O4, 2 A, 3 B, 4 C, 5 D, 6 E, 7 P; last index _NG holds the value
-    G = np.zeros((8, 2, _NG + 1))
-    frames_o = np.array([0, 0, 0, 2, 1])  # link 1: O2→O4, 2: O2→A, 3: A→B, 4: O4→B
-    frames_x = np.array([0, 1, 2, 3, 3])
+    G[:] = 0.0
+    o1, x1 = _frame_slots(l1)
+    o2, x2 = _frame_slots(l2)
     c1, s1 = math.cos(x[2]), math.sin(x[2])
     for k in range(theta.size):
-        G[:] = 0.0
         G[0, 0, _NG], G[0, 1, _NG] = x[0], x[1]
         G[0, 0, 0], G[0, 1, 1] = 1.0, 1.0
         # O4 = O2 + r1 e^{jθ1}
@@ -204,8 +232,8 @@ def sixbar_coupler(x, theta, s4, s6, l1, l2, on6, P, J, Jt, ok):  # pragma: no c
         G[2, 0, 4], G[2, 1, 4] = ca, sa
         good = _sixbar_dyad(G, 2, 1, x[5], 5, x[6], 6, s4, 3)
         if good:
-            _sixbar_frame(G, frames_o[l1], frames_x[l1], x[7], x[8], 7, 8, 4)
-            _sixbar_frame(G, frames_o[l2], frames_x[l2], x[9], x[10], 9, 10, 5)
+            _sixbar_frame(G, o1, x1, x[7], x[8], 7, 8, 4)
+            _sixbar_frame(G, o2, x2, x[9], x[10], 9, 10, 5)
             good = _sixbar_dyad(G, 4, 5, x[11], 11, x[12], 12, s6, 6)
         ok[k] = good
         if not good:
@@ -291,15 +319,32 @@ def _below(w, bound):  # pragma: no cover - compiled
 def _residuals(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, Jz):
     # pragma: no cover - compiled
     """The six-bar refinement's residuals ``r`` (2K) and Jacobian ``Jz`` (2K, nz); the cost."""
+    return _residuals_into(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, Jz,
+                           _work(targets.size))  # fmt: skip
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _work(k):  # pragma: no cover - compiled
+    """:func:`_residuals_into`'s work arrays for ``k`` targets: θ, P, J, Jt, ok, G."""
+    return (
+        np.empty(k),
+        np.empty(k, np.complex128),
+        np.empty((k, 15), np.complex128),
+        np.empty(k, np.complex128),
+        np.empty(k, np.bool_),
+        np.empty((8, 2, _NG + 1)),
+    )
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _residuals_into(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, Jz, work):
+    # pragma: no cover - compiled
+    """:func:`_residuals` with its work arrays given (:func:`_work`)."""
     k = targets.size
-    theta = np.empty(k)
+    theta, P, J, Jt, ok, G = work
     for i in range(k):
         theta[i] = z[15] + timing[i] if timed else z[15 + i]
-    P = np.empty(k, np.complex128)
-    J = np.empty((k, 15), np.complex128)
-    Jt = np.empty(k, np.complex128)
-    ok = np.empty(k, np.bool_)
-    sixbar_coupler(z[:15], theta, s4, s6, l1, l2, on6, P, J, Jt, ok)
+    _coupler_into(z[:15], theta, s4, s6, l1, l2, on6, P, J, Jt, ok, G)
     Jz[:] = 0.0
     cost = 0.0
     bound = steep * scale
@@ -391,6 +436,15 @@ def _probe(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, r):  # pragma:
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _finite(v):  # pragma: no cover - compiled
+    """Whether every entry of ``v`` is finite."""
+    finite = True
+    for i in range(v.size):
+        finite = finite and math.isfinite(v[i])
+    return finite
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, floor, iterations):
     # pragma: no cover - compiled
     """:func:`machdyn.synthesis._sixbar_refine.refine_sixbar`'s damped Gauss–Newton loop, compiled.
@@ -403,38 +457,60 @@ def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, fl
     r, J = np.empty(m), np.empty((m, n))
     r_new, J_new, r_h = np.empty(m), np.empty((m, n)), np.empty(m)
     M, piv, v, a = np.empty((n, n)), np.empty(n, np.int64), np.empty(n), np.empty(n)
-    cost = _residuals(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, J)
+    z_new, rhs, curvature = np.empty(n), np.empty(n), np.empty(m)
+    A, g, Jv, Jc = np.empty((n, n)), np.empty(n), np.empty(m), np.empty(n)
+    work = _work(targets.size)
+    cost = _residuals_into(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, r, J,
+                           work)  # fmt: skip
     lam = 1e-3
     h = 0.1
     for _ in range(iterations):
-        A = J.T @ J
-        g = J.T @ r
+        np.dot(J.T, J, A)
+        np.dot(J.T, r, g)
         top = 1e-300
         for i in range(n):
             top = max(top, A[i, i])
         M[:] = A
         for i in range(n):
             M[i, i] += lam * max(A[i, i], floor * top)
-        if _lu(M, piv):  # one factorisation for the step and its correction
-            _lu_solve(M, piv, -g, v)
+        finite = _lu(M, piv)  # one factorisation for the step and its correction
+        if finite:
+            for i in range(n):
+                rhs[i] = -g[i]
+            _lu_solve(M, piv, rhs, v)
+            finite = _finite(v)
         else:
             v[:] = math.nan
-        if np.all(np.isfinite(v)):  # geodesic acceleration (see _sixbar_refine._geodesic)
-            _probe(z + h * v, timing, timed, targets, scale, s4, s6, l1, l2, on6, r_h)
-            curvature = 2.0 / h * ((r_h - r) / h - J @ v)
-            _lu_solve(M, piv, -(J.T @ curvature), a)
+        if finite:  # geodesic acceleration (see _sixbar_refine._geodesic)
+            for i in range(n):
+                z_new[i] = z[i] + h * v[i]
+            _probe(z_new, timing, timed, targets, scale, s4, s6, l1, l2, on6, r_h)
+            np.dot(J, v, Jv)
+            for i in range(m):
+                curvature[i] = 2.0 / h * ((r_h[i] - r[i]) / h - Jv[i])
+            np.dot(J.T, curvature, Jc)
+            for i in range(n):
+                rhs[i] = -Jc[i]
+            _lu_solve(M, piv, rhs, a)
             if np.linalg.norm(a) <= 0.75 * np.linalg.norm(v):
-                v[:] = v + 0.5 * a
-        if not np.all(np.isfinite(v)):
+                for i in range(n):
+                    v[i] = v[i] + 0.5 * a[i]
+                finite = _finite(v)
+        if not finite:
             lam *= 10.0
             continue
-        z_new = z + v
-        cost_new = _residuals(z_new, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep,
-                              r_new, J_new)  # fmt: skip
+        for i in range(n):
+            z_new[i] = z[i] + v[i]
+        cost_new = _residuals_into(z_new, timing, timed, targets, scale, s4, s6, l1, l2, on6,
+                                   steep, r_new, J_new, work)  # fmt: skip
         if cost_new < cost:
-            small = np.max(np.abs(v)) <= 1e-15 * (1.0 + np.max(np.abs(z)))
+            big, top = 0.0, 0.0
+            for i in range(n):
+                big, top = max(big, abs(v[i])), max(top, abs(z[i]))
+            small = big <= 1e-15 * (1.0 + top)
             z[:] = z_new
-            r[:], J[:] = r_new, J_new
+            r, r_new = r_new, r  # (the new residuals and Jacobian become the current ones)
+            J, J_new = J_new, J
             cost = cost_new
             lam = max(lam / 3.0, 1e-15)
             if small or cost <= 1e-30:
@@ -444,6 +520,39 @@ def refine_loop(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, fl
             if lam > 1e15:
                 break
     return z
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def refine_fit(z, timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, floor, iterations):
+    # pragma: no cover - compiled
+    """:func:`refine_loop` on a copy of ``z``, then the fit as ``refine_sixbar`` returns it.
+
+    Every length made positive (``_sixbar_refine._positive_lengths``' steps) and the
+    coupler point at the fit's crank angles: ``(x (15,), θ (K,), P (K,), ok)``, ``ok``
+    whether the six-bar is assembled at every target. One call instead of the loop's
+    and the point's, each wrapped in NumPy (about 0.1 ms a fit).
+    """
+    z = refine_loop(z.copy(), timing, timed, targets, scale, s4, s6, l1, l2, on6, steep, floor,
+                    iterations)  # fmt: skip
+    k = targets.size
+    x = z[:15].copy()
+    theta = np.empty(k)
+    for i in range(k):
+        theta[i] = z[15] + timing[i] if timed else z[15 + i]
+    for i in (5, 6, 11, 12):
+        x[i] = abs(x[i])
+    if x[3] < 0:
+        x[3], x[2] = -x[3], x[2] + math.pi
+        for i in range(k):
+            theta[i] = theta[i] - math.pi
+    if x[4] < 0:
+        x[4] = -x[4]
+        for i in range(k):
+            theta[i] = theta[i] + math.pi
+    P = np.empty(k, np.complex128)
+    work = _work(k)
+    _coupler_into(x, theta, s4, s6, l1, l2, on6, P, work[2], work[3], work[4], work[5])
+    return x, theta, P, np.all(work[4])
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -502,3 +611,10 @@ def ordered_samples(c, rolls, out):  # pragma: no cover - compiled
         out[k] = (w_start + w_way * j + n) % n
         if k:
             j = back[k - 1, j]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def ordered_samples_many(c, rolls, out):  # pragma: no cover - compiled
+    """:func:`ordered_samples` for each of many curves: ``c`` (E, K, N), ``out`` (E, K)."""
+    for e in range(c.shape[0]):
+        ordered_samples(c[e], rolls, out[e])

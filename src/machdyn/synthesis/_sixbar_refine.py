@@ -174,7 +174,6 @@ def refine_sixbar(x0, theta0, fixed, targets, *, timing=None, iterations=200, co
     scale = float(np.max(np.abs(targets - targets.mean()))) or 1.0
     timed = timing is not None
     z = np.concatenate([x0, [theta0[0] - timing[0]] if timed else theta0]).astype(float)
-    coupler = coupler_function(compiled)
     rows = np.arange(k)
 
     def angles(z):
@@ -196,25 +195,27 @@ def refine_sixbar(x0, theta0, fixed, targets, *, timing=None, iterations=200, co
         r = np.concatenate([d.real, d.imag])
         return r, out, float(r @ r)
 
-    if compiled:  # the same loop, compiled (machdyn.synthesis._sixbar_kernels.refine_loop)
-        z = _compiled_loop(z, timing, targets, scale, fixed, iterations)
+    if compiled:  # the same loop, compiled (machdyn.synthesis._sixbar_kernels.refine_fit)
+        x, theta, P, ok = _compiled_fit(z, timing, targets, scale, fixed, iterations)
     else:
+        coupler = coupler_function(compiled)
         z = _loop(evaluate, z, iterations)
-    x, theta = _positive_lengths(z[:_NP].copy(), np.asarray(angles(z), float).copy())
-    P, _, _, ok = coupler(x, theta, fixed)
-    rms = float(np.sqrt(np.mean(np.abs(P - targets) ** 2))) if ok.all() else np.inf
+        x, theta = _positive_lengths(z[:_NP].copy(), np.asarray(angles(z), float).copy())
+        P, _, _, ok = coupler(x, theta, fixed)
+        ok = ok.all()
+    rms = float(np.sqrt(np.mean(np.abs(P - targets) ** 2))) if ok else np.inf
     return x, theta, rms
 
 
-def _compiled_loop(z, timing, targets, scale, fixed, iterations):
-    from ._sixbar_kernels import refine_loop
+def _compiled_fit(z, timing, targets, scale, fixed, iterations):
+    from ._sixbar_kernels import refine_fit
 
     (l1, l2), _ = TOPOLOGIES[fixed["topology"]]
     timed = timing is not None
     timing = np.ascontiguousarray(timing if timed else np.zeros(0), dtype=float)
-    return refine_loop(z.copy(), timing, timed, np.ascontiguousarray(targets, complex),
-                       scale, float(fixed["s4"]), float(fixed["s6"]), l1, l2,
-                       fixed["on"] == 6, _STEEP, DAMPING_FLOOR, int(iterations))  # fmt: skip
+    return refine_fit(z, timing, timed, np.ascontiguousarray(targets, complex), scale,
+                      float(fixed["s4"]), float(fixed["s6"]), l1, l2, fixed["on"] == 6, _STEEP,
+                      DAMPING_FLOOR, int(iterations))  # fmt: skip
 
 
 def _loop(evaluate, z, iterations):

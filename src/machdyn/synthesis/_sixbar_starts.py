@@ -130,11 +130,13 @@ def sixbar_starts(atlas, pts, timing, closed, retrieve, refine_count, client=Non
         rows, transforms = _retrieve(atlas, pts, closed, True, retrieve, refine_count, client)
         u = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
         local = sixbar_points(rows, u)[0]
-        for row, (h, t), z in zip(rows, transforms, local, strict=True):
-            if not np.isfinite(h) or h == 0:
-                continue
-            h, t, near = _placed_start(z, h, t, pts, compiled=compiled)
-            x0, fixed = _design_of(row, h, t)
+        keep = [i for i, (h, _) in enumerate(transforms) if np.isfinite(h) and h != 0]
+        if compiled:  # (all at once: the same placements, a tenth of the calls)
+            placed = _placed_starts(local[keep], [transforms[i] for i in keep], pts)
+        else:
+            placed = [_placed_start(local[i], *transforms[i], pts) for i in keep]
+        for i, (h, t, near) in zip(keep, placed, strict=True):
+            x0, fixed = _design_of(rows[i], h, t)
             starts.append((x0, u[near], fixed))
         return starts
     memo = {} if memo is None else memo
@@ -558,6 +560,54 @@ def _placed_start(z: np.ndarray, h: complex, t: complex, pts: np.ndarray, rounds
         h = complex(np.sum(np.conj(q) * a0) / v)
         t = complex(pts.mean() - h * z[near].mean())
     return h, t, _ordered_samples(t + h * z, pts, compiled=compiled)
+
+
+def _placed_starts(z: np.ndarray, transforms, pts: np.ndarray, rounds: int = 3,
+                   block: int = 64) -> list:  # fmt: skip
+    """:func:`_placed_start` (compiled) for many curves ``z`` (E, N) at once: ``[(h, t, near)]``.
+
+    The same steps on each curve, so the same placements to the bit; only the
+    ordering of the samples (:func:`_ordered_samples`) is batched: the squared
+    distances of a block of placed curves formed at once and ordered by one call of
+    the compiled kernel (:func:`machdyn.synthesis._sixbar_kernels.ordered_samples_many`)
+    instead of one call (and its NumPy around it) per curve and turn. A curve whose
+    distances are not all finite is ordered alone, as there.
+    """
+    from ._sixbar_kernels import ordered_samples_many
+
+    e = z.shape[0]
+    placed = [(h, t) for h, t in transforms]
+    live = [True] * e  # a curve whose ordered samples coincide stops, as in _placed_start
+    near = np.empty((e, pts.size), np.int64)
+    a0 = pts - pts.mean()
+
+    def order(sel):  # near[i] for each i in sel, at its current placement
+        for lo in range(0, len(sel), block):
+            b = sel[lo : lo + block]
+            curves = np.array([placed[i][1] + placed[i][0] * z[i] for i in b])
+            c = np.abs(curves[:, None, :] - pts[None, :, None]) ** 2
+            finite = np.isfinite(c).reshape(len(b), -1).all(axis=1)
+            good = np.flatnonzero(finite)
+            out = np.empty((good.size, pts.size), np.int64)
+            ordered_samples_many(c[good], 8, out)
+            near[np.asarray(b)[good]] = out
+            for j in np.flatnonzero(~finite):
+                near[b[j]] = _ordered_samples(curves[j], pts, compiled=True)
+
+    for _ in range(rounds):
+        sel = [i for i in range(e) if live[i]]
+        order(sel)
+        for i in sel:
+            zi = z[i][near[i]]
+            q = zi - zi.mean()
+            v = float(np.sum(np.abs(q) ** 2))
+            if v == 0.0:
+                live[i] = False
+                continue
+            h = complex(np.sum(np.conj(q) * a0) / v)
+            placed[i] = (h, complex(pts.mean() - h * zi.mean()))
+    order(list(range(e)))
+    return [(*placed[i], near[i].copy()) for i in range(e)]
 
 
 def _timed_scan(rows, grid, timing, pts, mirror, compiled=False):

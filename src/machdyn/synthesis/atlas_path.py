@@ -31,6 +31,7 @@ its fits re-seeded in order (``_atlas_closed``); six-bar atlases go to
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -53,7 +54,15 @@ from ._atlas_checks import (
 from ._atlas_closed import _any_input, _reseeded
 from ._atlas_index import _NEVER, OPEN_POOL, RETRIEVE, Atlas, _Deadline, open_atlas
 from ._atlas_passes import _swapped
-from ._atlas_result import NEAR, POLISH, PathCandidates, _far_note, _limit_note, _rank
+from ._atlas_result import (
+    NEAR,
+    POLISH,
+    PathCandidates,
+    _closer_note,
+    _far_note,
+    _limit_note,
+    _rank,
+)
 from ._atlas_retrieve import (
     TIMED_POOL,
     _arc_starts,
@@ -148,6 +157,12 @@ UNTIMED_LONG = (3, 5000, 1000)
 #: literature's case 5, 10 points, lost its best SSE to the LM; the benchmarks' other
 #: targets have at most 18 points).
 MANY_POINTS = 24
+#: Untimed targets past MANY_TARGETS are searched on SEARCH_TARGETS of them (evenly along
+#: them) and the results checked on all: each untimed target adds an unknown (its input
+#: angle), and the refinement's steps cost the cube of the unknowns (500 points: 17.5 s
+#: of CPU, 2,000: over 150 s; the audit of 2026-11-25).
+MANY_TARGETS = 60
+SEARCH_TARGETS = 40
 #: Minimum number of target points: a closed or open path, with prescribed timing.
 MIN_POINTS = {"closed": 5, "open": 5, "timed": 4}
 #: Timed open targets: most rounds of retrieval (each a fresh pool) while none is met but
@@ -165,9 +180,22 @@ TIMED_NEAR_MISS = 1e-2
 #: (RMS 4e-2), keep their POLISH fits and time.
 TIMED_TRIES = 12
 TIMED_TRIES_NEAR = 1e-3
+#: Starting angles scanned on the atlas's rocking rows for an open timed target with any
+#: input (_timed_any_input): every 2°, where the crank rows' whole turn takes 6°
+#: (TIMED_GRID). A rocker's reach may be a few tens of degrees and the timing most of it:
+#: a grid of 6° left the GRRC target of tests/test_atlas_timed_rocker.py (its θ0 free in
+#: 19.7–24.4°) one start at 24° and a fit 4.2e-3 of its size off, on 10^4 to 10^7 entries.
+TIMED_ROCKER_GRID = 180
 
 
 def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    if _all_real(targets):  # x only, or x, y flattened: never points on the x axis by accident
+        n = np.size(targets)
+        raise InputError(
+            "targets",
+            f"got {n} real numbers, not points: give x + jy (complex) or (x, y) pairs, "
+            "e.g. an (N, 2) array of x, y",
+        )
     try:
         pts = as_points("targets", targets)
     except (OverflowError, TypeError) as exc:
@@ -177,7 +205,8 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
     if pts.size < need:
         raise InputError(
             "targets",
-            f"{pts.size} points are too few for a {kind} path: at least {need} are needed "
+            f"{pts.size} points are too few for {'an' if kind == 'open' else 'a'} {kind} path: "
+            f"at least {need} are needed "
             "(a four-bar's coupler curve has 9 free parameters; fewer points fit countless "
             "linkages: use motion generation, synthesis.three_position, for 2 or 3 positions)",
         )
@@ -185,23 +214,60 @@ def _targets(targets: Any, timing: Any, closed: bool) -> tuple[np.ndarray, np.nd
     size = float(np.max(np.abs(pts - centre)))
     if size == 0.0:
         raise InputError("targets", "all target points coincide")
-    if closed and timing is None and pts.size > need and abs(pts[-1] - pts[0]) <= 1e-9 * size:
-        pts = pts[:-1]  # a closed path written back to its start: the first point ends it
-    step = np.abs(np.diff(np.concatenate([pts, pts[:1]]) if closed else pts))
-    same = np.flatnonzero(step <= 1e-9 * size)
-    if same.size:
-        i = int(same[0])
-        raise InputError(
-            "targets",
-            f"points {i + 1} and {(i + 1) % pts.size + 1} coincide; give each point once",
-        )
     if timing is not None:
         timing = np.ravel(finite_array("timing", timing, "radian"))
         if timing.size != pts.size:
             raise InputError(
                 "timing", f"needs one angle per target ({pts.size}), got {timing.size}"
             )
+    # a closed path written back to its start: the first point ends it (timed: at the
+    # first point's input angle, a whole number of turns on)
+    if (
+        closed
+        and pts.size > need
+        and abs(pts[-1] - pts[0]) <= 1e-9 * size
+        and (timing is None or abs(_wrapped(timing[-1] - timing[0])) <= 1e-9)
+    ):
+        pts = pts[:-1]
+        timing = None if timing is None else timing[:-1]
+    step = np.abs(np.diff(np.concatenate([pts, pts[:1]]) if closed else pts))
+    same = np.flatnonzero(step <= 1e-9 * size)
+    if same.size:
+        i = int(same[0])
+        j = (i + 1) % pts.size
+        raise InputError(
+            "targets",
+            f"points {i + 1} and {j + 1} coincide (targets[{i}] and targets[{j}]); "
+            "give each point once",
+        )
+    if timing is not None:
+        # one input angle (mod a turn) is one pose: two targets at it must be one point
+        order = np.argsort(np.mod(timing, 2 * np.pi), kind="stable")
+        gap = np.abs(_wrapped(np.diff(timing[np.r_[order, order[:1]]])))
+        for k in np.flatnonzero(gap <= 1e-9):
+            i, j = sorted((int(order[k]), int(order[(k + 1) % order.size])))
+            if abs(pts[i] - pts[j]) > 1e-9 * size:
+                raise InputError(
+                    "timing",
+                    f"timing[{i}] and timing[{j}] are one input angle (mod 360 deg) at two "
+                    f"different targets (points {i + 1} and {j + 1}): a linkage passes one "
+                    "point at each crank angle; give each target its own angle",
+                )
     return pts, timing
+
+
+def _wrapped(angle: Any) -> Any:
+    """Angles wrapped to [-pi, pi)."""
+    return np.mod(np.asarray(angle) + np.pi, 2 * np.pi) - np.pi
+
+
+def _all_real(value: Any) -> bool:
+    """True for a 1-D sequence of plain real numbers (not complex, not pairs)."""
+    if isinstance(value, np.ndarray):
+        return value.ndim == 1 and value.size > 1 and value.dtype.kind in "biuf"
+    if isinstance(value, list | tuple) and len(value) > 1:
+        return all(isinstance(v, int | float | np.integer | np.floating) for v in value)
+    return False
 
 
 @one_blas_thread
@@ -238,7 +304,8 @@ def path_from_atlas(
         part of a closed one), matched against arcs of the coupler curves.
     timing : sequence of float, optional
         Input-angle increments (radians) at which the targets must be reached
-        (prescribed timing); link 2 must then be a crank.
+        (prescribed timing). A closed path's input turns fully (link 2 a crank); an
+        open one's may be a rocker with ``crank=False``.
     n : int
         How many distinct linkages to return.
     crank : bool
@@ -337,7 +404,8 @@ def path_from_atlas(
     refine_count = integer("refine_count", refine_count, minimum=1, maximum=10_000)
     if client is not None and not callable(getattr(client, "submit", None)):
         raise InputError("client", "must be a distributed.Client (or None)")
-    crank = boolean("crank", crank) or timing is not None
+    # a closed timed path takes whole turns of the input: link 2 a crank
+    crank = boolean("crank", crank) or (timing is not None and closed)
     size = float(np.max(np.abs(pts - pts.mean())))
     fixed, max_length, pivot_box = _constraints(O2, theta1, absolute_timing, max_length,
                                                 pivot_box, timing, atlas)  # fmt: skip
@@ -353,10 +421,21 @@ def path_from_atlas(
     if atlas.manifest.kind == "sixbar":
         return _sixbar_path(atlas, pts, timing, closed, n, tolerance, mu_min, retrieve,
                             refine_count, client, start, deadline)  # fmt: skip
+    if timing is None and pts.size > MANY_TARGETS:  # searched on some, checked on all
+        keep = _spread(pts.size, closed)
+        left = None if time_limit is None else max(0.0, time_limit - (time.perf_counter() - start))
+        found = path_from_atlas(
+            pts[keep], atlas, closed=closed, n=n, crank=crank, mu_min=mu_min,
+            tolerance=tolerance, retrieve=retrieve, refine_count=refine_count, client=client,
+            O2=O2, theta1=theta1, max_length=max_length, pivot_box=pivot_box, time_limit=left,
+        )  # fmt: skip
+        return _on_every_target(found, pts, keep, closed, crank, mu_min, tolerance, n, start)
     if {6, 8, 9} & fixed.keys():  # held placement or timing: fewer good starts, refine more
         refine_count *= 4
-    options = dict(timing=timing, crank=crank, mu_min=mu_min, fixed=fixed, max_length=max_length,
-                   pivot_box=pivot_box)  # fmt: skip
+    # timed starts come from the atlas's crank rows, refined with link 2 held a crank (an
+    # open timed target with any input, unmet, then from its other rows: _timed_any_input)
+    options = dict(timing=timing, crank=crank or timing is not None, mu_min=mu_min, fixed=fixed,
+                   max_length=max_length, pivot_box=pivot_box)  # fmt: skip
     if timing is None:
         fits, t1 = _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client,
                                  options, deadline)  # fmt: skip
@@ -384,6 +463,10 @@ def path_from_atlas(
             more, met = _polished(_screened(more, pts, options, deadline), pts, options, POLISH,
                                   deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
             fits = sorted(fits + more, key=lambda f: f.rms)
+        if not crank and not met and not deadline.passed():
+            more = _timed_any_input(atlas, pts, timing, refine_count, dict(options, crank=False),
+                                    deadline)  # fmt: skip
+            fits = sorted(fits + more, key=lambda f: f.rms)
     results = []
     # a closed untimed target with any input was searched with link 2 held a crank first
     # (see _any_input): its fits just past the change point land on it as with crank
@@ -406,9 +489,16 @@ def path_from_atlas(
         results.append(_checked(fit, pts, timing, closed, crank, mu_min, tolerance))
     results = [r for r in results if r is not None]
     t2 = time.perf_counter()
-    results.sort(key=_rank)
-    good = [r for r in results if r.ok]
-    chosen = _distinct(good, n, size)
+    chosen, rejected, near, note = _chosen(results, size, n)
+    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
+    note = _limit_note(note, deadline, time_limit, seconds["total"])
+    return PathCandidates(chosen, rejected, pts, near, note, seconds)
+
+
+def _chosen(results: list, size: float, n: int) -> tuple[tuple, tuple, bool, str]:
+    """Checked ``results`` sorted out: ``n`` distinct defect-free ones, the rejected, near, note."""
+    results = sorted(results, key=_rank)
+    chosen = tuple(_distinct([r for r in results if r.ok], n, size))
     rejected = tuple(r for r in results if not r.ok)[: max(n, 5)]
     best = chosen[0] if chosen else (rejected[0] if rejected else None)
     worst = float(np.max(best.distance)) / size if best is not None else np.inf
@@ -416,9 +506,94 @@ def path_from_atlas(
     note = _far_note(best, size, "linkage", " (is the path one a four-bar can trace?)")
     if best is not None and near and not chosen:
         note = "every linkage found has a defect (see rejected)"
-    seconds = {"retrieve": t1 - t0, "refine": t2 - t1, "total": time.perf_counter() - start}
-    note = _limit_note(note, deadline, time_limit, seconds["total"])
-    return PathCandidates(tuple(chosen), rejected, pts, near, note, seconds)
+    elif chosen and not near and rejected and _rank(rejected[0])[1] <= NEAR * size:
+        note = _closer_note(best, rejected[0], size)
+    return chosen, rejected, near, note
+
+
+def _spread(count: int, closed: bool) -> np.ndarray:
+    """:data:`SEARCH_TARGETS` indices of ``count`` targets, evenly along them (and both ends)."""
+    if closed:
+        return np.unique(np.floor(np.arange(SEARCH_TARGETS) * count / SEARCH_TARGETS).astype(int))
+    return np.unique(np.round(np.linspace(0, count - 1, SEARCH_TARGETS)).astype(int))
+
+
+def _on_every_target(found: PathCandidates, pts, keep, closed, crank, mu_min, tolerance, n,
+                     start) -> PathCandidates:  # fmt: skip
+    """``found`` (searched on the targets ``keep``) checked on every target.
+
+    Each linkage's input angle at every target is that of the nearest point of its
+    coupler curve (on its assembly; a dense sweep, then Gauss–Newton steps on the
+    distance), and the linkage is checked again (:func:`_checked`): distances,
+    order, branch, crank and transmission angle over all the targets.
+    """
+    from .refine import Refined, coupler_and_jacobian
+
+    size = float(np.max(np.abs(pts - pts.mean())))
+    sweep = np.linspace(0.0, 2 * np.pi, 3600, endpoint=False)
+    results = []
+    for r in (*found.candidates, *found.rejected):
+        pl = r.linkage
+        p, delta = pl.fourbar.coupler
+        x = np.array([*pl.lengths, p, delta, pl.O2.real, pl.O2.imag, pl.theta1])
+        branch = np.full(pts.size, float(pl.branch))
+        G, _, _, excess = coupler_and_jacobian(x, sweep, np.full(sweep.size, float(pl.branch)))
+        G = np.where(excess > 0, np.inf, G)  # (no point where it cannot be assembled)
+        theta = np.concatenate([sweep[np.argmin(np.abs(G[None, :] - part[:, None]), axis=1)]
+                                for part in np.array_split(pts, -(-pts.size // 256))])  # fmt: skip
+        theta[keep] = r.theta2  # (the search's own angles there)
+        for _ in range(4):  # Gauss–Newton on |G(θ) − t|², each target alone
+            G, _, jt, _ = coupler_and_jacobian(x, theta, branch)
+            step = np.real(np.conj(G - pts) * jt) / np.maximum(np.abs(jt) ** 2, 1e-300)
+            theta = theta - np.clip(step, -0.05, 0.05)
+        G, _, _, excess = coupler_and_jacobian(x, theta, branch)
+        rms = float(np.sqrt(np.mean(np.abs(G - pts) ** 2)))
+        fit = Refined(x, theta, branch, rms, True)
+        checked = _checked(fit, pts, None, closed, crank, mu_min, tolerance)
+        if checked is not None and not checked.in_order and _in_order(theta[keep], closed, None):
+            # (order is judged on the targets searched: dense targets with noise, each
+            # projected onto the curve alone, step back and forth within the noise)
+            defects = tuple(d for d in checked.defects if not d.startswith("order defect"))
+            checked = replace(checked, in_order=True, defects=defects)
+        if checked is not None:
+            results.append(checked)
+    chosen, rejected, near, note = _chosen(results, size, n)
+    searched = (f"searched on {len(keep)} of the {pts.size} targets (evenly along them), "
+                "checked on all")  # fmt: skip
+    note = f"{found.note}; {searched}; {note}" if found.note else f"{searched}; {note}"
+    seconds = dict(found.seconds, total=time.perf_counter() - start)
+    return PathCandidates(chosen, rejected, pts, near, note.rstrip("; "), seconds)
+
+
+def _timed_any_input(atlas, pts, timing, refine_count, options,
+                     deadline: _Deadline = _NEVER) -> list:  # fmt: skip
+    """Timed fits of an open target whose input need not turn fully (a rocker's arc).
+
+    The timed rounds lay the timing on the whole turn of the atlas's crank rows; here
+    on the reach of its other rows (those of a pool of twice :data:`TIMED_POOL` rows;
+    a starting angle from which a row cannot reach every target scores nothing), the
+    starts refined with any input (``options``). A second pool while the first's best
+    fit is a near miss (:data:`TIMED_ROUNDS`, :data:`TIMED_NEAR_MISS`). Random
+    open-timed targets of every Barker class (seeds 1–3, 20 each, rocker inputs
+    nearly all): 3 of 20 met before (the crank rows alone), 59 of 60 with these.
+    Returns the fits, best first.
+    """
+    cranks = np.concatenate(atlas._crank)
+    size = float(np.max(np.abs(pts - pts.mean())))
+    fits: list = []
+    for r in range(TIMED_ROUNDS):
+        if r and (deadline.passed() or not fits or fits[0].rms > TIMED_NEAR_MISS * size):
+            break
+        idx = atlas.pool(2 * TIMED_POOL, crank=False, draw=r)
+        rows = atlas.entries(idx[~cranks[idx]])
+        starts = _timed_starts(rows, pts, timing, refine_count, options["fixed"],
+                               grid=TIMED_ROCKER_GRID)  # fmt: skip
+        more, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
+                              deadline=deadline, tries=TIMED_TRIES)  # fmt: skip
+        fits = sorted(fits + more, key=lambda f: f.rms)
+        if met:
+            break
+    return fits
 
 
 def _screened(starts, pts, options, deadline: _Deadline = _NEVER, lm: bool = False) -> list:

@@ -147,18 +147,75 @@ def read_manifest(path: Path) -> Manifest:
     if not isinstance(d, dict) or d.get("format") != "machdyn-atlas":
         raise AtlasError(path, "manifest.json is not a machdyn atlas manifest")
     version = d.get("format_version")
-    if version != FORMAT_VERSION:
+    if type(version) is not int or version != FORMAT_VERSION:
         raise AtlasError(
             path,
-            f"atlas format {version} (built by machdyn {d.get('machdyn_version', '?')}) is not "
+            f"atlas format {version!r} (built by machdyn {d.get('machdyn_version', '?')}) is not "
             f"this machdyn's format {FORMAT_VERSION}: its descriptors would be compared wrongly; "
             "rebuild it with 'machdyn atlas build'",
         )
     fields = Manifest.__dataclass_fields__
     try:
-        return Manifest(**{k: d[k] for k in fields if k in d})
+        manifest = Manifest(**{k: d[k] for k in fields if k in d})
     except TypeError as exc:
         raise AtlasError(path, f"manifest.json is incomplete ({exc})") from None
+    why = _manifest_problem(manifest)
+    if why:
+        raise AtlasError(
+            path, f"manifest.json {why}: edited, damaged or from another machdyn; rebuild the atlas"
+        )
+    return manifest
+
+
+#: The sampling and descriptor settings this machdyn builds and queries with: a manifest
+#: that says otherwise describes descriptors a query would compare wrongly.
+_RECIPE = {"harmonics": HARMONICS, "samples": SAMPLES, "circuit_samples": CIRCUIT_SAMPLES}
+#: Keys of a chunk's record (CRC-32s and byte sizes of its two files, its rows).
+_CHUNK_KEYS = ("desc", "desc_bytes", "meta", "meta_bytes", "rows")
+
+
+def _manifest_problem(m: Manifest) -> str:
+    """Empty if ``m``'s fields have the types and values a build writes, else what is wrong.
+
+    A manifest read from disk is checked before its numbers are used: a hand-edited or
+    damaged one (a count as text, a chunk without its rows) is refused with the field,
+    never an internal error or a query over rows that are not there.
+
+    Examples
+    --------
+    >>> _manifest_problem(Manifest(count=10))
+    ''
+    >>> _manifest_problem(Manifest(count="10"))
+    "has count '10', expected a whole number of entries >= 1"
+    """
+
+    def whole(v: Any, least: int) -> bool:
+        return type(v) is int and v >= least
+
+    if not whole(m.count, 1):
+        return f"has count {m.count!r}, expected a whole number of entries >= 1"
+    if not whole(m.chunk_size, 1):
+        return f"has chunk_size {m.chunk_size!r}, expected a whole number >= 1"
+    if not whole(m.seed, 0):
+        return f"has seed {m.seed!r}, expected a whole number >= 0"
+    if m.kind not in ("fourbar", "sixbar"):
+        return f"has kind {m.kind!r}, expected 'fourbar' or 'sixbar'"
+    for key, want in _RECIPE.items():
+        if getattr(m, key) != want or type(getattr(m, key)) is not int:
+            return f"has {key} {getattr(m, key)!r}, expected {want} (this machdyn's recipe)"
+    if not isinstance(m.chunks, dict):
+        return f"has chunks {type(m.chunks).__name__}, expected a mapping of chunk records"
+    for key, info in m.chunks.items():
+        if not (len(key) == 5 and key.isdigit() and int(key) < m.n_chunks):
+            return f"lists chunk {key!r}, expected '00000' to '{m.n_chunks - 1:05d}'"
+        if not isinstance(info, dict):
+            return f"has chunk {key}'s record {info!r:.40}, expected a mapping"
+        for k in _CHUNK_KEYS:
+            if not whole(info.get(k), 0):
+                return f"has chunk {key}'s {k} {info.get(k)!r:.40}, expected a whole number >= 0"
+        if info["rows"] != m.rows(int(key)):
+            return f"gives chunk {key} {info['rows']} rows, expected {m.rows(int(key))}"
+    return ""
 
 
 def _write_atomic(file: Path, data: bytes) -> None:

@@ -79,7 +79,9 @@ class PathSynthesis:
     is_crank : bool
         True when link 2 turns fully on the assembly used.
     mu_min : float
-        Smallest transmission angle over the full motion, radians.
+        Smallest transmission angle over the motion, radians: a full turn of a
+        crank input (for :func:`path_from_atlas`, a rocking input's travel from the
+        first target to the last).
     in_order : bool
         True when the coupler point meets the targets in their order along
         the curve (one way round).
