@@ -682,8 +682,8 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
             fits = sorted(fits + more, key=lambda f: f.rms)
     longer: list[np.ndarray] = []  # the keys of the fits polished longer...
     swapped: list[np.ndarray] = []  # ... and of those re-seeded on other passes
-    fits, met = _swapped(fits, pts, options, closed, met, swapped, deadline)
     fits, met = _long_polished(fits, pts, options, met, longer, deadline)
+    fits, met = _swapped(fits, pts, options, closed, met, swapped, deadline)
     man = atlas.manifest
     arc = pts
     if closed:  # the targets as an arc: from the far side of the widest gap round to its near side
@@ -707,8 +707,8 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
         if closed:
             more, met = _reseeded(more, pts, options, deadline)
         fits = sorted(fits + more, key=lambda f: f.rms)
-        fits, met = _swapped(fits, pts, options, closed, met, swapped, deadline)
         fits, met = _long_polished(fits, pts, options, met, longer, deadline)
+        fits, met = _swapped(fits, pts, options, closed, met, swapped, deadline)
     if OPEN_NEIGHBOURS and not closed and not (met or deadline.passed()) and fits \
             and _worth_a_round(fits, pts, closed):  # fmt: skip
         # the neighbour round: the atlas's entries nearest to the best fits (see
@@ -719,8 +719,8 @@ def _untimed_fits(atlas, pts, closed, crank, retrieve, refine_count, client, opt
         # only its best go on: every fit kept is checked and compared with every other one
         # at the end (the 240 screened ones cost seed 3's case 13 ~1 s of CPU there)
         fits = sorted(fits + more[:REFINE], key=lambda f: f.rms)
-        fits, met = _swapped(fits, pts, options, closed, met, swapped, deadline)
         fits, met = _long_polished(fits, pts, options, met, longer, deadline)
+        fits, met = _swapped(fits, pts, options, closed, met, swapped, deadline)
     return fits, t1
 
 
