@@ -5,13 +5,16 @@
 outside might draw them: every link log-uniform over a ratio of ``--spread`` (the atlas
 holds 1/5–5 crank lengths), a coupler point up to ``1.8·r3`` from A at any angle, either
 assembly, placed, turned and scaled at random; only linkages within 2 % of a change point
-(of the links' sum) are drawn again. Three kinds of target:
+(of the links' sum) are drawn again. Four kinds of target:
 
 * ``closed``: 12 points at random input angles round the curve of a linkage whose input
   turns fully (GCCC, GCRR), untimed, ``crank=False``;
 * ``open``: 9 points evenly over a random 75–180° of a fully turning input, or over the
   longest run a rocker input reaches (from 5 % to 95 % of it), untimed, ``crank=False``;
 * ``timed``: 8 points at random input angles of a fully turning input, with their timing.
+* ``open-timed``: 7 points drawn as ``open`` (most inputs rock), with their input angles as
+  the timing, ``crank=False``; recovered also means reached at the prescribed steps of the
+  result's own input, assembled all the way between the targets (no toggle).
 
 Recovered: the best candidate's (or, with none free of defects, the best rejected one's)
 largest distance to the targets, by the tests' independent point-to-curve distance
@@ -21,7 +24,7 @@ defect filter). CPU seconds of each synthesis (the budget is 3 s).
 
 Run:
     python benchmarks/bench_atlas_random.py --atlas ATLAS_1E7 [--seed 1] [--count 30]
-        [--kinds closed,open,timed] [--spread 5] [--verbose]
+        [--kinds closed,open,timed,open-timed] [--spread 5] [--verbose]
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tests.test_synthesis_path_atlas import _curve_distance
+from tests.test_synthesis_path_atlas import _coupler, _curve_distance
 
 from machdyn import jit
 from machdyn.errors import AssemblyError
@@ -64,6 +67,7 @@ def random_fourbar(rng, spread: float):
 def draw_target(rng, kind: str, spread: float):
     """(targets, timing or None, Barker class) of one random linkage, for ``kind``."""
     theta = np.linspace(0, 2 * np.pi, GRID, endpoint=False)
+    points = 7 if kind == "open-timed" else 9
     while True:
         fb, form = random_fourbar(rng, spread)
         m = fb.solve(theta, 1.0, form=form)
@@ -77,7 +81,7 @@ def draw_target(rng, kind: str, spread: float):
             idx = np.sort(rng.choice(GRID, 8, replace=False))
         elif turns:
             start, span = rng.integers(GRID), rng.integers(GRID // 4, GRID // 2 + 1)
-            idx = (start + np.linspace(0, span, 9).astype(int)) % GRID
+            idx = (start + np.linspace(0, span, points).astype(int)) % GRID
         else:
             k = np.flatnonzero(ok)
             runs = np.split(k, np.flatnonzero(np.diff(k) != 1) + 1)
@@ -86,12 +90,35 @@ def draw_target(rng, kind: str, spread: float):
             run = max(runs, key=len)
             if run.size < GRID // 12:
                 continue
-            idx = run[np.linspace(0.05 * run.size, 0.95 * run.size - 1, 9).astype(int)]
+            idx = run[np.linspace(0.05 * run.size, 0.95 * run.size - 1, points).astype(int)]
         place = complex(*rng.normal(0, 3, 2))
         turn = np.exp(1j * rng.uniform(0, 2 * np.pi)) * np.exp(rng.uniform(np.log(0.5), np.log(5)))
         targets = place + turn * np.asarray(m.coupler)[idx]
-        timing = theta[idx] - theta[idx[0]] if kind == "timed" else None
+        timing = None
+        if kind == "timed":
+            timing = theta[idx] - theta[idx[0]]
+        elif kind == "open-timed":  # (an arc through θ = 0 unwrapped)
+            timing = np.unwrap(theta[idx]) - theta[idx[0]]
         return targets, timing, fb.barker_class
+
+
+def _timed_miss(found, targets, timing) -> float:
+    """A result's largest distance to the targets at the prescribed steps of its own input.
+
+    Its coupler point by circle intersection (``tests/test_synthesis_path_atlas._coupler``,
+    no machdyn solver) at ``θ0 + Δ_k`` on either assembly; infinite where the input's reach
+    (the law of cosines) does not hold every angle between the first target and the last.
+    """
+    pl = found.linkage
+    r1, r2, r3, r4 = pl.fourbar.lengths
+    between = found.theta2[0] + np.linspace(0.0, timing[-1], 2001)
+    d = np.abs(r2 * np.exp(1j * between) - r1)
+    if np.any(d < abs(r3 - r4)) or np.any(d > r3 + r4):
+        return np.inf
+    theta = found.theta2[0] + timing
+    return min(float(np.max(np.abs(_coupler(pl.fourbar.lengths, pl.fourbar.coupler, pl.O2,
+                                             pl.theta1, side, theta) - targets)))
+               for side in (1.0, -1.0))  # fmt: skip
 
 
 def main() -> None:
@@ -109,17 +136,20 @@ def main() -> None:
     path_from_atlas(np.asarray(warm), at, n=1, mu_min=0.0)  # the first call loads pages
     print(f"machine load {' '.join(f'{v:.1f}' for v in os.getloadavg())}")
     for kind in args.kinds.split(","):
-        rng = np.random.default_rng([args.seed, ["closed", "open", "timed"].index(kind)])
+        kinds = ["closed", "open", "timed", "open-timed"]
+        rng = np.random.default_rng([args.seed, kinds.index(kind)])
         errors, cpus, misses = [], [], []
         for i in range(args.count):
             targets, timing, cls = draw_target(rng, kind, args.spread)
             size = float(np.max(np.abs(targets - targets.mean())))
             c0 = time.process_time()
-            res = path_from_atlas(targets, at, closed=kind != "open", timing=timing,
+            res = path_from_atlas(targets, at, closed=kind in ("closed", "timed"), timing=timing,
                                   crank=kind == "timed", n=3, mu_min=0.0)  # fmt: skip
             cpu = time.process_time() - c0
             found = (res.candidates or res.rejected)[:3]
-            e = min((float(np.max(_curve_distance(c, targets))) for c in found), default=np.inf)
+            e = min((_timed_miss(c, targets, timing) if kind == "open-timed"
+                     else float(np.max(_curve_distance(c, targets))) for c in found),
+                    default=np.inf)  # fmt: skip
             e /= size
             errors.append(e)
             cpus.append(cpu)
