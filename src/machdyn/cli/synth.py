@@ -506,7 +506,7 @@ def path_cmd(
                 "Closer linkages with defects (not written)",
                 ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"],
                 [[i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
-                  c.barker_class, f"{np.degrees(c.mu_min):.1f}", "; ".join(c.defects)]
+                  c.barker_class, _deg(c.mu_min), "; ".join(c.defects)]
                  for i, c in enumerate(closer[:n], 1)],
             )  # fmt: skip
         secs = res.seconds
@@ -521,7 +521,7 @@ def path_cmd(
 
 
 def _deg(angle: float) -> str:
-    """An angle in degrees for a table; "-" when there is none (a rocker's mu is not measured)."""
+    """An angle in degrees for a table; "-" when there is none (NaN)."""
     return f"{np.degrees(angle):.1f}" if np.isfinite(angle) else "-"
 
 
