@@ -355,7 +355,7 @@ def _hard_targets() -> dict:
         "four-bar arc, 5 points": (fb.pose(np.linspace(0.0, 2.5, 5))[2], None),
         "four-bar arc, 40 points": (fb.pose(t40)[2], None),
         "timed zigzag, 7 points": (x[::2] + 0.8j * (np.arange(7) % 2), np.linspace(0, 2, 7)),
-        "timed straight line, 6 points": (np.linspace(0, 5, 6), np.linspace(0, 1.5, 6)),
+        "timed straight line, 6 points": (np.linspace(0, 5, 6) + 0j, np.linspace(0, 1.5, 6)),
         "timed circle arc, 9 points": (arc, np.linspace(0, 2.0, 9)),
         "timed four-bar arc, 40 points": (fb.pose(t40)[2], t40),
     }
