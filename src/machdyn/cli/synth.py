@@ -477,10 +477,7 @@ def path_cmd(
         fits, shapes = [], []
         for i, c in enumerate(shown, 1):
             pl = c.linkage
-            fits.append([
-                i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
-                c.barker_class, _deg(c.mu_min), "; ".join(c.defects) or "-",
-            ])  # fmt: skip
+            fits.append(_fit_row(i, c, size))
             p, delta = pl.fourbar.coupler
             shapes.append([
                 i, *(f"{v:.5g}" for v in (*pl.lengths, p)), f"{np.degrees(delta):.2f}",
@@ -491,7 +488,7 @@ def path_cmd(
             if res.candidates
             else "Best linkages found (with defects)"
         )
-        print_table(title, ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"], fits)
+        print_table(title, FIT_COLUMNS, fits)
         print_table(
             "Their geometry (lengths in the points' units; delta: coupler point from AB)",
             ["#", "r1", "r2", "r3", "r4", "p", "delta(deg)", "O2 x", "O2 y", "theta1(deg)"],
@@ -502,13 +499,8 @@ def path_cmd(
         miss = min((float(np.max(c.distance)) for c in res.candidates), default=0.0)
         closer = [c for c in res.rejected if np.max(c.distance) < 0.5 * miss]
         if closer:
-            print_table(
-                "Closer linkages with defects (not written)",
-                ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"],
-                [[i, f"{np.max(c.distance):.3e}", f"{100 * np.max(c.distance) / size:.2e}",
-                  c.barker_class, _deg(c.mu_min), "; ".join(c.defects)]
-                 for i, c in enumerate(closer[:n], 1)],
-            )  # fmt: skip
+            rows = [_fit_row(i, c, size) for i, c in enumerate(closer[:n], 1)]
+            print_table("Closer linkages with defects (not written)", FIT_COLUMNS, rows)
         secs = res.seconds
         print(
             f"retrieve {secs['retrieve']:.2f} s, refine {secs['refine']:.2f} s, "
@@ -518,6 +510,17 @@ def path_cmd(
             print(f"note: {res.note}")
     if not res.candidates:
         raise AssemblyError(res.note or "no defect-free linkage found for these targets")
+
+
+#: Columns of a four-bar result's row (:func:`_fit_row`).
+FIT_COLUMNS = ["#", "max dist", "% of size", "class", "mu min(deg)", "defects"]
+
+
+def _fit_row(i: int, c, size: float) -> list:
+    """Result ``c``'s row of the tables of fits: its worst miss, class, angle and defects."""
+    worst = float(np.max(c.distance))
+    return [i, f"{worst:.3e}", f"{100 * worst / size:.2e}", c.barker_class, _deg(c.mu_min),
+            "; ".join(c.defects) or "-"]  # fmt: skip
 
 
 def _deg(angle: float) -> str:

@@ -581,20 +581,19 @@ def _timed_scored(rows, pts, timing, fixed, grid: int = TIMED_GRID) -> tuple:
     return out
 
 
-def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None, grid=None):
+def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None, grid: int = TIMED_GRID):
     """The ``refine_count`` best timed starts among ``rows`` (both mirror images).
 
     ``scored``: :func:`_timed_scored` of these rows, when already computed.
-    ``grid``: the number of starting angles scanned (:data:`TIMED_GRID`).
+    ``grid``: the number of starting angles scanned (:func:`_timed_grid`).
     """
-    grid = grid or TIMED_GRID
     scored = scored or _timed_scored(rows, pts, timing, fixed, grid)
     score, g, hh, off = (x.ravel() for x in scored)
     # (2, rows) each, flattened: all entries as stored, then all mirrored
     mirror = np.repeat([1.0, -1.0], rows.size)
     order = np.argsort(-score)[:refine_count]
     rows2 = np.concatenate([rows, rows])
-    grid = _timed_grid(fixed, grid)
+    angles = _timed_grid(fixed, grid)
     starts = []
     for i in order:
         row, m, h = rows2[i], mirror[i], hh[i]
@@ -602,7 +601,7 @@ def _timed_starts(rows, pts, timing, refine_count, fixed, scored=None, grid=None
         s = abs(h)
         x0 = np.array([r1 * s, s, r3 * s, r4 * s, p * s, m * delta, off[i].real, off[i].imag,
                        np.angle(h)])  # fmt: skip
-        theta = grid[g[i]] + timing
+        theta = angles[g[i]] + timing
         starts.append((x0, theta, np.full(pts.size, m * float(row["circuit"]))))
     return starts
 

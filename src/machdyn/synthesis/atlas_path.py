@@ -546,7 +546,7 @@ def _on_every_target(found: PathCandidates, pts, keep, closed, crank, mu_min, to
             G, _, jt, _ = coupler_and_jacobian(x, theta, branch)
             step = np.real(np.conj(G - pts) * jt) / np.maximum(np.abs(jt) ** 2, 1e-300)
             theta = theta - np.clip(step, -0.05, 0.05)
-        G, _, _, excess = coupler_and_jacobian(x, theta, branch)
+        G = coupler_and_jacobian(x, theta, branch)[0]
         rms = float(np.sqrt(np.mean(np.abs(G - pts) ** 2)))
         fit = Refined(x, theta, branch, rms, True)
         checked = _checked(fit, pts, None, closed, crank, mu_min, tolerance)
@@ -578,14 +578,13 @@ def _timed_any_input(atlas, pts, timing, refine_count, options,
     nearly all): 3 of 20 met before (the crank rows alone), 59 of 60 with these.
     Returns the fits, best first.
     """
-    cranks = np.concatenate(atlas._crank)
     size = float(np.max(np.abs(pts - pts.mean())))
     fits: list = []
     for r in range(TIMED_ROUNDS):
         if r and (deadline.passed() or not fits or fits[0].rms > TIMED_NEAR_MISS * size):
             break
-        idx = atlas.pool(2 * TIMED_POOL, crank=False, draw=r)
-        rows = atlas.entries(idx[~cranks[idx]])
+        rows = atlas.entries(atlas.pool(2 * TIMED_POOL, crank=False, draw=r))
+        rows = rows[rows["barker"] > 2]  # (not the crank rows, GCCC and GCRR: they had theirs)
         starts = _timed_starts(rows, pts, timing, refine_count, options["fixed"],
                                grid=TIMED_ROCKER_GRID)  # fmt: skip
         more, met = _polished(_screened(starts, pts, options, deadline), pts, options, POLISH,
