@@ -49,6 +49,17 @@ def studio(tmp_path_factory):
     s.stop()
 
 
+@pytest.fixture(scope="session")
+def atlas_1e4(tmp_path_factory):
+    """A four-bar atlas of 10^4 entries, as a user's first one (the default build), built
+    once per test process; tests only read it (an Atlas's caches change no answer)."""
+    from machdyn.synthesis import build_atlas, open_atlas
+
+    folder = tmp_path_factory.mktemp("atlas_1e4")
+    build_atlas(folder, 10_000, progress=False)
+    return open_atlas(folder)
+
+
 @pytest.fixture(scope="module", params=["numpy", "compiled"])
 def backend(request: pytest.FixtureRequest):
     """Run every test of a module twice: NumPy kernels, then the compiled (numba) ones."""

@@ -15,39 +15,32 @@ import numpy as np
 import pytest
 from tests.test_synthesis_path_atlas import _coupler, _curve_distance
 
-from machdyn.synthesis import build_atlas, open_atlas, path_from_atlas
+from machdyn.synthesis import path_from_atlas
 
 LENGTHS, COUPLER, O2, THETA1 = (3.0, 1.0, 3.5, 2.5), (1.8, 0.6), 0.5 + 0.2j, 0.3
 
 
-@pytest.fixture(scope="module")
-def atlas(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("atlas_1e4")
-    build_atlas(folder, 10_000, progress=False)
-    return open_atlas(folder)
-
-
 @pytest.mark.parametrize(("count", "closed"), [(400, True), (250, False)])
-def test_hundreds_of_exact_targets_are_met_on_every_one(atlas, compiled, count, closed):
+def test_hundreds_of_exact_targets_are_met_on_every_one(atlas_1e4, compiled, count, closed):
     theta = (np.linspace(0, 2 * np.pi, count, endpoint=False) if closed
              else np.linspace(0.3, 2.8, count))  # fmt: skip
     targets = _coupler(LENGTHS, COUPLER, O2, THETA1, 1.0, theta)
     size = float(np.max(np.abs(targets - targets.mean())))
-    found = path_from_atlas(targets, atlas, closed=closed, n=2, mu_min=0.0)
+    found = path_from_atlas(targets, atlas_1e4, closed=closed, n=2, mu_min=0.0)
     assert f"searched on 40 of the {count} targets" in found.note
     best = found.candidates[0]
     assert best.distance.size == best.theta2.size == count
     assert float(np.max(_curve_distance(best, targets))) <= 1e-6 * size
 
 
-def test_noisy_dense_targets_get_their_true_distances_and_no_false_order_defect(atlas, compiled):
+def test_noisy_dense_targets_get_true_distances_and_no_false_order_defect(atlas_1e4, compiled):
     rng = np.random.default_rng(7)
     theta = np.linspace(0.3, 2.8, 300)
     exact = _coupler(LENGTHS, COUPLER, O2, THETA1, 1.0, theta)
     size = float(np.max(np.abs(exact - exact.mean())))
     # noise of 1e-3 of the size: more than the spacing along the path in places
     targets = exact + 1e-3 * size * (rng.normal(size=300) + 1j * rng.normal(size=300))
-    found = path_from_atlas(targets, atlas, closed=False, n=2, mu_min=0.0, time_limit=3.0)
+    found = path_from_atlas(targets, atlas_1e4, closed=False, n=2, mu_min=0.0, time_limit=3.0)
     best = (found.candidates or found.rejected)[0]
     assert not any(d.startswith("order defect") for d in best.defects)
     # the distances reported are the targets' distances to its curve, every one

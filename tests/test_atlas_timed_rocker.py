@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from tests.test_synthesis_path_atlas import _coupler
 
-from machdyn.synthesis import build_atlas, open_atlas, path_from_atlas
+from machdyn.synthesis import path_from_atlas
 
 #: (lengths r1..r4, coupler (p, δ), assembly side, O2, θ1, scale)
 CASES = {
@@ -47,15 +47,8 @@ def _reach(lengths):
     return at_lo, at_hi
 
 
-@pytest.fixture(scope="module")
-def atlas(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("atlas_1e4")
-    build_atlas(folder, 10_000, progress=False)
-    return open_atlas(folder)
-
-
 @pytest.mark.parametrize("name", CASES)
-def test_open_timed_target_of_a_rocking_input_is_met(atlas, name, compiled):
+def test_open_timed_target_of_a_rocking_input_is_met(atlas_1e4, name, compiled):
     lengths, coupler, side, O2, theta1, scale = CASES[name]
     lo, hi = _reach(lengths)
     theta = lo + (hi - lo) * np.linspace(0.05, 0.95, 7)
@@ -64,7 +57,7 @@ def test_open_timed_target_of_a_rocking_input_is_met(atlas, name, compiled):
     assert np.all(np.isfinite(targets))
     size = float(np.max(np.abs(targets - targets.mean())))
 
-    found = path_from_atlas(targets, atlas, closed=False, timing=theta, crank=False, n=3,
+    found = path_from_atlas(targets, atlas_1e4, closed=False, timing=theta, crank=False, n=3,
                             mu_min=0.0)  # fmt: skip
     assert found.candidates, found.note
     best = found.candidates[0]
@@ -81,19 +74,19 @@ def test_open_timed_target_of_a_rocking_input_is_met(atlas, name, compiled):
     assert min(np.max(np.abs(p - targets)) for p in at) <= 1e-6 * size
 
 
-def test_with_crank_held_a_rocking_input_is_not_returned(atlas, compiled):
+def test_with_crank_held_a_rocking_input_is_not_returned(atlas_1e4, compiled):
     lengths, coupler, side, O2, theta1, scale = CASES["RRR2"]
     lo, hi = _reach(lengths)
     theta = lo + (hi - lo) * np.linspace(0.05, 0.95, 7)
     targets = O2 + scale * np.exp(1j * theta1) * _coupler(lengths, coupler, 0j, 0.0, side, theta)
-    found = path_from_atlas(targets, atlas, closed=False, timing=theta, n=3, mu_min=0.0)
+    found = path_from_atlas(targets, atlas_1e4, closed=False, timing=theta, n=3, mu_min=0.0)
     for c in found.candidates:  # link 2 turns fully: its |A − O4| always within reach
         r1, r2, r3, r4 = c.linkage.fourbar.lengths
         d = np.abs(r2 * np.exp(1j * np.linspace(0, 2 * np.pi, 3601)) - r1)
         assert np.all(d >= abs(r3 - r4) - 1e-9) and np.all(d <= r3 + r4 + 1e-9)
 
 
-def test_a_rocking_input_has_its_transmission_angle_checked_over_its_travel(atlas, compiled):
+def test_a_rocking_input_has_its_transmission_angle_checked_over_its_travel(atlas_1e4, compiled):
     lengths, coupler, side, O2, theta1, scale = CASES["GRRC"]
     lo, hi = _reach(lengths)
     theta = lo + (hi - lo) * np.linspace(0.05, 0.95, 7)
@@ -107,7 +100,7 @@ def test_a_rocking_input_has_its_transmission_angle_checked_over_its_travel(atla
     mu_drawn = float(np.min(np.minimum(phi, np.pi - phi)))
     assert np.degrees(mu_drawn) < 25.0  # (this linkage transmits badly: under 30°)
 
-    found = path_from_atlas(targets, atlas, closed=False, timing=theta, crank=False, n=3,
+    found = path_from_atlas(targets, atlas_1e4, closed=False, timing=theta, crank=False, n=3,
                             mu_min=np.radians(30.0))  # fmt: skip
     exact = [r for r in found.rejected if np.max(r.distance) <= 1e-6 * size]
     assert exact, "the exact linkage is among the rejected"

@@ -17,7 +17,7 @@ import pytest
 from tests.test_synthesis_path_atlas import _coupler, _curve_distance
 
 from machdyn.fourbar import FourBar
-from machdyn.synthesis import PlacedFourBar, build_atlas, open_atlas, path_from_atlas
+from machdyn.synthesis import PlacedFourBar, path_from_atlas
 
 #: (lengths, coupler point, O2, θ1, assembly, first crank angle, span of the 7 angles)
 CASES = {
@@ -31,21 +31,14 @@ CASES = {
 }  # fmt: skip
 
 
-@pytest.fixture(scope="module")
-def atlas(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("atlas_1e4")
-    build_atlas(folder, 10_000, progress=False)
-    return open_atlas(folder)
-
-
 @pytest.mark.parametrize("name", CASES)
-def test_open_timed_target_met_by_next_best_starts(atlas, name):
+def test_open_timed_target_met_by_next_best_starts(atlas_1e4, name):
     lengths, coupler, O2, theta1, branch, theta0, span = CASES[name]
     truth = PlacedFourBar(FourBar(*lengths, coupler=coupler), O2, theta1, branch)
     theta = theta0 + np.linspace(0.0, span, 7)
     targets = truth.pose(theta)[2]
     size = float(np.max(np.abs(targets - targets.mean())))
-    found = path_from_atlas(targets, atlas, closed=False, timing=theta, n=3, mu_min=0.0)
+    found = path_from_atlas(targets, atlas_1e4, closed=False, timing=theta, n=3, mu_min=0.0)
     best = found.candidates[0]
     assert float(np.max(_curve_distance(best, targets))) <= 1e-6 * size
     # reached at the prescribed crank steps: its points at its angles, by circle intersection
